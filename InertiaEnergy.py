@@ -1,0 +1,36 @@
+"""Inertia term of the Incremental Potential: E_I(x) = 1/2 ||x - x_tilde||_M^2 (lumped masses)."""
+import numpy as np
+
+import utils
+
+
+def _check(x, x_tilde, m):
+    x = utils.check_points("x", x)
+    x_tilde = utils.check_points("x_tilde", x_tilde)
+    if x_tilde.shape != x.shape:
+        raise ValueError(f"x_tilde must have the shape of x {x.shape}, got {x_tilde.shape}")
+    m = utils.check_per_item("m", m, len(x))
+    if (m <= 0).any():
+        i = int(np.argmax(m <= 0))
+        raise ValueError(f"m must be > 0 at every node, got {m[i]} at node {i}")
+    return x, x_tilde, m
+
+
+def val(x, x_tilde, m):
+    """E_I = 1/2 sum_i m_i ||x_i - x_tilde_i||^2."""
+    x, x_tilde, m = _check(x, x_tilde, m)
+    diff = x - x_tilde
+    return 0.5 * float(np.sum(m * np.einsum("ij,ij->i", diff, diff)))
+
+
+def grad(x, x_tilde, m):
+    """grad E_I = M (x - x_tilde)."""
+    x, x_tilde, m = _check(x, x_tilde, m)
+    return m[:, None] * (x - x_tilde)
+
+
+def hess(x, x_tilde, m):
+    """hess E_I = M: one diagonal entry m_i per DOF (2i, 2i + 1)."""
+    x, x_tilde, m = _check(x, x_tilde, m)
+    dofs = np.arange(2 * len(x), dtype=np.int64)
+    return dofs, dofs.copy(), np.repeat(m, 2)

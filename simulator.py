@@ -1,0 +1,505 @@
+"""The lecture's case study: an elastic mass-spring square dropped onto a slope with friction.
+
+Library use:   scene = build_scene(mu=0.2);  for record in simulate(scene, steps=300): ...
+Command line:  python simulator.py --help
+
+`build_scene` validates every parameter and builds the model once (mesh, masses, rest lengths,
+slope, which energy terms exist); `simulate` steps it with time_integrator.step. pygame is imported
+only where frames are drawn, so importing this module opens no window and needs no display.
+"""
+import argparse
+import csv
+import io
+import math
+import os
+import sys
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+import BarrierEnergy
+import GravityEnergy
+import MassSpringEnergy
+import square_mesh
+import time_integrator
+import utils
+
+DEFAULTS = {
+    "side_len": 1.0,            # m
+    "n_seg": 4,                 # segments per side
+    "rho": 1000.0,              # kg/m^2 (ignored when `mass` is given)
+    "mass": None,               # total mass in kg, instead of rho
+    "k": 2e4,                   # spring stiffness
+    "h": 0.01,                  # time step, s
+    "gravity": (0.0, -9.81),    # m/s^2
+    "slope": (0.1, 1.0),        # slope normal (normalized when the scene is built); None: no slope
+    "slope_point": (0.0, -1.0), # a point on the slope, o
+    "mu": 0.11,                 # friction coefficient
+    "dhat": BarrierEnergy.DHAT,
+    "kappa": BarrierEnergy.KAPPA,
+    "epsv": 1e-3,               # m/s
+    "tol": 1e-2,                # Newton tolerance on ||p||_inf / h, m/s
+    "v0": (0.0, 0.0),           # initial velocity of every node, m/s
+    "center": (0.0, 0.0),       # initial centre of the square
+    "angle": 0.0,               # initial rotation of the square about its centre, radians
+    "friction_updates": 0,      # fixed-point friction updates per step (0: lagged, as the lecture)
+    "max_newton_iterations": 100,
+    "max_halvings": 60,
+}
+
+
+@dataclass(frozen=True)
+class Scene:
+    """What a scene *is*; built once by `build_scene` and never changed by stepping."""
+    params: dict                # the validated parameters it was built from
+    x0: np.ndarray              # (N, 2) initial positions
+    v0: np.ndarray              # (N, 2) initial velocities
+    e: np.ndarray               # (E, 2) spring node indices
+    l2: np.ndarray              # (E,) squared rest lengths
+    k: np.ndarray               # (E,) spring stiffnesses
+    m: np.ndarray               # (N,) node masses
+    contact_area: np.ndarray    # (N,) contact weight per node (side_len / n_seg)
+    g: np.ndarray               # (2,) gravity
+    n: np.ndarray               # (2,) unit slope normal, or None without a slope
+    o: np.ndarray               # (2,) point on the slope, or None
+    mu: float
+    dhat: float
+    kappa: float
+    epsv: float
+    h: float
+    tol: float
+    n_seg: int
+    side_len: float
+    friction_updates: int
+    max_newton_iterations: int
+    max_halvings: int
+    terms: tuple = field(default=())    # the energy terms the Incremental Potential sums
+
+
+def _finite(name, value):
+    value = float(value)
+    if not math.isfinite(value):
+        raise ValueError(f"{name} must be finite, got {value}")
+    return value
+
+
+def _whole(name, value, minimum):
+    if isinstance(value, bool) or not math.isfinite(float(value)) or not float(value).is_integer() \
+            or value < minimum:
+        raise ValueError(f"{name} must be a whole number >= {minimum}, got {value}")
+    return int(value)
+
+
+def _vector(name, value):
+    try:
+        return utils.check_vector(name, np.asarray(value, dtype=np.float64))
+    except (TypeError, ValueError) as err:
+        if "must" in str(err):
+            raise
+        raise ValueError(f"{name} must be a 2-vector of numbers, got {value!r}") from None
+
+
+def _readonly(a):
+    a = np.array(a)
+    a.setflags(write=False)
+    return a
+
+
+def validate_params(**overrides):
+    """The full parameter set (DEFAULTS updated by `overrides`), each checked; ValueError names the bad one."""
+    unknown = set(overrides) - set(DEFAULTS)
+    if unknown:
+        raise ValueError(f"unknown scene parameter(s): {', '.join(sorted(unknown))}")
+    p = {**DEFAULTS, **overrides}
+    for name in ("side_len", "rho", "k", "h", "dhat", "kappa", "epsv", "tol"):
+        p[name] = utils.check_positive(name, p[name])
+    if p["mass"] is not None:
+        p["mass"] = utils.check_positive("mass", p["mass"])
+    p["n_seg"] = _whole("n_seg", p["n_seg"], 1)
+    p["friction_updates"] = _whole("friction_updates", p["friction_updates"], 0)
+    p["max_newton_iterations"] = _whole("max_newton_iterations", p["max_newton_iterations"], 1)
+    p["max_halvings"] = _whole("max_halvings", p["max_halvings"], 1)
+    p["mu"] = _finite("mu", p["mu"])
+    if p["mu"] < 0:
+        raise ValueError(f"mu must be >= 0, got {p['mu']}")
+    p["angle"] = _finite("angle", p["angle"])
+    for name in ("gravity", "slope_point", "v0", "center"):
+        p[name] = tuple(_vector(name, p[name]).tolist())
+    if p["slope"] is not None:
+        normal = _vector("slope", p["slope"])
+        if not np.hypot(*normal) > 0.0:
+            raise ValueError(f"slope normal must be non-zero, got {normal.tolist()}")
+        p["slope"] = tuple(normal.tolist())
+    return p
+
+
+def build_scene(**overrides):
+    """Validate the parameters (see DEFAULTS) and build the scene's model once."""
+    p = validate_params(**overrides)
+    x, e = square_mesh.generate(p["side_len"], p["n_seg"])
+    c, s = math.cos(p["angle"]), math.sin(p["angle"])
+    x = x @ np.array([[c, s], [-s, c]]) + np.array(p["center"])
+    diff = x[e[:, 0]] - x[e[:, 1]]
+    n_nodes = len(x)
+    total_mass = p["mass"] if p["mass"] is not None else p["rho"] * p["side_len"] ** 2
+    g = np.array(p["gravity"])
+
+    terms = ["inertia", "spring"]
+    if np.any(g != 0.0):
+        terms.append("gravity")
+    n = o = None
+    if p["slope"] is not None:
+        n = np.array(p["slope"]) / np.hypot(*p["slope"])
+        o = np.array(p["slope_point"])
+        d = BarrierEnergy.distances(x, n, o)
+        if d.min() <= 0.0:
+            i = int(np.argmin(d))
+            raise ValueError(
+                f"the square starts touching or below the slope: node {i} at {x[i].tolist()} has "
+                f"distance {d[i]:.6g} <= 0 (move center, currently {list(p['center'])}, above the slope)")
+        terms.append("barrier")
+        if p["mu"] > 0.0:
+            terms.append("friction")
+
+    return Scene(
+        params=p, x0=_readonly(x), v0=_readonly(np.tile(p["v0"], (n_nodes, 1))), e=_readonly(e),
+        l2=_readonly(np.einsum("ij,ij->i", diff, diff)), k=_readonly(np.full(len(e), p["k"])),
+        m=_readonly(np.full(n_nodes, total_mass / n_nodes)),
+        contact_area=_readonly(np.full(n_nodes, p["side_len"] / p["n_seg"])),
+        g=_readonly(g), n=None if n is None else _readonly(n), o=None if o is None else _readonly(o),
+        mu=p["mu"], dhat=p["dhat"], kappa=p["kappa"], epsv=p["epsv"], h=p["h"], tol=p["tol"],
+        n_seg=p["n_seg"], side_len=p["side_len"], friction_updates=p["friction_updates"],
+        max_newton_iterations=p["max_newton_iterations"], max_halvings=p["max_halvings"],
+        terms=tuple(terms))
+
+
+def energies(scene, x, v):
+    """Mechanical energy by term: kinetic, gravity, spring, barrier (J), and their total."""
+    out = {"kinetic": 0.5 * float(np.sum(scene.m * np.einsum("ij,ij->i", v, v))),
+           "gravity": GravityEnergy.val(x, scene.m, scene.g),
+           "spring": MassSpringEnergy.val(x, scene.e, scene.l2, scene.k),
+           "barrier": 0.0}
+    if "barrier" in scene.terms:
+        out["barrier"] = BarrierEnergy.val(x, scene.n, scene.o, scene.contact_area, scene.dhat, scene.kappa)
+    out["total"] = sum(out.values())
+    return out
+
+
+@dataclass
+class StepRecord:
+    """One step of a run: its index, time after it, the new state, its report and wall time."""
+    index: int
+    t: float
+    x: np.ndarray
+    v: np.ndarray
+    report: time_integrator.StepReport
+    wall: float
+
+
+def simulate(scene, steps, x=None, v=None):
+    """Yield a StepRecord for each of `steps` time steps from (x, v) (default: the scene's start)."""
+    steps = _whole("steps", steps, 1)
+    x = scene.x0.copy() if x is None else x
+    v = scene.v0.copy() if v is None else v
+    for i in range(steps):
+        start = time.perf_counter()
+        x, v, report = time_integrator.step(scene, x, v, step_index=i)
+        yield StepRecord(i, (i + 1) * scene.h, x, v, report, time.perf_counter() - start)
+
+
+# ------------------------------------------------------------------------------------------------
+# Drawing (pygame on an off-screen surface)
+# ------------------------------------------------------------------------------------------------
+
+RESOLUTION = 900
+SCALE = 200.0               # pixels per metre, the lecture's
+BLUE = (0, 0, 255)
+
+
+def _pygame(window=False):
+    if not window:
+        os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
+    os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
+    import pygame
+    pygame.font.init()
+    return pygame
+
+
+class View:
+    """Maps world coordinates to pixels; pans only once the square is 1.2 m from the view's centre."""
+
+    def __init__(self, scale=SCALE, size=RESOLUTION):
+        self.scale, self.size, self.center = scale, size, np.zeros(2)
+
+    def follow(self, com, margin=1.2):
+        offset = com - self.center
+        self.center = self.center + offset - np.clip(offset, -margin, margin)
+
+    def __call__(self, p):
+        q = (np.asarray(p) - self.center) * self.scale
+        return np.stack([self.size / 2 + q[..., 0], self.size / 2 - q[..., 1]], axis=-1)
+
+
+def draw_slope(pygame, surface, scene, view, color=BLUE):
+    if scene.n is None:
+        return
+    tangent = np.array([scene.n[1], -scene.n[0]])
+    reach = 2.0 * view.size / view.scale
+    foot = scene.o + np.dot(view.center - scene.o, tangent) * tangent
+    a, b = view(foot - reach * tangent), view(foot + reach * tangent)
+    pygame.draw.aaline(surface, color, a.tolist(), b.tolist())
+
+
+def draw_square(pygame, surface, scene, x, view, color=BLUE, nodes=True):
+    px = view(x)
+    for a, b in scene.e:
+        pygame.draw.aaline(surface, color, px[a].tolist(), px[b].tolist())
+    if nodes:
+        radius = max(1, int(0.1 * scene.side_len / scene.n_seg * view.scale))
+        for q in px:
+            pygame.draw.circle(surface, color, q.tolist(), radius)
+
+
+def draw_frame(pygame, scene, x, t, view, font):
+    """One frame as in the lecture: white, the slope as a line, springs and nodes in blue."""
+    surface = pygame.Surface((view.size, view.size))
+    surface.fill((255, 255, 255))
+    draw_slope(pygame, surface, scene, view)
+    draw_square(pygame, surface, scene, x, view)
+    surface.blit(font.render(f"t = {t:.2f} s   mu = {scene.mu:g}", True, (0, 0, 0)), (12, 10))
+    return surface
+
+
+def save_png(pygame, surface, path):
+    """Save a surface as PNG, atomically."""
+    buffer = io.BytesIO()
+    pygame.image.save(surface, buffer, "png")
+    square_mesh.write_atomic(path, buffer.getvalue())
+
+
+def draw_summary(pygame, scene, snapshots, com_path, lines, font):
+    """Every stored snapshot overlaid (older ones lighter), the centre-of-mass path, the parameters."""
+    pts = np.concatenate([com_path] + [s for s in snapshots])
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    size = RESOLUTION
+    scale = min(SCALE, 0.8 * size / max(float((hi - lo).max()), 1e-9))
+    view = View(scale, size)
+    view.center = 0.5 * (lo + hi)
+    surface = pygame.Surface((size, size))
+    surface.fill((255, 255, 255))
+    draw_slope(pygame, surface, scene, view, (0, 0, 0))
+    count = len(snapshots)
+    for i, x in enumerate(snapshots):
+        shade = int(200 * (1 - (i + 1) / count))
+        draw_square(pygame, surface, scene, x, view, (shade, shade, 255), nodes=False)
+    if len(com_path) > 1:
+        pygame.draw.lines(surface, (220, 0, 0), False, view(com_path).tolist(), 2)
+    for row, text in enumerate(lines):
+        surface.blit(font.render(text, True, (0, 0, 0)), (12, 10 + 22 * row))
+    return surface
+
+
+# ------------------------------------------------------------------------------------------------
+# Command line
+# ------------------------------------------------------------------------------------------------
+
+CSV_COLUMNS = ["step", "t", "wall_s", "com_x", "com_y", "v_tangential", "newton_iterations",
+               "residual", "alpha_min", "line_search_steps", "min_distance", "friction_iterations",
+               "friction_converged", "E_kinetic", "E_gravity", "E_spring", "E_barrier", "E_total"]
+
+
+class CommandLineError(Exception):
+    """A bad command line: reported in one line, exit code 2."""
+
+
+class Parser(argparse.ArgumentParser):
+    def error(self, message):
+        raise CommandLineError(message)
+
+
+def _pair(text):
+    try:
+        values = [float(s) for s in text.replace(",", " ").split()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected two numbers 'X,Y', got {text!r}") from None
+    if len(values) != 2:
+        raise argparse.ArgumentTypeError(f"expected two numbers 'X,Y', got {text!r}")
+    return tuple(values)
+
+
+def make_parser():
+    d = DEFAULTS
+    ap = Parser(prog="simulator.py", description="Simulate the lecture's elastic square on a slope "
+                "(implicit Euler as optimization, log-barrier contact, semi-implicit friction) and "
+                "write PNG frames, OBJ meshes, a CSV log and a summary picture.")
+    g = ap.add_argument_group("scene")
+    g.add_argument("--mu", type=float, default=d["mu"], help="friction coefficient (default %(default)s)")
+    g.add_argument("--h", "--dt", dest="h", type=float, default=d["h"], help="time step in s (default %(default)s)")
+    g.add_argument("--n-seg", type=float, default=d["n_seg"], help="segments per side (default %(default)s)")
+    g.add_argument("--side", dest="side_len", type=float, default=d["side_len"], help="side length in m (default %(default)s)")
+    g.add_argument("--k", type=float, default=d["k"], help="spring stiffness (default %(default)s)")
+    g.add_argument("--density", dest="rho", type=float, default=d["rho"], help="kg/m^2 (default %(default)s)")
+    g.add_argument("--mass", type=float, default=None, help="total mass in kg, instead of --density")
+    slope = g.add_mutually_exclusive_group()
+    slope.add_argument("--slope-normal", type=_pair, default=d["slope"], metavar="NX,NY",
+                       help="slope normal, normalized for you (default 0.1,1)")
+    slope.add_argument("--slope-angle", type=float, metavar="DEG",
+                       help="slope angle in degrees, descending to the right")
+    slope.add_argument("--no-slope", action="store_true", help="free fall: no slope, no contact")
+    g.add_argument("--slope-point", type=_pair, default=d["slope_point"], metavar="OX,OY",
+                   help="a point on the slope (default 0,-1)")
+    g.add_argument("--v0", type=_pair, default=d["v0"], metavar="VX,VY", help="initial velocity in m/s (default 0,0)")
+    g.add_argument("--gravity", type=_pair, default=d["gravity"], metavar="GX,GY", help="m/s^2 (default 0,-9.81)")
+    g.add_argument("--dhat", type=float, default=d["dhat"], help="barrier activation distance in m (default %(default)s)")
+    g.add_argument("--kappa", type=float, default=d["kappa"], help="barrier stiffness (default %(default)s)")
+    g.add_argument("--epsv", type=float, default=d["epsv"], help="friction eps_v in m/s (default %(default)s)")
+    g.add_argument("--tol", type=float, default=d["tol"], help="Newton tolerance on ||p||_inf/h in m/s (default %(default)s)")
+    g.add_argument("--friction-iterations", dest="friction_updates", type=float, default=0,
+                   help="fixed-point friction updates per step for fully implicit friction (default 0: lagged)")
+    g.add_argument("--max-newton", dest="max_newton_iterations", type=float, default=d["max_newton_iterations"],
+                   help="Newton iteration cap per solve (default %(default)s)")
+    r = ap.add_argument_group("run and output")
+    length = r.add_mutually_exclusive_group()
+    length.add_argument("--duration", type=float, default=3.0, help="simulated seconds (default %(default)s)")
+    length.add_argument("--steps", type=float, help="number of time steps, instead of --duration")
+    r.add_argument("--out", default="output", help="output folder (default %(default)s)")
+    r.add_argument("--frame-stride", type=float, default=1, help="write a frame every N steps (default %(default)s)")
+    r.add_argument("--no-frames", action="store_true", help="write only the CSV log and summary picture")
+    r.add_argument("--window", action="store_true", help="show the frames live in a pygame window")
+    return ap
+
+
+def scene_from_args(args):
+    overrides = {name: getattr(args, name) for name in (
+        "mu", "h", "n_seg", "side_len", "k", "rho", "mass", "slope_point", "v0", "gravity", "dhat",
+        "kappa", "epsv", "tol", "friction_updates", "max_newton_iterations")}
+    if args.no_slope:
+        overrides["slope"] = None
+    elif args.slope_angle is not None:
+        theta = math.radians(_finite("slope-angle", args.slope_angle))
+        if not -90.0 < args.slope_angle < 90.0:
+            raise ValueError(f"slope-angle must be in (-90, 90) degrees, got {args.slope_angle}")
+        overrides["slope"] = (math.sin(theta), math.cos(theta))
+    else:
+        overrides["slope"] = args.slope_normal
+    return build_scene(**overrides)
+
+
+def steps_from_args(args, scene):
+    if args.steps is not None:
+        return _whole("steps", args.steps, 1)
+    duration = utils.check_positive("duration", args.duration)
+    return max(1, int(round(duration / scene.h)))
+
+
+def prepare_output(folder):
+    """Create the output folder and prove it can be written; ValueError otherwise."""
+    try:
+        os.makedirs(folder, exist_ok=True)
+        probe = os.path.join(folder, ".write-test")
+        with open(probe, "w") as f:
+            f.write("ok")
+        os.remove(probe)
+    except OSError as err:
+        raise ValueError(f"out folder {folder!r} cannot be written: {err.strerror or err}") from None
+
+
+def csv_row(scene, record):
+    rep, x, v = record.report, record.x, record.v
+    com = np.average(x, axis=0, weights=scene.m)
+    vcom = np.average(v, axis=0, weights=scene.m)
+    tangent = np.array([scene.n[1], -scene.n[0]]) if scene.n is not None else np.array([1.0, 0.0])
+    E = energies(scene, x, v)
+    return [record.index + 1, f"{record.t:.6f}", f"{record.wall:.6f}", f"{com[0]:.9f}", f"{com[1]:.9f}",
+            f"{float(vcom @ tangent):.9f}", rep.newton_iterations, f"{rep.residual:.3e}",
+            f"{min(rep.alphas, default=1.0):.6g}", len(rep.alphas), f"{rep.min_distance:.9g}",
+            rep.friction_iterations, int(rep.friction_converged), f"{E['kinetic']:.9g}",
+            f"{E['gravity']:.9g}", f"{E['spring']:.9g}", f"{E['barrier']:.9g}", f"{E['total']:.9g}"]
+
+
+def write_csv(path, rows):
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(CSV_COLUMNS)
+    writer.writerows(rows)
+    square_mesh.write_atomic(path, buffer.getvalue())
+
+
+def run(args, log=sys.stderr):
+    """Run the command line's scene, writing frames, OBJs, log.csv and summary.png. Returns the exit code."""
+    scene = scene_from_args(args)
+    steps = steps_from_args(args, scene)
+    stride = _whole("frame-stride", args.frame_stride, 1)
+    out = args.out
+    prepare_output(out)
+    pygame = _pygame(window=args.window)
+    font = pygame.font.Font(None, 26)
+    screen = pygame.display.set_mode((RESOLUTION, RESOLUTION)) if args.window else None
+    view = View()
+    frames = not args.no_frames
+    csv_path = os.path.join(out, "log.csv")
+    rows, snapshots, last_x = [], [scene.x0.copy()], scene.x0
+    com_path = [np.average(scene.x0, axis=0, weights=scene.m)]
+
+    def emit_frame(index, x, t):
+        view.follow(np.average(x, axis=0, weights=scene.m))
+        surface = draw_frame(pygame, scene, x, t, view, font)
+        if frames:
+            save_png(pygame, surface, os.path.join(out, f"frame_{index:05d}.png"))
+            square_mesh.write_obj(os.path.join(out, f"frame_{index:05d}.obj"), x, scene.n_seg)
+        if screen is not None:
+            screen.blit(surface, (0, 0))
+            pygame.display.flip()
+            pygame.event.pump()
+
+    emit_frame(0, scene.x0, 0.0)
+    start, failure = time.perf_counter(), None
+    report_every = max(1, steps // 10)
+    try:
+        for record in simulate(scene, steps):
+            rows.append(csv_row(scene, record))
+            last_x = record.x
+            com_path.append(np.average(record.x, axis=0, weights=scene.m))
+            if (record.index + 1) % stride == 0 or record.index + 1 == steps:
+                emit_frame(record.index + 1, record.x, record.t)
+                write_csv(csv_path, rows)
+            if (record.index + 1) % max(1, steps // 10) == 0:
+                snapshots.append(record.x.copy())
+            if (record.index + 1) % report_every == 0:
+                print(f"step {record.index + 1}/{steps}  t={record.t:.2f}s  newton={record.report.newton_iterations}"
+                      f"  residual={record.report.residual:.1e}  min_d={record.report.min_distance:.2e}",
+                      file=log, flush=True)
+    except time_integrator.SimulationError as err:
+        failure = err
+    finally:
+        write_csv(csv_path, rows)
+    wall = time.perf_counter() - start
+    p = scene.params
+    lines = [f"mu = {scene.mu:g}   h = {scene.h:g} s   k = {p['k']:g}   n_seg = {scene.n_seg}",
+             f"slope normal = {None if scene.n is None else np.round(scene.n, 4).tolist()}   "
+             f"dhat = {scene.dhat:g}   kappa = {scene.kappa:g}   eps_v = {scene.epsv:g}",
+             f"{len(rows)} steps, t = {len(rows) * scene.h:.2f} s, red: centre-of-mass path"]
+    save_png(pygame, draw_summary(pygame, scene, snapshots + [last_x], np.array(com_path),
+                                  lines, font), os.path.join(out, "summary.png"))
+    if screen is not None:
+        pygame.display.quit()
+    if failure is not None:
+        print(f"simulator.py: simulation failed: {failure}; {len(rows)} steps kept in {out}/", file=log)
+        return 1
+    written = "frames, OBJs, log.csv and summary.png" if frames else "log.csv and summary.png"
+    print(f"simulated {steps} steps ({steps * scene.h:.2f} s) in {wall:.2f} s wall; {written} in {out}/", file=log)
+    return 0
+
+
+def main(argv=None):
+    try:
+        args = make_parser().parse_args(argv)
+        return run(args)
+    except (CommandLineError, ValueError) as err:
+        print(f"simulator.py: error: {err}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,76 @@
+"""Bad input to the energy functions raises ValueError naming the argument; no NaN comes back."""
+import numpy as np
+import pytest
+
+import BarrierEnergy
+import FrictionEnergy
+import GravityEnergy
+import InertiaEnergy
+import MassSpringEnergy
+import square_mesh
+
+X, E = square_mesh.generate(1.0, 2)
+L2 = np.einsum("ij,ij->i", X[E[:, 0]] - X[E[:, 1]], X[E[:, 0]] - X[E[:, 1]])
+N, O = np.array([0.0, 1.0]), np.array([0.0, 0.0])   # the lower half of the square is below
+W = np.full(len(X), 0.5)
+NAN_X = X.copy()
+NAN_X[3, 1] = np.nan
+
+
+def spring(x=X, e=E, l2=L2, k=1.0):
+    return lambda f: f(x, e, l2, k)
+
+
+def barrier(x=X, n=N, o=O, w=W, **kw):
+    return lambda f: f(x, n, o, w, **kw)
+
+
+def friction(v=X * 0, ml=W, hhat=0.01, n=N, **kw):
+    return lambda f: f(v, ml, hhat, n, **kw)
+
+
+CASES = [
+    (MassSpringEnergy, spring(x=X[:, :1]), "x must have shape"),
+    (MassSpringEnergy, spring(x=NAN_X), "x has a non-finite value nan at node 3"),
+    (MassSpringEnergy, spring(e=E + 100), "e has node index"),
+    (MassSpringEnergy, spring(e=E.astype(float)), "e must hold integer"),
+    (MassSpringEnergy, spring(l2=L2[:-1]), "l2 must have one value per edge"),
+    (MassSpringEnergy, spring(k=np.ones(3)), "k must have one value per edge"),
+    (MassSpringEnergy, spring(k=np.inf), "k has a non-finite value inf"),
+    (MassSpringEnergy, spring(l2=0 * L2), "l2 (squared rest length) must be > 0"),
+    (InertiaEnergy, lambda f: f(X, X[:-1], np.ones(len(X))), "x_tilde must have the shape"),
+    (InertiaEnergy, lambda f: f(X, X, -np.ones(len(X))), "m must be > 0"),
+    (GravityEnergy, lambda f: f(X, np.ones(2)), "m must have one value per node"),
+    (GravityEnergy, lambda f: f(X, np.ones(len(X)), (0, np.nan)), "g must be finite"),
+    (BarrierEnergy, barrier(), "node 0 is at distance"),                       # below the slope
+    (BarrierEnergy, barrier(o=[0.0, -0.5]), "distance 0 <= 0"),               # touching it
+    (BarrierEnergy, barrier(w=W[:2]), "contact_area must have one value per node"),
+    (BarrierEnergy, barrier(n=[0.0, 2.0]), "n must be a unit vector"),
+    (BarrierEnergy, barrier(o=[0.0, -2.0], dhat=0.0), "dhat must be a finite number > 0"),
+    (BarrierEnergy, barrier(o=[0.0, -2.0], kappa=np.nan), "kappa must be a finite number > 0"),
+    (FrictionEnergy, friction(ml=W[:3]), "mu_lambda must have one value per node"),
+    (FrictionEnergy, friction(ml=-W), "mu_lambda must be >= 0"),
+    (FrictionEnergy, friction(hhat=0.0), "hhat must be a finite number > 0"),
+    (FrictionEnergy, friction(epsv=-1.0), "epsv must be a finite number > 0"),
+    (FrictionEnergy, friction(v=NAN_X), "v has a non-finite value"),
+]
+
+
+@pytest.mark.parametrize("module, call, message", CASES, ids=[c[2][:30] for c in CASES])
+@pytest.mark.parametrize("kind", ["val", "grad", "hess"])
+def test_bad_input_raises_value_error(module, call, message, kind):
+    with pytest.raises(ValueError, match=message.replace("(", r"\(").replace(")", r"\)")):
+        call(getattr(module, kind))
+
+
+def test_ccd_and_mu_lambda_bad_input():
+    with pytest.raises(ValueError, match="p must have the shape of x"):
+        BarrierEnergy.init_step_size(X, N, [0, -2.0], X[:2])
+    with pytest.raises(ValueError, match="mu must be a finite number >= 0, got -0.1"):
+        BarrierEnergy.compute_mu_lambda(X, N, [0, -2.0], W, -0.1)
+    with pytest.raises(ValueError, match="node 0 is at distance"):
+        BarrierEnergy.compute_mu_lambda(X, N, O, W, 0.1)
+    with pytest.raises(ValueError, match="side_len must be a finite number > 0, got 0"):
+        square_mesh.generate(0.0, 4)
+    with pytest.raises(ValueError, match="n_seg must be a whole number >= 1, got 2.5"):
+        square_mesh.generate(1.0, 2.5)

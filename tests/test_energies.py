@@ -1,0 +1,267 @@
+"""Every energy's grad against its val, and hess against grad, by central finite differences,
+at many random configurations and on both sides of every branch point."""
+import numpy as np
+import pytest
+
+import BarrierEnergy
+import FrictionEnergy
+import GravityEnergy
+import InertiaEnergy
+import MassSpringEnergy
+import square_mesh
+from fd import assert_close, dense, fd_gradient, fd_jacobian, roundoff
+
+SEEDS = range(6)
+N_SLOPE = np.array([0.1, 1.0]) / np.hypot(0.1, 1.0)
+O_SLOPE = np.array([0.0, -1.0])
+
+
+def check_derivatives(val, grad, hess, x, eps, rtol=1e-6):
+    """grad == FD(val) and dense(hess) == FD(grad) at x; also hess is symmetric and 2N x 2N."""
+    assert_close(grad(x), fd_gradient(val, x, eps), rtol, "grad vs FD of val", roundoff(val(x), eps))
+    ijv = hess(x)
+    assert all(a.ndim == 1 for a in ijv) and len({len(a) for a in ijv}) == 1
+    H = dense(ijv, x.size)
+    assert_close(H, H.T, 1e-12, "hess symmetry")
+    assert_close(H, fd_jacobian(grad, x, eps), rtol, "hess vs FD of grad", roundoff(grad(x), eps))
+
+
+# --- inertia and gravity --------------------------------------------------------------------
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_inertia(seed):
+    rng = np.random.default_rng(seed)
+    x, x_tilde, m = rng.normal(size=(7, 2)), rng.normal(size=(7, 2)), rng.uniform(0.5, 3, 7)
+    check_derivatives(lambda y: InertiaEnergy.val(y, x_tilde, m), lambda y: InertiaEnergy.grad(y, x_tilde, m),
+                      lambda y: InertiaEnergy.hess(y, x_tilde, m), x, 1e-5)
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_gravity(seed):
+    rng = np.random.default_rng(seed)
+    x, m, g = rng.normal(size=(6, 2)), rng.uniform(0.5, 3, 6), rng.normal(size=2)
+    check_derivatives(lambda y: GravityEnergy.val(y, m, g), lambda y: GravityEnergy.grad(y, m, g),
+                      lambda y: GravityEnergy.hess(y, m, g), x, 1e-5)
+    assert all(len(a) == 0 for a in GravityEnergy.hess(x, m, g))
+    assert GravityEnergy.val(np.array([[0.0, 2.0]]), [3.0]) == pytest.approx(3.0 * 9.81 * 2.0)
+
+
+# --- mass-spring ----------------------------------------------------------------------------
+
+def spring_setup(seed, stretch):
+    """The lecture's mesh, its springs scaled by `stretch` on average plus random jitter."""
+    rng = np.random.default_rng(seed)
+    x0, e = square_mesh.generate(1.0, 3)
+    d = x0[e[:, 0]] - x0[e[:, 1]]
+    l2 = np.einsum("ij,ij->i", d, d)
+    x = stretch * x0 + 0.02 * rng.normal(size=x0.shape)
+    k = rng.uniform(1e3, 3e4, len(e))
+    return x, e, l2, k
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+@pytest.mark.parametrize("stretch", [0.6, 0.97, 1.03, 1.5])
+def test_mass_spring_true_hessian(seed, stretch):
+    x, e, l2, k = spring_setup(seed, stretch)
+    check_derivatives(lambda y: MassSpringEnergy.val(y, e, l2, k), lambda y: MassSpringEnergy.grad(y, e, l2, k),
+                      lambda y: MassSpringEnergy.hess(y, e, l2, k, project_psd=False), x, 1e-6)
+
+
+def test_mass_spring_projection_only_changes_compressed_springs():
+    x, e, l2, k = spring_setup(0, 1.5)           # every spring stretched: true Hessian is PSD
+    diff = x[e[:, 0]] - x[e[:, 1]]
+    assert (np.einsum("ij,ij->i", diff, diff) > l2).all()
+    n = x.size
+    assert_close(dense(MassSpringEnergy.hess(x, e, l2, k), n),
+                 dense(MassSpringEnergy.hess(x, e, l2, k, project_psd=False), n), 1e-12, "stretched")
+    x, e, l2, k = spring_setup(0, 0.6)           # compressed: the true Hessian is indefinite
+    H_true = dense(MassSpringEnergy.hess(x, e, l2, k, project_psd=False), n)
+    H_proj = dense(MassSpringEnergy.hess(x, e, l2, k), n)
+    assert np.linalg.eigvalsh(H_true).min() < -1e-6 * np.abs(H_true).max()
+    assert np.linalg.eigvalsh(H_proj).min() > -1e-9 * np.abs(H_proj).max()
+
+
+def test_mass_spring_value_at_rest_and_by_hand():
+    x0, e = square_mesh.generate(1.0, 2)
+    d = x0[e[:, 0]] - x0[e[:, 1]]
+    l2 = np.einsum("ij,ij->i", d, d)
+    assert MassSpringEnergy.val(x0, e, l2, 5.0) == 0.0
+    # one spring of rest length 1 stretched to 2: 1/2 k l^2 (4/1 - 1)^2 = 4.5 k
+    assert MassSpringEnergy.val([[0.0, 0.0], [2.0, 0.0]], [[0, 1]], [1.0], [3.0]) == pytest.approx(13.5)
+
+
+# --- barrier --------------------------------------------------------------------------------
+
+def barrier_points(rng, d):
+    """Nodes at the given distances d from the lecture's slope, spread along it."""
+    tangent = np.array([N_SLOPE[1], -N_SLOPE[0]])
+    return O_SLOPE + np.outer(rng.uniform(-1, 1, len(d)), tangent) + np.outer(d, N_SLOPE)
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+@pytest.mark.parametrize("where", ["inside", "just_below_dhat", "just_above_dhat", "mixed"])
+def test_barrier(seed, where):
+    rng = np.random.default_rng(seed)
+    dhat, kappa = 0.01, 1e5
+    d = {"inside": rng.uniform(0.1, 0.9, 6) * dhat,
+         "just_below_dhat": dhat * (1 - rng.uniform(1e-3, 1e-2, 6)),
+         "just_above_dhat": dhat * (1 + rng.uniform(1e-3, 1e-2, 6)),
+         "mixed": rng.uniform(0.05, 3.0, 6) * dhat}[where]
+    x, w = barrier_points(rng, d), rng.uniform(0.1, 0.5, len(d))
+    args = (N_SLOPE, O_SLOPE, w, dhat, kappa)
+    eps = 1e-3 * min(d.min(), abs(d - dhat).min())   # never straddles the branch at d = dhat
+    check_derivatives(lambda y: BarrierEnergy.val(y, *args), lambda y: BarrierEnergy.grad(y, *args),
+                      lambda y: BarrierEnergy.hess(y, *args), x, eps)
+    if where == "just_above_dhat":
+        assert BarrierEnergy.val(x, *args) == 0.0 and len(BarrierEnergy.hess(x, *args)[0]) == 0
+
+
+def test_barrier_keyword_constants_and_value():
+    x = np.array([[0.0, 0.005]])
+    # w dhat kappa/2 (s - 1) ln s with s = 1/2
+    expect = 0.25 * 0.01 * 1e5 / 2 * (-0.5) * np.log(0.5)
+    assert BarrierEnergy.val(x, [0.0, 1.0], [0.0, 0.0], [0.25]) == pytest.approx(expect)
+    assert BarrierEnergy.val(x, [0.0, 1.0], [0.0, 0.0], [0.25], kappa=2e5) == pytest.approx(2 * expect)
+    assert BarrierEnergy.val(x, [0.0, 1.0], [0.0, 0.0], [0.25], dhat=0.004) == 0.0
+
+
+def test_mu_lambda_is_mu_times_contact_force():
+    rng = np.random.default_rng(3)
+    d = np.array([0.002, 0.006, 0.02, 0.5])
+    x, w = barrier_points(rng, d), np.full(4, 0.25)
+    mu_lambda = BarrierEnergy.compute_mu_lambda(x, N_SLOPE, O_SLOPE, w, 0.3)
+    force = -BarrierEnergy.grad(x, N_SLOPE, O_SLOPE, w)       # contact force on each node
+    assert_close(mu_lambda, 0.3 * np.linalg.norm(force, axis=1), 1e-12, "mu*lambda")
+    assert (mu_lambda[:2] > 0).all() and (mu_lambda[2:] == 0).all()
+
+
+def test_init_step_size_is_ccd_scaled_by_0_9():
+    x = np.array([[0.0, 1.0], [1.0, 0.5], [2.0, 3.0]])
+    n, o = np.array([0.0, 1.0]), np.zeros(2)
+    p = np.array([[0.0, -2.0], [0.0, -4.0], [0.0, 1.0]])
+    # node 0 reaches the ground at alpha 0.5, node 1 at 0.125: 0.9 * 0.125
+    assert BarrierEnergy.init_step_size(x, n, o, p) == pytest.approx(0.1125)
+    assert BarrierEnergy.init_step_size(x, n, o, -p * 0.01) == 1.0
+    assert BarrierEnergy.init_step_size(x, n, o, p * 0.01) == 1.0
+
+
+# --- friction -------------------------------------------------------------------------------
+
+def friction_setup(rng, speeds, epsv, hhat):
+    """Velocities with tangential speed `speeds` (plus any normal part), and positions
+    x = x^n + hhat v, so P_f can be differentiated with respect to x. x^n is kept near zero so
+    that x - x^n loses no digits at the tiny FD steps near eps_v."""
+    tangent = np.array([N_SLOPE[1], -N_SLOPE[0]])
+    sign = rng.choice([-1.0, 1.0], len(speeds))
+    normal = 0.1 * epsv * rng.normal(size=len(speeds)) if speeds.any() else np.zeros(len(speeds))
+    v = np.outer(sign * speeds, tangent) + np.outer(normal, N_SLOPE)     # speeds 0: v = 0 exactly
+    x_n = 1e-6 * rng.normal(size=v.shape)
+    mu_lambda = rng.uniform(10, 100, len(speeds))
+    mu_lambda[0] = 0.0                          # a node out of contact
+    return x_n, x_n + hhat * v, mu_lambda
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+@pytest.mark.parametrize("where", ["static", "just_below_epsv", "just_above_epsv", "sliding", "zero"])
+def test_friction(seed, where):
+    rng = np.random.default_rng(seed)
+    epsv, hhat = 1e-3, 0.01
+    speeds = {"static": rng.uniform(0.05, 0.9, 6) * epsv,
+              "just_below_epsv": epsv * (1 - rng.uniform(1e-3, 1e-2, 6)),
+              "just_above_epsv": epsv * (1 + rng.uniform(1e-3, 1e-2, 6)),
+              "sliding": rng.uniform(2, 500, 6) * epsv,
+              "zero": np.zeros(6)}[where]
+    x_n, x, mu_lambda = friction_setup(rng, speeds, epsv, hhat)
+    args = (mu_lambda, hhat, N_SLOPE, epsv)
+
+    def vel(y):
+        return (y - x_n) / hhat
+
+    # a step eps in x moves the tangential speed by eps/hhat: keep it far below the distance of
+    # every speed to a branch point (eps_v, and 0 where |vbar| is not smooth)
+    # at vbar = 0 exactly, grad contains |vbar| vbar (C1 only), so the FD error is ~ step/eps_v
+    gap = min(np.abs(speeds - epsv).min(), speeds.min()) if where != "zero" else 1e-3 * epsv
+    eps = 1e-4 * hhat * gap
+    check_derivatives(lambda y: FrictionEnergy.val(vel(y), *args), lambda y: FrictionEnergy.grad(vel(y), *args),
+                      lambda y: FrictionEnergy.hess(vel(y), *args, project_psd=False), x, eps)
+    if where == "zero":
+        assert not FrictionEnergy.grad(vel(x), *args).any()
+    g = FrictionEnergy.grad(vel(x), *args)
+    assert np.abs(g @ N_SLOPE).max() <= 1e-12 * max(np.abs(g).max(), 1.0), "friction acts along the slope only"
+
+
+def test_friction_force_magnitude_is_mu_lambda_when_sliding():
+    rng = np.random.default_rng(0)
+    x_n, x, mu_lambda = friction_setup(rng, np.full(5, 0.7), 1e-3, 0.01)
+    g = FrictionEnergy.grad((x - x_n) / 0.01, mu_lambda, 0.01, N_SLOPE)
+    assert_close(np.linalg.norm(g, axis=1), mu_lambda, 1e-12, "|F| = mu lambda")
+
+
+def test_friction_projection_is_identity_on_psd_bracket():
+    rng = np.random.default_rng(1)
+    for speeds in (np.zeros(6), np.full(6, 5e-4), np.full(6, 0.2)):
+        x_n, x, mu_lambda = friction_setup(rng, speeds, 1e-3, 0.01)
+        v = (x - x_n) / 0.01
+        assert_close(dense(FrictionEnergy.hess(v, mu_lambda, 0.01, N_SLOPE), x.size),
+                     dense(FrictionEnergy.hess(v, mu_lambda, 0.01, N_SLOPE, project_psd=False), x.size),
+                     1e-12, "projection of a PSD bracket")
+
+
+# --- mollifier --------------------------------------------------------------------------------
+
+def test_f0_derivative_is_f1():
+    epsv, hhat = 1e-3, 0.01
+    y = np.concatenate([np.linspace(0, 3 * epsv * hhat, 301), [epsv * hhat * (1 - 1e-4), epsv * hhat * (1 + 1e-4)]])
+    step = 1e-4 * epsv * hhat
+    y = y[np.abs(y - epsv * hhat) > 2 * step]               # the branch point itself: see continuity
+    y = y[y > 2 * step]
+    numeric = (FrictionEnergy.f0(y + step, epsv, hhat) - FrictionEnergy.f0(y - step, epsv, hhat)) / (2 * step)
+    assert_close(numeric, FrictionEnergy.f1(y / hhat, epsv), 1e-7, "f0' = f1(y / hhat)")
+
+
+def test_mollifier_continuity_at_branch_point():
+    epsv, hhat = 2e-3, 0.02
+    below, above = np.nextafter(epsv, 0), epsv
+    assert FrictionEnergy.f0(below * hhat, epsv, hhat) == pytest.approx(FrictionEnergy.f0(above * hhat, epsv, hhat), rel=1e-12)
+    assert FrictionEnergy.f1(below, epsv) == pytest.approx(FrictionEnergy.f1(above, epsv), rel=1e-12)
+    assert FrictionEnergy.f1_over_y(below, epsv) == pytest.approx(FrictionEnergy.f1_over_y(above, epsv), rel=1e-12)
+    assert FrictionEnergy.f_hess_term(below, epsv) == pytest.approx(FrictionEnergy.f_hess_term(above, epsv), rel=1e-12)
+    assert FrictionEnergy.f0(0.0, epsv, hhat) == pytest.approx(epsv * hhat / 3)
+
+
+def test_f1_over_y_finite_at_zero():
+    with np.errstate(all="raise"):                      # any division by zero would raise here
+        value = FrictionEnergy.f1_over_y(np.array([0.0, 1e-300, 1e-3, 5.0]), 1e-3)
+        term = FrictionEnergy.f_hess_term(np.array([0.0, 5.0]), 1e-3)
+        g = FrictionEnergy.grad(np.zeros((3, 2)), np.ones(3), 0.01, N_SLOPE)
+        H = FrictionEnergy.hess(np.zeros((3, 2)), np.ones(3), 0.01, N_SLOPE)
+    assert value[0] == pytest.approx(2 / 1e-3) and np.isfinite(value).all() and np.isfinite(term).all()
+    assert not g.any() and np.isfinite(H[2]).all()
+
+
+# --- the FD check itself catches wrong formulas --------------------------------------------------
+
+@pytest.mark.parametrize("break_it", ["sign", "factor_2", "f1_over_y_factor_2", "hess_factor_2"])
+def test_fd_check_catches_broken_formula(break_it, monkeypatch):
+    """Break a formula on purpose; the same checks as above must fail."""
+    x, e, l2, k = spring_setup(0, 1.2)
+    rng = np.random.default_rng(0)
+    x_n, xf, mu_lambda = friction_setup(rng, np.full(6, 0.5e-3), 1e-3, 0.01)
+    if break_it in ("sign", "factor_2"):
+        factor = -1.0 if break_it == "sign" else 2.0
+        with pytest.raises(AssertionError):
+            check_derivatives(lambda y: MassSpringEnergy.val(y, e, l2, k),
+                              lambda y: factor * MassSpringEnergy.grad(y, e, l2, k),
+                              lambda y: MassSpringEnergy.hess(y, e, l2, k, project_psd=False), x, 1e-6)
+        return
+    if break_it == "f1_over_y_factor_2":
+        original = FrictionEnergy.f1_over_y
+        monkeypatch.setattr(FrictionEnergy, "f1_over_y", lambda y, epsv: 2.0 * original(y, epsv))
+    else:
+        original = FrictionEnergy.f_hess_term
+        monkeypatch.setattr(FrictionEnergy, "f_hess_term", lambda y, epsv: 2.0 * original(y, epsv))
+    args = (mu_lambda, 0.01, N_SLOPE, 1e-3)
+    with pytest.raises(AssertionError):
+        check_derivatives(lambda y: FrictionEnergy.val((y - x_n) / 0.01, *args),
+                          lambda y: FrictionEnergy.grad((y - x_n) / 0.01, *args),
+                          lambda y: FrictionEnergy.hess((y - x_n) / 0.01, *args, project_psd=False), xf, 1e-9)

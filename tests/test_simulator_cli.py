@@ -1,0 +1,99 @@
+"""`python simulator.py` as a user runs it: files written, flags, one-line errors with exit code 2."""
+import csv
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import simulator
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def run_cli(*args, cwd=None):
+    env = {**os.environ, "SDL_VIDEODRIVER": "dummy"}
+    return subprocess.run([sys.executable, os.path.join(ROOT, "simulator.py"), *args], cwd=cwd or ROOT,
+                          env=env, capture_output=True, text=True, timeout=300)
+
+
+def test_twenty_steps_write_frames_objs_csv_and_summary(tmp_path):
+    out = tmp_path / "run"
+    result = run_cli("--steps", "20", "--out", str(out))
+    assert result.returncode == 0, result.stderr
+    files = sorted(os.listdir(out))
+    assert [f for f in files if f.endswith(".png") and f.startswith("frame")] == \
+        [f"frame_{i:05d}.png" for i in range(21)]
+    assert len([f for f in files if f.endswith(".obj")]) == 21
+    assert "summary.png" in files and "log.csv" in files
+    assert not [f for f in files if f.startswith(".")]                     # no temporaries left
+    with open(out / "log.csv") as f:
+        rows = list(csv.DictReader(f))
+    assert len(rows) == 20 and set(simulator.CSV_COLUMNS) <= set(rows[0])
+    com_y = [float(r["com_y"]) for r in rows]
+    assert all(b < a for a, b in zip(com_y, com_y[1:]))                  # falling
+    assert all(int(r["newton_iterations"]) >= 1 for r in rows)
+    assert "simulated 20 steps" in result.stderr.splitlines()[-1]
+    obj = (out / "frame_00020.obj").read_text().splitlines()
+    last = np.array([[float(t) for t in line.split()[1:3]] for line in obj if line.startswith("v ")])
+    assert last.shape == (25, 2) and last[:, 1].mean() == pytest.approx(com_y[-1], abs=1e-6)
+
+
+def test_frame_looks_like_the_lecture(tmp_path):
+    """White background, blue springs and nodes, the slope drawn: check pixel colours."""
+    import pygame
+    out = tmp_path / "run"
+    assert run_cli("--steps", "1", "--out", str(out)).returncode == 0
+    image = pygame.image.load(str(out / "frame_00000.png"))
+    assert image.get_size() == (900, 900)
+    pixels = pygame.surfarray.array3d(image).reshape(-1, 3)
+    white = (pixels == 255).all(axis=1).mean()
+    blue = ((pixels[:, 2] > 200) & (pixels[:, 0] < 100) & (pixels[:, 1] < 100)).mean()
+    assert white > 0.8 and blue > 0.002
+    centre = pygame.surfarray.array3d(image)[450, 450]                  # node 12 sits at the origin
+    assert centre[2] > 200 and centre[0] < 100
+
+
+def test_flags_reach_the_scene():
+    args = simulator.make_parser().parse_args(
+        ["--mu", "0.2", "--h", "0.005", "--n-seg", "3", "--k", "3e4", "--density", "500", "--slope-angle", "10",
+         "--v0", "1,-2", "--dhat", "0.02", "--kappa", "1e6", "--epsv", "1e-4", "--tol", "1e-3",
+         "--friction-iterations", "3"])
+    scene = simulator.scene_from_args(args)
+    assert scene.mu == 0.2 and scene.h == 0.005 and scene.n_seg == 3 and scene.k[0] == 3e4
+    assert scene.m.sum() == pytest.approx(500.0) and scene.dhat == 0.02 and scene.kappa == 1e6
+    assert scene.epsv == 1e-4 and scene.tol == 1e-3 and scene.friction_updates == 3
+    assert np.allclose(scene.n, [np.sin(np.radians(10)), np.cos(np.radians(10))])
+    assert np.allclose(scene.v0, [1.0, -2.0])
+    assert simulator.steps_from_args(args, scene) == 600                  # 3 s default duration
+    no_slope = simulator.scene_from_args(simulator.make_parser().parse_args(["--no-slope"]))
+    assert no_slope.n is None and "barrier" not in no_slope.terms
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--mu", "-1"], "mu must be >= 0, got -1.0"),
+    (["--h", "0"], "h must be a finite number > 0, got 0.0"),
+    (["--n-seg", "2.5"], "n_seg must be a whole number >= 1, got 2.5"),
+    (["--k", "nan"], "k must be a finite number > 0, got nan"),
+    (["--slope-normal", "0,0"], "slope normal must be non-zero, got [0.0, 0.0]"),
+    (["--v0", "1"], "expected two numbers"),
+    (["--steps", "0"], "steps must be a whole number >= 1, got 0"),
+    (["--duration", "-3"], "duration must be a finite number > 0, got -3.0"),
+    (["--slope-point", "0,0.2"], "the square starts touching or below the slope"),
+    (["--bogus"], "unrecognized arguments: --bogus"),
+])
+def test_bad_command_line_is_one_line_and_exit_2(args, message, tmp_path):
+    result = run_cli(*args, "--out", str(tmp_path / "o"))
+    assert result.returncode == 2
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("simulator.py: error:") and message in lines[0], result.stderr
+    assert not (tmp_path / "o").exists() or not os.listdir(tmp_path / "o")
+
+
+def test_help_documents_every_scene_flag():
+    text = run_cli("--help").stdout
+    for flag in ("--mu", "--h", "--duration", "--steps", "--n-seg", "--k", "--density", "--slope-normal",
+                 "--slope-angle", "--v0", "--dhat", "--kappa", "--epsv", "--tol", "--friction-iterations",
+                 "--out", "--frame-stride", "--window"):
+        assert flag in text

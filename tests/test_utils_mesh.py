@@ -1,0 +1,118 @@
+"""PSD projection, IJV assembly and the square mesh."""
+import os
+
+import numpy as np
+import pytest
+
+import InertiaEnergy
+import MassSpringEnergy
+import square_mesh
+import utils
+
+
+def eig_route(H):
+    """Reference: numpy's eigen-decomposition, negative eigenvalues clamped, one matrix at a time."""
+    out = []
+    for A in H:
+        lam, Q = np.linalg.eigh(A)
+        out.append(Q @ np.diag(np.maximum(lam, 0)) @ Q.T)
+    return np.array(out)
+
+
+def random_symmetric(rng, count, size, scale=1.0):
+    A = rng.normal(size=(count, size, size)) * scale
+    return 0.5 * (A + np.swapaxes(A, 1, 2))
+
+
+@pytest.mark.parametrize("size", [2, 3, 4])
+@pytest.mark.parametrize("scale", [1e-6, 1.0, 1e8])
+def test_project_psd_matches_eigen_route(size, scale):
+    rng = np.random.default_rng(size)
+    H = random_symmetric(rng, 500, size, scale)
+    P = utils.project_psd(H)
+    assert np.allclose(P, eig_route(H), rtol=1e-10, atol=1e-12 * scale)
+    assert np.linalg.eigvalsh(P).min() >= -1e-12 * scale          # the result is PSD
+    assert np.array_equal(P, np.swapaxes(P, 1, 2))                 # and exactly symmetric
+
+
+@pytest.mark.parametrize("size", [2, 4])
+def test_project_psd_keeps_psd_input(size):
+    rng = np.random.default_rng(7)
+    A = rng.normal(size=(200, size, size))
+    H = A @ np.swapaxes(A, 1, 2)                                    # PSD (and some singular ones)
+    H[:50] = np.outer(np.ones(size), np.ones(size))                 # rank one
+    assert np.allclose(utils.project_psd(H), H, rtol=1e-12, atol=1e-12)
+
+
+def test_project_psd_2x2_limits():
+    H = np.array([[[0.0, 0.0], [0.0, 0.0]], [[-1.0, 0.0], [0.0, -2.0]], [[3.0, 0.0], [0.0, -1.0]],
+                  [[1.0, 1.0], [1.0, 1.0]], [[1e-300, 0.0], [0.0, -1e-300]]])
+    P = utils.project_psd_2x2(H)
+    assert np.array_equal(P[0], np.zeros((2, 2))) and np.array_equal(P[1], np.zeros((2, 2)))
+    assert np.allclose(P[2], [[3.0, 0.0], [0.0, 0.0]]) and np.allclose(P[3], H[3])
+    assert np.isfinite(P).all()
+
+
+def test_spring_closed_form_equals_4x4_eigen_projection():
+    rng = np.random.default_rng(2)
+    x, e = square_mesh.generate(1.0, 3)
+    d = x[e[:, 0]] - x[e[:, 1]]
+    l2 = np.einsum("ij,ij->i", d, d)
+    x = x * 0.8 + 0.05 * rng.normal(size=x.shape)                   # mostly compressed springs
+    rows, cols, vals = MassSpringEnergy.hess(x, e, l2, 1e4, project_psd=False)
+    blocks = vals.reshape(len(e), 4, 4)
+    projected = MassSpringEnergy.hess(x, e, l2, 1e4)[2].reshape(len(e), 4, 4)
+    assert np.allclose(projected, eig_route(blocks), rtol=1e-10, atol=1e-8)
+
+
+def test_ijv_assembles_symmetric_matrix_of_right_size():
+    x, e = square_mesh.generate(1.0, 2)
+    d = x[e[:, 0]] - x[e[:, 1]]
+    ijv = utils.concat_ijv([MassSpringEnergy.hess(1.1 * x, e, np.einsum("ij,ij->i", d, d), 3.0),
+                            InertiaEnergy.hess(x, x, np.ones(len(x)))])
+    A = utils.ijv_to_csr(ijv, 2 * len(x))
+    assert A.shape == (2 * len(x), 2 * len(x))
+    assert abs(A - A.T).max() == 0.0
+    assert all(a.ndim == 1 and len(a) == len(ijv[0]) for a in ijv)
+
+
+def test_mesh_order_and_springs():
+    x, e = square_mesh.generate(2.0, 2)
+    # node i*(n_seg+1)+j at (-1 + i, -1 + j)
+    assert np.array_equal(x, [[-1, -1], [-1, 0], [-1, 1], [0, -1], [0, 0], [0, 1], [1, -1], [1, 0], [1, 1]])
+    assert e.dtype == np.int64 and e.shape == (2 * 3 * 2 + 2 * 4, 2)
+    assert e[:6].tolist() == [[0, 3], [1, 4], [2, 5], [3, 6], [4, 7], [5, 8]]       # horizontal
+    assert e[6:12].tolist() == [[0, 1], [1, 2], [3, 4], [4, 5], [6, 7], [7, 8]]     # vertical
+    assert e[12:].tolist() == [[0, 4], [3, 1], [1, 5], [4, 2], [3, 7], [6, 4], [4, 8], [7, 5]]
+    assert len({tuple(sorted(p)) for p in e.tolist()}) == len(e)                    # no duplicates
+
+
+@pytest.mark.parametrize("n_seg", [1, 4, 64])
+def test_mesh_counts(n_seg):
+    x, e = square_mesh.generate(1.0, n_seg)
+    assert x.shape == ((n_seg + 1) ** 2, 2) and len(e) == 2 * n_seg * (n_seg + 1) + 2 * n_seg ** 2
+    lengths = np.linalg.norm(x[e[:, 0]] - x[e[:, 1]], axis=1)
+    assert np.allclose(np.sort(np.unique(lengths.round(12))), [1 / n_seg, np.sqrt(2) / n_seg])
+
+
+def test_obj_output(tmp_path):
+    x, _ = square_mesh.generate(1.0, 2)
+    path = tmp_path / "f.obj"
+    square_mesh.write_obj(str(path), x, 2)
+    lines = path.read_text().splitlines()
+    assert lines[0] == "v -0.500000 -0.500000 0.0" and len(lines) == 9 + 8
+    faces = np.array([[int(t) for t in line.split()[1:]] for line in lines if line.startswith("f")])
+    assert faces.min() == 1 and faces.max() == 9
+    assert os.listdir(tmp_path) == ["f.obj"]                         # no temporary left behind
+
+
+def test_atomic_write_leaves_old_file_on_failure(tmp_path):
+    path = tmp_path / "a.txt"
+    square_mesh.write_atomic(str(path), "old")
+
+    class Boom:
+        def encode(self):
+            raise RuntimeError("boom")
+    with pytest.raises((RuntimeError, TypeError)):
+        square_mesh.write_atomic(str(path), Boom())
+    assert path.read_text() == "old" and os.listdir(tmp_path) == ["a.txt"]
