@@ -44,7 +44,7 @@ DEFAULTS = {
     "center": (0.0, 0.0),       # initial centre of the square
     "angle": 0.0,               # initial rotation of the square about its centre, radians
     "friction_updates": 0,      # fixed-point friction updates per step (0: lagged, as the lecture)
-    "max_newton_iterations": 100,
+    "max_newton_iterations": 1000,  # a safety cap: the hardest tested cases need about 200
     "max_halvings": 60,
 }
 
@@ -75,6 +75,7 @@ class Scene:
     max_newton_iterations: int
     max_halvings: int
     terms: tuple = field(default=())    # the energy terms the Incremental Potential sums
+    warnings: tuple = field(default=())  # what this scene's results cannot be trusted for
 
 
 def _finite(name, value):
@@ -134,6 +135,27 @@ def validate_params(**overrides):
     return p
 
 
+def resolution_warnings(p):
+    """Parameter combinations the scheme runs stably but cannot resolve, as sentences for the user.
+
+    Implicit Euler stays stable at any h, but when one step moves the body by more than its own size
+    (|v0| h + |g| h^2 > side_len) the fall and the impact happen inside a single step: the landing is
+    perfectly inelastic whatever the physics, and bounce, impact time and contact forces mean nothing.
+    """
+    travel = np.hypot(*p["v0"]) * p["h"] + np.hypot(*p["gravity"]) * p["h"] ** 2
+    if travel > p["side_len"]:
+        return (f"time step h = {p['h']:g} s moves the square {travel:.3g} m per step, more than its size "
+                f"{p['side_len']:g} m: impacts are not resolved in time (results are qualitative only; "
+                f"use h <= {_largest_resolving_h(p):.3g} s)",)
+    return ()
+
+
+def _largest_resolving_h(p):
+    """The h at which |v0| h + |g| h^2 = side_len."""
+    v, g, L = np.hypot(*p["v0"]), np.hypot(*p["gravity"]), p["side_len"]
+    return L / v if g == 0 else (-v + math.sqrt(v * v + 4 * g * L)) / (2 * g)
+
+
 def build_scene(**overrides):
     """Validate the parameters (see DEFAULTS) and build the scene's model once."""
     p = validate_params(**overrides)
@@ -171,7 +193,7 @@ def build_scene(**overrides):
         mu=p["mu"], dhat=p["dhat"], kappa=p["kappa"], epsv=p["epsv"], h=p["h"], tol=p["tol"],
         n_seg=p["n_seg"], side_len=p["side_len"], friction_updates=p["friction_updates"],
         max_newton_iterations=p["max_newton_iterations"], max_halvings=p["max_halvings"],
-        terms=tuple(terms))
+        terms=tuple(terms), warnings=resolution_warnings(p))
 
 
 def energies(scene, x, v):
@@ -390,7 +412,9 @@ def steps_from_args(args, scene):
     if args.steps is not None:
         return _whole("steps", args.steps, 1)
     duration = utils.check_positive("duration", args.duration)
-    return max(1, int(round(duration / scene.h)))
+    if duration < scene.h:
+        raise ValueError(f"duration {duration:g} s is shorter than one time step h = {scene.h:g} s")
+    return int(round(duration / scene.h))
 
 
 def prepare_output(folder):
@@ -433,6 +457,8 @@ def run(args, log=sys.stderr):
     stride = _whole("frame-stride", args.frame_stride, 1)
     out = args.out
     prepare_output(out)
+    for warning in scene.warnings:
+        print(f"simulator.py: warning: {warning}", file=log)
     pygame = _pygame(window=args.window)
     font = pygame.font.Font(None, 26)
     screen = pygame.display.set_mode((RESOLUTION, RESOLUTION)) if args.window else None
@@ -472,6 +498,8 @@ def run(args, log=sys.stderr):
                       file=log, flush=True)
     except time_integrator.SimulationError as err:
         failure = err
+    except KeyboardInterrupt:
+        failure = "interrupted"
     finally:
         write_csv(csv_path, rows)
     wall = time.perf_counter() - start
@@ -486,7 +514,7 @@ def run(args, log=sys.stderr):
         pygame.display.quit()
     if failure is not None:
         print(f"simulator.py: simulation failed: {failure}; {len(rows)} steps kept in {out}/", file=log)
-        return 1
+        return 130 if failure == "interrupted" else 1
     written = "frames, OBJs, log.csv and summary.png" if frames else "log.csv and summary.png"
     print(f"simulated {steps} steps ({steps * scene.h:.2f} s) in {wall:.2f} s wall; {written} in {out}/", file=log)
     return 0

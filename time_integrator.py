@@ -43,6 +43,10 @@ class LineSearchFailed(SimulationError):
     """The backtracking line search halved `scene.max_halvings` times without decreasing E."""
 
 
+class NonFiniteState(SimulationError):
+    """The Newton direction came out non-finite (a numerical breakdown, never silently stepped on)."""
+
+
 def _fmt(value):
     return f"{value:.6g}" if isinstance(value, float) else str(value)
 
@@ -94,6 +98,11 @@ class IncrementalPotential:
         return out
 
     def val(self, x):
+        """E(x); +inf where a node is on or below the slope, so the line search halves away from it
+        even where round-off defeats the CCD bound (the "filter" of the filtered line search)."""
+        s = self.scene
+        if "barrier" in s.terms and BarrierEnergy.distances(x, s.n, s.o).min() <= 0.0:
+            return math.inf
         return sum(self._call("val", x))
 
     def grad(self, x):
@@ -127,6 +136,14 @@ def _init_step_size(scene, x, p):
     return BarrierEnergy.init_step_size(x, scene.n, scene.o, p)
 
 
+def _residual(scene, p, step_index, iteration):
+    """||p||_inf / h, the lecture's convergence measure (a velocity); NonFiniteState if p is not finite."""
+    residual = float(np.abs(p).max()) / scene.h
+    if not math.isfinite(residual):
+        raise NonFiniteState("the Newton direction is not finite", step_index, newton_iteration=iteration)
+    return residual
+
+
 def _newton(scene, ip, x, step_index, report, p=None):
     """Minimize `ip` from x by projected Newton with the filtered line search; returns x.
 
@@ -136,7 +153,7 @@ def _newton(scene, ip, x, step_index, report, p=None):
     E_last = ip.val(x)
     if p is None:
         p = ip.search_direction(x)
-    residual = float(np.abs(p).max()) / scene.h
+    residual = _residual(scene, p, step_index, 0)
     iterations = 0
     while iterations == 0 or residual > scene.tol:
         if iterations >= scene.max_newton_iterations:
@@ -162,8 +179,8 @@ def _newton(scene, ip, x, step_index, report, p=None):
         E_last = E_new
         report.alphas.append(alpha)
         p = ip.search_direction(x)
-        residual = float(np.abs(p).max()) / scene.h
         iterations += 1
+        residual = _residual(scene, p, step_index, iterations)
     report.residual = residual
     report.newton_iterations += iterations
     return x
@@ -188,7 +205,7 @@ def step(scene, x, v, step_index=0):
         for _ in range(scene.friction_updates):
             ip = IncrementalPotential(scene, x_n, x_tilde, _mu_lambda(scene, x_next))
             p = ip.search_direction(x_next)
-            if float(np.abs(p).max()) / scene.h <= scene.tol:
+            if _residual(scene, p, step_index, 0) <= scene.tol:
                 report.friction_converged = True
                 break
             x_next = _newton(scene, ip, x_next, step_index, report, p=p)
