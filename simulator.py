@@ -12,6 +12,7 @@ import csv
 import io
 import math
 import os
+import re
 import sys
 import time
 from dataclasses import dataclass, field
@@ -520,12 +521,44 @@ def run(args, log=sys.stderr):
     return 0
 
 
+# scene parameter -> the flag that sets it, so a command-line error names what the user typed
+FLAGS = {"side_len": "--side", "n_seg": "--n-seg", "rho": "--density", "mass": "--mass", "k": "--k", "h": "--h",
+         "mu": "--mu", "dhat": "--dhat", "kappa": "--kappa", "epsv": "--epsv", "tol": "--tol",
+         "friction_updates": "--friction-iterations", "max_newton_iterations": "--max-newton",
+         "slope": "--slope-normal", "slope normal": "--slope-normal", "slope-angle": "--slope-angle",
+         "slope_point": "--slope-point", "v0": "--v0", "gravity": "--gravity", "steps": "--steps",
+         "duration": "--duration", "frame-stride": "--frame-stride", "out folder": "--out",
+         "the square starts": "--slope-point/--slope-normal"}
+
+
+def _flag_for(message):
+    for name in sorted(FLAGS, key=len, reverse=True):
+        if message.startswith(name + " "):
+            return f"{FLAGS[name]}: "
+    return ""
+
+
+def _attach_negative_values(argv):
+    """['--k', '-2e4'] -> ['--k=-2e4']: argparse takes '-2e4' or '-1,2' for an option, but no flag
+    starts with a digit or a dot, so such a token is always the previous option's value."""
+    out = []
+    for token in argv:
+        if out and out[-1].startswith("--") and "=" not in out[-1] and re.match(r"^-[0-9.]", token):
+            out[-1] = f"{out[-1]}={token}"
+        else:
+            out.append(token)
+    return out
+
+
 def main(argv=None):
     try:
-        args = make_parser().parse_args(argv)
+        args = make_parser().parse_args(_attach_negative_values(sys.argv[1:] if argv is None else argv))
         return run(args)
-    except (CommandLineError, ValueError) as err:
+    except CommandLineError as err:
         print(f"simulator.py: error: {err}", file=sys.stderr)
+        return 2
+    except ValueError as err:
+        print(f"simulator.py: error: {_flag_for(str(err))}{err}", file=sys.stderr)
         return 2
 
 

@@ -1,0 +1,133 @@
+"""Bad scene parameters: ValueError from the library, one line and exit code 2 from the command line,
+naming the parameter and the value; nothing already on disk is touched."""
+import os
+import subprocess
+import sys
+
+import pytest
+
+import simulator
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+LIBRARY = [
+    (dict(side_len=0.0), "side_len must be a finite number > 0, got 0.0"),
+    (dict(side_len=-1.0), "side_len must be a finite number > 0, got -1.0"),
+    (dict(n_seg=0), "n_seg must be a whole number >= 1, got 0"),
+    (dict(n_seg=-3), "n_seg must be a whole number >= 1, got -3"),
+    (dict(rho=0.0), "rho must be a finite number > 0, got 0.0"),
+    (dict(mass=-5.0), "mass must be a finite number > 0, got -5.0"),
+    (dict(k=0.0), "k must be a finite number > 0, got 0.0"),
+    (dict(h=-0.01), "h must be a finite number > 0, got -0.01"),
+    (dict(dhat=0.0), "dhat must be a finite number > 0, got 0.0"),
+    (dict(kappa=-1e5), "kappa must be a finite number > 0, got -100000.0"),
+    (dict(epsv=0.0), "epsv must be a finite number > 0, got 0.0"),
+    (dict(tol=0.0), "tol must be a finite number > 0, got 0.0"),
+    (dict(mu=-0.1), "mu must be >= 0, got -0.1"),
+    (dict(slope=(0.0, 0.0)), "slope normal must be non-zero, got [0.0, 0.0]"),
+    (dict(slope_point=(0.0, 0.0)), "the square starts touching or below the slope"),
+    (dict(slope_point=(0.0, -0.52)), "the square starts touching or below the slope"),  # corner 0 cut
+    (dict(friction_updates=-1), "friction_updates must be a whole number >= 0, got -1"),
+    (dict(max_newton_iterations=0), "max_newton_iterations must be a whole number >= 1, got 0"),
+    (dict(colour="red"), "unknown scene parameter(s): colour"),
+] + [(dict([(name, value)]), f"{name} must be") for name in
+     ("side_len", "rho", "k", "h", "dhat", "kappa", "epsv", "tol", "mu", "angle", "n_seg", "mass")
+     for value in (float("nan"), float("inf"))] + [
+    (dict([(name, bad)]), f"{name} must be") for name in ("gravity", "slope", "slope_point", "v0", "center")
+    for bad in ((float("nan"), 1.0), (0.0, float("inf")), (1.0,))]
+
+
+@pytest.mark.parametrize("kwargs, message", LIBRARY, ids=[str(k) for k, _ in LIBRARY])
+def test_build_scene_refuses(kwargs, message):
+    with pytest.raises(ValueError) as info:
+        simulator.build_scene(**kwargs)
+    assert message in str(info.value)
+
+
+def test_touching_slope_names_the_node_and_distance():
+    with pytest.raises(ValueError, match=r"node 0 at \[-0.5, -0.5\] has distance -0.0[0-9]* <= 0"):
+        simulator.build_scene(slope=(0.0, 1.0), slope_point=(0.0, -0.45))
+    scene = simulator.build_scene(slope=(0.0, 1.0), slope_point=(0.0, -0.5 - 1e-9))   # just clear: fine
+    assert "barrier" in scene.terms
+
+
+@pytest.mark.parametrize("steps", [0, -1, 2.5, float("nan"), float("inf")])
+def test_simulate_refuses_bad_steps(steps):
+    with pytest.raises(ValueError, match=f"steps must be a whole number >= 1, got {steps}"):
+        next(simulator.simulate(simulator.build_scene(), steps))
+
+
+def cli(*args):
+    return subprocess.run([sys.executable, os.path.join(ROOT, "simulator.py"), *args], capture_output=True,
+                          text=True, timeout=120, env={**os.environ, "SDL_VIDEODRIVER": "dummy"})
+
+
+CLI = [
+    (["--side", "0"], "--side: side_len must be a finite number > 0, got 0.0"),
+    (["--n-seg", "0"], "--n-seg: n_seg must be a whole number >= 1, got 0"),
+    (["--density", "-1"], "--density: rho must be a finite number > 0, got -1.0"),
+    (["--mass", "0"], "--mass: mass must be a finite number > 0, got 0.0"),
+    (["--k", "-2e4"], "--k: k must be a finite number > 0, got -20000.0"),
+    (["--h", "0"], "--h: h must be a finite number > 0, got 0.0"),
+    (["--duration", "0"], "--duration: duration must be a finite number > 0, got 0.0"),
+    (["--duration", "0.001"], "--duration: duration 0.001 s is shorter than one time step h = 0.01 s"),
+    (["--steps", "-5"], "--steps: steps must be a whole number >= 1, got -5.0"),
+    (["--dhat", "0"], "--dhat: dhat must be a finite number > 0, got 0.0"),
+    (["--kappa", "0"], "--kappa: kappa must be a finite number > 0, got 0.0"),
+    (["--epsv", "-1e-3"], "--epsv: epsv must be a finite number > 0, got -0.001"),
+    (["--tol", "0"], "--tol: tol must be a finite number > 0, got 0.0"),
+    (["--mu", "-0.5"], "--mu: mu must be >= 0, got -0.5"),
+    (["--slope-normal", "0,0"], "--slope-normal: slope normal must be non-zero, got [0.0, 0.0]"),
+    (["--slope-angle", "90"], "--slope-angle: slope-angle must be in (-90, 90) degrees, got 90.0"),
+    (["--slope-point", "0,-0.4"], "the square starts touching or below the slope"),
+    (["--frame-stride", "0"], "--frame-stride: frame-stride must be a whole number >= 1, got 0.0"),
+    (["--friction-iterations", "-1"], "friction_updates must be a whole number >= 0, got -1.0"),
+    (["--mu", "abc"], "argument --mu: invalid float value: 'abc'"),
+] + [([flag, value], "must be") for flag in
+     ("--mu", "--h", "--side", "--k", "--density", "--mass", "--dhat", "--kappa", "--epsv", "--tol", "--n-seg",
+      "--duration", "--steps", "--frame-stride", "--slope-angle", "--friction-iterations", "--max-newton")
+     for value in ("nan", "inf")] + [
+    ([flag, value], "must be") for flag in ("--slope-normal", "--slope-point", "--v0", "--gravity")
+    for value in ("nan,1", "0,inf")]
+
+
+@pytest.mark.parametrize("args, message", CLI, ids=[" ".join(a) for a, _ in CLI])
+def test_cli_refuses_in_one_line_with_exit_2_and_touches_nothing(args, message, tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "log.csv").write_text("an earlier run\n")
+    result = cli(*args, "--out", str(out), "--steps", "3") if "--steps" not in args and "--duration" not in args \
+        else cli(*args, "--out", str(out))
+    lines = result.stderr.strip().splitlines()
+    assert result.returncode == 2 and len(lines) == 1, result.stderr
+    assert lines[0].startswith("simulator.py: error: ") and message in lines[0]
+    assert os.listdir(out) == ["log.csv"] and (out / "log.csv").read_text() == "an earlier run\n"
+
+
+def test_cli_refuses_unwritable_output_folder(tmp_path):
+    blocker = tmp_path / "a-file"
+    blocker.write_text("not a folder")
+    result = cli("--steps", "2", "--out", str(blocker / "sub"))
+    lines = result.stderr.strip().splitlines()
+    assert result.returncode == 2 and len(lines) == 1
+    assert lines[0].startswith(f"simulator.py: error: --out: out folder '{blocker / 'sub'}' cannot be written")
+    assert blocker.read_text() == "not a folder"
+
+
+def test_failure_mid_run_keeps_every_file_whole(tmp_path):
+    """Newton capped at one iteration fails at the impact: one line, non-zero exit, and every frame,
+    OBJ and CSV row written before it stays, whole; no temporary file is left."""
+    out = tmp_path / "out"
+    result = cli("--max-newton", "1", "--tol", "1e-6", "--steps", "60", "--out", str(out))
+    assert result.returncode == 1
+    failure = [line for line in result.stderr.splitlines() if "simulation failed" in line]
+    assert len(failure) == 1 and "Newton did not converge" in failure[0] and "step " in failure[0]
+    rows = (out / "log.csv").read_text().splitlines()
+    completed = len(rows) - 1
+    assert 0 < completed < 60 and f"{completed} steps kept" in failure[0]
+    assert all(len(r.split(",")) == len(rows[0].split(",")) for r in rows)
+    files = set(os.listdir(out))
+    assert {f"frame_{i:05d}.png" for i in range(completed + 1)} <= files
+    assert {f"frame_{i:05d}.obj" for i in range(completed + 1)} <= files
+    assert f"frame_{completed + 1:05d}.png" not in files and "summary.png" in files
+    assert not [f for f in files if f.startswith(".")]
