@@ -329,7 +329,8 @@ def draw_summary(pygame, scene, snapshots, com_path, lines, font):
 
 CSV_COLUMNS = ["step", "t", "wall_s", "com_x", "com_y", "v_tangential", "newton_iterations",
                "residual", "alpha_min", "line_search_steps", "min_distance", "friction_iterations",
-               "friction_converged", "E_kinetic", "E_gravity", "E_spring", "E_barrier", "E_total"]
+               "friction_converged", "E_kinetic", "E_gravity", "E_spring", "E_barrier", "E_total",
+               "W_friction"]
 
 
 class CommandLineError(Exception):
@@ -430,7 +431,8 @@ def prepare_output(folder):
         raise ValueError(f"out folder {folder!r} cannot be written: {err.strerror or err}") from None
 
 
-def csv_row(scene, record):
+def csv_row(scene, record, friction_work):
+    """One log.csv row; `friction_work` is the friction work summed over the run so far (J, <= 0)."""
     rep, x, v = record.report, record.x, record.v
     com = np.average(x, axis=0, weights=scene.m)
     vcom = np.average(v, axis=0, weights=scene.m)
@@ -440,7 +442,8 @@ def csv_row(scene, record):
             f"{float(vcom @ tangent):.9f}", rep.newton_iterations, f"{rep.residual:.3e}",
             f"{min(rep.alphas, default=1.0):.6g}", len(rep.alphas), f"{rep.min_distance:.9g}",
             rep.friction_iterations, int(rep.friction_converged), f"{E['kinetic']:.9g}",
-            f"{E['gravity']:.9g}", f"{E['spring']:.9g}", f"{E['barrier']:.9g}", f"{E['total']:.9g}"]
+            f"{E['gravity']:.9g}", f"{E['spring']:.9g}", f"{E['barrier']:.9g}", f"{E['total']:.9g}",
+            f"{friction_work:.9g}"]
 
 
 def write_csv(path, rows):
@@ -466,7 +469,7 @@ def run(args, log=sys.stderr):
     view = View()
     frames = not args.no_frames
     csv_path = os.path.join(out, "log.csv")
-    rows, snapshots, last_x = [], [scene.x0.copy()], scene.x0
+    rows, snapshots, last_x, friction_work = [], [scene.x0.copy()], scene.x0, 0.0
     com_path = [np.average(scene.x0, axis=0, weights=scene.m)]
 
     def emit_frame(index, x, t):
@@ -485,7 +488,8 @@ def run(args, log=sys.stderr):
     report_every = max(1, steps // 10)
     try:
         for record in simulate(scene, steps):
-            rows.append(csv_row(scene, record))
+            friction_work += record.report.friction_work
+            rows.append(csv_row(scene, record, friction_work))
             last_x = record.x
             com_path.append(np.average(record.x, axis=0, weights=scene.m))
             if (record.index + 1) % stride == 0 or record.index + 1 == steps:

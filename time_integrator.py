@@ -60,6 +60,7 @@ class StepReport:
     min_distance: float = math.inf      # smallest node distance to the slope after the step
     friction_iterations: int = 0        # Newton solves with updated mu*lambda (1 = lagged only)
     friction_converged: bool = True     # fixed point reached (always True when lagged)
+    friction_work: float = 0.0          # work of the friction forces over the step (J, <= 0)
 
 
 class IncrementalPotential:
@@ -211,6 +212,10 @@ def step(scene, x, v, step_index=0):
             x_next = _newton(scene, ip, x_next, step_index, report, p=p)
             report.friction_iterations += 1
 
+    v_next = (x_next - x_n) / scene.h
+    if ip.mu_lambda is not None:    # force -grad P_f at the end of the step, times the displacement
+        force = -FrictionEnergy.grad(v_next, ip.mu_lambda, scene.h, scene.n, scene.epsv)
+        report.friction_work = float(np.sum(force * (x_next - x_n)))
     if "barrier" in scene.terms:
         report.min_distance = float(np.min(BarrierEnergy.distances(x_next, scene.n, scene.o)))
-    return x_next, (x_next - x_n) / scene.h, report
+    return x_next, v_next, report

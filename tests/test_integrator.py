@@ -206,3 +206,24 @@ def test_fully_implicit_friction_updates_and_converges():
         implicit, x, x + implicit.h * v, BarrierEnergy.compute_mu_lambda(
             x_imp, implicit.n, implicit.o, implicit.contact_area, implicit.mu))
     assert np.abs(ip.search_direction(x_imp)).max() / implicit.h <= implicit.tol
+
+
+@pytest.mark.parametrize("kwargs", [dict(), dict(mu=0.5), dict(k=1e6, mu=0.2)])
+def test_energy_budget_friction_work(kwargs):
+    """Implicit Euler with convex potentials: E^{n+1} - E^n <= W_f^n, the work of friction over the
+    step (from the step's optimality condition and convexity; the rest is numerical dissipation). So
+    the mechanical energy lost since the start is at least what friction took out, and W_f <= 0.
+    Allowed slack: one step's Newton error, M tol (|v| + |dv| + tol), as in test_stability."""
+    scene = simulator.build_scene(**kwargs)
+    E_prev = simulator.energies(scene, scene.x0, scene.v0)["total"]
+    v_prev = scene.v0
+    total_work = 0.0
+    for rec in simulator.simulate(scene, 150):
+        work = rec.report.friction_work
+        assert work <= 0.0
+        total_work += work
+        E = simulator.energies(scene, rec.x, rec.v)["total"]
+        slack = scene.m.sum() * scene.tol * (np.abs(rec.v).max() + np.abs(rec.v - v_prev).max() + scene.tol)
+        assert E - E_prev <= work + slack, f"step {rec.index}"
+        E_prev, v_prev = E, rec.v
+    assert total_work < -1.0                       # friction did take energy out while sliding

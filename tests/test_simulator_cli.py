@@ -97,3 +97,11 @@ def test_help_documents_every_scene_flag():
                  "--slope-angle", "--v0", "--dhat", "--kappa", "--epsv", "--tol", "--friction-iterations",
                  "--out", "--frame-stride", "--window"):
         assert flag in text
+
+
+def test_window_mode_shows_frames(tmp_path):
+    """--window opens a pygame display and flips every frame to it; SDL's dummy video driver stands
+    in for a screen here, so the whole interactive path runs."""
+    result = run_cli("--window", "--steps", "3", "--no-frames", "--out", str(tmp_path))
+    assert result.returncode == 0, result.stderr
+    assert (tmp_path / "summary.png").exists() and not list(tmp_path.glob("frame_*"))
