@@ -44,7 +44,8 @@ def val(x, n, o, contact_area, dhat=DHAT, kappa=KAPPA):
     x, n, o, contact_area = _check(x, n, o, contact_area, dhat, kappa)
     idx, d = _active(x, n, o, dhat)
     s = d / dhat
-    return float(np.sum(contact_area[idx] * dhat * kappa / 2.0 * (s - 1.0) * np.log(s)))
+    return utils.finite_result("BarrierEnergy.val",
+                               float(np.sum(contact_area[idx] * dhat * kappa / 2.0 * (s - 1.0) * np.log(s))))
 
 
 def dP_dd(d, w, dhat=DHAT, kappa=KAPPA):
@@ -59,16 +60,16 @@ def grad(x, n, o, contact_area, dhat=DHAT, kappa=KAPPA):
     idx, d = _active(x, n, o, dhat)
     g = np.zeros_like(x)
     g[idx] = dP_dd(d, contact_area[idx], dhat, kappa)[:, None] * n
-    return g
+    return utils.finite_result("BarrierEnergy.grad", g)
 
 
 def hess(x, n, o, contact_area, dhat=DHAT, kappa=KAPPA):
     """hess_i P_b = w_i dhat b''(d_i) n n^T, b''(d) = kappa (d + dhat) / (2 d^2 dhat) > 0 (PSD)."""
     x, n, o, contact_area = _check(x, n, o, contact_area, dhat, kappa)
     idx, d = _active(x, n, o, dhat)
-    curvature = contact_area[idx] * dhat * kappa / (2.0 * d * d * dhat) * (d + dhat)
+    curvature = contact_area[idx] * kappa / 2.0 * (d + dhat) / d / d     # w dhat b''(d), no d^2 underflow
     blocks = curvature[:, None, None] * np.outer(n, n)[None]
-    return utils.blocks_to_ijv(idx[:, None], blocks)
+    return utils.blocks_to_ijv(idx[:, None], utils.finite_result("BarrierEnergy.hess", blocks))
 
 
 def init_step_size(x, n, o, p):
@@ -80,6 +81,7 @@ def init_step_size(x, n, o, p):
         raise ValueError(f"p must have the shape of x {x.shape}, got {p.shape}")
     n = utils.check_unit_normal("n", n)
     o = utils.check_vector("o", o)
+    _active(x, n, o, np.inf)                    # every node must start strictly above the slope
     p_n = p @ n
     approaching = p_n < 0.0
     if not approaching.any():
@@ -88,7 +90,7 @@ def init_step_size(x, n, o, p):
 
 
 def compute_mu_lambda(x, n, o, contact_area, mu, dhat=DHAT, kappa=KAPPA):
-    """mu * lambda_k with lambda_k = -w_k dP/dd_k, the contact force magnitude, for d_k < dhat.
+    """mu * lambda_k with lambda_k = -dP_k/dd_k = -w_k dhat b'(d_k), the contact force magnitude, for d_k < dhat.
 
     Zero at the nodes out of contact. Used lagged, from x^n, by the friction term.
     """

@@ -18,14 +18,15 @@ def f0(y, epsv, hhat):
     y < eps_v hhat, else y. C^1 at y = eps_v hhat, with f0'(y) = f1(y / hhat)."""
     y = np.asarray(y, dtype=np.float64)
     eh = epsv * hhat
-    inner = -y ** 3 / (3.0 * eh * eh) + y * y / eh + eh / 3.0
-    return np.where(y < eh, inner, y)
+    r = y / eh                          # written in r = y/(eps_v hhat): no eps_v^2 to underflow
+    return np.where(y < eh, eh * (-r ** 3 / 3.0 + r * r + 1.0 / 3.0), y)
 
 
 def f1(y, epsv):
     """Mollified magnitude of the friction force direction: -y^2/eps_v^2 + 2y/eps_v for y < eps_v, else 1."""
     y = np.asarray(y, dtype=np.float64)
-    return np.where(y < epsv, -y * y / (epsv * epsv) + 2.0 * y / epsv, 1.0)
+    r = y / epsv
+    return np.where(y < epsv, r * (2.0 - r), 1.0)
 
 
 def f1_over_y(y, epsv):
@@ -33,14 +34,15 @@ def f1_over_y(y, epsv):
     and never divides by zero there."""
     y = np.asarray(y, dtype=np.float64)
     safe_y = np.where(y < epsv, 1.0, y)
-    return np.where(y < epsv, (-y + 2.0 * epsv) / (epsv * epsv), 1.0 / safe_y)
+    return np.where(y < epsv, (2.0 - y / epsv) / epsv, 1.0 / safe_y)
 
 
 def f_hess_term(y, epsv):
     """Eq. 9.2.6, (f1'(y) y - f1(y)) / y^2: -1/eps_v^2 for y < eps_v, else -1/y^2."""
     y = np.asarray(y, dtype=np.float64)
     safe_y = np.where(y < epsv, 1.0, y)
-    return np.where(y < epsv, -1.0 / (epsv * epsv), -1.0 / (safe_y * safe_y))
+    inv_epsv = 1.0 / np.float64(epsv)      # numpy scalars overflow to inf (caught), never raise
+    return np.where(y < epsv, -inv_epsv * inv_epsv, -(1.0 / safe_y) ** 2)
 
 
 def tangent_operator(n):
@@ -72,7 +74,7 @@ def val(v, mu_lambda, hhat, n, epsv=EPSV):
     """P_f = sum_k mu lambda_k f0(||vbar_k|| hhat) (Eq. 9.2.1)."""
     v, mu_lambda, n = _check(v, mu_lambda, hhat, n, epsv)
     _, ml, _, _, vbarnorm = _contacts(v, mu_lambda, n)
-    return float(np.sum(ml * f0(vbarnorm * hhat, epsv, hhat)))
+    return utils.finite_result("FrictionEnergy.val", float(np.sum(ml * f0(vbarnorm * hhat, epsv, hhat))))
 
 
 def grad(v, mu_lambda, hhat, n, epsv=EPSV):
@@ -81,7 +83,7 @@ def grad(v, mu_lambda, hhat, n, epsv=EPSV):
     idx, ml, T, vbar, vbarnorm = _contacts(v, mu_lambda, n)
     g = np.zeros_like(v)
     g[idx] = (ml * f1_over_y(vbarnorm, epsv))[:, None] * (vbar @ T)
-    return g
+    return utils.finite_result("FrictionEnergy.grad", g)
 
 
 def hess(v, mu_lambda, hhat, n, epsv=EPSV, project_psd=True):
@@ -97,4 +99,4 @@ def hess(v, mu_lambda, hhat, n, epsv=EPSV, project_psd=True):
         inner = utils.project_psd_2x2(inner)
     blocks = T @ inner @ T.T
     blocks = (ml / hhat)[:, None, None] * 0.5 * (blocks + np.swapaxes(blocks, 1, 2))  # exact symmetry
-    return utils.blocks_to_ijv(idx[:, None], blocks)
+    return utils.blocks_to_ijv(idx[:, None], utils.finite_result("FrictionEnergy.hess", blocks))

@@ -15,6 +15,7 @@ import os
 import re
 import sys
 import time
+import types
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -26,7 +27,7 @@ import square_mesh
 import time_integrator
 import utils
 
-DEFAULTS = {
+DEFAULTS = types.MappingProxyType({
     "side_len": 1.0,            # m
     "n_seg": 4,                 # segments per side
     "rho": 1000.0,              # kg/m^2 (ignored when `mass` is given)
@@ -47,13 +48,13 @@ DEFAULTS = {
     "friction_updates": 0,      # fixed-point friction updates per step (0: lagged, as the lecture)
     "max_newton_iterations": 1000,  # a safety cap: the hardest tested cases need about 200
     "max_halvings": 60,
-}
+})
 
 
 @dataclass(frozen=True)
 class Scene:
     """What a scene *is*; built once by `build_scene` and never changed by stepping."""
-    params: dict                # the validated parameters it was built from
+    params: types.MappingProxyType  # the validated parameters it was built from (read-only)
     x0: np.ndarray              # (N, 2) initial positions
     v0: np.ndarray              # (N, 2) initial velocities
     e: np.ndarray               # (E, 2) spring node indices
@@ -80,17 +81,17 @@ class Scene:
 
 
 def _finite(name, value):
-    value = float(value)
+    value = utils.as_float(name, value, "must be a finite number")
     if not math.isfinite(value):
         raise ValueError(f"{name} must be finite, got {value}")
     return value
 
 
 def _whole(name, value, minimum):
-    if isinstance(value, bool) or not math.isfinite(float(value)) or not float(value).is_integer() \
-            or value < minimum:
+    number = utils.as_float(name, value, f"must be a whole number >= {minimum}")
+    if not math.isfinite(number) or not number.is_integer() or number < minimum:
         raise ValueError(f"{name} must be a whole number >= {minimum}, got {value}")
-    return int(value)
+    return int(number)
 
 
 def _vector(name, value):
@@ -132,23 +133,42 @@ def validate_params(**overrides):
         normal = _vector("slope", p["slope"])
         if not np.hypot(*normal) > 0.0:
             raise ValueError(f"slope normal must be non-zero, got {normal.tolist()}")
+        if not np.isfinite(np.hypot(*normal)):
+            raise ValueError(f"slope normal is too large to normalize, got {normal.tolist()}")
         p["slope"] = tuple(normal.tolist())
     return p
 
 
-def resolution_warnings(p):
+def resolution_warnings(p, x0=None, n=None, o=None):
     """Parameter combinations the scheme runs stably but cannot resolve, as sentences for the user.
 
-    Implicit Euler stays stable at any h, but when one step moves the body by more than its own size
-    (|v0| h + |g| h^2 > side_len) the fall and the impact happen inside a single step: the landing is
-    perfectly inelastic whatever the physics, and bounce, impact time and contact forces mean nothing.
+    1. Implicit Euler stays stable at any h, but when one step moves the body by more than its own
+       size (|v0| h + |g| h^2 > side_len) the fall and the impact happen inside a single step: the
+       landing is perfectly inelastic whatever the physics, and bounce, impact time and contact
+       forces mean nothing.
+    2. A square that starts at rest on the slope (a node within dhat, tangential speed below eps_v)
+       and should slide gains a h = g (sin theta - mu cos theta) h of speed per step. Newton stops once
+       its step is below tol (m/s); where a h < tol it can stop before the square ever leaves static
+       friction (the static branch's curvature keeps each Newton step small), so the square stays put.
     """
+    warnings = []
     travel = np.hypot(*p["v0"]) * p["h"] + np.hypot(*p["gravity"]) * p["h"] ** 2
     if travel > p["side_len"]:
-        return (f"time step h = {p['h']:g} s moves the square {travel:.3g} m per step, more than its size "
-                f"{p['side_len']:g} m: impacts are not resolved in time (results are qualitative only; "
-                f"use h <= {_largest_resolving_h(p):.3g} s)",)
-    return ()
+        warnings.append(f"time step h = {p['h']:g} s moves the square {travel:.3g} m per step, more than its "
+                        f"size {p['side_len']:g} m: impacts are not resolved in time (results are qualitative "
+                        f"only; use h <= {_largest_resolving_h(p):.3g} s)")
+    if n is not None and p["mu"] > 0:
+        g = np.array(p["gravity"])
+        g_normal = float(g @ n)
+        slide = float(np.hypot(*(g - g_normal * n))) + p["mu"] * min(g_normal, 0.0)
+        v_tangential = float(np.hypot(*(np.array(p["v0"]) - (np.array(p["v0"]) @ n) * n)))
+        resting = (x0 - o) @ n < p["dhat"]
+        if resting.any() and v_tangential < p["epsv"] and 0.0 < slide * p["h"] < p["tol"]:
+            warnings.append(f"the square starts at rest on the slope and should slide at {slide:.3g} m/s^2, "
+                            f"gaining {slide * p['h']:.3g} m/s per step, less than tol = {p['tol']:g} m/s: "
+                            f"Newton may stop before it leaves static friction (use tol <= "
+                            f"{slide * p['h'] / 10:.2g})")
+    return tuple(warnings)
 
 
 def _largest_resolving_h(p):
@@ -186,7 +206,7 @@ def build_scene(**overrides):
             terms.append("friction")
 
     return Scene(
-        params=p, x0=_readonly(x), v0=_readonly(np.tile(p["v0"], (n_nodes, 1))), e=_readonly(e),
+        params=types.MappingProxyType(p), x0=_readonly(x), v0=_readonly(np.tile(p["v0"], (n_nodes, 1))), e=_readonly(e),
         l2=_readonly(np.einsum("ij,ij->i", diff, diff)), k=_readonly(np.full(len(e), p["k"])),
         m=_readonly(np.full(n_nodes, total_mass / n_nodes)),
         contact_area=_readonly(np.full(n_nodes, p["side_len"] / p["n_seg"])),
@@ -194,7 +214,7 @@ def build_scene(**overrides):
         mu=p["mu"], dhat=p["dhat"], kappa=p["kappa"], epsv=p["epsv"], h=p["h"], tol=p["tol"],
         n_seg=p["n_seg"], side_len=p["side_len"], friction_updates=p["friction_updates"],
         max_newton_iterations=p["max_newton_iterations"], max_halvings=p["max_halvings"],
-        terms=tuple(terms), warnings=resolution_warnings(p))
+        terms=tuple(terms), warnings=resolution_warnings(p, x, n, o))
 
 
 def energies(scene, x, v):
@@ -275,13 +295,15 @@ def draw_slope(pygame, surface, scene, view, color=BLUE):
 
 
 def draw_square(pygame, surface, scene, x, view, color=BLUE, nodes=True):
+    """Springs as the mesh's polylines (one pygame call per row, column or diagonal), and the nodes
+    as dots of a tenth of the spacing, when that is at least a pixel."""
     px = view(x)
-    for a, b in scene.e:
-        pygame.draw.aaline(surface, color, px[a].tolist(), px[b].tolist())
-    if nodes:
-        radius = max(1, int(0.1 * scene.side_len / scene.n_seg * view.scale))
-        for q in px:
-            pygame.draw.circle(surface, color, q.tolist(), radius)
+    for line in square_mesh.polylines(scene.n_seg):
+        pygame.draw.aalines(surface, color, False, px[line].tolist())
+    radius = int(0.1 * scene.side_len / scene.n_seg * view.scale)
+    if nodes and radius >= 1:
+        for q in px.tolist():
+            pygame.draw.circle(surface, color, q, radius)
 
 
 def draw_frame(pygame, scene, x, t, view, font):
@@ -331,6 +353,9 @@ CSV_COLUMNS = ["step", "t", "wall_s", "com_x", "com_y", "v_tangential", "newton_
                "residual", "alpha_min", "line_search_steps", "min_distance", "friction_iterations",
                "friction_converged", "E_kinetic", "E_gravity", "E_spring", "E_barrier", "E_total",
                "W_friction"]
+
+
+CSV_EVERY = 2.0    # seconds of wall time between rewrites of log.csv during a run (always at the end)
 
 
 class CommandLineError(Exception):
@@ -485,6 +510,7 @@ def run(args, log=sys.stderr):
 
     emit_frame(0, scene.x0, 0.0)
     start, failure = time.perf_counter(), None
+    csv_written = start
     report_every = max(1, steps // 10)
     try:
         for record in simulate(scene, steps):
@@ -494,7 +520,9 @@ def run(args, log=sys.stderr):
             com_path.append(np.average(record.x, axis=0, weights=scene.m))
             if (record.index + 1) % stride == 0 or record.index + 1 == steps:
                 emit_frame(record.index + 1, record.x, record.t)
+            if time.perf_counter() - csv_written > CSV_EVERY:     # not every step: that is O(steps^2)
                 write_csv(csv_path, rows)
+                csv_written = time.perf_counter()
             if (record.index + 1) % max(1, steps // 10) == 0:
                 snapshots.append(record.x.copy())
             if (record.index + 1) % report_every == 0:

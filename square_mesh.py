@@ -50,15 +50,34 @@ def triangles(n_seg):
     return np.stack([np.stack([a, b, c], -1), np.stack([a, c, d], -1)], axis=2).reshape(-1, 3)
 
 
+def polylines(n_seg):
+    """Node chains that together cover every spring once: the rows, the columns and the two families
+    of diagonals (i - j and i + j constant), so a frame is drawn with O(n_seg) polyline calls."""
+    n_seg = _check_n_seg(n_seg)
+    idx = np.arange((n_seg + 1) ** 2).reshape(n_seg + 1, n_seg + 1)     # idx[i, j] = i*(n_seg+1)+j
+    flipped = idx[:, ::-1]
+    chains = [idx[:, j] for j in range(n_seg + 1)] + [idx[i, :] for i in range(n_seg + 1)]
+    chains += [np.diagonal(idx, k) for k in range(-n_seg + 1, n_seg)]
+    chains += [np.diagonal(flipped, k) for k in range(-n_seg + 1, n_seg)]
+    return chains
+
+
 def obj_text(x, n_seg):
     """The OBJ text of one frame: a vertex line per node (z = 0), two triangles per cell."""
     x = utils.check_points("x", x)
     n_seg = _check_n_seg(n_seg)
     if len(x) != (n_seg + 1) ** 2:
         raise ValueError(f"x has {len(x)} nodes but n_seg = {n_seg} needs {(n_seg + 1) ** 2}")
-    vertices = "".join(f"v {px:.6f} {py:.6f} 0.0\n" for px, py in x.tolist())
-    faces = "".join(f"f {a} {b} {c}\n" for a, b, c in (triangles(n_seg) + 1).tolist())
-    return vertices + faces
+    faces = triangles(n_seg) + 1
+    # one C-level format call per block of lines, no Python loop over nodes or faces
+    vertices = ("v %.6f %.6f 0.0\n" * len(x)) % tuple(x.ravel().tolist())
+    return vertices + ("f %d %d %d\n" * len(faces)) % tuple(faces.ravel().tolist())
+
+
+def _umask():
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
 
 
 def write_atomic(path, data):
@@ -68,6 +87,7 @@ def write_atomic(path, data):
     try:
         with os.fdopen(fd, "wb") as f:
             f.write(data.encode() if isinstance(data, str) else data)
+            os.fchmod(f.fileno(), 0o666 & ~_umask())     # mkstemp makes 0600; use the usual mode
         os.replace(tmp, path)
     except BaseException:
         if os.path.exists(tmp):

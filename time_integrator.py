@@ -44,7 +44,7 @@ class LineSearchFailed(SimulationError):
 
 
 class NonFiniteState(SimulationError):
-    """The Newton direction came out non-finite (a numerical breakdown, never silently stepped on)."""
+    """The Newton direction came out non-finite, or the linear solve broke down (never stepped on)."""
 
 
 def _fmt(value):
@@ -137,6 +137,14 @@ def _init_step_size(scene, x, p):
     return BarrierEnergy.init_step_size(x, scene.n, scene.o, p)
 
 
+def _direction(ip, x, step_index, iteration):
+    """ip.search_direction(x), with a breakdown of the sparse solver turned into NonFiniteState."""
+    try:
+        return ip.search_direction(x)
+    except RuntimeError as err:             # SuperLU: "Factor is exactly singular" and the like
+        raise NonFiniteState(f"the linear solve failed ({err})", step_index, newton_iteration=iteration) from err
+
+
 def _residual(scene, p, step_index, iteration):
     """||p||_inf / h, the lecture's convergence measure (a velocity); NonFiniteState if p is not finite."""
     residual = float(np.abs(p).max()) / scene.h
@@ -153,7 +161,7 @@ def _newton(scene, ip, x, step_index, report, p=None):
     """
     E_last = ip.val(x)
     if p is None:
-        p = ip.search_direction(x)
+        p = _direction(ip, x, step_index, 0)
     residual = _residual(scene, p, step_index, 0)
     iterations = 0
     while iterations == 0 or residual > scene.tol:
@@ -163,7 +171,7 @@ def _newton(scene, ip, x, step_index, report, p=None):
                 tol=scene.tol, h=scene.h)
         alpha = _init_step_size(scene, x, p)
         E_new, halvings = ip.val(x + alpha * p), 0
-        while E_new > E_last:
+        while not E_new <= E_last:        # a NaN trial energy is rejected too
             if halvings >= scene.max_halvings:
                 if residual <= scene.tol:   # already converged; the rest is round-off in E
                     report.residual = residual
@@ -179,8 +187,8 @@ def _newton(scene, ip, x, step_index, report, p=None):
         x = x + alpha * p
         E_last = E_new
         report.alphas.append(alpha)
-        p = ip.search_direction(x)
         iterations += 1
+        p = _direction(ip, x, step_index, iterations)
         residual = _residual(scene, p, step_index, iterations)
     report.residual = residual
     report.newton_iterations += iterations
@@ -196,21 +204,28 @@ def step(scene, x, v, step_index=0):
     x_tilde = x_n + scene.h * v_n
     report = StepReport()
 
-    mu_lambda = _mu_lambda(scene, x_n)            # lagged: mu*lambda^n, T^n from x^n
-    ip = IncrementalPotential(scene, x_n, x_tilde, mu_lambda)
-    x_next = _newton(scene, ip, x_n, step_index, report)
-    report.friction_iterations = 1 if mu_lambda is not None else 0
+    mu_lambda = _mu_lambda(scene, x_n)      # lagged: mu*lambda^n, T^n from x^n (checks x^n is above the slope)
+    try:
+        ip = IncrementalPotential(scene, x_n, x_tilde, mu_lambda)
+        x_next = _newton(scene, ip, x_n, step_index, report)
+        report.friction_iterations = 1 if mu_lambda is not None else 0
 
-    if mu_lambda is not None and scene.friction_updates > 0:   # Algorithm 5
-        report.friction_converged = False
-        for _ in range(scene.friction_updates):
-            ip = IncrementalPotential(scene, x_n, x_tilde, _mu_lambda(scene, x_next))
-            p = ip.search_direction(x_next)
-            if _residual(scene, p, step_index, 0) <= scene.tol:
-                report.friction_converged = True
-                break
-            x_next = _newton(scene, ip, x_next, step_index, report, p=p)
-            report.friction_iterations += 1
+        if mu_lambda is not None and scene.friction_updates > 0:   # Algorithm 5
+            report.friction_converged = False
+            for update in range(scene.friction_updates + 1):
+                ip = IncrementalPotential(scene, x_n, x_tilde, _mu_lambda(scene, x_next))
+                p = _direction(ip, x_next, step_index, 0)
+                residual = _residual(scene, p, step_index, 0)
+                if residual <= scene.tol:       # x_next already minimizes the updated problem
+                    report.friction_converged = True
+                    report.residual = residual
+                    break
+                if update == scene.friction_updates:
+                    break                       # cap reached, and now known not to be a fixed point
+                x_next = _newton(scene, ip, x_next, step_index, report, p=p)
+                report.friction_iterations += 1
+    except ValueError as err:               # an energy overflowed at the state the solver reached
+        raise NonFiniteState(f"an energy became non-finite ({err})", step_index) from err
 
     v_next = (x_next - x_n) / scene.h
     if ip.mu_lambda is not None:    # force -grad P_f at the end of the step, times the displacement

@@ -55,9 +55,19 @@ def check_unit_normal(name, n):
     return n
 
 
+def as_float(name, value, requirement):
+    """float(value), or a ValueError saying `name` {requirement} for anything that is not a number."""
+    if isinstance(value, (bool, np.bool_)):
+        raise ValueError(f"{name} {requirement}, got {value!r}")
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} {requirement}, got {value!r}") from None
+
+
 def check_positive(name, value):
     """Return `value` as a float; ValueError unless it is a finite number > 0."""
-    value = float(value)
+    value = as_float(name, value, "must be a finite number > 0")
     if not np.isfinite(value) or value <= 0.0:
         raise ValueError(f"{name} must be a finite number > 0, got {value}")
     return value
@@ -75,6 +85,15 @@ def check_edges(name, e, n_nodes):
         bad = e[(e < 0) | (e >= n_nodes)][0]
         raise ValueError(f"{name} has node index {bad} outside [0, {n_nodes}) for {n_nodes} nodes")
     return e
+
+
+def finite_result(what, value):
+    """Return `value` if every entry is finite; a ValueError otherwise (an overflow at parameters
+    beyond floating-point range, e.g. eps_v = 1e-160 or a node 1e-160 m from the slope), never a NaN."""
+    if not np.isfinite(value).all():
+        raise ValueError(f"{what} overflowed to a non-finite value: the arguments are beyond "
+                         "float64 range (check eps_v, dhat, kappa and the distances to the slope)")
+    return value
 
 
 # ----------------------------------------------------------------------------------------------

@@ -74,3 +74,25 @@ def test_ccd_and_mu_lambda_bad_input():
         square_mesh.generate(0.0, 4)
     with pytest.raises(ValueError, match="n_seg must be a whole number >= 1, got 2.5"):
         square_mesh.generate(1.0, 2.5)
+
+
+@pytest.mark.parametrize("call", [
+    lambda: FrictionEnergy.hess(np.full((2, 2), 1e-170), np.ones(2), 0.01, [0.0, 1.0], epsv=1e-160),
+    lambda: BarrierEnergy.grad(np.array([[0.0, 1e-320]]), [0.0, 1.0], [0.0, 0.0], [1.0]),
+    lambda: BarrierEnergy.hess(np.array([[0.0, 1e-160]]), [0.0, 1.0], [0.0, 0.0], [1.0]),
+], ids=["friction eps_v=1e-160", "barrier grad d=1e-320", "barrier hess d=1e-160"])
+def test_overflow_beyond_float64_raises_instead_of_nan(call):
+    with np.errstate(all="ignore"), pytest.raises(ValueError, match="overflowed to a non-finite value"):
+        call()
+
+
+def test_tiny_eps_v_still_exact_where_representable():
+    """The mollifier is written in y/eps_v, so eps_v = 1e-160 loses nothing until a result overflows."""
+    assert FrictionEnergy.f1_over_y(np.array([0.0, 5e-161]), 1e-160) == pytest.approx([2e160, 1.5e160])
+    assert FrictionEnergy.f1(np.array([5e-161]), 1e-160) == pytest.approx([0.75])
+    assert FrictionEnergy.f0(np.array([0.0]), 1e-160, 0.01) == pytest.approx([1e-162 / 3])
+
+
+def test_ccd_refuses_a_start_below_the_slope():
+    with pytest.raises(ValueError, match="node 0 is at distance -1 <= 0"):
+        BarrierEnergy.init_step_size(np.array([[0.0, -1.0]]), [0.0, 1.0], [0.0, 0.0], np.ones((1, 2)))

@@ -227,3 +227,22 @@ def test_energy_budget_friction_work(kwargs):
         assert E - E_prev <= work + slack, f"step {rec.index}"
         E_prev, v_prev = E, rec.v
     assert total_work < -1.0                       # friction did take energy out while sliding
+
+
+def test_fixed_point_checks_its_last_solve():
+    """Algorithm 5 with a cap of one update: the result of that update is checked against the
+    mu*lambda it implies before the step reports (non-)convergence, and the report agrees with an
+    independent check of the fixed point. At tol = 1e-6 one update is sometimes enough, sometimes not."""
+    scene = simulator.build_scene(mu=0.11, friction_updates=1, tol=1e-6)
+    x, v = scene.x0, scene.v0
+    outcomes = []
+    for rec in simulator.simulate(scene, 45):
+        r = rec.report
+        ip = time_integrator.IncrementalPotential(scene, x, x + scene.h * v, BarrierEnergy.compute_mu_lambda(
+            rec.x, scene.n, scene.o, scene.contact_area, scene.mu))
+        at_fixed_point = np.abs(ip.search_direction(rec.x)).max() / scene.h <= scene.tol
+        assert r.friction_converged == at_fixed_point, f"step {rec.index}"
+        assert r.friction_iterations in (1, 2)
+        outcomes.append(r.friction_converged)
+        x, v = rec.x, rec.v
+    assert True in outcomes and False in outcomes

@@ -194,3 +194,25 @@ def test_cli_prints_the_warning(tmp_path):
                             env={**os.environ, "SDL_VIDEODRIVER": "dummy"})
     assert result.returncode == 0
     assert "simulator.py: warning: time step h = 1 s moves the square 9.81 m per step" in result.stderr
+
+
+def test_resting_start_too_coarse_tolerance_is_reported():
+    """A stiff square resting on the lecture's slope with mu = 0.05 < tan(theta) should slide at
+    a = g (sin - mu cos) = 0.488 m/s^2, i.e. gain 4.9e-3 m/s per step at h = 0.01. With the lecture's
+    tol = 1e-2 m/s Newton stops after one tiny step each time (static friction's curvature keeps the
+    steps small) and the square never starts: the scene says so. With tol = 1e-4 it slides and no
+    warning is given; a dropped square (the lecture's scene) gets none either."""
+    coarse = resting_scene(LECTURE, mu=0.05, k=1e8)
+    assert len(coarse.warnings) == 1 and "Newton may stop before it leaves static friction" in coarse.warnings[0]
+    assert "4.88e-03 m/s per step" in coarse.warnings[0].replace("0.00488", "4.88e-03")
+    fine = resting_scene(LECTURE, mu=0.05, k=1e8, tol=1e-4)
+    assert fine.warnings == ()
+    speeds = {}
+    for scene in (coarse, fine):
+        rec = list(simulator.simulate(scene, 40))[-1]
+        speeds[scene.tol] = float(np.average(rec.v, axis=0, weights=scene.m) @ downhill(scene.n))
+    a = 9.81 * (math.sin(math.radians(LECTURE)) - 0.05 * math.cos(math.radians(LECTURE)))
+    assert speeds[1e-4] == pytest.approx(a * 0.4, rel=0.02)        # slides as physics says
+    assert speeds[1e-2] < 0.1 * a * 0.4                              # stuck: what the warning says
+    assert resting_scene(LECTURE, mu=0.5, k=1e8).warnings == ()      # should stick: nothing to warn
+    assert simulator.build_scene(mu=0.05).warnings == ()             # dropped: nothing to warn
