@@ -1,0 +1,255 @@
+"""Error against run time: the work-precision report.
+
+    python -m benchmarks.error_vs_runtime            # the full sweep (about 2 minutes), from the repo root
+    python -m benchmarks.error_vs_runtime --quick    # two time steps of one case, seconds (a smoke test)
+
+Sweeps the time step h, the Newton tolerance and the friction mode (lagged mu*lambda^n, as in the
+lecture, or fully implicit by up to FIXED_POINT_CAP fixed-point updates per step, Algorithm 5) over
+the closed-form cases of benchmarks/cases.py and the lecture's full scene. For every run it records
+the error (each case has its own measure, see CASES), the wall-clock time per simulated second, and
+Newton and friction iterations per step. Prints a table, writes <out>/error_vs_runtime.csv and draws
+<out>/error_vs_runtime.png (error against run time, log-log, one panel per case, one line per
+friction mode and tolerance). Progress goes to stderr.
+"""
+import argparse
+import csv
+import io
+import math
+import os
+import sys
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+import square_mesh
+import time_integrator
+from benchmarks import cases, plot
+
+HS = (0.04, 0.02, 0.01, 0.005, 0.0025)
+QUICK_HS = (0.04, 0.02)
+TOLS = (1e-2, 1e-4, 1e-6)
+FIXED_POINT_CAP = 20                        # friction updates per step at most, fully implicit mode
+MODES = {"lagged": 0, "implicit": FIXED_POINT_CAP}
+REFERENCE_H, REFERENCE_TOL = 0.000625, 1e-6  # the full scene's reference: 8x below the smallest h
+OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "results")
+COLUMNS = ["case", "error_measure", "friction", "tol", "h", "steps", "error", "observed_order",
+           "wall_per_sim_second", "newton_per_step", "friction_per_step", "unconverged_steps"]
+
+
+# ------------------------------------------------------------------------------------------------
+# The cases: a scene for (h, tol, friction updates), a duration, and an error measure
+# ------------------------------------------------------------------------------------------------
+
+def sliding_error(scene, run, reference):
+    """Relative error of the acceleration fitted over [0.1 s, end] (cases.acceleration_error)."""
+    return abs(cases.acceleration_error(scene, run))
+
+
+def sticking_error(scene, run, reference):
+    """Mean creep speed down the slope over the run, in m/s; Coulomb friction would give 0 (and the
+    mollified friction's steady creep is cases.creep_speed, 6.98e-4 m/s)."""
+    s, _ = run.downhill(scene)
+    return abs(s[-1]) / run.t[-1]
+
+
+def free_fall_error(scene, run, reference):
+    """Distance of the centre of mass from x0 + v0 t + g t^2 / 2 at the end, in m."""
+    return float(np.linalg.norm(run.com[-1] - cases.free_fall_com(scene, run.t[-1:])[0]))
+
+
+def full_scene_error(scene, run, reference):
+    """Largest distance of the centre of mass from the reference run's over the whole run, in m."""
+    return cases.max_com_error(run, reference)
+
+
+@dataclass(frozen=True)
+class Case:
+    name: str
+    measure: str            # what `error` measures, for the table, the CSV and the plot
+    duration: float         # simulated seconds per run
+    friction: bool          # False: no contact, the two friction modes are one and the same run
+    ordered: bool           # True: h is what the error measures, so observed orders in h are reported
+    build: object           # (h, tol, friction_updates) -> scene
+    error: object           # (scene, run, reference run or None) -> float
+
+
+CASES = (
+    Case("sliding", "relative acceleration error (mu 0.05, tan 0.1)", 0.4, True, False,
+         lambda h, tol, fu: cases.resting_scene(cases.LECTURE_TAN, 0.05, h=h, tol=tol, friction_updates=fu),
+         sliding_error),
+    Case("sticking", "creep speed over 0.2 s, m/s (mu 0.11; Coulomb: 0)", 0.2, True, False,
+         lambda h, tol, fu: cases.resting_scene(cases.LECTURE_TAN, 0.11, h=h, tol=tol, friction_updates=fu),
+         sticking_error),
+    Case("free fall", "COM error at 0.4 s, m", 0.4, False, True,
+         lambda h, tol, fu: cases.free_fall_scene(h=h, tol=tol), free_fall_error),
+    Case("full scene", f"max COM error over 0.6 s vs h = {REFERENCE_H:g}, m", 0.6, True, True,
+         lambda h, tol, fu: cases.full_scene(h=h, tol=tol, friction_updates=fu), full_scene_error),
+)
+
+
+# ------------------------------------------------------------------------------------------------
+# The sweep
+# ------------------------------------------------------------------------------------------------
+
+def plan(quick):
+    """The runs, in order: (case, friction mode, tol, h)."""
+    hs, chosen = (QUICK_HS, CASES[2:3]) if quick else (HS, CASES)
+    runs = []
+    for case in chosen:
+        for mode in (MODES if case.friction else ("none",)):
+            for tol in TOLS:
+                runs.extend((case, mode, tol, h) for h in hs)
+    return runs
+
+
+def _quarters(fraction, log):
+    if round(20 * fraction) % 5 == 0:
+        print(f"  reference {100 * fraction:3.0f} %", file=log, flush=True)
+
+
+def full_scene_reference(log):
+    """The full scene's reference run, and the largest distance of its centre of mass from that of the
+    same run at twice its time step: an estimate of the reference's own error."""
+    full = CASES[3]
+    print(f"reference: full scene, h={REFERENCE_H:g}, tol={REFERENCE_TOL:g}, lagged ...", file=log, flush=True)
+    reference = cases.run(full.build(REFERENCE_H, REFERENCE_TOL, 0), full.duration,
+                          progress=lambda f: _quarters(f, log))
+    coarser = cases.run(full.build(2 * REFERENCE_H, REFERENCE_TOL, 0), full.duration)
+    print(f"  reference done in {reference.wall + coarser.wall:.1f} s", file=log, flush=True)
+    return reference, cases.max_com_error(coarser, reference)
+
+
+def sweep(quick=False, log=None):
+    """Run the plan, printing progress to `log` (default stderr). Returns the CSV rows as dicts and
+    lines about the reference to print under the table."""
+    log = sys.stderr if log is None else log
+    runs = plan(quick)
+    reference, notes = None, []
+    if any(case is CASES[3] for case, *_ in runs):
+        reference, spread = full_scene_reference(log)
+        notes.append(f"full scene reference: h = {REFERENCE_H:g}, tol {REFERENCE_TOL:g}, lagged; the same run at "
+                     f"h = {2 * REFERENCE_H:g} differs from it by up to {spread:.1e} m (an estimate of its own error)")
+    rows = []
+    for i, (case, mode, tol, h) in enumerate(runs, 1):
+        scene = case.build(h, tol, MODES.get(mode, 0))
+        row = {"case": case.name, "error_measure": case.measure, "friction": mode, "tol": tol, "h": h,
+               "steps": int(round(case.duration / h))}
+        try:
+            run = cases.run(scene, case.duration)
+            row.update(error=case.error(scene, run, reference), wall_per_sim_second=run.wall / case.duration,
+                       newton_per_step=float(run.newton_iterations.mean()),
+                       friction_per_step=float(run.friction_iterations.mean()),
+                       unconverged_steps=int(np.sum(~run.friction_converged)))
+        except time_integrator.SimulationError as err:     # kept in the table as nan, not fatal
+            row.update(error=math.nan, wall_per_sim_second=math.nan, newton_per_step=math.nan,
+                       friction_per_step=math.nan, unconverged_steps=0)
+            print(f"  failed: {err}", file=log)
+        rows.append(row)
+        print(f"[{i:3d}/{len(runs)}] {case.name:10s} {mode:8s} tol={tol:.0e} h={h:<7g} error={row['error']:.3e}"
+              f"  {row['wall_per_sim_second']:.2f} s/sim-s", file=log, flush=True)
+    add_orders(rows)
+    return rows, notes
+
+
+def add_orders(rows):
+    """Observed order between each run and the previous time step of the same line (case, mode, tol),
+    for the cases whose error h causes (sliding's comes from the Newton tolerance, sticking's from
+    eps_v: an 'order' there would be noise)."""
+    previous, ordered = {}, {case.name for case in CASES if case.ordered}
+    for row in rows:
+        key = (row["case"], row["friction"], row["tol"])
+        before = previous.get(key)
+        row["observed_order"] = math.nan
+        if row["case"] in ordered and before is not None and before["error"] > 0 and row["error"] > 0:
+            row["observed_order"] = math.log(before["error"] / row["error"]) / math.log(before["h"] / row["h"])
+        previous[key] = row
+
+
+# ------------------------------------------------------------------------------------------------
+# Output: table, CSV, plot
+# ------------------------------------------------------------------------------------------------
+
+def _num(value, fmt):
+    if isinstance(value, float) and math.isnan(value):
+        return "-".rjust(int(fmt.split(".")[0]))
+    return format(value, fmt)
+
+
+def table(rows):
+    """The table as text, grouped by case, each group headed by its error measure."""
+    head = f"{'friction':9s} {'tol':>6s} {'h':>7s} {'error':>10s} {'order':>6s} {'wall s/sim s':>12s} " \
+           f"{'newton/step':>11s} {'friction/step':>13s}"
+    out, case = [], None
+    for row in rows:
+        if row["case"] != case:
+            case = row["case"]
+            out += ["", f"{case}: {row['error_measure']}", head]
+        out.append(f"{row['friction']:9s} {row['tol']:6.0e} {row['h']:7g} {_num(row['error'], '10.3e')} "
+                   f"{_num(row['observed_order'], '6.2f')} {_num(row['wall_per_sim_second'], '12.2f')} "
+                   f"{_num(row['newton_per_step'], '11.2f')} {_num(row['friction_per_step'], '13.2f')}")
+    return "\n".join(out[1:])
+
+
+def write_csv(path, rows):
+    buffer = io.StringIO()
+    writer = csv.DictWriter(buffer, COLUMNS, lineterminator="\n")
+    writer.writeheader()
+    for row in rows:
+        writer.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in row.items()})
+    square_mesh.write_atomic(path, buffer.getvalue())
+
+
+TOL_COLORS = {1e-2: (214, 39, 40), 1e-4: (31, 119, 180), 1e-6: (44, 160, 44)}
+MODE_LOOK = {"lagged": (False, "o"), "none": (False, "o"), "implicit": (True, "s")}
+
+
+def style(mode, tol):
+    dashed, marker = MODE_LOOK[mode]
+    return plot.Style(TOL_COLORS.get(tol, (0, 0, 0)), dashed, marker)
+
+
+def draw(path, rows):
+    """The PNG: one panel per case, one line per (friction mode, tolerance) through its time steps."""
+    panels, lines = {}, {}
+    for row in rows:
+        if row["case"] not in panels:
+            panels[row["case"]] = plot.Panel(f"{row['case']}: {row['error_measure']}",
+                                             "wall-clock s per simulated s", "error")
+        key = (row["case"], row["friction"], row["tol"])
+        if key not in lines:
+            lines[key] = []
+            panels[row["case"]].series.append((style(row["friction"], row["tol"]), lines[key]))
+        if row["error"] > 0 and row["wall_per_sim_second"] > 0:     # False for nan: failed runs
+            lines[key].append((row["wall_per_sim_second"], row["error"]))
+    looks = list(dict.fromkeys((mode, tol) for _, mode, tol in lines))
+    if any(mode != "none" for mode, _ in looks):
+        looks = [(mode, tol) for mode, tol in looks if mode != "none"]  # "none" is drawn as lagged
+    legend = [(f"{mode}, tol {tol:.0e}", style(mode, tol)) for mode, tol in looks]
+    hs = ", ".join(f"{h:g}" for h in sorted({row["h"] for row in rows}, reverse=True))
+    notes = [f"Each line: one friction mode and Newton tolerance (m/s) through h = {hs} s;"
+             " a smaller h costs more (further right).",
+             "Free fall has no contact: its one run per tolerance is drawn solid. Fully implicit friction:"
+             f" up to {FIXED_POINT_CAP} fixed-point updates per step."]
+    plot.save_loglog_panels(path, "Error against run time", list(panels.values()), legend, notes)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(prog="python -m benchmarks.error_vs_runtime", description=__doc__.split("\n\n")[0])
+    ap.add_argument("--quick", action="store_true", help=f"only free fall at h = {QUICK_HS} (a smoke test)")
+    ap.add_argument("--out", default=OUT, help="folder for error_vs_runtime.csv and .png (default %(default)s)")
+    args = ap.parse_args(argv)
+    os.makedirs(args.out, exist_ok=True)
+    start = time.perf_counter()
+    rows, notes = sweep(quick=args.quick)
+    print("\n".join([table(rows), ""] + notes if notes else [table(rows)]))
+    csv_path = os.path.join(args.out, "error_vs_runtime.csv")
+    png_path = os.path.join(args.out, "error_vs_runtime.png")
+    write_csv(csv_path, rows)
+    draw(png_path, rows)
+    print(f"\n{len(rows)} runs in {time.perf_counter() - start:.0f} s; wrote {csv_path} and {png_path}", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
