@@ -28,13 +28,19 @@ def distances(x, n, o):
     return (x - o) @ n
 
 
-def _active(x, n, o, dhat):
-    """Indices and distances of the nodes with d < dhat; ValueError if any node has d <= 0."""
+def _positive_distances(x, n, o):
+    """d for every node; ValueError if any node is on or below the half-space (d <= 0)."""
     d = distances(x, n, o)
     if (d <= 0.0).any():
         i = int(np.argmin(d))
         raise ValueError(f"x: node {i} is at distance {d[i]:.6g} <= 0 from the half-space; "
                          "the barrier is only defined for d > 0")
+    return d
+
+
+def _active(x, n, o, dhat):
+    """Indices and distances of the nodes with d < dhat; ValueError if any node has d <= 0."""
+    d = _positive_distances(x, n, o)
     idx = np.flatnonzero(d < dhat)
     return idx, d[idx]
 
@@ -81,12 +87,12 @@ def init_step_size(x, n, o, p):
         raise ValueError(f"p must have the shape of x {x.shape}, got {p.shape}")
     n = utils.check_unit_normal("n", n)
     o = utils.check_vector("o", o)
-    _active(x, n, o, np.inf)                    # every node must start strictly above the slope
+    d = _positive_distances(x, n, o)            # every node must start strictly above the slope
     p_n = p @ n
     approaching = p_n < 0.0
     if not approaching.any():
         return 1.0
-    return float(min(1.0, np.min(0.9 * distances(x[approaching], n, o) / -p_n[approaching])))
+    return float(min(1.0, np.min(0.9 * d[approaching] / -p_n[approaching])))
 
 
 def compute_mu_lambda(x, n, o, contact_area, mu, dhat=DHAT, kappa=KAPPA):

@@ -108,18 +108,31 @@ def test_no_slope_calls_no_barrier_or_ccd(monkeypatch):
 
 
 def test_barrier_and_friction_see_only_nodes_within_dhat(monkeypatch):
-    seen = []
-    original = FrictionEnergy._contacts
+    """Every barrier evaluation touches exactly the nodes with d < dhat at the x it is given, and every
+    friction evaluation exactly the nodes with d < dhat at x^n (where mu*lambda^n > 0)."""
+    barrier_sets, friction_sets = [], []
+    active, contacts = BarrierEnergy._active, FrictionEnergy._contacts
 
-    def spy(v, mu_lambda, n):
-        out = original(v, mu_lambda, n)
-        seen.append(len(out[0]))
+    def spy_active(x, n, o, dhat):
+        out = active(x, n, o, dhat)
+        barrier_sets.append((set(out[0].tolist()), set(np.flatnonzero(BarrierEnergy.distances(x, n, o) < dhat).tolist())))
         return out
-    monkeypatch.setattr(FrictionEnergy, "_contacts", spy)
+
+    def spy_contacts(v, mu_lambda, n):
+        out = contacts(v, mu_lambda, n)
+        friction_sets.append(set(out[0].tolist()))
+        return out
+    monkeypatch.setattr(BarrierEnergy, "_active", spy_active)
+    monkeypatch.setattr(FrictionEnergy, "_contacts", spy_contacts)
     scene = simulator.build_scene()
-    run_steps(scene, 60)
-    # only the bottom row (n_seg + 1 of the 25 nodes) ever comes within dhat of the slope
-    assert 0 < max(seen) <= scene.n_seg + 1
+    x = scene.x0
+    for rec in simulator.simulate(scene, 60):
+        within = set(np.flatnonzero(BarrierEnergy.distances(x, scene.n, scene.o) < scene.dhat).tolist())
+        assert all(seen == within for seen in friction_sets), f"step {rec.index}"
+        friction_sets.clear()
+        x = rec.x
+    assert all(seen == expected for seen, expected in barrier_sets)
+    assert max(len(seen) for seen, _ in barrier_sets) == scene.n_seg + 1      # the bottom row, not all 25
 
 
 def free_fall_scene(h, **kw):
@@ -165,10 +178,14 @@ def test_step_changes_nothing_it_is_given():
 
 
 def test_line_search_and_ccd_keep_nodes_off_the_slope():
+    """At 30 m/s into the slope the full Newton step would cross it: CCD cuts the step (alpha < 1)
+    and every node stays above the slope."""
     scene = simulator.build_scene(v0=(0.0, -30.0), center=(0.0, 0.0))
+    alphas = []
     for rec in simulator.simulate(scene, 30):
         assert rec.report.min_distance > 0.0
-        assert min(rec.report.alphas) <= 1.0
+        alphas += rec.report.alphas
+    assert min(alphas) < 0.5
 
 
 def test_newton_cap_raises_specific_error():
@@ -213,7 +230,8 @@ def test_energy_budget_friction_work(kwargs):
     """Implicit Euler with convex potentials: E^{n+1} - E^n <= W_f^n, the work of friction over the
     step (from the step's optimality condition and convexity; the rest is numerical dissipation). So
     the mechanical energy lost since the start is at least what friction took out, and W_f <= 0.
-    Allowed slack: one step's Newton error, M tol (|v| + |dv| + tol), as in test_stability."""
+    Compressed springs are not convex, so for this scene the bound is an empirical one that the
+    argument makes plausible; allowed slack: one step's Newton error, M tol (|v| + |dv| + tol)."""
     scene = simulator.build_scene(**kwargs)
     E_prev = simulator.energies(scene, scene.x0, scene.v0)["total"]
     v_prev = scene.v0

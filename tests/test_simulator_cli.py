@@ -41,18 +41,26 @@ def test_twenty_steps_write_frames_objs_csv_and_summary(tmp_path):
 
 
 def test_frame_looks_like_the_lecture(tmp_path):
-    """White background, blue springs and nodes, the slope drawn: check pixel colours."""
+    """White background, blue springs and nodes, the slope drawn as a line, time and mu written in the
+    top-left corner: check pixel colours where each should be."""
     import pygame
     out = tmp_path / "run"
     assert run_cli("--steps", "1", "--out", str(out)).returncode == 0
-    image = pygame.image.load(str(out / "frame_00000.png"))
-    assert image.get_size() == (900, 900)
-    pixels = pygame.surfarray.array3d(image).reshape(-1, 3)
-    white = (pixels == 255).all(axis=1).mean()
-    blue = ((pixels[:, 2] > 200) & (pixels[:, 0] < 100) & (pixels[:, 1] < 100)).mean()
-    assert white > 0.8 and blue > 0.002
-    centre = pygame.surfarray.array3d(image)[450, 450]                  # node 12 sits at the origin
-    assert centre[2] > 200 and centre[0] < 100
+    image = pygame.surfarray.array3d(pygame.image.load(str(out / "frame_00000.png")))   # [x, y, rgb]
+    assert image.shape == (900, 900, 3)
+    pixels = image.reshape(-1, 3)
+    assert (pixels == 255).all(axis=1).mean() > 0.8                                  # white
+    assert image[450, 450, 2] > 200 and image[450, 450, 0] < 100                       # node 12 at the origin
+
+    def bluish(px):
+        return px[2] > 150 and px[0] < 200 and px[2] > px[0] + 50
+
+    # the slope through (0, -1) with normal (0.1, 1): y = -1 - 0.1 x, at 200 px/m about the centre
+    for x_m in (-2.0, -1.0, 1.0, 2.0):
+        col, row = int(450 + 200 * x_m), 450 + 200 * (1 + 0.1 * x_m)
+        assert any(bluish(image[col, int(row) + dr]) for dr in (-1, 0, 1)), f"slope at x = {x_m} m"
+    corner = image[:250, :40].reshape(-1, 3)
+    assert (corner.sum(axis=1) < 200).any() and (image[300:, :40] == 255).all()      # text only top-left
 
 
 def test_flags_reach_the_scene():
@@ -97,6 +105,25 @@ def test_help_documents_every_scene_flag():
                  "--slope-angle", "--v0", "--dhat", "--kappa", "--epsv", "--tol", "--friction-iterations",
                  "--out", "--frame-stride", "--window"):
         assert flag in text
+
+
+def test_runs_without_any_display_settings(tmp_path):
+    """A fresh shell with no DISPLAY and no SDL_VIDEODRIVER: simulator.py draws off-screen by itself."""
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "SDL_VIDEODRIVER", "WAYLAND_DISPLAY")}
+    result = subprocess.run([sys.executable, os.path.join(ROOT, "simulator.py"), "--steps", "2", "--out", str(tmp_path)],
+                            env=env, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert (tmp_path / "frame_00002.png").exists() and (tmp_path / "summary.png").exists()
+
+
+def test_output_files_have_the_usual_permissions(tmp_path):
+    """Written whole via a temporary file, yet readable by others as with a plain open() (umask 022)."""
+    result = subprocess.run(["sh", "-c", f"umask 022 && {sys.executable} {os.path.join(ROOT, 'simulator.py')} "
+                             f"--steps 1 --out {tmp_path}"], capture_output=True, text=True, timeout=120,
+                            env={**os.environ, "SDL_VIDEODRIVER": "dummy"})
+    assert result.returncode == 0, result.stderr
+    for name in ("frame_00001.png", "frame_00001.obj", "log.csv", "summary.png"):
+        assert (tmp_path / name).stat().st_mode & 0o777 == 0o644, name
 
 
 def test_window_mode_shows_frames(tmp_path):

@@ -5,11 +5,13 @@ Invariants checked at every step of every case:
 - every node strictly on the positive side of the slope (no penetration, no tunnelling);
 - Newton converged within its cap (a step that does not raises, which fails the test);
 - mechanical energy (kinetic + gravity + spring + barrier) never above its initial value by more
-  than ENERGY_SLACK: the exact implicit Euler step with convex potentials and lagged friction only
+  than `energy_slack`: the exact implicit Euler step with convex potentials and lagged friction only
   removes energy (E^{n+1} + h^2 P_f(x^{n+1}) <= E^n + h^2 P_f(x^n), and P_f is smallest at x^n); Newton
   stops with a velocity error of at most tol per node, which can add at most
   M tol (v + |dv| + tol) to the kinetic and potential energy of a step (the potential force times the
-  position error h tol equals M |dv| tol by the step's own optimality condition).
+  position error h tol equals M |dv| tol by the step's own optimality condition). Springs under
+  compression are not convex, so the argument does not cover every case here: the bound is checked
+  empirically, with this slack, and has held in every case (measured: the energy never rose at all).
 """
 import math
 
@@ -18,7 +20,8 @@ import pytest
 
 import BarrierEnergy
 import simulator
-from scenes import clear_scene, downhill, resting_scene, slope_normal
+from benchmarks.cases import downhill, resting_scene
+from scenes import clear_scene
 
 
 def energy_slack(scene, E0, v_max, dv_max):
@@ -126,39 +129,38 @@ def test_small_h_falls_as_physics_says(h, gap, angle_deg):
     assert checked >= 10
 
 
-SETTLE = 0.5    # s; see test_resting_square_stays_put
+SETTLE = 0.1    # s, see test_resting_square_stays_put
 
 
 @pytest.mark.parametrize("angle_deg, mu, extra", [
     (0.0, 0.11, {}),
     (LECTURE, 0.5, {}),
-    (LECTURE, 0.5, dict(epsv=1e-6)),
+    (LECTURE, 0.5, dict(epsv=1e-6, tol=1e-7)),     # resolving eps_v needs tol below it
     (20.0, 1.0, {}),
-    (30.0, 10.0, dict(epsv=1e-6)),
+    (30.0, 10.0, dict(epsv=1e-6, tol=1e-7)),
     (30.0, 10.0, dict(h=0.1)),
     (30.0, 10.0, dict(h=1e-3)),
     (30.0, 10.0, dict(kappa=1e9, dhat=1e-4)),
     (30.0, 10.0, dict(n_seg=8)),
 ])
 def test_resting_square_stays_put(angle_deg, mu, extra):
-    """mu well above tan(theta), a resting start: after settling the contact nodes drift less than
-    eps_v * t along the slope (the mollifier allows tangential speeds below eps_v), and never move
-    faster than eps_v.
+    """mu well above tan(theta), a resting start: the contact nodes drift less than eps_v * t along the
+    slope (the mollifier lets a sticking block creep, below eps_v) and never move faster than eps_v.
 
-    The body is stiff (k = 1e9): the lecture's soft square (1000 kg on springs of 2e4) shears by about
-    M g sin(theta) / k = 25 cm at 30 degrees and buckles, and any square topples once tan(theta) > 1,
-    whatever mu; neither is sliding. The start is not in torque balance (the downhill nodes of a
-    tilted square carry more load than the uniform share it starts with), so the body first rotates by
-    micrometres while the barrier distances adjust; drift is measured after SETTLE = 0.5 s, by which
-    that transient has died out in every case here (measured: below 1e-2 of eps_v afterwards)."""
-    scene = resting_scene(angle_deg, mu=mu, k=1e9, **extra)
+    The body is stiff (k = 1e9) and starts in the pose where the barrier carries a rigid square without
+    rocking (benchmarks/cases.py, resting_pose). Being not quite rigid, its lattice first settles
+    elastically under the load (the base moves ~1e-7 m in the first step, more than eps_v t when
+    eps_v = 1e-6), so drift and speed are measured from SETTLE = 0.1 s on. The lecture's soft square (1000 kg on springs of 2e4) shears
+    by about M g sin(theta) / k = 25 cm at 30 degrees and buckles, and any square topples once
+    tan(theta) > 1, whatever mu; neither is sliding."""
+    scene = resting_scene(math.tan(math.radians(angle_deg)), mu, k=1e9, **extra)
     assert mu >= 2 * math.tan(math.radians(angle_deg))
-    tangent = downhill(scene.n)
-    bottom = BarrierEnergy.distances(scene.x0, scene.n, scene.o) < scene.dhat
-    assert bottom.sum() == scene.n_seg + 1
-    steps = int(round((SETTLE + 1.0) / scene.h))
+    tangent = downhill(scene)
+    bottom = np.arange(scene.n_seg + 1) * (scene.n_seg + 1)        # the bottom row, node i*(n_seg+1)
+    touching = BarrierEnergy.distances(scene.x0[bottom], scene.n, scene.o) < scene.dhat
+    assert touching.sum() > (scene.n_seg + 1) / 2      # on steep slopes the uphill corner lifts off
     start = None
-    for rec in run_checked(scene, steps):
+    for rec in run_checked(scene, int(round((SETTLE + 1.0) / scene.h))):
         if rec.t < SETTLE - 1e-12:
             continue
         s = rec.x[bottom] @ tangent
@@ -198,21 +200,21 @@ def test_cli_prints_the_warning(tmp_path):
 
 def test_resting_start_too_coarse_tolerance_is_reported():
     """A stiff square resting on the lecture's slope with mu = 0.05 < tan(theta) should slide at
-    a = g (sin - mu cos) = 0.488 m/s^2, i.e. gain 4.9e-3 m/s per step at h = 0.01. With the lecture's
-    tol = 1e-2 m/s Newton stops after one tiny step each time (static friction's curvature keeps the
-    steps small) and the square never starts: the scene says so. With tol = 1e-4 it slides and no
-    warning is given; a dropped square (the lecture's scene) gets none either."""
-    coarse = resting_scene(LECTURE, mu=0.05, k=1e8)
-    assert len(coarse.warnings) == 1 and "Newton may stop before it leaves static friction" in coarse.warnings[0]
-    assert "4.88e-03 m/s per step" in coarse.warnings[0].replace("0.00488", "4.88e-03")
-    fine = resting_scene(LECTURE, mu=0.05, k=1e8, tol=1e-4)
+    a = g (sin - mu cos) = 0.488 m/s^2, gaining 4.9e-3 m/s per step at h = 0.01. With the lecture's
+    tol = 1e-2 m/s Newton stops after one small step each time (static friction's curvature keeps the
+    steps small) and the square never gets going: the scene says so. With tol = 1e-4 it slides as
+    physics says and nothing is said; a dropped square (the lecture's scene) gets no warning either."""
+    coarse = resting_scene(0.1, 0.05)
+    assert len(coarse.warnings) == 1
+    assert "gaining 0.00488 m/s per step, less than tol = 0.01 m/s" in coarse.warnings[0]
+    fine = resting_scene(0.1, 0.05, tol=1e-4)
     assert fine.warnings == ()
-    speeds = {}
+    a = 9.81 * (math.sin(math.atan(0.1)) - 0.05 * math.cos(math.atan(0.1)))
+    speed = {}
     for scene in (coarse, fine):
         rec = list(simulator.simulate(scene, 40))[-1]
-        speeds[scene.tol] = float(np.average(rec.v, axis=0, weights=scene.m) @ downhill(scene.n))
-    a = 9.81 * (math.sin(math.radians(LECTURE)) - 0.05 * math.cos(math.radians(LECTURE)))
-    assert speeds[1e-4] == pytest.approx(a * 0.4, rel=0.02)        # slides as physics says
-    assert speeds[1e-2] < 0.1 * a * 0.4                              # stuck: what the warning says
-    assert resting_scene(LECTURE, mu=0.5, k=1e8).warnings == ()      # should stick: nothing to warn
-    assert simulator.build_scene(mu=0.05).warnings == ()             # dropped: nothing to warn
+        speed[scene.tol] = float(np.average(rec.v, axis=0, weights=scene.m) @ downhill(scene))
+    assert speed[1e-4] == pytest.approx(a * 0.4, rel=0.01)         # slides as physics says
+    assert speed[1e-2] < 0.1 * a * 0.4                              # stuck, as the warning says
+    assert resting_scene(0.1, 0.5).warnings == ()                   # should stick: nothing to warn
+    assert simulator.build_scene(mu=0.05).warnings == ()            # dropped: nothing to warn
