@@ -5,6 +5,10 @@ for a half-space), and the tangential velocity vbar_k = (T^n)^T v_k:
     P_f(x) = sum_k mu lambda_k^n f0(||vbar_k|| hhat)                                  (Eq. 9.2.1)
 where v = (x - x^n) / hhat, so dv/dx = I / hhat. val/grad/hess below take v and return
 P_f and its derivatives with respect to x. Only nodes with mu_lambda > 0 (in contact) enter.
+
+`val`, `grad`, `hess` check their input, then call the `*_kernel` function of the same name, which
+holds the formula and trusts its input (the time integrator calls the kernels on a scene it has
+validated once).
 """
 import numpy as np
 
@@ -54,10 +58,10 @@ def _check(v, mu_lambda, hhat, n, epsv):
     if (mu_lambda < 0).any():
         i = int(np.argmax(mu_lambda < 0))
         raise ValueError(f"mu_lambda must be >= 0, got {mu_lambda[i]} at node {i}")
-    utils.check_positive("hhat", hhat)
-    utils.check_positive("epsv", epsv)
+    hhat = utils.check_positive("hhat", hhat)
+    epsv = utils.check_positive("epsv", epsv)
     n = utils.check_unit_normal("n", n)
-    return v, mu_lambda, n
+    return v, mu_lambda, hhat, n, epsv
 
 
 def _contacts(v, mu_lambda, n):
@@ -69,26 +73,41 @@ def _contacts(v, mu_lambda, n):
 
 
 def val(v, mu_lambda, hhat, n, epsv=EPSV):
+    """P_f = sum_k mu lambda_k f0(||vbar_k|| hhat) (Eq. 9.2.1) (checked; see val_kernel)."""
+    return val_kernel(*_check(v, mu_lambda, hhat, n, epsv))
+
+
+def grad(v, mu_lambda, hhat, n, epsv=EPSV):
+    """grad_k P_f = mu lambda_k T (f1(||vbar_k||)/||vbar_k||) vbar_k (Eq. 9.2.3) (checked; see grad_kernel)."""
+    return grad_kernel(*_check(v, mu_lambda, hhat, n, epsv))
+
+
+def hess(v, mu_lambda, hhat, n, epsv=EPSV, project_psd=True):
+    """hess_k P_f (Eq. 9.2.4) as an IJV triplet (checked; see hess_kernel)."""
+    return utils.blocks_to_ijv(*hess_kernel(*_check(v, mu_lambda, hhat, n, epsv), project_psd=project_psd))
+
+
+def val_kernel(v, mu_lambda, hhat, n, epsv):
     """P_f = sum_k mu lambda_k f0(||vbar_k|| hhat) (Eq. 9.2.1)."""
-    v, mu_lambda, n = _check(v, mu_lambda, hhat, n, epsv)
     _, ml, _, _, vbarnorm = _contacts(v, mu_lambda, n)
     return float(np.sum(ml * f0(vbarnorm * hhat, epsv, hhat)))
 
 
-def grad(v, mu_lambda, hhat, n, epsv=EPSV):
+def grad_kernel(v, mu_lambda, hhat, n, epsv):
     """grad_k P_f = mu lambda_k T (f1(||vbar_k||)/||vbar_k||) vbar_k (Eq. 9.2.3); zero at vbar = 0."""
-    v, mu_lambda, n = _check(v, mu_lambda, hhat, n, epsv)
     idx, ml, T, vbar, vbarnorm = _contacts(v, mu_lambda, n)
     g = np.zeros_like(v)
     g[idx] = (ml * f1_over_y(vbarnorm, epsv))[:, None] * (vbar @ T)
     return g
 
 
-def hess(v, mu_lambda, hhat, n, epsv=EPSV, project_psd=True):
+def hess_kernel(v, mu_lambda, hhat, n, epsv, project_psd=True):
     """hess_k P_f = mu lambda_k T [ (f1'y - f1)/y^3 vbar vbar^T + f1/y I ] T^T / hhat   (Eq. 9.2.4),
     y = ||vbar_k||; at y = 0 only the f1/y I part remains. The bracket is PSD for the lecture's f1;
-    `project_psd` clamps the round-off (as the lecture's make_PD does)."""
-    v, mu_lambda, n = _check(v, mu_lambda, hhat, n, epsv)
+    `project_psd` clamps the round-off (as the lecture's make_PD does).
+
+    Returns (nodes, blocks): the contact nodes as (k, 1) element lists and their (k, 2, 2) blocks.
+    """
     idx, ml, T, vbar, y = _contacts(v, mu_lambda, n)
     outer = vbar[:, :, None] * vbar[:, None, :] / np.where(y > 0.0, y, 1.0)[:, None, None]
     inner = (f_hess_term(y, epsv)[:, None, None] * outer
@@ -97,4 +116,4 @@ def hess(v, mu_lambda, hhat, n, epsv=EPSV, project_psd=True):
         inner = utils.project_psd_2x2(inner)
     blocks = T @ inner @ T.T
     blocks = (ml / hhat)[:, None, None] * 0.5 * (blocks + np.swapaxes(blocks, 1, 2))  # exact symmetry
-    return utils.blocks_to_ijv(idx[:, None], blocks)
+    return idx[:, None], blocks

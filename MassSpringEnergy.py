@@ -1,10 +1,16 @@
 """Mass-spring elasticity: E_s(x) = sum_e 1/2 k_e l_e^2 (||x_a - x_b||^2 / l_e^2 - 1)^2.
 
-`l2` holds the squared rest lengths l_e^2, as in the lecture's code.
+`l2` holds the squared rest lengths l_e^2, as in the lecture's code. `val`, `grad`, `hess` check
+their input, then call the `*_kernel` function of the same name, which holds the formula and trusts
+its input (the time integrator calls the kernels on a scene it has validated once).
 """
 import numpy as np
 
 import utils
+
+# [[1, -1], [-1, 1]] laid out to multiply a spring's 2x2 block H into its 4x4 block (see hess_kernel)
+_EDGE_SIGNS = np.array([[1.0, -1.0], [-1.0, 1.0]])[None, :, None, :, None]
+_EDGE_SIGNS.setflags(write=False)
 
 
 def _check(x, e, l2, k):
@@ -25,32 +31,44 @@ def _edge_vectors(x, e):
 
 
 def val(x, e, l2, k):
+    """E_s = sum_e 1/2 k l2 (||diff||^2 / l2 - 1)^2 (checked; see val_kernel)."""
+    return val_kernel(*_check(x, e, l2, k))
+
+
+def grad(x, e, l2, k):
+    """dE/dx_a = -dE/dx_b = 2 k (||diff||^2 / l2 - 1) diff (checked; see grad_kernel)."""
+    return grad_kernel(*_check(x, e, l2, k))
+
+
+def hess(x, e, l2, k, project_psd=True):
+    """Per edge [[H, -H], [-H, H]], H = 2k/l2 (2 diff diff^T + (||diff||^2 - l2) I), as an IJV
+    triplet (checked; see hess_kernel). `project_psd=False` gives the true, possibly indefinite one."""
+    return utils.blocks_to_ijv(*hess_kernel(*_check(x, e, l2, k), project_psd=project_psd))
+
+
+def val_kernel(x, e, l2, k):
     """E_s = sum_e 1/2 k l2 (||diff||^2 / l2 - 1)^2."""
-    x, e, l2, k = _check(x, e, l2, k)
     _, sq = _edge_vectors(x, e)
     return float(np.sum(0.5 * k * l2 * (sq / l2 - 1.0) ** 2))
 
 
-def grad(x, e, l2, k):
+def grad_kernel(x, e, l2, k):
     """dE/dx_a = -dE/dx_b = 2 k (||diff||^2 / l2 - 1) diff, summed over the edges of each node."""
-    x, e, l2, k = _check(x, e, l2, k)
     diff, sq = _edge_vectors(x, e)
     g_diff = (2.0 * k * (sq / l2 - 1.0))[:, None] * diff
-    return utils.scatter_add(e[:, 0], g_diff, len(x)) - utils.scatter_add(e[:, 1], g_diff, len(x))
+    return utils.scatter_add_pairs(e, g_diff, len(x))
 
 
-def hess(x, e, l2, k, project_psd=True):
-    """Per edge [[H, -H], [-H, H]] with H = 2k/l2 (2 diff diff^T + (||diff||^2 - l2) I).
+def hess_kernel(x, e, l2, k, project_psd=True):
+    """Per edge the 4x4 block [[H, -H], [-H, H]] with H = 2k/l2 (2 diff diff^T + (||diff||^2 - l2) I).
 
     The 4x4 block is [[1, -1], [-1, 1]] (x) H, whose eigenvalues are 2 eig(H) and 0, so its PSD
     projection is [[1, -1], [-1, 1]] (x) H+ with H+ the closed-form 2x2 projection of H.
-    `project_psd=False` returns the true (possibly indefinite) Hessian, for checking.
+    Returns (e, blocks): the element node lists and their (E, 4, 4) blocks.
     """
-    x, e, l2, k = _check(x, e, l2, k)
     diff, sq = _edge_vectors(x, e)
     H = (2.0 * k / l2)[:, None, None] * (
         2.0 * diff[:, :, None] * diff[:, None, :] + (sq - l2)[:, None, None] * np.eye(2))
     if project_psd:
         H = utils.project_psd_2x2(H)
-    blocks = np.kron(np.array([[1.0, -1.0], [-1.0, 1.0]]), np.ones((2, 2)))[None] * np.tile(H, (1, 2, 2))
-    return utils.blocks_to_ijv(e, blocks)
+    return e, (_EDGE_SIGNS * H[:, None, :, None, :]).reshape(len(e), 4, 4)

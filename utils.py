@@ -123,9 +123,11 @@ def project_psd_2x2(H):
 # IJV triplets
 # ----------------------------------------------------------------------------------------------
 
-def scatter_add(index, values, n):
-    """(n, 2) array whose row i is the sum of values[j] over all j with index[j] == i."""
-    return np.stack([np.bincount(index, values[:, axis], minlength=n) for axis in range(2)], axis=1)
+def scatter_add_pairs(e, values, n):
+    """(n, 2) array: each pair (a, b) of `e` adds values[j] to row a and -values[j] to row b."""
+    dofs = (2 * e[:, :, None] + np.arange(2)).reshape(-1)
+    signed = np.stack([values, -values], axis=1).reshape(-1)
+    return np.bincount(dofs, signed, minlength=2 * n).reshape(n, 2)
 
 
 def empty_ijv():
@@ -139,13 +141,17 @@ def block_dofs(nodes):
     return (2 * nodes[:, :, None] + np.arange(2)).reshape(len(nodes), 2 * nodes.shape[1])
 
 
-def blocks_to_ijv(nodes, blocks):
-    """Scatter dense blocks (B, 2m, 2m) acting on element nodes (B, m) into one IJV triplet."""
+def block_entries(nodes):
+    """Row and column DOF of every entry of the (2m, 2m) blocks on element nodes (B, m): two (B, 4m^2)."""
     dofs = block_dofs(nodes)
     size = dofs.shape[1]
-    rows = np.repeat(dofs, size, axis=1).ravel()
-    cols = np.tile(dofs, (1, size)).ravel()
-    return rows, cols, np.asarray(blocks, dtype=np.float64).reshape(-1)
+    return np.repeat(dofs, size, axis=1), np.tile(dofs, (1, size))
+
+
+def blocks_to_ijv(nodes, blocks):
+    """Scatter dense blocks (B, 2m, 2m) acting on element nodes (B, m) into one IJV triplet."""
+    rows, cols = block_entries(nodes)
+    return rows.ravel(), cols.ravel(), np.asarray(blocks, dtype=np.float64).reshape(-1)
 
 
 def ijv_to_csr(ijv, n_dofs):
@@ -165,3 +171,4 @@ def concat_ijv(triplets):
 def scale_ijv(ijv, factor):
     """The same triplet with every value multiplied by `factor`."""
     return ijv[0], ijv[1], ijv[2] * factor
+
