@@ -75,6 +75,7 @@ class Scene:
     max_newton_iterations: int
     max_halvings: int
     terms: tuple = field(default=())    # the energy terms the Incremental Potential sums
+    pattern: utils.BlockPattern = None  # sparsity pattern of the Newton system and its solver (of e)
 
 
 def _finite(name, value):
@@ -171,7 +172,7 @@ def build_scene(**overrides):
         mu=p["mu"], dhat=p["dhat"], kappa=p["kappa"], epsv=p["epsv"], h=p["h"], tol=p["tol"],
         n_seg=p["n_seg"], side_len=p["side_len"], friction_updates=p["friction_updates"],
         max_newton_iterations=p["max_newton_iterations"], max_halvings=p["max_halvings"],
-        terms=tuple(terms))
+        terms=tuple(terms), pattern=utils.BlockPattern.build(n_nodes, e))
 
 
 def energies(scene, x, v):

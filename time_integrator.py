@@ -9,13 +9,13 @@ fixed-point iterations of Algorithm 5 for fully implicit friction.
 
 `step(scene, x, v)` returns the next (x, v) and a `StepReport`; it prints nothing and changes
 neither the scene nor its inputs. A scene is any object with the attributes `Scene` in
-simulator.py has (masses, springs, slope, mu, dhat, kappa, epsv, h, tol, caps and `terms`).
+simulator.py has (masses, springs, slope, mu, dhat, kappa, epsv, h, tol, caps, `terms` and the
+sparsity `pattern` of its Newton system).
 """
 from dataclasses import dataclass, field
 import math
 
 import numpy as np
-import scipy.sparse.linalg
 
 import BarrierEnergy
 import FrictionEnergy
@@ -59,7 +59,11 @@ class StepReport:
 
 
 class IncrementalPotential:
-    """E(x) for one Newton solve: the scene's terms with x^n, x_tilde and mu*lambda^n fixed."""
+    """E(x) for one Newton solve: the scene's terms with x^n, x_tilde and mu*lambda^n fixed.
+
+    It calls the energies' kernels, which skip the input checks: `build_scene` validated the scene
+    once and `step` validates x^n and v^n, and every x it is asked about is x^n plus Newton steps.
+    """
 
     def __init__(self, scene, x_n, x_tilde, mu_lambda):
         self.scene = scene
@@ -67,64 +71,87 @@ class IncrementalPotential:
         self.x_tilde = x_tilde
         self.mu_lambda = mu_lambda
         self.h2 = scene.h * scene.h
+        self.potentials = tuple(t for t in scene.terms if t != "inertia"
+                                and (t != "friction" or mu_lambda is not None))
+        unknown = set(self.potentials) - set(POTENTIALS)
+        if unknown:
+            raise ValueError(f"scene.terms has an unknown term {sorted(unknown)[0]!r}")
+        # M is constant: its slot values are filled once per solve, not per Newton iteration
+        self.inertia = scene.pattern.sum_into_slots(
+            [scene.pattern.diagonal_slots], [InertiaEnergy.hess_kernel(x_n, x_tilde, scene.m)])
 
-    def _terms(self):
-        s = self.scene
-        return s.terms if self.mu_lambda is not None else tuple(t for t in s.terms if t != "friction")
+    def _velocity(self, x):
+        """v = (x - x^n) / h, the friction term's argument."""
+        return (x - self.x_n) / self.scene.h
 
     def _call(self, kind, x):
-        """Evaluate val, grad or hess of every term of the scene, as a list (inertia first)."""
+        """val_kernel or grad_kernel of every potential term (all but inertia), unscaled, as a list."""
         s, out = self.scene, []
-        for term in self._terms():
-            if term == "inertia":
-                out.append(getattr(InertiaEnergy, kind)(x, self.x_tilde, s.m))
-                continue
+        for term in self.potentials:
             if term == "spring":
-                r = getattr(MassSpringEnergy, kind)(x, s.e, s.l2, s.k)
+                out.append(getattr(MassSpringEnergy, kind)(x, s.e, s.l2, s.k))
             elif term == "gravity":
-                r = getattr(GravityEnergy, kind)(x, s.m, s.g)
+                out.append(getattr(GravityEnergy, kind)(x, s.m, s.g))
             elif term == "barrier":
-                r = getattr(BarrierEnergy, kind)(x, s.n, s.o, s.contact_area, s.dhat, s.kappa)
-            elif term == "friction":
-                vel = (x - self.x_n) / s.h
-                r = getattr(FrictionEnergy, kind)(vel, self.mu_lambda, s.h, s.n, s.epsv)
+                out.append(getattr(BarrierEnergy, kind)(x, s.n, s.o, s.contact_area, s.dhat, s.kappa))
             else:
-                raise ValueError(f"scene.terms has an unknown term {term!r}")
-            out.append(utils.scale_ijv(r, self.h2) if kind == "hess" else self.h2 * r)
+                out.append(getattr(FrictionEnergy, kind)(self._velocity(x), self.mu_lambda, s.h, s.n, s.epsv))
         return out
 
     def val(self, x):
-        return sum(self._call("val", x))
+        """E(x) = 1/2 ||x - x_tilde||_M^2 + h^2 sum_terms P(x)."""
+        return (InertiaEnergy.val_kernel(x, self.x_tilde, self.scene.m)
+                + self.h2 * sum(self._call("val_kernel", x)))
 
     def grad(self, x):
-        return sum(self._call("grad", x))
+        """grad E(x) = M (x - x_tilde) + h^2 sum_terms grad P(x)."""
+        return (InertiaEnergy.grad_kernel(x, self.x_tilde, self.scene.m)
+                + self.h2 * sum(self._call("grad_kernel", x)))
+
+    def hessian(self, x):
+        """Slot values (scene.pattern) of H = M + h^2 sum_terms hess P(x), each term PSD-projected
+        (gravity's Hessian is zero)."""
+        s, slots, blocks = self.scene, [], []
+        for term in self.potentials:
+            if term == "spring":
+                blocks.append(MassSpringEnergy.hess_kernel(x, s.e, s.l2, s.k)[1])
+                slots.append(s.pattern.edge_slots)
+                continue
+            if term == "barrier":
+                nodes, b = BarrierEnergy.hess_kernel(x, s.n, s.o, s.contact_area, s.dhat, s.kappa)
+            elif term == "friction":
+                nodes, b = FrictionEnergy.hess_kernel(self._velocity(x), self.mu_lambda, s.h, s.n, s.epsv)
+            else:
+                continue
+            blocks.append(b)
+            slots.append(s.pattern.node_slots[nodes[:, 0]])
+        if not blocks:
+            return self.inertia
+        return self.inertia + self.h2 * s.pattern.sum_into_slots(slots, blocks)
 
     def search_direction(self, x):
         """Projected Newton direction p = -H^-1 grad E at x (H is PSD-projected, so SPD with M > 0)."""
-        H = utils.ijv_to_csr(utils.concat_ijv(self._call("hess", x)), 2 * len(x))
-        g = self.grad(x).ravel()
-        # H = M + h^2 (PSD terms) is symmetric positive definite: SuperLU in symmetric mode with
-        # a fill-reducing minimum-degree ordering of the symmetric pattern A^T + A, and no
-        # off-diagonal pivoting (diag_pivot_thresh=0) because an SPD matrix needs none; this keeps
-        # the factor as sparse as a Cholesky factor instead of the larger unsymmetric LU.
-        lu = scipy.sparse.linalg.splu(H.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                                      options={"SymmetricMode": True})
-        return -lu.solve(g).reshape(-1, 2)
+        pattern = self.scene.pattern
+        g = self.grad(x).reshape(-1)
+        return -pattern.factor_solve(pattern.matrix(self.hessian(x)), g).reshape(-1, 2)
+
+
+POTENTIALS = ("spring", "gravity", "barrier", "friction")
 
 
 def _mu_lambda(scene, x):
     """mu * lambda from the barrier at x, or None when the scene has no friction term."""
     if "friction" not in scene.terms:
         return None
-    return BarrierEnergy.compute_mu_lambda(x, scene.n, scene.o, scene.contact_area, scene.mu,
-                                           scene.dhat, scene.kappa)
+    return BarrierEnergy.compute_mu_lambda_kernel(x, scene.n, scene.o, scene.contact_area, scene.mu,
+                                                  scene.dhat, scene.kappa)
 
 
 def _init_step_size(scene, x, p):
     """Algorithm 4, line 1: CCD against the slope; without a slope the full step is safe."""
     if "barrier" not in scene.terms:
         return 1.0
-    return BarrierEnergy.init_step_size(x, scene.n, scene.o, p)
+    return BarrierEnergy.init_step_size_kernel(x, scene.n, scene.o, p)
 
 
 def _newton(scene, ip, x, step_index, report, p=None):
