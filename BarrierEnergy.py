@@ -36,7 +36,7 @@ def distances(x, n, o):
 def _active(x, n, o, dhat):
     """Indices and distances of the nodes with d < dhat; ValueError if any node has d <= 0."""
     d = distances(x, n, o)
-    idx = np.flatnonzero(d < dhat)
+    idx = (d < dhat).nonzero()[0]
     d_active = d[idx]
     if d_active.size and d_active.min() <= 0.0:
         i = int(idx[np.argmin(d_active)])
@@ -70,25 +70,40 @@ def val_kernel(x, n, o, contact_area, dhat, kappa):
     """P_b = sum_{d_i < dhat} w_i dhat kappa/2 (s - 1) ln s, s = d_i / dhat."""
     idx, d = _active(x, n, o, dhat)
     s = d / dhat
-    return float(np.sum(contact_area[idx] * dhat * kappa / 2.0 * (s - 1.0) * np.log(s)))
+    return dhat * kappa / 2.0 * float(contact_area[idx] @ ((s - 1.0) * np.log(s)))
 
 
 def grad_kernel(x, n, o, contact_area, dhat, kappa):
-    """grad_i P_b = w_i dhat b'(d_i) n for the active nodes, zero elsewhere."""
+    """grad_i P_b = w_i dhat b'(d_i) n for the active nodes, zero elsewhere (see _grad)."""
+    return _grad(x.shape, *_active(x, n, o, dhat), n, contact_area, dhat, kappa)
+
+
+def hess_kernel(x, n, o, contact_area, dhat, kappa):
+    """hess_i P_b = w_i dhat b''(d_i) n n^T (see _blocks). Returns (nodes, blocks): the active nodes
+    as (k, 1) element lists and their blocks, entry-major (2, 2, k) (see utils.blocks_to_ijv)."""
     idx, d = _active(x, n, o, dhat)
-    g = np.zeros_like(x)
+    return idx[:, None], _blocks(idx, d, n, contact_area, dhat, kappa)
+
+
+def grad_hess_kernel(x, n, o, contact_area, dhat, kappa):
+    """grad_kernel and hess_kernel at once, from one active set."""
+    idx, d = _active(x, n, o, dhat)
+    return (_grad(x.shape, idx, d, n, contact_area, dhat, kappa),
+            (idx[:, None], _blocks(idx, d, n, contact_area, dhat, kappa)))
+
+
+def _grad(shape, idx, d, n, contact_area, dhat, kappa):
+    """grad_i P_b = w_i dhat b'(d_i) n for the active nodes idx (at distances d), zero elsewhere."""
+    g = np.zeros(shape)
     g[idx] = dP_dd(d, contact_area[idx], dhat, kappa)[:, None] * n
     return g
 
 
-def hess_kernel(x, n, o, contact_area, dhat, kappa):
-    """hess_i P_b = w_i dhat b''(d_i) n n^T, b''(d) = kappa (d + dhat) / (2 d^2 dhat) > 0 (PSD).
-
-    Returns (nodes, blocks): the active nodes as (k, 1) element lists and their (k, 2, 2) blocks.
-    """
-    idx, d = _active(x, n, o, dhat)
+def _blocks(idx, d, n, contact_area, dhat, kappa):
+    """hess_i P_b = w_i dhat b''(d_i) n n^T, b''(d) = kappa (d + dhat) / (2 d^2 dhat) > 0 (PSD),
+    entry-major (2, 2, k)."""
     curvature = contact_area[idx] * dhat * kappa / (2.0 * d * d * dhat) * (d + dhat)
-    return idx[:, None], curvature[:, None, None] * np.outer(n, n)
+    return np.multiply.outer(np.outer(n, n), curvature)
 
 
 def init_step_size(x, n, o, p):

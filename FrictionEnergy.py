@@ -36,20 +36,21 @@ def f1_over_y(y, epsv):
     """Eq. 9.2.5, f1(y)/y: (-y + 2 eps_v)/eps_v^2 for y < eps_v, else 1/y. Finite (2/eps_v) at y = 0,
     and never divides by zero there."""
     y = np.asarray(y, dtype=np.float64)
-    safe_y = np.where(y < epsv, 1.0, y)
-    return np.where(y < epsv, (-y + 2.0 * epsv) / (epsv * epsv), 1.0 / safe_y)
+    below = y < epsv
+    return np.where(below, (2.0 * epsv - y) / (epsv * epsv), 1.0 / np.where(below, 1.0, y))
 
 
 def f_hess_term(y, epsv):
     """Eq. 9.2.6, (f1'(y) y - f1(y)) / y^2: -1/eps_v^2 for y < eps_v, else -1/y^2."""
     y = np.asarray(y, dtype=np.float64)
-    safe_y = np.where(y < epsv, 1.0, y)
-    return np.where(y < epsv, -1.0 / (epsv * epsv), -1.0 / (safe_y * safe_y))
+    below = y < epsv
+    safe_y = np.where(below, 1.0, y)
+    return np.where(below, -1.0 / (epsv * epsv), -1.0 / (safe_y * safe_y))
 
 
 def tangent_operator(n):
     """T = I - n n^T: projects a velocity onto the half-space's tangent line."""
-    return np.eye(2) - np.outer(n, n)
+    return np.eye(2) - n[:, None] * n
 
 
 def _check(v, mu_lambda, hhat, n, epsv):
@@ -66,7 +67,7 @@ def _check(v, mu_lambda, hhat, n, epsv):
 
 def _contacts(v, mu_lambda, n):
     """Indices of the nodes in contact, their mu*lambda, T, vbar = T^T v and ||vbar||."""
-    idx = np.flatnonzero(mu_lambda > 0.0)
+    idx = (mu_lambda > 0.0).nonzero()[0]
     T = tangent_operator(n)
     vbar = v[idx] @ T           # row k is (T^T v_k)^T; T is symmetric
     return idx, mu_lambda[idx], T, vbar, np.sqrt(np.einsum("ij,ij->i", vbar, vbar))
@@ -90,30 +91,48 @@ def hess(v, mu_lambda, hhat, n, epsv=EPSV, project_psd=True):
 def val_kernel(v, mu_lambda, hhat, n, epsv):
     """P_f = sum_k mu lambda_k f0(||vbar_k|| hhat) (Eq. 9.2.1)."""
     _, ml, _, _, vbarnorm = _contacts(v, mu_lambda, n)
-    return float(np.sum(ml * f0(vbarnorm * hhat, epsv, hhat)))
+    return float(ml @ f0(vbarnorm * hhat, epsv, hhat))
 
 
 def grad_kernel(v, mu_lambda, hhat, n, epsv):
-    """grad_k P_f = mu lambda_k T (f1(||vbar_k||)/||vbar_k||) vbar_k (Eq. 9.2.3); zero at vbar = 0."""
-    idx, ml, T, vbar, vbarnorm = _contacts(v, mu_lambda, n)
-    g = np.zeros_like(v)
-    g[idx] = (ml * f1_over_y(vbarnorm, epsv))[:, None] * (vbar @ T)
-    return g
+    """grad_k P_f = mu lambda_k T (f1(||vbar_k||)/||vbar_k||) vbar_k (Eq. 9.2.3) (see _grad)."""
+    contacts = _contacts(v, mu_lambda, n)
+    return _grad(v.shape, *contacts, f1_over_y(contacts[4], epsv))
 
 
 def hess_kernel(v, mu_lambda, hhat, n, epsv, project_psd=True):
-    """hess_k P_f = mu lambda_k T [ (f1'y - f1)/y^3 vbar vbar^T + f1/y I ] T^T / hhat   (Eq. 9.2.4),
-    y = ||vbar_k||; at y = 0 only the f1/y I part remains. The bracket is PSD for the lecture's f1;
-    `project_psd` clamps the round-off (as the lecture's make_PD does).
+    """hess_k P_f (Eq. 9.2.4) (see _blocks). Returns (nodes, blocks): the contact nodes as (k, 1)
+    element lists and their blocks, entry-major (2, 2, k) (see utils.blocks_to_ijv)."""
+    contacts = _contacts(v, mu_lambda, n)
+    return contacts[0][:, None], _blocks(*contacts, f1_over_y(contacts[4], epsv), hhat, epsv, project_psd)
 
-    Returns (nodes, blocks): the contact nodes as (k, 1) element lists and their (k, 2, 2) blocks.
-    """
-    idx, ml, T, vbar, y = _contacts(v, mu_lambda, n)
-    outer = vbar[:, :, None] * vbar[:, None, :] / np.where(y > 0.0, y, 1.0)[:, None, None]
-    inner = (f_hess_term(y, epsv)[:, None, None] * outer
-             + f1_over_y(y, epsv)[:, None, None] * np.eye(2))
+
+def grad_hess_kernel(v, mu_lambda, hhat, n, epsv):
+    """grad_kernel and the PSD-projected hess_kernel at once, from one set of contacts."""
+    contacts = _contacts(v, mu_lambda, n)
+    f1y = f1_over_y(contacts[4], epsv)
+    return (_grad(v.shape, *contacts, f1y),
+            (contacts[0][:, None], _blocks(*contacts, f1y, hhat, epsv, True)))
+
+
+def _grad(shape, idx, ml, T, vbar, y, f1y):
+    """grad_k P_f = mu lambda_k T (f1(y_k)/y_k) vbar_k (Eq. 9.2.3), y = ||vbar||, f1y = f1(y)/y;
+    zero at vbar = 0 and at the nodes out of contact."""
+    g = np.zeros(shape)
+    g[idx] = (ml * f1y)[:, None] * (vbar @ T)
+    return g
+
+
+def _blocks(idx, ml, T, vbar, y, f1y, hhat, epsv, project_psd):
+    """hess_k P_f = mu lambda_k T [ (f1'y - f1)/y^3 vbar vbar^T + f1/y I ] T^T / hhat   (Eq. 9.2.4),
+    y = ||vbar_k||, f1y = f1(y)/y; at y = 0 only the f1/y I part remains. The bracket is PSD for
+    the lecture's f1; `project_psd` clamps the round-off (as the lecture's make_PD does).
+    Entry-major, (2, 2, k)."""
+    coef = f_hess_term(y, epsv) / np.where(y > 0.0, y, 1.0)     # (f1'y - f1)/y^3, with vbar unscaled
+    vx, vy = vbar[:, 0], vbar[:, 1]
+    inner = (coef * vx * vx + f1y, coef * vx * vy, coef * vy * vy + f1y)     # the bracket, entry-wise
     if project_psd:
-        inner = utils.project_psd_2x2(inner)
-    blocks = T @ inner @ T.T
-    blocks = (ml / hhat)[:, None, None] * 0.5 * (blocks + np.swapaxes(blocks, 1, 2))  # exact symmetry
-    return idx[:, None], blocks
+        inner = utils.project_psd_2x2_entries(*inner)
+    a, b, c = inner
+    blocks = np.einsum("ij,jlk,ml->imk", T, np.array([[a, b], [b, c]]), T)   # T [...] T^T, (2, 2, k)
+    return (ml / hhat) * 0.5 * (blocks + blocks.swapaxes(0, 1))  # exactly symmetric

@@ -63,6 +63,7 @@ class IncrementalPotential:
 
     It calls the energies' kernels, which skip the input checks: `build_scene` validated the scene
     once and `step` validates x^n and v^n, and every x it is asked about is x^n plus Newton steps.
+    Friction is evaluated on the nodes in contact at x^n only (mu*lambda^n > 0), fixed for the solve.
     """
 
     def __init__(self, scene, x_n, x_tilde, mu_lambda):
@@ -71,69 +72,66 @@ class IncrementalPotential:
         self.x_tilde = x_tilde
         self.mu_lambda = mu_lambda
         self.h2 = scene.h * scene.h
+        self.contacts = np.zeros(0, dtype=np.int64) if mu_lambda is None else np.flatnonzero(mu_lambda > 0.0)
         self.potentials = tuple(t for t in scene.terms if t != "inertia"
-                                and (t != "friction" or mu_lambda is not None))
+                                and (t != "friction" or len(self.contacts)))
         unknown = set(self.potentials) - set(POTENTIALS)
         if unknown:
             raise ValueError(f"scene.terms has an unknown term {sorted(unknown)[0]!r}")
+        self.contact_x_n = x_n[self.contacts]
+        self.contact_mu_lambda = None if mu_lambda is None else mu_lambda[self.contacts]
         # M is constant: its slot values are filled once per solve, not per Newton iteration
-        self.inertia = scene.pattern.sum_into_slots(
-            [scene.pattern.diagonal_slots], [InertiaEnergy.hess_kernel(x_n, x_tilde, scene.m)])
+        self.inertia = scene.pattern.diagonal(InertiaEnergy.hess_kernel(x_n, x_tilde, scene.m))
 
-    def _velocity(self, x):
-        """v = (x - x^n) / h, the friction term's argument."""
-        return (x - self.x_n) / self.scene.h
-
-    def _call(self, kind, x):
-        """val_kernel or grad_kernel of every potential term (all but inertia), unscaled, as a list."""
-        s, out = self.scene, []
-        for term in self.potentials:
-            if term == "spring":
-                out.append(getattr(MassSpringEnergy, kind)(x, s.e, s.l2, s.k))
-            elif term == "gravity":
-                out.append(getattr(GravityEnergy, kind)(x, s.m, s.g))
-            elif term == "barrier":
-                out.append(getattr(BarrierEnergy, kind)(x, s.n, s.o, s.contact_area, s.dhat, s.kappa))
-            else:
-                out.append(getattr(FrictionEnergy, kind)(self._velocity(x), self.mu_lambda, s.h, s.n, s.epsv))
-        return out
+    def _contact_velocity(self, x):
+        """v = (x - x^n) / h at the nodes in contact, the friction term's argument."""
+        return (x[self.contacts] - self.contact_x_n) / self.scene.h
 
     def val(self, x):
         """E(x) = 1/2 ||x - x_tilde||_M^2 + h^2 sum_terms P(x)."""
-        return (InertiaEnergy.val_kernel(x, self.x_tilde, self.scene.m)
-                + self.h2 * sum(self._call("val_kernel", x)))
-
-    def grad(self, x):
-        """grad E(x) = M (x - x_tilde) + h^2 sum_terms grad P(x)."""
-        return (InertiaEnergy.grad_kernel(x, self.x_tilde, self.scene.m)
-                + self.h2 * sum(self._call("grad_kernel", x)))
-
-    def hessian(self, x):
-        """Slot values (scene.pattern) of H = M + h^2 sum_terms hess P(x), each term PSD-projected
-        (gravity's Hessian is zero)."""
-        s, slots, blocks = self.scene, [], []
+        s, P = self.scene, 0.0
         for term in self.potentials:
             if term == "spring":
-                blocks.append(MassSpringEnergy.hess_kernel(x, s.e, s.l2, s.k)[1])
-                slots.append(s.pattern.edge_slots)
-                continue
-            if term == "barrier":
-                nodes, b = BarrierEnergy.hess_kernel(x, s.n, s.o, s.contact_area, s.dhat, s.kappa)
-            elif term == "friction":
-                nodes, b = FrictionEnergy.hess_kernel(self._velocity(x), self.mu_lambda, s.h, s.n, s.epsv)
+                P += MassSpringEnergy.val_kernel(x, s.e, s.l2, s.k)
+            elif term == "gravity":
+                P += GravityEnergy.val_kernel(x, s.m, s.g)
+            elif term == "barrier":
+                P += BarrierEnergy.val_kernel(x, s.n, s.o, s.contact_area, s.dhat, s.kappa)
             else:
+                P += FrictionEnergy.val_kernel(self._contact_velocity(x), self.contact_mu_lambda, s.h, s.n, s.epsv)
+        return InertiaEnergy.val_kernel(x, self.x_tilde, s.m) + self.h2 * P
+
+    def gradient_and_hessian(self, x):
+        """grad E(x) = M (x - x_tilde) + h^2 sum_terms grad P(x), and the slot values (scene.pattern)
+        of H = M + h^2 sum_terms hess P(x), each term PSD-projected (gravity's Hessian is zero)."""
+        s, g, slots, blocks = self.scene, np.zeros(x.shape), [], []
+        for term in self.potentials:
+            if term == "spring":
+                g_term, (_, b) = MassSpringEnergy.grad_hess_kernel(x, s.e, s.l2, s.k)
+                slots.append(s.pattern.edge_slots)
+            elif term == "gravity":
+                g += GravityEnergy.grad_kernel(x, s.m, s.g)
                 continue
+            elif term == "barrier":
+                g_term, (nodes, b) = BarrierEnergy.grad_hess_kernel(x, s.n, s.o, s.contact_area, s.dhat, s.kappa)
+                slots.append(s.pattern.node_slots[:, nodes[:, 0]])
+            else:
+                g_c, (nodes, b) = FrictionEnergy.grad_hess_kernel(self._contact_velocity(x), self.contact_mu_lambda,
+                                                                  s.h, s.n, s.epsv)
+                g[self.contacts] += g_c
+                slots.append(s.pattern.node_slots[:, self.contacts[nodes[:, 0]]])
+                blocks.append(b)
+                continue
+            g += g_term
             blocks.append(b)
-            slots.append(s.pattern.node_slots[nodes[:, 0]])
-        if not blocks:
-            return self.inertia
-        return self.inertia + self.h2 * s.pattern.sum_into_slots(slots, blocks)
+        H = self.inertia + self.h2 * s.pattern.sum_into_slots(slots, blocks) if blocks else self.inertia
+        return InertiaEnergy.grad_kernel(x, self.x_tilde, s.m) + self.h2 * g, H
 
     def search_direction(self, x):
         """Projected Newton direction p = -H^-1 grad E at x (H is PSD-projected, so SPD with M > 0)."""
         pattern = self.scene.pattern
-        g = self.grad(x).reshape(-1)
-        return -pattern.factor_solve(pattern.matrix(self.hessian(x)), g).reshape(-1, 2)
+        g, H = self.gradient_and_hessian(x)
+        return -pattern.factor_solve(pattern.matrix(H), g.reshape(-1)).reshape(-1, 2)
 
 
 POTENTIALS = ("spring", "gravity", "barrier", "friction")

@@ -101,39 +101,44 @@ def project_psd(H):
 
 
 def project_psd_2x2(H):
-    """Closed-form PSD projection of a batch of symmetric 2x2 matrices (B, 2, 2).
+    """Closed-form PSD projection of a batch of symmetric 2x2 matrices (B, 2, 2) (see
+    project_psd_2x2_entries); the result is exactly symmetric."""
+    H = np.asarray(H, dtype=np.float64)
+    a, b, c = project_psd_2x2_entries(H[..., 0, 0], 0.5 * (H[..., 0, 1] + H[..., 1, 0]), H[..., 1, 1])
+    return np.stack([np.stack([a, b], axis=-1), np.stack([b, c], axis=-1)], axis=-2)
+
+
+def project_psd_2x2_entries(a, b, c):
+    """Closed-form PSD projection of symmetric 2x2 matrices [[a, b], [b, c]], given entry by entry
+    (arrays of any one shape); returns the projected (a, b, c).
 
     Eigenvalues lambda_{1,2} = m +- r with m = (a + c)/2, r = hypot((a - c)/2, b). When
     lambda_2 < 0 < lambda_1, the projection keeps lambda_1 P_1, and the spectral projector is
-    P_1 = (H - lambda_2 I) / (lambda_1 - lambda_2), so no eigenvector is ever formed.
+    P_1 = (H - lambda_2 I) / (lambda_1 - lambda_2), so no eigenvector is ever formed. When
+    lambda_1 <= 0 it is zero; when lambda_2 >= 0, H itself.
     """
-    a = H[..., 0, 0]
-    b = 0.5 * (H[..., 0, 1] + H[..., 1, 0])
-    c = H[..., 1, 1]
     m = 0.5 * (a + c)
     r = np.hypot(0.5 * (a - c), b)
     lam1, lam2 = m + r, m - r
-    out = np.array(H, dtype=np.float64, copy=True)
-    out[..., 0, 1] = out[..., 1, 0] = b
+    if not (lam2 < 0.0).any():
+        return a, b, c
     mixed = (lam2 < 0.0) & (lam1 > 0.0)
-    if mixed.any():
-        scale = lam1[mixed] / (lam1[mixed] - lam2[mixed])
-        out[mixed, 0, 0] = scale * (a[mixed] - lam2[mixed])
-        out[mixed, 1, 1] = scale * (c[mixed] - lam2[mixed])
-        out[mixed, 0, 1] = out[mixed, 1, 0] = scale * b[mixed]
-    out[lam1 <= 0.0] = 0.0
-    return out
+    scale = np.where(mixed, lam1 / np.where(mixed, lam1 - lam2, 1.0), 1.0)
+    shift = np.where(mixed, lam2, 0.0)
+    keep = lam1 > 0.0
+    return (np.where(keep, scale * (a - shift), 0.0), np.where(keep, scale * b, 0.0),
+            np.where(keep, scale * (c - shift), 0.0))
 
 
 # ----------------------------------------------------------------------------------------------
 # IJV triplets
 # ----------------------------------------------------------------------------------------------
 
-def scatter_add_pairs(e, values, n):
-    """(n, 2) array: each pair (a, b) of `e` adds values[j] to row a and -values[j] to row b."""
-    dofs = (2 * e[:, :, None] + np.arange(2)).reshape(-1)
-    signed = np.stack([values, -values], axis=1).reshape(-1)
-    return np.bincount(dofs, signed, minlength=2 * n).reshape(n, 2)
+def scatter_add_pairs(e, gx, gy, n):
+    """(n, 2) array: each pair (a, b) of `e` adds (gx, gy)[j] to row a and subtracts it from row b."""
+    a, b = e[:, 0], e[:, 1]
+    return np.stack([np.bincount(a, gx, n) - np.bincount(b, gx, n),
+                     np.bincount(a, gy, n) - np.bincount(b, gy, n)], axis=1)
 
 
 def empty_ijv():
@@ -155,9 +160,14 @@ def block_entries(nodes):
 
 
 def blocks_to_ijv(nodes, blocks):
-    """Scatter dense blocks (B, 2m, 2m) acting on element nodes (B, m) into one IJV triplet."""
+    """Scatter dense blocks acting on element nodes (B, m) into one IJV triplet. The blocks are
+    entry-major, (2m, 2m, B): blocks[r, c] holds entry (r, c) of every element's block as one
+    contiguous array, the layout the energies' kernels compute in (numpy is fast on long arrays and
+    slow on many tiny blocks)."""
     rows, cols = block_entries(nodes)
-    return rows.ravel(), cols.ravel(), np.asarray(blocks, dtype=np.float64).reshape(-1)
+    blocks = np.asarray(blocks, dtype=np.float64)
+    per_element = blocks.reshape(blocks.shape[0] * blocks.shape[1], blocks.shape[2])
+    return rows.ravel(), cols.ravel(), per_element.T.reshape(-1)
 
 
 def ijv_to_csr(ijv, n_dofs):
@@ -202,38 +212,34 @@ class BlockPattern:
     on every node's diagonal (inertia, barrier, friction) and one off it at (a, b) and (b, a) for
     every edge (springs). Only the upper triangle is stored, one value per slot (rows[s], cols[s]).
 
-    `node_slots` (N, 4) and `edge_slots` (E, 16) give the slot of each entry of a node's 2x2 block
-    and an edge's 4x4 block in row-major order; entries below the diagonal go to the extra slot
-    `dump` and are dropped (the blocks are symmetric). Built once per scene by `build`, read-only.
+    A symmetric element block is read through its own upper triangle (np.triu_indices): entry
+    (r, c), r <= c, goes to the slot of (min, max) of its two DOFs. `node_slots` (3, N) and
+    `edge_slots` (10, E) hold those slots for a node's 2x2 and an edge's 4x4 block, and
+    `diagonal_slots` (2N,) the slot of every (d, d). Built once per scene by `build`; read-only.
     """
     n_dofs: int
     rows: np.ndarray
     cols: np.ndarray
     node_slots: np.ndarray
     edge_slots: np.ndarray
-    diagonal_slots: np.ndarray      # slot of (d, d) for every DOF d
+    diagonal_slots: np.ndarray
     solver: str                     # "banded" (LAPACK dpbtrf) or "superlu"
     bandwidth: int                  # max(cols - rows)
     band_index: np.ndarray          # slot -> flat index of the (bandwidth + 1, n_dofs) band, Fortran order
     csc_indptr: np.ndarray          # the full symmetric pattern in CSC form, for SuperLU
     csc_indices: np.ndarray
     full_from_upper: np.ndarray     # slot of every stored entry of the full CSC pattern
-
-    @property
-    def dump(self):
-        return len(self.rows)
+    node_entries: np.ndarray        # row-major flat indices of a 2x2 block's upper triangle
+    edge_entries: np.ndarray        # ... and of a 4x4 block's
 
     @classmethod
     def build(cls, n_nodes, e, solver=None):
         """The pattern of N nodes and edges e; `solver` None picks "banded" or "superlu" (BAND_LIMIT)."""
         n = 2 * n_nodes
-        entries = [block_entries(np.arange(n_nodes)[:, None]), block_entries(e)]
-        keys = [np.maximum(r, c) * n + np.minimum(r, c) for r, c in entries]    # column-major upper
+        keys = [_upper_keys(np.arange(n_nodes)[:, None], n), _upper_keys(e, n)]
         upper = np.unique(np.concatenate([k.ravel() for k in keys]))
         rows, cols = upper % n, upper // n
-        dump = len(upper)
-        node_slots, edge_slots = (np.where(r <= c, np.searchsorted(upper, k), dump)
-                                  for (r, c), k in zip(entries, keys))
+        node_slots, edge_slots = (np.searchsorted(upper, k) for k in keys)
         diagonal_slots = np.searchsorted(upper, np.arange(n) * (n + 1))
         bandwidth = int((cols - rows).max())
         if solver is None:
@@ -242,16 +248,25 @@ class BlockPattern:
             raise ValueError(f"solver must be 'banded' or 'superlu', got {solver!r}")
         band_index = (bandwidth + rows - cols) + (bandwidth + 1) * cols
         indptr, indices, full_from_upper = _full_csc(rows, cols, n)
+        node_entries, edge_entries = _upper_entries(2), _upper_entries(4)
         _readonly(rows, cols, node_slots, edge_slots, diagonal_slots, band_index, indptr, indices,
-                  full_from_upper)
+                  full_from_upper, node_entries, edge_entries)
         return cls(n, rows, cols, node_slots, edge_slots, diagonal_slots, solver, bandwidth,
-                   band_index, indptr, indices, full_from_upper)
+                   band_index, indptr, indices, full_from_upper, node_entries, edge_entries)
 
     def sum_into_slots(self, slots, blocks):
-        """Upper-triangle values: every block entry added into its slot (one np.bincount)."""
-        index = np.concatenate([s.reshape(-1) for s in slots])
-        values = np.concatenate([b.reshape(-1) for b in blocks])
-        return np.bincount(index, values, minlength=self.dump + 1)[:self.dump]
+        """Upper-triangle values: the upper triangle of every entry-major block (2m, 2m, B) added
+        into its slots (n_upper, B) (from node_slots or edge_slots), all with one np.bincount."""
+        values = [np.take(b.reshape(len(b) ** 2, -1), self.node_entries if len(b) == 2 else self.edge_entries,
+                          axis=0) for b in blocks]
+        return np.bincount(np.concatenate([s.reshape(-1) for s in slots]),
+                           np.concatenate([v.reshape(-1) for v in values]), minlength=len(self.rows))
+
+    def diagonal(self, d):
+        """Slot values of the diagonal matrix diag(d), d one value per DOF."""
+        upper = np.zeros(len(self.rows))
+        upper[self.diagonal_slots] = d
+        return upper
 
     def to_csc(self, upper):
         """The full symmetric matrix of the slot values `upper`, as a scipy CSC matrix."""
@@ -283,6 +298,21 @@ class BlockPattern:
             raise np.linalg.LinAlgError(f"banded Cholesky failed (dpbtrf info {info}): the matrix "
                                         "is not positive definite")
         return lapack.dpbtrs(factor, b, lower=0)[0]
+
+
+def _upper_entries(size):
+    """Row-major flat indices r * size + c of the upper triangle (r <= c) of a (size, size) block."""
+    r, c = np.triu_indices(size)
+    return r * size + c
+
+
+def _upper_keys(nodes, n):
+    """For the upper triangle (r <= c) of each element's (2m, 2m) block on nodes (B, m): the key
+    max * n + min of its two DOFs, (n_upper, B) (a column-major index into the upper triangle)."""
+    rows, cols = block_entries(nodes)
+    entries = _upper_entries(2 * nodes.shape[1])
+    rows, cols = rows[:, entries].T, cols[:, entries].T
+    return np.maximum(rows, cols) * n + np.minimum(rows, cols)
 
 
 def _full_csc(rows, cols, n):

@@ -130,7 +130,7 @@ def pattern_setup(n_seg, seed=0):
     _, spring = MassSpringEnergy.hess_kernel(y, e, np.einsum("ij,ij->i", d, d), np.full(len(e), 1e3))
     nodes = rng.choice(len(x), size=len(x) // 3, replace=False)
     A = rng.normal(size=(len(nodes), 2, 2))
-    node_blocks = A @ np.swapaxes(A, 1, 2)
+    node_blocks = np.moveaxis(A @ np.swapaxes(A, 1, 2), 0, -1)       # entry-major (2, 2, k)
     return x, e, nodes, spring, node_blocks
 
 
@@ -138,7 +138,7 @@ def pattern_setup(n_seg, seed=0):
 def test_block_pattern_assembles_what_the_triplets_do(solver):
     x, e, nodes, spring, node_blocks = pattern_setup(3)
     P = utils.BlockPattern.build(len(x), e, solver=solver)
-    upper = P.sum_into_slots([P.edge_slots, P.node_slots[nodes]], [spring, node_blocks])
+    upper = P.sum_into_slots([P.edge_slots, P.node_slots[:, nodes]], [spring, node_blocks])
     ijv = utils.concat_ijv([utils.blocks_to_ijv(e, spring), utils.blocks_to_ijv(nodes[:, None], node_blocks)])
     expected = utils.ijv_to_csr(ijv, 2 * len(x)).toarray()
     assert np.allclose(P.to_csc(upper).toarray(), expected, rtol=0, atol=1e-12 * np.abs(expected).max())
@@ -158,8 +158,8 @@ def test_both_solvers_solve_the_spd_system():
     solutions = []
     for solver in ("banded", "superlu"):
         P = utils.BlockPattern.build(len(x), e, solver=solver)
-        upper = P.sum_into_slots([P.diagonal_slots, P.edge_slots, P.node_slots[nodes]],
-                                 [np.ones(2 * len(x)), spring, node_blocks])
+        upper = P.diagonal(np.ones(2 * len(x))) + P.sum_into_slots([P.edge_slots, P.node_slots[:, nodes]],
+                                                                   [spring, node_blocks])
         dense_A = P.to_csc(upper).toarray()
         solutions.append(P.factor_solve(P.matrix(upper), b))
         assert np.allclose(dense_A @ solutions[-1], b, rtol=0, atol=1e-10 * np.abs(b).max())
@@ -178,6 +178,6 @@ def test_solver_choice_follows_the_band():
 def test_banded_solver_refuses_an_indefinite_matrix():
     x, e = square_mesh.generate(1.0, 2)
     P = utils.BlockPattern.build(len(x), e, solver="banded")
-    upper = P.sum_into_slots([P.diagonal_slots], [-np.ones(2 * len(x))])
+    upper = P.diagonal(-np.ones(2 * len(x)))
     with pytest.raises(np.linalg.LinAlgError, match="not positive definite"):
         P.factor_solve(P.matrix(upper), np.ones(2 * len(x)))
