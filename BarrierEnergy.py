@@ -4,6 +4,11 @@ Distance to the half-space: d(x) = n . (x - o) with unit normal n and a point o 
 so grad d = n and hess d = 0. Per node, weighted by its contact area w_i (the lecture's choice):
     P_b(x) = sum_i w_i dhat b(d_i),   b(d) = kappa/2 (d/dhat - 1) ln(d/dhat)   for d < dhat, else 0.
 Only the nodes with d < dhat enter the sums.
+
+`val`, `grad`, `hess`, `init_step_size` and `compute_mu_lambda` check their input, then call the
+`*_kernel` function of the same name, which holds the formula and trusts its input (the time
+integrator calls the kernels on a scene it has validated once). Every kernel still refuses a node
+at d <= 0, where the barrier is not defined.
 """
 import numpy as np
 
@@ -20,7 +25,7 @@ def _check(x, n, o, contact_area, dhat, kappa):
     contact_area = utils.check_per_item("contact_area", contact_area, len(x))
     utils.check_positive("dhat", dhat)
     utils.check_positive("kappa", kappa)
-    return x, n, o, contact_area
+    return x, n, o, contact_area, dhat, kappa
 
 
 def distances(x, n, o):
@@ -28,30 +33,32 @@ def distances(x, n, o):
     return (x - o) @ n
 
 
-def _positive_distances(x, n, o):
-    """d for every node; ValueError if any node is on or below the half-space (d <= 0)."""
-    d = distances(x, n, o)
-    if (d <= 0.0).any():
-        i = int(np.argmin(d))
-        raise ValueError(f"x: node {i} is at distance {d[i]:.6g} <= 0 from the half-space; "
-                         "the barrier is only defined for d > 0")
-    return d
-
-
 def _active(x, n, o, dhat):
     """Indices and distances of the nodes with d < dhat; ValueError if any node has d <= 0."""
-    d = _positive_distances(x, n, o)
-    idx = np.flatnonzero(d < dhat)
-    return idx, d[idx]
+    d = distances(x, n, o)
+    idx = (d < dhat).nonzero()[0]
+    d_active = d[idx]
+    if d_active.size and d_active.min() <= 0.0:
+        i = int(idx[np.argmin(d_active)])
+        raise ValueError(f"x: node {i} is at distance {d[i]:.6g} <= 0 from the half-space; "
+                         "the barrier is only defined for d > 0")
+    return idx, d_active
 
 
 def val(x, n, o, contact_area, dhat=DHAT, kappa=KAPPA):
-    """P_b = sum_{d_i < dhat} w_i dhat kappa/2 (s - 1) ln s, s = d_i / dhat."""
-    x, n, o, contact_area = _check(x, n, o, contact_area, dhat, kappa)
-    idx, d = _active(x, n, o, dhat)
-    s = d / dhat
-    return utils.finite_result("BarrierEnergy.val",
-                               float(np.sum(contact_area[idx] * dhat * kappa / 2.0 * (s - 1.0) * np.log(s))))
+    """P_b = sum_{d_i < dhat} w_i dhat kappa/2 (s - 1) ln s, s = d_i / dhat (checked; see val_kernel)."""
+    return utils.finite_result("BarrierEnergy.val", val_kernel(*_check(x, n, o, contact_area, dhat, kappa)))
+
+
+def grad(x, n, o, contact_area, dhat=DHAT, kappa=KAPPA):
+    """grad_i P_b = w_i dhat b'(d_i) n for the active nodes (checked; see grad_kernel)."""
+    return utils.finite_result("BarrierEnergy.grad", grad_kernel(*_check(x, n, o, contact_area, dhat, kappa)))
+
+
+def hess(x, n, o, contact_area, dhat=DHAT, kappa=KAPPA):
+    """hess_i P_b = w_i dhat b''(d_i) n n^T as an IJV triplet (checked; see hess_kernel)."""
+    nodes, blocks = hess_kernel(*_check(x, n, o, contact_area, dhat, kappa))
+    return utils.blocks_to_ijv(nodes, utils.finite_result("BarrierEnergy.hess", blocks))
 
 
 def dP_dd(d, w, dhat=DHAT, kappa=KAPPA):
@@ -60,50 +67,81 @@ def dP_dd(d, w, dhat=DHAT, kappa=KAPPA):
     return w * dhat * kappa / 2.0 * (np.log(s) / dhat + (s - 1.0) / d)
 
 
-def grad(x, n, o, contact_area, dhat=DHAT, kappa=KAPPA):
-    """grad_i P_b = w_i dhat b'(d_i) n for the active nodes, zero elsewhere."""
-    x, n, o, contact_area = _check(x, n, o, contact_area, dhat, kappa)
+def val_kernel(x, n, o, contact_area, dhat, kappa):
+    """P_b = sum_{d_i < dhat} w_i dhat kappa/2 (s - 1) ln s, s = d_i / dhat."""
     idx, d = _active(x, n, o, dhat)
-    g = np.zeros_like(x)
+    s = d / dhat
+    return dhat * kappa / 2.0 * float(contact_area[idx] @ ((s - 1.0) * np.log(s)))
+
+
+def grad_kernel(x, n, o, contact_area, dhat, kappa):
+    """grad_i P_b = w_i dhat b'(d_i) n for the active nodes, zero elsewhere (see _grad)."""
+    return _grad(x.shape, *_active(x, n, o, dhat), n, contact_area, dhat, kappa)
+
+
+def hess_kernel(x, n, o, contact_area, dhat, kappa):
+    """hess_i P_b = w_i dhat b''(d_i) n n^T (see _blocks). Returns (nodes, blocks): the active nodes
+    as (k, 1) element lists and their blocks, entry-major (2, 2, k) (see utils.blocks_to_ijv)."""
+    idx, d = _active(x, n, o, dhat)
+    return idx[:, None], _blocks(idx, d, n, contact_area, dhat, kappa)
+
+
+def grad_hess_kernel(x, n, o, contact_area, dhat, kappa):
+    """grad_kernel and hess_kernel at once, from one active set."""
+    idx, d = _active(x, n, o, dhat)
+    return (_grad(x.shape, idx, d, n, contact_area, dhat, kappa),
+            (idx[:, None], _blocks(idx, d, n, contact_area, dhat, kappa)))
+
+
+def _grad(shape, idx, d, n, contact_area, dhat, kappa):
+    """grad_i P_b = w_i dhat b'(d_i) n for the active nodes idx (at distances d), zero elsewhere."""
+    g = np.zeros(shape)
     g[idx] = dP_dd(d, contact_area[idx], dhat, kappa)[:, None] * n
-    return utils.finite_result("BarrierEnergy.grad", g)
+    return g
 
 
-def hess(x, n, o, contact_area, dhat=DHAT, kappa=KAPPA):
-    """hess_i P_b = w_i dhat b''(d_i) n n^T, b''(d) = kappa (d + dhat) / (2 d^2 dhat) > 0 (PSD)."""
-    x, n, o, contact_area = _check(x, n, o, contact_area, dhat, kappa)
-    idx, d = _active(x, n, o, dhat)
+def _blocks(idx, d, n, contact_area, dhat, kappa):
+    """hess_i P_b = w_i dhat b''(d_i) n n^T, b''(d) = kappa (d + dhat) / (2 d^2 dhat) > 0 (PSD),
+    entry-major (2, 2, k)."""
     curvature = contact_area[idx] * kappa / 2.0 * (d + dhat) / d / d     # w dhat b''(d), no d^2 underflow
-    blocks = curvature[:, None, None] * np.outer(n, n)[None]
-    return utils.blocks_to_ijv(idx[:, None], utils.finite_result("BarrierEnergy.hess", blocks))
+    return np.multiply.outer(np.outer(n, n), curvature)
 
 
 def init_step_size(x, n, o, p):
-    """CCD against the half-space (Algorithm 4, line 1): the largest alpha <= 1 that keeps every
-    node on the positive side along x + alpha p, scaled by 0.9 so no node lands on the boundary."""
+    """CCD against the half-space, scaled by 0.9 (checked; see init_step_size_kernel)."""
     x = utils.check_points("x", x)
     p = utils.check_points("p", p)
     if p.shape != x.shape:
         raise ValueError(f"p must have the shape of x {x.shape}, got {p.shape}")
-    n = utils.check_unit_normal("n", n)
-    o = utils.check_vector("o", o)
-    d = _positive_distances(x, n, o)            # every node must start strictly above the slope
+    n, o = utils.check_unit_normal("n", n), utils.check_vector("o", o)
+    _active(x, n, o, np.inf)                    # every node must start strictly above the half-space
+    return init_step_size_kernel(x, n, o, p)
+
+
+def init_step_size_kernel(x, n, o, p):
+    """CCD against the half-space (Algorithm 4, line 1): the largest alpha <= 1 that keeps every
+    node on the positive side along x + alpha p, scaled by 0.9 so no node lands on the boundary."""
     p_n = p @ n
     approaching = p_n < 0.0
     if not approaching.any():
         return 1.0
-    return float(min(1.0, np.min(0.9 * d[approaching] / -p_n[approaching])))
+    return float(min(1.0, np.min(0.9 * distances(x[approaching], n, o) / -p_n[approaching])))
 
 
 def compute_mu_lambda(x, n, o, contact_area, mu, dhat=DHAT, kappa=KAPPA):
+    """mu * lambda_k, the friction bound of each node (checked; see compute_mu_lambda_kernel)."""
+    x, n, o, contact_area, dhat, kappa = _check(x, n, o, contact_area, dhat, kappa)
+    mu = float(mu)
+    if not np.isfinite(mu) or mu < 0.0:
+        raise ValueError(f"mu must be a finite number >= 0, got {mu}")
+    return compute_mu_lambda_kernel(x, n, o, contact_area, mu, dhat, kappa)
+
+
+def compute_mu_lambda_kernel(x, n, o, contact_area, mu, dhat, kappa):
     """mu * lambda_k with lambda_k = -dP_k/dd_k = -w_k dhat b'(d_k), the contact force magnitude, for d_k < dhat.
 
     Zero at the nodes out of contact. Used lagged, from x^n, by the friction term.
     """
-    x, n, o, contact_area = _check(x, n, o, contact_area, dhat, kappa)
-    mu = float(mu)
-    if not np.isfinite(mu) or mu < 0.0:
-        raise ValueError(f"mu must be a finite number >= 0, got {mu}")
     idx, d = _active(x, n, o, dhat)
     mu_lambda = np.zeros(len(x))
     mu_lambda[idx] = -mu * dP_dd(d, contact_area[idx], dhat, kappa)

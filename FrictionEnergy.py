@@ -5,6 +5,10 @@ for a half-space), and the tangential velocity vbar_k = (T^n)^T v_k:
     P_f(x) = sum_k mu lambda_k^n f0(||vbar_k|| hhat)                                  (Eq. 9.2.1)
 where v = (x - x^n) / hhat, so dv/dx = I / hhat. val/grad/hess below take v and return
 P_f and its derivatives with respect to x. Only nodes with mu_lambda > 0 (in contact) enter.
+
+`val`, `grad`, `hess` check their input, then call the `*_kernel` function of the same name, which
+holds the formula and trusts its input (the time integrator calls the kernels on a scene it has
+validated once).
 """
 import numpy as np
 
@@ -47,7 +51,7 @@ def f_hess_term(y, epsv):
 
 def tangent_operator(n):
     """T = I - n n^T: projects a velocity onto the half-space's tangent line."""
-    return np.eye(2) - np.outer(n, n)
+    return np.eye(2) - n[:, None] * n
 
 
 def _check(v, mu_lambda, hhat, n, epsv):
@@ -56,47 +60,81 @@ def _check(v, mu_lambda, hhat, n, epsv):
     if (mu_lambda < 0).any():
         i = int(np.argmax(mu_lambda < 0))
         raise ValueError(f"mu_lambda must be >= 0, got {mu_lambda[i]} at node {i}")
-    utils.check_positive("hhat", hhat)
-    utils.check_positive("epsv", epsv)
+    hhat = utils.check_positive("hhat", hhat)
+    epsv = utils.check_positive("epsv", epsv)
     n = utils.check_unit_normal("n", n)
-    return v, mu_lambda, n
+    return v, mu_lambda, hhat, n, epsv
 
 
 def _contacts(v, mu_lambda, n):
     """Indices of the nodes in contact, their mu*lambda, T, vbar = T^T v and ||vbar||."""
-    idx = np.flatnonzero(mu_lambda > 0.0)
+    idx = (mu_lambda > 0.0).nonzero()[0]
     T = tangent_operator(n)
     vbar = v[idx] @ T           # row k is (T^T v_k)^T; T is symmetric
     return idx, mu_lambda[idx], T, vbar, np.sqrt(np.einsum("ij,ij->i", vbar, vbar))
 
 
 def val(v, mu_lambda, hhat, n, epsv=EPSV):
-    """P_f = sum_k mu lambda_k f0(||vbar_k|| hhat) (Eq. 9.2.1)."""
-    v, mu_lambda, n = _check(v, mu_lambda, hhat, n, epsv)
-    _, ml, _, _, vbarnorm = _contacts(v, mu_lambda, n)
-    return utils.finite_result("FrictionEnergy.val", float(np.sum(ml * f0(vbarnorm * hhat, epsv, hhat))))
+    """P_f = sum_k mu lambda_k f0(||vbar_k|| hhat) (Eq. 9.2.1) (checked; see val_kernel)."""
+    return utils.finite_result("FrictionEnergy.val", val_kernel(*_check(v, mu_lambda, hhat, n, epsv)))
 
 
 def grad(v, mu_lambda, hhat, n, epsv=EPSV):
-    """grad_k P_f = mu lambda_k T (f1(||vbar_k||)/||vbar_k||) vbar_k (Eq. 9.2.3); zero at vbar = 0."""
-    v, mu_lambda, n = _check(v, mu_lambda, hhat, n, epsv)
-    idx, ml, T, vbar, vbarnorm = _contacts(v, mu_lambda, n)
-    g = np.zeros_like(v)
-    g[idx] = (ml * f1_over_y(vbarnorm, epsv))[:, None] * (vbar @ T)
-    return utils.finite_result("FrictionEnergy.grad", g)
+    """grad_k P_f = mu lambda_k T (f1(||vbar_k||)/||vbar_k||) vbar_k (Eq. 9.2.3) (checked; see grad_kernel)."""
+    return utils.finite_result("FrictionEnergy.grad", grad_kernel(*_check(v, mu_lambda, hhat, n, epsv)))
 
 
 def hess(v, mu_lambda, hhat, n, epsv=EPSV, project_psd=True):
+    """hess_k P_f (Eq. 9.2.4) as an IJV triplet (checked; see hess_kernel)."""
+    nodes, blocks = hess_kernel(*_check(v, mu_lambda, hhat, n, epsv), project_psd=project_psd)
+    return utils.blocks_to_ijv(nodes, utils.finite_result("FrictionEnergy.hess", blocks))
+
+
+def val_kernel(v, mu_lambda, hhat, n, epsv):
+    """P_f = sum_k mu lambda_k f0(||vbar_k|| hhat) (Eq. 9.2.1)."""
+    _, ml, _, _, vbarnorm = _contacts(v, mu_lambda, n)
+    return float(ml @ f0(vbarnorm * hhat, epsv, hhat))
+
+
+def grad_kernel(v, mu_lambda, hhat, n, epsv):
+    """grad_k P_f = mu lambda_k T (f1(||vbar_k||)/||vbar_k||) vbar_k (Eq. 9.2.3) (see _grad)."""
+    contacts = _contacts(v, mu_lambda, n)
+    return _grad(v.shape, *contacts, f1_over_y(contacts[4], epsv))
+
+
+def hess_kernel(v, mu_lambda, hhat, n, epsv, project_psd=True):
+    """hess_k P_f (Eq. 9.2.4) (see _blocks). Returns (nodes, blocks): the contact nodes as (k, 1)
+    element lists and their blocks, entry-major (2, 2, k) (see utils.blocks_to_ijv)."""
+    contacts = _contacts(v, mu_lambda, n)
+    return contacts[0][:, None], _blocks(*contacts, f1_over_y(contacts[4], epsv), hhat, epsv, project_psd)
+
+
+def grad_hess_kernel(v, mu_lambda, hhat, n, epsv):
+    """grad_kernel and the PSD-projected hess_kernel at once, from one set of contacts."""
+    contacts = _contacts(v, mu_lambda, n)
+    f1y = f1_over_y(contacts[4], epsv)
+    return (_grad(v.shape, *contacts, f1y),
+            (contacts[0][:, None], _blocks(*contacts, f1y, hhat, epsv, True)))
+
+
+def _grad(shape, idx, ml, T, vbar, y, f1y):
+    """grad_k P_f = mu lambda_k T (f1(y_k)/y_k) vbar_k (Eq. 9.2.3), y = ||vbar||, f1y = f1(y)/y;
+    zero at vbar = 0 and at the nodes out of contact."""
+    g = np.zeros(shape)
+    g[idx] = (ml * f1y)[:, None] * (vbar @ T)
+    return g
+
+
+def _blocks(idx, ml, T, vbar, y, f1y, hhat, epsv, project_psd):
     """hess_k P_f = mu lambda_k T [ (f1'y - f1)/y^3 vbar vbar^T + f1/y I ] T^T / hhat   (Eq. 9.2.4),
-    y = ||vbar_k||; at y = 0 only the f1/y I part remains. The bracket is PSD for the lecture's f1;
-    `project_psd` clamps the round-off (as the lecture's make_PD does)."""
-    v, mu_lambda, n = _check(v, mu_lambda, hhat, n, epsv)
-    idx, ml, T, vbar, y = _contacts(v, mu_lambda, n)
-    outer = vbar[:, :, None] * vbar[:, None, :] / np.where(y > 0.0, y, 1.0)[:, None, None]
-    inner = (f_hess_term(y, epsv)[:, None, None] * outer
-             + f1_over_y(y, epsv)[:, None, None] * np.eye(2))
+    y = ||vbar_k||, f1y = f1(y)/y; at y = 0 only the f1/y I part remains. The bracket is PSD for
+    the lecture's f1; `project_psd` clamps the round-off (as the lecture's make_PD does).
+    Entry-major, (2, 2, k)."""
+    coef = f_hess_term(y, epsv) / np.where(y > 0.0, y, 1.0)     # (f1'y - f1)/y^3, with vbar unscaled
+    vx, vy = vbar[:, 0], vbar[:, 1]
+    inner = (coef * vx * vx + f1y, coef * vx * vy, coef * vy * vy + f1y)     # the bracket, entry-wise
     if project_psd:
-        inner = utils.project_psd_2x2(inner)
-    blocks = T @ inner @ T.T
-    blocks = (ml / hhat)[:, None, None] * 0.5 * (blocks + np.swapaxes(blocks, 1, 2))  # exact symmetry
-    return utils.blocks_to_ijv(idx[:, None], utils.finite_result("FrictionEnergy.hess", blocks))
+        inner = utils.project_psd_2x2_entries(*inner)
+    a, b, c = inner
+    blocks = np.einsum("ij,jlk,ml->imk", T, np.array([[a, b], [b, c]]), T)   # T [...] T^T, (2, 2, k)
+    return (ml / hhat) * 0.5 * (blocks + blocks.swapaxes(0, 1))  # exactly symmetric

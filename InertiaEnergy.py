@@ -1,4 +1,9 @@
-"""Inertia term of the Incremental Potential: E_I(x) = 1/2 ||x - x_tilde||_M^2 (lumped masses)."""
+"""Inertia term of the Incremental Potential: E_I(x) = 1/2 ||x - x_tilde||_M^2 (lumped masses).
+
+`val`, `grad`, `hess` check their input, then call the `*_kernel` function of the same name, which
+holds the formula and trusts its input (the time integrator calls the kernels on a scene it has
+validated once).
+"""
 import numpy as np
 
 import utils
@@ -17,20 +22,33 @@ def _check(x, x_tilde, m):
 
 
 def val(x, x_tilde, m):
-    """E_I = 1/2 sum_i m_i ||x_i - x_tilde_i||^2."""
-    x, x_tilde, m = _check(x, x_tilde, m)
-    diff = x - x_tilde
-    return 0.5 * float(np.sum(m * np.einsum("ij,ij->i", diff, diff)))
+    """E_I = 1/2 sum_i m_i ||x_i - x_tilde_i||^2 (checked; see val_kernel)."""
+    return val_kernel(*_check(x, x_tilde, m))
 
 
 def grad(x, x_tilde, m):
-    """grad E_I = M (x - x_tilde)."""
-    x, x_tilde, m = _check(x, x_tilde, m)
-    return m[:, None] * (x - x_tilde)
+    """grad E_I = M (x - x_tilde) (checked; see grad_kernel)."""
+    return grad_kernel(*_check(x, x_tilde, m))
 
 
 def hess(x, x_tilde, m):
-    """hess E_I = M: one diagonal entry m_i per DOF (2i, 2i + 1)."""
+    """hess E_I = M: one diagonal entry m_i per DOF (2i, 2i + 1), as an IJV triplet (checked)."""
     x, x_tilde, m = _check(x, x_tilde, m)
     dofs = np.arange(2 * len(x), dtype=np.int64)
-    return dofs, dofs.copy(), np.repeat(m, 2)
+    return dofs, dofs.copy(), hess_kernel(x, x_tilde, m)
+
+
+def val_kernel(x, x_tilde, m):
+    """E_I = 1/2 sum_i m_i ||x_i - x_tilde_i||^2."""
+    diff = x - x_tilde
+    return 0.5 * float(m @ np.einsum("ij,ij->i", diff, diff))
+
+
+def grad_kernel(x, x_tilde, m):
+    """grad E_I = M (x - x_tilde)."""
+    return m[:, None] * (x - x_tilde)
+
+
+def hess_kernel(x, x_tilde, m):
+    """The diagonal of M, DOF by DOF: (m_0, m_0, m_1, m_1, ...). Constant in x."""
+    return np.repeat(m, 2)

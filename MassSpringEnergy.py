@@ -1,11 +1,12 @@
 """Mass-spring elasticity: E_s(x) = sum_e 1/2 k_e l_e^2 (||x_a - x_b||^2 / l_e^2 - 1)^2.
 
-`l2` holds the squared rest lengths l_e^2, as in the lecture's code.
+`l2` holds the squared rest lengths l_e^2, as in the lecture's code. `val`, `grad`, `hess` check
+their input, then call the `*_kernel` function of the same name, which holds the formula and trusts
+its input (the time integrator calls the kernels on a scene it has validated once).
 """
 import numpy as np
 
 import utils
-
 
 def _check(x, e, l2, k):
     x = utils.check_points("x", x)
@@ -19,38 +20,76 @@ def _check(x, e, l2, k):
 
 
 def _edge_vectors(x, e):
-    """diff_e = x_a - x_b and its squared length for every edge."""
-    diff = x[e[:, 0]] - x[e[:, 1]]
-    return diff, np.einsum("ij,ij->i", diff, diff)
+    """The components (dx, dy) of diff_e = x_a - x_b for every edge, and ||diff_e||^2."""
+    diff = x.take(e[:, 0], axis=0) - x.take(e[:, 1], axis=0)
+    dx, dy = diff[:, 0], diff[:, 1]
+    return dx, dy, dx * dx + dy * dy
 
 
 def val(x, e, l2, k):
-    """E_s = sum_e 1/2 k l2 (||diff||^2 / l2 - 1)^2."""
-    x, e, l2, k = _check(x, e, l2, k)
-    _, sq = _edge_vectors(x, e)
-    return float(np.sum(0.5 * k * l2 * (sq / l2 - 1.0) ** 2))
+    """E_s = sum_e 1/2 k l2 (||diff||^2 / l2 - 1)^2 (checked; see val_kernel)."""
+    return val_kernel(*_check(x, e, l2, k))
 
 
 def grad(x, e, l2, k):
-    """dE/dx_a = -dE/dx_b = 2 k (||diff||^2 / l2 - 1) diff, summed over the edges of each node."""
-    x, e, l2, k = _check(x, e, l2, k)
-    diff, sq = _edge_vectors(x, e)
-    g_diff = (2.0 * k * (sq / l2 - 1.0))[:, None] * diff
-    return utils.scatter_add(e[:, 0], g_diff, len(x)) - utils.scatter_add(e[:, 1], g_diff, len(x))
+    """dE/dx_a = -dE/dx_b = 2 k (||diff||^2 / l2 - 1) diff (checked; see grad_kernel)."""
+    return grad_kernel(*_check(x, e, l2, k))
 
 
 def hess(x, e, l2, k, project_psd=True):
-    """Per edge [[H, -H], [-H, H]] with H = 2k/l2 (2 diff diff^T + (||diff||^2 - l2) I).
+    """Per edge [[H, -H], [-H, H]], H = 2k/l2 (2 diff diff^T + (||diff||^2 - l2) I), as an IJV
+    triplet (checked; see hess_kernel). `project_psd=False` gives the true, possibly indefinite one."""
+    return utils.blocks_to_ijv(*hess_kernel(*_check(x, e, l2, k), project_psd=project_psd))
 
-    The 4x4 block is [[1, -1], [-1, 1]] (x) H, whose eigenvalues are 2 eig(H) and 0, so its PSD
-    projection is [[1, -1], [-1, 1]] (x) H+ with H+ the closed-form 2x2 projection of H.
-    `project_psd=False` returns the true (possibly indefinite) Hessian, for checking.
+
+def val_kernel(x, e, l2, k):
+    """E_s = sum_e 1/2 k l2 (||diff||^2 / l2 - 1)^2."""
+    strain = _edge_vectors(x, e)[2] / l2 - 1.0
+    return 0.5 * float((k * l2) @ (strain * strain))
+
+
+def grad_kernel(x, e, l2, k):
+    """dE/dx_a = -dE/dx_b = 2 k (||diff||^2 / l2 - 1) diff (see _grad)."""
+    return _grad(e, *_edge_vectors(x, e), l2, k, len(x))
+
+
+def hess_kernel(x, e, l2, k, project_psd=True):
+    """Per edge [[H, -H], [-H, H]], H = 2k/l2 (2 diff diff^T + (||diff||^2 - l2) I) (see _blocks).
+    Returns (e, blocks), the blocks entry-major (4, 4, E) (see utils.blocks_to_ijv)."""
+    return e, _blocks(*_edge_vectors(x, e), l2, k, project_psd)
+
+
+def grad_hess_kernel(x, e, l2, k):
+    """grad_kernel and the PSD-projected hess_kernel at once, from one set of edge vectors."""
+    vectors = _edge_vectors(x, e)
+    return _grad(e, *vectors, l2, k, len(x)), (e, _blocks(*vectors, l2, k, True))
+
+
+def _grad(e, dx, dy, sq, l2, k, n_nodes):
+    """dE/dx_a = -dE/dx_b = 2 k (||diff||^2 / l2 - 1) diff, summed over the edges of each node."""
+    coef = 2.0 * k * (sq / l2 - 1.0)
+    return utils.scatter_add_pairs(e, coef * dx, coef * dy, n_nodes)
+
+
+def _blocks(dx, dy, sq, l2, k, project_psd):
+    """Per edge the 4x4 block [[H, -H], [-H, H]] with H = 2k/l2 (2 diff diff^T + (||diff||^2 - l2) I).
+
+    H has the eigenvector diff with eigenvalue lam_par = 2k/l2 (3 ||diff||^2 - l2) and the one
+    across it with lam_perp = 2k/l2 (||diff||^2 - l2), so with u = diff diff^T / ||diff||^2,
+    H = lam_par u + lam_perp (I - u), and its PSD projection H+ clamps both at zero. The 4x4 block
+    is [[1, -1], [-1, 1]] (x) H, whose eigenvalues are 2 eig(H) and 0, so its projection is
+    [[1, -1], [-1, 1]] (x) H+. Entry-major, (4, 4, E).
     """
-    x, e, l2, k = _check(x, e, l2, k)
-    diff, sq = _edge_vectors(x, e)
-    H = (2.0 * k / l2)[:, None, None] * (
-        2.0 * diff[:, :, None] * diff[:, None, :] + (sq - l2)[:, None, None] * np.eye(2))
+    c = 2.0 * k / l2
+    lam_par, lam_perp = c * (3.0 * sq - l2), c * (sq - l2)
     if project_psd:
-        H = utils.project_psd_2x2(H)
-    blocks = np.kron(np.array([[1.0, -1.0], [-1.0, 1.0]]), np.ones((2, 2)))[None] * np.tile(H, (1, 2, 2))
-    return utils.blocks_to_ijv(e, blocks)
+        lam_par, lam_perp = np.maximum(lam_par, 0.0), np.maximum(lam_perp, 0.0)
+    w = (lam_par - lam_perp) / np.where(sq > 0.0, sq, 1.0)      # a zero-length spring: H = lam I
+    return _edge_blocks(lam_perp + w * dx * dx, w * dx * dy, lam_perp + w * dy * dy)
+
+
+def _edge_blocks(h00, h01, h11):
+    """[[1, -1], [-1, 1]] (x) [[h00, h01], [h01, h11]] for every edge, entry-major (4, 4, E)."""
+    n00, n01, n11 = -h00, -h01, -h11
+    return np.stack([h00, h01, n00, n01, h01, h11, n01, n11,
+                     n00, n01, h00, h01, n01, n11, h01, h11]).reshape(4, 4, -1)

@@ -78,6 +78,7 @@ class Scene:
     max_halvings: int
     terms: tuple = field(default=())    # the energy terms the Incremental Potential sums
     warnings: tuple = field(default=())  # what this scene's results cannot be trusted for
+    pattern: utils.BlockPattern = None  # sparsity pattern of the Newton system and its solver (of e)
 
 
 def _finite(name, value):
@@ -214,7 +215,8 @@ def build_scene(**overrides):
         mu=p["mu"], dhat=p["dhat"], kappa=p["kappa"], epsv=p["epsv"], h=p["h"], tol=p["tol"],
         n_seg=p["n_seg"], side_len=p["side_len"], friction_updates=p["friction_updates"],
         max_newton_iterations=p["max_newton_iterations"], max_halvings=p["max_halvings"],
-        terms=tuple(terms), warnings=resolution_warnings(p, x, n, o))
+        terms=tuple(terms), warnings=resolution_warnings(p, x, n, o),
+        pattern=utils.BlockPattern.build(n_nodes, e))
 
 
 def energies(scene, x, v):

@@ -9,13 +9,13 @@ fixed-point iterations of Algorithm 5 for fully implicit friction.
 
 `step(scene, x, v)` returns the next (x, v) and a `StepReport`; it prints nothing and changes
 neither the scene nor its inputs. A scene is any object with the attributes `Scene` in
-simulator.py has (masses, springs, slope, mu, dhat, kappa, epsv, h, tol, caps and `terms`).
+simulator.py has (masses, springs, slope, mu, dhat, kappa, epsv, h, tol, caps, `terms` and the
+sparsity `pattern` of its Newton system).
 """
 from dataclasses import dataclass, field
 import math
 
 import numpy as np
-import scipy.sparse.linalg
 
 import BarrierEnergy
 import FrictionEnergy
@@ -64,7 +64,12 @@ class StepReport:
 
 
 class IncrementalPotential:
-    """E(x) for one Newton solve: the scene's terms with x^n, x_tilde and mu*lambda^n fixed."""
+    """E(x) for one Newton solve: the scene's terms with x^n, x_tilde and mu*lambda^n fixed.
+
+    It calls the energies' kernels, which skip the input checks: `build_scene` validated the scene
+    once and `step` validates x^n and v^n, and every x it is asked about is x^n plus Newton steps.
+    Friction is evaluated on the nodes in contact at x^n only (mu*lambda^n > 0), fixed for the solve.
+    """
 
     def __init__(self, scene, x_n, x_tilde, mu_lambda):
         self.scene = scene
@@ -72,76 +77,95 @@ class IncrementalPotential:
         self.x_tilde = x_tilde
         self.mu_lambda = mu_lambda
         self.h2 = scene.h * scene.h
+        self.contacts = np.zeros(0, dtype=np.int64) if mu_lambda is None else np.flatnonzero(mu_lambda > 0.0)
+        self.potentials = tuple(t for t in scene.terms if t != "inertia"
+                                and (t != "friction" or len(self.contacts)))
+        unknown = set(self.potentials) - set(POTENTIALS)
+        if unknown:
+            raise ValueError(f"scene.terms has an unknown term {sorted(unknown)[0]!r}")
+        self.contact_x_n = x_n[self.contacts]
+        self.contact_mu_lambda = None if mu_lambda is None else mu_lambda[self.contacts]
+        # M is constant: its slot values are filled once per solve, not per Newton iteration
+        self.inertia = scene.pattern.diagonal(InertiaEnergy.hess_kernel(x_n, x_tilde, scene.m))
 
-    def _terms(self):
-        s = self.scene
-        return s.terms if self.mu_lambda is not None else tuple(t for t in s.terms if t != "friction")
-
-    def _call(self, kind, x):
-        """Evaluate val, grad or hess of every term of the scene, as a list (inertia first)."""
-        s, out = self.scene, []
-        for term in self._terms():
-            if term == "inertia":
-                out.append(getattr(InertiaEnergy, kind)(x, self.x_tilde, s.m))
-                continue
-            if term == "spring":
-                r = getattr(MassSpringEnergy, kind)(x, s.e, s.l2, s.k)
-            elif term == "gravity":
-                r = getattr(GravityEnergy, kind)(x, s.m, s.g)
-            elif term == "barrier":
-                r = getattr(BarrierEnergy, kind)(x, s.n, s.o, s.contact_area, s.dhat, s.kappa)
-            elif term == "friction":
-                vel = (x - self.x_n) / s.h
-                r = getattr(FrictionEnergy, kind)(vel, self.mu_lambda, s.h, s.n, s.epsv)
-            else:
-                raise ValueError(f"scene.terms has an unknown term {term!r}")
-            out.append(utils.scale_ijv(r, self.h2) if kind == "hess" else self.h2 * r)
-        return out
+    def _contact_velocity(self, x):
+        """v = (x - x^n) / h at the nodes in contact, the friction term's argument."""
+        return (x[self.contacts] - self.contact_x_n) / self.scene.h
 
     def val(self, x):
-        """E(x); +inf where a node is on or below the slope, so the line search halves away from it
-        even where round-off defeats the CCD bound (the "filter" of the filtered line search)."""
-        s = self.scene
+        """E(x) = 1/2 ||x - x_tilde||_M^2 + h^2 sum_terms P(x); +inf where a node is on or below the
+        slope, so the line search halves away from it even where round-off defeats the CCD bound
+        (the "filter" of the filtered line search)."""
+        s, P = self.scene, 0.0
         if "barrier" in s.terms and BarrierEnergy.distances(x, s.n, s.o).min() <= 0.0:
             return math.inf
-        return sum(self._call("val", x))
+        for term in self.potentials:
+            if term == "spring":
+                P += MassSpringEnergy.val_kernel(x, s.e, s.l2, s.k)
+            elif term == "gravity":
+                P += GravityEnergy.val_kernel(x, s.m, s.g)
+            elif term == "barrier":
+                P += BarrierEnergy.val_kernel(x, s.n, s.o, s.contact_area, s.dhat, s.kappa)
+            else:
+                P += FrictionEnergy.val_kernel(self._contact_velocity(x), self.contact_mu_lambda, s.h, s.n, s.epsv)
+        return InertiaEnergy.val_kernel(x, self.x_tilde, s.m) + self.h2 * P
 
-    def grad(self, x):
-        return sum(self._call("grad", x))
+    def gradient_and_hessian(self, x):
+        """grad E(x) = M (x - x_tilde) + h^2 sum_terms grad P(x), and the slot values (scene.pattern)
+        of H = M + h^2 sum_terms hess P(x), each term PSD-projected (gravity's Hessian is zero)."""
+        s, g, slots, blocks = self.scene, np.zeros(x.shape), [], []
+        for term in self.potentials:
+            if term == "spring":
+                g_term, (_, b) = MassSpringEnergy.grad_hess_kernel(x, s.e, s.l2, s.k)
+                slots.append(s.pattern.edge_slots)
+            elif term == "gravity":
+                g += GravityEnergy.grad_kernel(x, s.m, s.g)
+                continue
+            elif term == "barrier":
+                g_term, (nodes, b) = BarrierEnergy.grad_hess_kernel(x, s.n, s.o, s.contact_area, s.dhat, s.kappa)
+                slots.append(s.pattern.node_slots[:, nodes[:, 0]])
+            else:
+                g_c, (nodes, b) = FrictionEnergy.grad_hess_kernel(self._contact_velocity(x), self.contact_mu_lambda,
+                                                                  s.h, s.n, s.epsv)
+                g[self.contacts] += g_c
+                slots.append(s.pattern.node_slots[:, self.contacts[nodes[:, 0]]])
+                blocks.append(b)
+                continue
+            g += g_term
+            blocks.append(b)
+        H = self.inertia + self.h2 * s.pattern.sum_into_slots(slots, blocks) if blocks else self.inertia
+        return InertiaEnergy.grad_kernel(x, self.x_tilde, s.m) + self.h2 * g, H
 
     def search_direction(self, x):
         """Projected Newton direction p = -H^-1 grad E at x (H is PSD-projected, so SPD with M > 0)."""
-        H = utils.ijv_to_csr(utils.concat_ijv(self._call("hess", x)), 2 * len(x))
-        g = self.grad(x).ravel()
-        # H = M + h^2 (PSD terms) is symmetric positive definite: SuperLU in symmetric mode with
-        # a fill-reducing minimum-degree ordering of the symmetric pattern A^T + A, and no
-        # off-diagonal pivoting (diag_pivot_thresh=0) because an SPD matrix needs none; this keeps
-        # the factor as sparse as a Cholesky factor instead of the larger unsymmetric LU.
-        lu = scipy.sparse.linalg.splu(H.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                                      options={"SymmetricMode": True})
-        return -lu.solve(g).reshape(-1, 2)
+        pattern = self.scene.pattern
+        g, H = self.gradient_and_hessian(x)
+        return -pattern.factor_solve(pattern.matrix(H), g.reshape(-1)).reshape(-1, 2)
+
+
+POTENTIALS = ("spring", "gravity", "barrier", "friction")
 
 
 def _mu_lambda(scene, x):
     """mu * lambda from the barrier at x, or None when the scene has no friction term."""
     if "friction" not in scene.terms:
         return None
-    return BarrierEnergy.compute_mu_lambda(x, scene.n, scene.o, scene.contact_area, scene.mu,
-                                           scene.dhat, scene.kappa)
+    return BarrierEnergy.compute_mu_lambda_kernel(x, scene.n, scene.o, scene.contact_area, scene.mu,
+                                                  scene.dhat, scene.kappa)
 
 
 def _init_step_size(scene, x, p):
     """Algorithm 4, line 1: CCD against the slope; without a slope the full step is safe."""
     if "barrier" not in scene.terms:
         return 1.0
-    return BarrierEnergy.init_step_size(x, scene.n, scene.o, p)
+    return BarrierEnergy.init_step_size_kernel(x, scene.n, scene.o, p)
 
 
 def _direction(ip, x, step_index, iteration):
     """ip.search_direction(x), with a breakdown of the sparse solver turned into NonFiniteState."""
     try:
         return ip.search_direction(x)
-    except RuntimeError as err:             # SuperLU: "Factor is exactly singular" and the like
+    except (RuntimeError, np.linalg.LinAlgError) as err:    # SuperLU or LAPACK could not factor H
         raise NonFiniteState(f"the linear solve failed ({err})", step_index, newton_iteration=iteration) from err
 
 
@@ -228,9 +252,10 @@ def step(scene, x, v, step_index=0):
         raise NonFiniteState(f"an energy became non-finite ({err})", step_index) from err
 
     v_next = (x_next - x_n) / scene.h
-    if ip.mu_lambda is not None:    # force -grad P_f at the end of the step, times the displacement
-        force = -FrictionEnergy.grad(v_next, ip.mu_lambda, scene.h, scene.n, scene.epsv)
-        report.friction_work = float(np.sum(force * (x_next - x_n)))
+    if len(ip.contacts):            # force -grad P_f at the end of the step, times the displacement
+        c = ip.contacts
+        force = -FrictionEnergy.grad_kernel(v_next[c], ip.contact_mu_lambda, scene.h, scene.n, scene.epsv)
+        report.friction_work = float(np.sum(force * (x_next[c] - x_n[c])))
     if "barrier" in scene.terms:
         report.min_distance = float(np.min(BarrierEnergy.distances(x_next, scene.n, scene.o)))
     return x_next, v_next, report

@@ -1,11 +1,17 @@
-"""Shared helpers: PSD projection of small symmetric matrices, IJV triplets, input checks.
+"""Shared helpers: PSD projection of small symmetric matrices, IJV triplets, input checks, and the
+Newton system's fixed sparsity pattern with its SPD solve.
 
 Every energy returns its Hessian as an IJV triplet (rows, cols, values) with DOF index
 2*node + axis; the helpers here turn a batch of dense per-element blocks into such a triplet
-and a triplet into a CSR matrix, so no energy repeats that bookkeeping.
+and a triplet into a CSR matrix, so no energy repeats that bookkeeping. The time integrator skips
+the triplets: `BlockPattern` maps each block entry to its slot of a pattern fixed per scene.
 """
+from dataclasses import dataclass
+
 import numpy as np
 import scipy.sparse
+import scipy.sparse.linalg
+from scipy.linalg import lapack
 
 
 # ----------------------------------------------------------------------------------------------
@@ -114,37 +120,44 @@ def project_psd(H):
 
 
 def project_psd_2x2(H):
-    """Closed-form PSD projection of a batch of symmetric 2x2 matrices (B, 2, 2).
+    """Closed-form PSD projection of a batch of symmetric 2x2 matrices (B, 2, 2) (see
+    project_psd_2x2_entries); the result is exactly symmetric."""
+    H = np.asarray(H, dtype=np.float64)
+    a, b, c = project_psd_2x2_entries(H[..., 0, 0], 0.5 * (H[..., 0, 1] + H[..., 1, 0]), H[..., 1, 1])
+    return np.stack([np.stack([a, b], axis=-1), np.stack([b, c], axis=-1)], axis=-2)
+
+
+def project_psd_2x2_entries(a, b, c):
+    """Closed-form PSD projection of symmetric 2x2 matrices [[a, b], [b, c]], given entry by entry
+    (arrays of any one shape); returns the projected (a, b, c).
 
     Eigenvalues lambda_{1,2} = m +- r with m = (a + c)/2, r = hypot((a - c)/2, b). When
     lambda_2 < 0 < lambda_1, the projection keeps lambda_1 P_1, and the spectral projector is
-    P_1 = (H - lambda_2 I) / (lambda_1 - lambda_2), so no eigenvector is ever formed.
+    P_1 = (H - lambda_2 I) / (lambda_1 - lambda_2), so no eigenvector is ever formed. When
+    lambda_1 <= 0 it is zero; when lambda_2 >= 0, H itself.
     """
-    a = H[..., 0, 0]
-    b = 0.5 * (H[..., 0, 1] + H[..., 1, 0])
-    c = H[..., 1, 1]
     m = 0.5 * (a + c)
     r = np.hypot(0.5 * (a - c), b)
     lam1, lam2 = m + r, m - r
-    out = np.array(H, dtype=np.float64, copy=True)
-    out[..., 0, 1] = out[..., 1, 0] = b
+    if not (lam2 < 0.0).any():
+        return a, b, c
     mixed = (lam2 < 0.0) & (lam1 > 0.0)
-    if mixed.any():
-        scale = lam1[mixed] / (lam1[mixed] - lam2[mixed])
-        out[mixed, 0, 0] = scale * (a[mixed] - lam2[mixed])
-        out[mixed, 1, 1] = scale * (c[mixed] - lam2[mixed])
-        out[mixed, 0, 1] = out[mixed, 1, 0] = scale * b[mixed]
-    out[lam1 <= 0.0] = 0.0
-    return out
+    scale = np.where(mixed, lam1 / np.where(mixed, lam1 - lam2, 1.0), 1.0)
+    shift = np.where(mixed, lam2, 0.0)
+    keep = lam1 > 0.0
+    return (np.where(keep, scale * (a - shift), 0.0), np.where(keep, scale * b, 0.0),
+            np.where(keep, scale * (c - shift), 0.0))
 
 
 # ----------------------------------------------------------------------------------------------
 # IJV triplets
 # ----------------------------------------------------------------------------------------------
 
-def scatter_add(index, values, n):
-    """(n, 2) array whose row i is the sum of values[j] over all j with index[j] == i."""
-    return np.stack([np.bincount(index, values[:, axis], minlength=n) for axis in range(2)], axis=1)
+def scatter_add_pairs(e, gx, gy, n):
+    """(n, 2) array: each pair (a, b) of `e` adds (gx, gy)[j] to row a and subtracts it from row b."""
+    a, b = e[:, 0], e[:, 1]
+    return np.stack([np.bincount(a, gx, n) - np.bincount(b, gx, n),
+                     np.bincount(a, gy, n) - np.bincount(b, gy, n)], axis=1)
 
 
 def empty_ijv():
@@ -158,13 +171,22 @@ def block_dofs(nodes):
     return (2 * nodes[:, :, None] + np.arange(2)).reshape(len(nodes), 2 * nodes.shape[1])
 
 
-def blocks_to_ijv(nodes, blocks):
-    """Scatter dense blocks (B, 2m, 2m) acting on element nodes (B, m) into one IJV triplet."""
+def block_entries(nodes):
+    """Row and column DOF of every entry of the (2m, 2m) blocks on element nodes (B, m): two (B, 4m^2)."""
     dofs = block_dofs(nodes)
     size = dofs.shape[1]
-    rows = np.repeat(dofs, size, axis=1).ravel()
-    cols = np.tile(dofs, (1, size)).ravel()
-    return rows, cols, np.asarray(blocks, dtype=np.float64).reshape(-1)
+    return np.repeat(dofs, size, axis=1), np.tile(dofs, (1, size))
+
+
+def blocks_to_ijv(nodes, blocks):
+    """Scatter dense blocks acting on element nodes (B, m) into one IJV triplet. The blocks are
+    entry-major, (2m, 2m, B): blocks[r, c] holds entry (r, c) of every element's block as one
+    contiguous array, the layout the energies' kernels compute in (numpy is fast on long arrays and
+    slow on many tiny blocks)."""
+    rows, cols = block_entries(nodes)
+    blocks = np.asarray(blocks, dtype=np.float64)
+    per_element = blocks.reshape(blocks.shape[0] * blocks.shape[1], blocks.shape[2])
+    return rows.ravel(), cols.ravel(), per_element.T.reshape(-1)
 
 
 def ijv_to_csr(ijv, n_dofs):
@@ -184,3 +206,141 @@ def concat_ijv(triplets):
 def scale_ijv(ijv, factor):
     """The same triplet with every value multiplied by `factor`."""
     return ijv[0], ijv[1], ijv[2] * factor
+
+
+# ----------------------------------------------------------------------------------------------
+# The Newton system: a sparsity pattern fixed per scene, filled per iteration, and its SPD solve
+# ----------------------------------------------------------------------------------------------
+
+# Banded Cholesky is used while the band holds at most this many times the matrix's nonzeros.
+# On the lecture's grid (nodes numbered row by row, band ~ 2 n_seg) LAPACK's banded Cholesky
+# (dpbtrf) factors 2 to 5 times faster than SuperLU from n_seg = 4 up to n_seg = 192 (ratio 41,
+# a 230 MB band); beyond that, or for a mesh numbered with a wide band, SuperLU's fill-reducing
+# ordering needs less time and memory.
+BAND_LIMIT = 40
+
+
+def _readonly(*arrays):
+    for a in arrays:
+        a.setflags(write=False)
+
+
+@dataclass(frozen=True)
+class BlockPattern:
+    """Sparsity pattern of the Incremental Potential's Hessian on N nodes and edges e: a 2x2 block
+    on every node's diagonal (inertia, barrier, friction) and one off it at (a, b) and (b, a) for
+    every edge (springs). Only the upper triangle is stored, one value per slot (rows[s], cols[s]).
+
+    A symmetric element block is read through its own upper triangle (np.triu_indices): entry
+    (r, c), r <= c, goes to the slot of (min, max) of its two DOFs. `node_slots` (3, N) and
+    `edge_slots` (10, E) hold those slots for a node's 2x2 and an edge's 4x4 block, and
+    `diagonal_slots` (2N,) the slot of every (d, d). Built once per scene by `build`; read-only.
+    """
+    n_dofs: int
+    rows: np.ndarray
+    cols: np.ndarray
+    node_slots: np.ndarray
+    edge_slots: np.ndarray
+    diagonal_slots: np.ndarray
+    solver: str                     # "banded" (LAPACK dpbtrf) or "superlu"
+    bandwidth: int                  # max(cols - rows)
+    band_index: np.ndarray          # slot -> flat index of the (bandwidth + 1, n_dofs) band, Fortran order
+    csc_indptr: np.ndarray          # the full symmetric pattern in CSC form, for SuperLU
+    csc_indices: np.ndarray
+    full_from_upper: np.ndarray     # slot of every stored entry of the full CSC pattern
+    node_entries: np.ndarray        # row-major flat indices of a 2x2 block's upper triangle
+    edge_entries: np.ndarray        # ... and of a 4x4 block's
+
+    @classmethod
+    def build(cls, n_nodes, e, solver=None):
+        """The pattern of N nodes and edges e; `solver` None picks "banded" or "superlu" (BAND_LIMIT)."""
+        n = 2 * n_nodes
+        keys = [_upper_keys(np.arange(n_nodes)[:, None], n), _upper_keys(e, n)]
+        upper = np.unique(np.concatenate([k.ravel() for k in keys]))
+        rows, cols = upper % n, upper // n
+        node_slots, edge_slots = (np.searchsorted(upper, k) for k in keys)
+        diagonal_slots = np.searchsorted(upper, np.arange(n) * (n + 1))
+        bandwidth = int((cols - rows).max())
+        if solver is None:
+            solver = "banded" if (bandwidth + 1) * n <= BAND_LIMIT * len(upper) else "superlu"
+        if solver not in ("banded", "superlu"):
+            raise ValueError(f"solver must be 'banded' or 'superlu', got {solver!r}")
+        band_index = (bandwidth + rows - cols) + (bandwidth + 1) * cols
+        indptr, indices, full_from_upper = _full_csc(rows, cols, n)
+        node_entries, edge_entries = _upper_entries(2), _upper_entries(4)
+        _readonly(rows, cols, node_slots, edge_slots, diagonal_slots, band_index, indptr, indices,
+                  full_from_upper, node_entries, edge_entries)
+        return cls(n, rows, cols, node_slots, edge_slots, diagonal_slots, solver, bandwidth,
+                   band_index, indptr, indices, full_from_upper, node_entries, edge_entries)
+
+    def sum_into_slots(self, slots, blocks):
+        """Upper-triangle values: the upper triangle of every entry-major block (2m, 2m, B) added
+        into its slots (n_upper, B) (from node_slots or edge_slots), all with one np.bincount."""
+        values = [np.take(b.reshape(len(b) ** 2, -1), self.node_entries if len(b) == 2 else self.edge_entries,
+                          axis=0) for b in blocks]
+        return np.bincount(np.concatenate([s.reshape(-1) for s in slots]),
+                           np.concatenate([v.reshape(-1) for v in values]), minlength=len(self.rows))
+
+    def diagonal(self, d):
+        """Slot values of the diagonal matrix diag(d), d one value per DOF."""
+        upper = np.zeros(len(self.rows))
+        upper[self.diagonal_slots] = d
+        return upper
+
+    def to_csc(self, upper):
+        """The full symmetric matrix of the slot values `upper`, as a scipy CSC matrix."""
+        return scipy.sparse.csc_matrix((upper[self.full_from_upper], self.csc_indices, self.csc_indptr),
+                                       shape=(self.n_dofs, self.n_dofs))
+
+    def matrix(self, upper):
+        """The slot values in the form `factor_solve` takes: LAPACK upper band storage, or CSC."""
+        if self.solver == "superlu":
+            return self.to_csc(upper)
+        band = np.zeros((self.bandwidth + 1) * self.n_dofs)
+        band[self.band_index] = upper
+        return band.reshape(self.bandwidth + 1, self.n_dofs, order="F")
+
+    def factor_solve(self, A, b):
+        """x = A^-1 b for A = matrix(...) symmetric positive definite; a band A is overwritten.
+
+        Banded: Cholesky A = U^T U (dpbtrf), then two triangular band solves (dpbtrs). SuperLU: in
+        symmetric mode with a minimum-degree ordering of A^T + A and no off-diagonal pivoting
+        (diag_pivot_thresh=0), which an SPD matrix needs none of; the factor stays as sparse as a
+        Cholesky factor instead of the larger unsymmetric LU.
+        """
+        if self.solver == "superlu":
+            lu = scipy.sparse.linalg.splu(A, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                                          options={"SymmetricMode": True})
+            return lu.solve(b)
+        factor, info = lapack.dpbtrf(A, lower=0, overwrite_ab=1)
+        if info != 0:
+            raise np.linalg.LinAlgError(f"banded Cholesky failed (dpbtrf info {info}): the matrix "
+                                        "is not positive definite")
+        return lapack.dpbtrs(factor, b, lower=0)[0]
+
+
+def _upper_entries(size):
+    """Row-major flat indices r * size + c of the upper triangle (r <= c) of a (size, size) block."""
+    r, c = np.triu_indices(size)
+    return r * size + c
+
+
+def _upper_keys(nodes, n):
+    """For the upper triangle (r <= c) of each element's (2m, 2m) block on nodes (B, m): the key
+    max * n + min of its two DOFs, (n_upper, B) (a column-major index into the upper triangle)."""
+    rows, cols = block_entries(nodes)
+    entries = _upper_entries(2 * nodes.shape[1])
+    rows, cols = rows[:, entries].T, cols[:, entries].T
+    return np.maximum(rows, cols) * n + np.minimum(rows, cols)
+
+
+def _full_csc(rows, cols, n):
+    """CSC arrays (indptr, indices) of the symmetric pattern whose upper triangle is (rows, cols),
+    and for each stored entry the upper slot it mirrors."""
+    off = rows != cols
+    slot = np.arange(len(rows))
+    full_rows = np.concatenate([rows, cols[off]])
+    full_cols = np.concatenate([cols, rows[off]])
+    order = np.lexsort((full_rows, full_cols))
+    indptr = np.concatenate([[0], np.cumsum(np.bincount(full_cols, minlength=n))])
+    return indptr, full_rows[order], np.concatenate([slot, slot[off]])[order]

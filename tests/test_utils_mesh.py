@@ -116,3 +116,68 @@ def test_atomic_write_leaves_old_file_on_failure(tmp_path):
     with pytest.raises((RuntimeError, TypeError)):
         square_mesh.write_atomic(str(path), Boom())
     assert path.read_text() == "old" and os.listdir(tmp_path) == ["a.txt"]
+
+
+# --- the Newton system's fixed pattern and its SPD solve -------------------------------------
+
+def pattern_setup(n_seg, seed=0):
+    """Random spring blocks on the mesh's edges and random 2x2 blocks on a few nodes, and the SPD
+    matrix M + springs + node blocks they make (M = I)."""
+    rng = np.random.default_rng(seed)
+    x, e = square_mesh.generate(1.0, n_seg)
+    d = x[e[:, 0]] - x[e[:, 1]]
+    y = x * 0.9 + 0.02 * rng.normal(size=x.shape)
+    _, spring = MassSpringEnergy.hess_kernel(y, e, np.einsum("ij,ij->i", d, d), np.full(len(e), 1e3))
+    nodes = rng.choice(len(x), size=len(x) // 3, replace=False)
+    A = rng.normal(size=(len(nodes), 2, 2))
+    node_blocks = np.moveaxis(A @ np.swapaxes(A, 1, 2), 0, -1)       # entry-major (2, 2, k)
+    return x, e, nodes, spring, node_blocks
+
+
+@pytest.mark.parametrize("solver", ["banded", "superlu"])
+def test_block_pattern_assembles_what_the_triplets_do(solver):
+    x, e, nodes, spring, node_blocks = pattern_setup(3)
+    P = utils.BlockPattern.build(len(x), e, solver=solver)
+    upper = P.sum_into_slots([P.edge_slots, P.node_slots[:, nodes]], [spring, node_blocks])
+    ijv = utils.concat_ijv([utils.blocks_to_ijv(e, spring), utils.blocks_to_ijv(nodes[:, None], node_blocks)])
+    expected = utils.ijv_to_csr(ijv, 2 * len(x)).toarray()
+    assert np.allclose(P.to_csc(upper).toarray(), expected, rtol=0, atol=1e-12 * np.abs(expected).max())
+    assert (P.rows <= P.cols).all() and P.bandwidth == int((P.cols - P.rows).max())
+    if solver == "banded":                  # LAPACK's upper band storage: ab[u + i - j, j] = A[i, j]
+        band = P.matrix(upper)
+        i, j = np.triu_indices(2 * len(x))
+        inside = j - i <= P.bandwidth
+        assert np.allclose(band[P.bandwidth + i[inside] - j[inside], j[inside]], expected[i[inside], j[inside]],
+                           rtol=0, atol=1e-12 * np.abs(expected).max())
+        assert not expected[i[~inside], j[~inside]].any()
+
+
+def test_both_solvers_solve_the_spd_system():
+    x, e, nodes, spring, node_blocks = pattern_setup(6, seed=1)
+    b = np.random.default_rng(2).normal(size=2 * len(x))
+    solutions = []
+    for solver in ("banded", "superlu"):
+        P = utils.BlockPattern.build(len(x), e, solver=solver)
+        upper = P.diagonal(np.ones(2 * len(x))) + P.sum_into_slots([P.edge_slots, P.node_slots[:, nodes]],
+                                                                   [spring, node_blocks])
+        dense_A = P.to_csc(upper).toarray()
+        solutions.append(P.factor_solve(P.matrix(upper), b))
+        assert np.allclose(dense_A @ solutions[-1], b, rtol=0, atol=1e-10 * np.abs(b).max())
+    assert np.allclose(solutions[0], solutions[1], rtol=1e-10, atol=1e-12)
+
+
+def test_solver_choice_follows_the_band():
+    x, e = square_mesh.generate(1.0, 32)
+    assert utils.BlockPattern.build(len(x), e).solver == "banded"          # the lecture's numbering
+    shuffled = np.random.default_rng(0).permutation(len(x))[e]              # a wide band
+    assert utils.BlockPattern.build(len(x), shuffled).solver == "superlu"
+    with pytest.raises(ValueError, match="solver must be"):
+        utils.BlockPattern.build(len(x), e, solver="dense")
+
+
+def test_banded_solver_refuses_an_indefinite_matrix():
+    x, e = square_mesh.generate(1.0, 2)
+    P = utils.BlockPattern.build(len(x), e, solver="banded")
+    upper = P.diagonal(-np.ones(2 * len(x)))
+    with pytest.raises(np.linalg.LinAlgError, match="not positive definite"):
+        P.factor_solve(P.matrix(upper), np.ones(2 * len(x)))
