@@ -7,11 +7,17 @@ Command line:  python simulator.py --help
 slope, which energy terms exist); `simulate` steps it with time_integrator.step. pygame is imported
 only where frames are drawn, so importing this module opens no window and needs no display.
 """
+import os
+
+if __name__ == "__main__":
+    # The command line runs on one BLAS thread, set before numpy loads (see README, Performance).
+    os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+    os.environ.setdefault("OMP_NUM_THREADS", "1")
+
 import argparse
 import csv
 import io
 import math
-import os
 import re
 import sys
 import time

@@ -2,6 +2,10 @@
 import os
 import sys
 
+# One BLAS thread, set before numpy loads: the Newton systems are small banded matrices, and a
+# second OpenBLAS thread contending for 2 cores with other work made whole runs 10-25x slower.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+os.environ.setdefault("OMP_NUM_THREADS", "1")
 os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
 os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
