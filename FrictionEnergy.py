@@ -6,6 +6,10 @@ for a half-space), and the tangential velocity vbar_k = (T^n)^T v_k:
 where v = (x - x^n) / hhat, so dv/dx = I / hhat. val/grad/hess below take v and return
 P_f and its derivatives with respect to x. Only nodes with mu_lambda > 0 (in contact) enter.
 
+In 2-D the tangent line has one unit direction t = (n_y, -n_x), so T = I - n n^T = t t^T and
+vbar_k = u_k t with u_k = t . v_k, the signed tangential speed: ||vbar_k|| = |u_k|. The kernels
+compute in that form, which needs no 2x2 matrix per node (each formula says how it follows).
+
 `val`, `grad`, `hess` check their input, then call the `*_kernel` function of the same name, which
 holds the formula and trusts its input (the time integrator calls the kernels on a scene it has
 validated once).
@@ -22,7 +26,8 @@ def f0(y, epsv, hhat):
     y < eps_v hhat, else y. C^1 at y = eps_v hhat, with f0'(y) = f1(y / hhat)."""
     y = np.asarray(y, dtype=np.float64)
     eh = epsv * hhat
-    inner = -y ** 3 / (3.0 * eh * eh) + y * y / eh + eh / 3.0
+    y2 = y * y
+    inner = -(y2 * y) / (3.0 * eh * eh) + y2 / eh + eh / 3.0
     return np.where(y < eh, inner, y)
 
 
@@ -36,21 +41,19 @@ def f1_over_y(y, epsv):
     """Eq. 9.2.5, f1(y)/y: (-y + 2 eps_v)/eps_v^2 for y < eps_v, else 1/y. Finite (2/eps_v) at y = 0,
     and never divides by zero there."""
     y = np.asarray(y, dtype=np.float64)
-    below = y < epsv
-    return np.where(below, (2.0 * epsv - y) / (epsv * epsv), 1.0 / np.where(below, 1.0, y))
+    return np.where(y < epsv, (2.0 * epsv - y) / (epsv * epsv), 1.0 / np.maximum(y, epsv))
 
 
 def f_hess_term(y, epsv):
     """Eq. 9.2.6, (f1'(y) y - f1(y)) / y^2: -1/eps_v^2 for y < eps_v, else -1/y^2."""
     y = np.asarray(y, dtype=np.float64)
-    below = y < epsv
-    safe_y = np.where(below, 1.0, y)
-    return np.where(below, -1.0 / (epsv * epsv), -1.0 / (safe_y * safe_y))
+    safe_y = np.maximum(y, epsv)
+    return np.where(y < epsv, -1.0 / (epsv * epsv), -1.0 / (safe_y * safe_y))
 
 
-def tangent_operator(n):
-    """T = I - n n^T: projects a velocity onto the half-space's tangent line."""
-    return np.eye(2) - n[:, None] * n
+def tangent(n):
+    """t = (n_y, -n_x), the unit tangent of the half-space with unit normal n: T = I - n n^T = t t^T."""
+    return np.array([n[1], -n[0]])
 
 
 def _check(v, mu_lambda, hhat, n, epsv):
@@ -66,11 +69,12 @@ def _check(v, mu_lambda, hhat, n, epsv):
 
 
 def _contacts(v, mu_lambda, n):
-    """Indices of the nodes in contact, their mu*lambda, T, vbar = T^T v and ||vbar||."""
+    """Indices of the nodes in contact, their mu*lambda, the tangent t, and vbar = T^T v = u t given
+    by u = t . v, with ||vbar|| = |u|."""
     idx = (mu_lambda > 0.0).nonzero()[0]
-    T = tangent_operator(n)
-    vbar = v[idx] @ T           # row k is (T^T v_k)^T; T is symmetric
-    return idx, mu_lambda[idx], T, vbar, np.sqrt(np.einsum("ij,ij->i", vbar, vbar))
+    t = tangent(n)
+    u = v.take(idx, axis=0) @ t
+    return idx, mu_lambda.take(idx), t, u, np.abs(u)
 
 
 def val(v, mu_lambda, hhat, n, epsv=EPSV):
@@ -90,8 +94,8 @@ def hess(v, mu_lambda, hhat, n, epsv=EPSV, project_psd=True):
 
 def val_kernel(v, mu_lambda, hhat, n, epsv):
     """P_f = sum_k mu lambda_k f0(||vbar_k|| hhat) (Eq. 9.2.1)."""
-    _, ml, _, _, vbarnorm = _contacts(v, mu_lambda, n)
-    return float(ml @ f0(vbarnorm * hhat, epsv, hhat))
+    _, ml, _, _, y = _contacts(v, mu_lambda, n)
+    return float(ml @ f0(y * hhat, epsv, hhat))
 
 
 def grad_kernel(v, mu_lambda, hhat, n, epsv):
@@ -115,24 +119,22 @@ def grad_hess_kernel(v, mu_lambda, hhat, n, epsv):
             (contacts[0][:, None], _blocks(*contacts, f1y, hhat, epsv, True)))
 
 
-def _grad(shape, idx, ml, T, vbar, y, f1y):
-    """grad_k P_f = mu lambda_k T (f1(y_k)/y_k) vbar_k (Eq. 9.2.3), y = ||vbar||, f1y = f1(y)/y;
-    zero at vbar = 0 and at the nodes out of contact."""
+def _grad(shape, idx, ml, t, u, y, f1y):
+    """grad_k P_f = mu lambda_k T (f1(y)/y) vbar_k (Eq. 9.2.3), y = ||vbar_k||, f1y = f1(y)/y.
+    T vbar = vbar = u t, so it is mu lambda_k f1y u_k t: zero at vbar = 0 and out of contact."""
     g = np.zeros(shape)
-    g[idx] = (ml * f1y)[:, None] * (vbar @ T)
+    g[idx] = np.multiply.outer(ml * f1y * u, t)
     return g
 
 
-def _blocks(idx, ml, T, vbar, y, f1y, hhat, epsv, project_psd):
-    """hess_k P_f = mu lambda_k T [ (f1'y - f1)/y^3 vbar vbar^T + f1/y I ] T^T / hhat   (Eq. 9.2.4),
-    y = ||vbar_k||, f1y = f1(y)/y; at y = 0 only the f1/y I part remains. The bracket is PSD for
-    the lecture's f1; `project_psd` clamps the round-off (as the lecture's make_PD does).
+def _blocks(idx, ml, t, u, y, f1y, hhat, epsv, project_psd):
+    """hess_k P_f = mu lambda_k T [ (f1'y - f1)/y^3 vbar vbar^T + f1/y I ] T^T / hhat  (Eq. 9.2.4),
+    y = ||vbar_k||, f1y = f1(y)/y. With T = t t^T and vbar = u t, the bracket between T and T^T is
+    (f_hess_term(y) y + f1y) t t^T = f1'(y) t t^T (at y = 0 only f1/y remains, as in the lecture).
+    The bracket's eigenvalues are f1'(y) >= 0 along t and f1/y > 0 along n, so it is PSD for the
+    lecture's f1; `project_psd` clamps the round-off (as the lecture's make_PD does).
     Entry-major, (2, 2, k)."""
-    coef = f_hess_term(y, epsv) / np.where(y > 0.0, y, 1.0)     # (f1'y - f1)/y^3, with vbar unscaled
-    vx, vy = vbar[:, 0], vbar[:, 1]
-    inner = (coef * vx * vx + f1y, coef * vx * vy, coef * vy * vy + f1y)     # the bracket, entry-wise
+    along_t = f_hess_term(y, epsv) * y + f1y
     if project_psd:
-        inner = utils.project_psd_2x2_entries(*inner)
-    a, b, c = inner
-    blocks = np.einsum("ij,jlk,ml->imk", T, np.array([[a, b], [b, c]]), T)   # T [...] T^T, (2, 2, k)
-    return (ml / hhat) * 0.5 * (blocks + blocks.swapaxes(0, 1))  # exactly symmetric
+        along_t = np.maximum(along_t, 0.0)
+    return np.multiply.outer(t[:, None] * t, (ml / hhat) * along_t)

@@ -190,6 +190,14 @@ def test_friction(seed, where):
     assert np.abs(g @ N_SLOPE).max() <= 1e-12 * max(np.abs(g).max(), 1.0), "friction acts along the slope only"
 
 
+def test_tangent_spans_the_tangent_operator():
+    """The kernels use T = I - n n^T = t t^T (a half-space in 2-D)."""
+    for n in (N_SLOPE, np.array([0.0, 1.0]), np.array([-0.6, 0.8])):
+        t = FrictionEnergy.tangent(n)
+        assert_close(np.outer(t, t), np.eye(2) - np.outer(n, n), 1e-15, "t t^T")
+        assert t @ n == 0.0
+
+
 def test_friction_force_magnitude_is_mu_lambda_when_sliding():
     rng = np.random.default_rng(0)
     x_n, x, mu_lambda = friction_setup(rng, np.full(5, 0.7), 1e-3, 0.01)
