@@ -37,7 +37,7 @@ def _active(x, n, o, dhat):
     """Indices and distances of the nodes with d < dhat; ValueError if any node has d <= 0."""
     d = distances(x, n, o)
     idx = (d < dhat).nonzero()[0]
-    d_active = d[idx]
+    d_active = d.take(idx)
     if d_active.size and d_active.min() <= 0.0:
         i = int(idx[np.argmin(d_active)])
         raise ValueError(f"x: node {i} is at distance {d[i]:.6g} <= 0 from the half-space; "
@@ -64,14 +64,14 @@ def hess(x, n, o, contact_area, dhat=DHAT, kappa=KAPPA):
 def dP_dd(d, w, dhat=DHAT, kappa=KAPPA):
     """w dhat b'(d) = w dhat kappa/2 (ln(s)/dhat + (s - 1)/d), s = d/dhat (negative for d < dhat)."""
     s = d / dhat
-    return w * dhat * kappa / 2.0 * (np.log(s) / dhat + (s - 1.0) / d)
+    return (w * (dhat * kappa / 2.0)) * (np.log(s) / dhat + (s - 1.0) / d)
 
 
 def val_kernel(x, n, o, contact_area, dhat, kappa):
     """P_b = sum_{d_i < dhat} w_i dhat kappa/2 (s - 1) ln s, s = d_i / dhat."""
     idx, d = _active(x, n, o, dhat)
     s = d / dhat
-    return dhat * kappa / 2.0 * float(contact_area[idx] @ ((s - 1.0) * np.log(s)))
+    return dhat * kappa / 2.0 * float(contact_area.take(idx) @ ((s - 1.0) * np.log(s)))
 
 
 def grad_kernel(x, n, o, contact_area, dhat, kappa):
@@ -96,7 +96,7 @@ def grad_hess_kernel(x, n, o, contact_area, dhat, kappa):
 def _grad(shape, idx, d, n, contact_area, dhat, kappa):
     """grad_i P_b = w_i dhat b'(d_i) n for the active nodes idx (at distances d), zero elsewhere."""
     g = np.zeros(shape)
-    g[idx] = dP_dd(d, contact_area[idx], dhat, kappa)[:, None] * n
+    g[idx] = np.multiply.outer(dP_dd(d, contact_area.take(idx), dhat, kappa), n)
     return g
 
 
@@ -144,5 +144,5 @@ def compute_mu_lambda_kernel(x, n, o, contact_area, mu, dhat, kappa):
     """
     idx, d = _active(x, n, o, dhat)
     mu_lambda = np.zeros(len(x))
-    mu_lambda[idx] = -mu * dP_dd(d, contact_area[idx], dhat, kappa)
+    mu_lambda[idx] = -mu * dP_dd(d, contact_area.take(idx), dhat, kappa)
     return mu_lambda

@@ -6,6 +6,10 @@ for a half-space), and the tangential velocity vbar_k = (T^n)^T v_k:
 where v = (x - x^n) / hhat, so dv/dx = I / hhat. val/grad/hess below take v and return
 P_f and its derivatives with respect to x. Only nodes with mu_lambda > 0 (in contact) enter.
 
+In 2-D the tangent line has one unit direction t = (n_y, -n_x), so T = I - n n^T = t t^T and
+vbar_k = u_k t with u_k = t . v_k, the signed tangential speed: ||vbar_k|| = |u_k|. The kernels
+compute in that form, which needs no 2x2 matrix per node (each formula says how it follows).
+
 `val`, `grad`, `hess` check their input, then call the `*_kernel` function of the same name, which
 holds the formula and trusts its input (the time integrator calls the kernels on a scene it has
 validated once).
@@ -49,9 +53,17 @@ def f_hess_term(y, epsv):
     return np.where(y < epsv, -inv_epsv * inv_epsv, -(1.0 / safe_y) ** 2)
 
 
-def tangent_operator(n):
-    """T = I - n n^T: projects a velocity onto the half-space's tangent line."""
-    return np.eye(2) - n[:, None] * n
+def f1_prime(y, epsv):
+    """f1'(y) = f_hess_term(y) y + f1(y)/y, the bracket of Eq. 9.2.4 along the tangent in 2-D:
+    2 (1 - y/eps_v)/eps_v for y < eps_v, else 0. Written so, it never forms 1/eps_v^2, which
+    overflows for tiny eps_v (and a PSD clamp would then turn -inf into a silent 0)."""
+    y = np.asarray(y, dtype=np.float64)
+    return np.where(y < epsv, 2.0 * (1.0 - y / epsv) / epsv, 0.0)
+
+
+def tangent(n):
+    """t = (n_y, -n_x), the unit tangent of the half-space with unit normal n: T = I - n n^T = t t^T."""
+    return np.array([n[1], -n[0]])
 
 
 def _check(v, mu_lambda, hhat, n, epsv):
@@ -67,11 +79,12 @@ def _check(v, mu_lambda, hhat, n, epsv):
 
 
 def _contacts(v, mu_lambda, n):
-    """Indices of the nodes in contact, their mu*lambda, T, vbar = T^T v and ||vbar||."""
+    """Indices of the nodes in contact, their mu*lambda, the tangent t, and vbar = T^T v = u t given
+    by u = t . v, with ||vbar|| = |u|."""
     idx = (mu_lambda > 0.0).nonzero()[0]
-    T = tangent_operator(n)
-    vbar = v[idx] @ T           # row k is (T^T v_k)^T; T is symmetric
-    return idx, mu_lambda[idx], T, vbar, np.sqrt(np.einsum("ij,ij->i", vbar, vbar))
+    t = tangent(n)
+    u = v.take(idx, axis=0) @ t
+    return idx, mu_lambda.take(idx), t, u, np.abs(u)
 
 
 def val(v, mu_lambda, hhat, n, epsv=EPSV):
@@ -92,8 +105,8 @@ def hess(v, mu_lambda, hhat, n, epsv=EPSV, project_psd=True):
 
 def val_kernel(v, mu_lambda, hhat, n, epsv):
     """P_f = sum_k mu lambda_k f0(||vbar_k|| hhat) (Eq. 9.2.1)."""
-    _, ml, _, _, vbarnorm = _contacts(v, mu_lambda, n)
-    return float(ml @ f0(vbarnorm * hhat, epsv, hhat))
+    _, ml, _, _, y = _contacts(v, mu_lambda, n)
+    return float(ml @ f0(y * hhat, epsv, hhat))
 
 
 def grad_kernel(v, mu_lambda, hhat, n, epsv):
@@ -117,24 +130,22 @@ def grad_hess_kernel(v, mu_lambda, hhat, n, epsv):
             (contacts[0][:, None], _blocks(*contacts, f1y, hhat, epsv, True)))
 
 
-def _grad(shape, idx, ml, T, vbar, y, f1y):
-    """grad_k P_f = mu lambda_k T (f1(y_k)/y_k) vbar_k (Eq. 9.2.3), y = ||vbar||, f1y = f1(y)/y;
-    zero at vbar = 0 and at the nodes out of contact."""
+def _grad(shape, idx, ml, t, u, y, f1y):
+    """grad_k P_f = mu lambda_k T (f1(y)/y) vbar_k (Eq. 9.2.3), y = ||vbar_k||, f1y = f1(y)/y.
+    T vbar = vbar = u t, so it is mu lambda_k f1y u_k t: zero at vbar = 0 and out of contact."""
     g = np.zeros(shape)
-    g[idx] = (ml * f1y)[:, None] * (vbar @ T)
+    g[idx] = np.multiply.outer(ml * f1y * u, t)
     return g
 
 
-def _blocks(idx, ml, T, vbar, y, f1y, hhat, epsv, project_psd):
-    """hess_k P_f = mu lambda_k T [ (f1'y - f1)/y^3 vbar vbar^T + f1/y I ] T^T / hhat   (Eq. 9.2.4),
-    y = ||vbar_k||, f1y = f1(y)/y; at y = 0 only the f1/y I part remains. The bracket is PSD for
-    the lecture's f1; `project_psd` clamps the round-off (as the lecture's make_PD does).
+def _blocks(idx, ml, t, u, y, f1y, hhat, epsv, project_psd):
+    """hess_k P_f = mu lambda_k T [ (f1'y - f1)/y^3 vbar vbar^T + f1/y I ] T^T / hhat  (Eq. 9.2.4),
+    y = ||vbar_k||, f1y = f1(y)/y. With T = t t^T and vbar = u t, the bracket between T and T^T is
+    (f_hess_term(y) y + f1y) t t^T = f1'(y) t t^T (at y = 0 only f1/y remains, as in the lecture).
+    The bracket's eigenvalues are f1'(y) >= 0 along t and f1/y > 0 along n, so it is PSD for the
+    lecture's f1; `project_psd` clamps the round-off (as the lecture's make_PD does).
     Entry-major, (2, 2, k)."""
-    coef = f_hess_term(y, epsv) / np.where(y > 0.0, y, 1.0)     # (f1'y - f1)/y^3, with vbar unscaled
-    vx, vy = vbar[:, 0], vbar[:, 1]
-    inner = (coef * vx * vx + f1y, coef * vx * vy, coef * vy * vy + f1y)     # the bracket, entry-wise
+    along_t = f1_prime(y, epsv)
     if project_psd:
-        inner = utils.project_psd_2x2_entries(*inner)
-    a, b, c = inner
-    blocks = np.einsum("ij,jlk,ml->imk", T, np.array([[a, b], [b, c]]), T)   # T [...] T^T, (2, 2, k)
-    return (ml / hhat) * 0.5 * (blocks + blocks.swapaxes(0, 1))  # exactly symmetric
+        along_t = np.maximum(along_t, 0.0)
+    return np.multiply.outer(t[:, None] * t, (ml / hhat) * along_t)

@@ -8,6 +8,14 @@ import numpy as np
 
 import utils
 
+# Entry (2A + i, 2B + j) of a spring's 4x4 block is sign(A, B) H_ij: which of (H00, H01, H11) and
+# which sign, for the 16 entries in row-major order.
+_BLOCK_ENTRY = np.array([0, 1, 0, 1, 1, 2, 1, 2, 0, 1, 0, 1, 1, 2, 1, 2])
+_BLOCK_SIGN = np.array([1.0, 1.0, -1.0, -1.0] * 2 + [-1.0, -1.0, 1.0, 1.0] * 2)[:, None]
+_TINY = np.finfo(np.float64).tiny
+_BLOCK_ENTRY.setflags(write=False)
+_BLOCK_SIGN.setflags(write=False)
+
 def _check(x, e, l2, k):
     x = utils.check_points("x", x)
     e = utils.check_edges("e", e, len(x))
@@ -80,16 +88,16 @@ def _blocks(dx, dy, sq, l2, k, project_psd):
     is [[1, -1], [-1, 1]] (x) H, whose eigenvalues are 2 eig(H) and 0, so its projection is
     [[1, -1], [-1, 1]] (x) H+. Entry-major, (4, 4, E).
     """
-    c = 2.0 * k / l2
-    lam_par, lam_perp = c * (3.0 * sq - l2), c * (sq - l2)
+    c = (2.0 * k) / l2
+    lam_perp = c * (sq - l2)
+    lam_par = lam_perp + (2.0 * c) * sq
     if project_psd:
         lam_par, lam_perp = np.maximum(lam_par, 0.0), np.maximum(lam_perp, 0.0)
-    w = (lam_par - lam_perp) / np.where(sq > 0.0, sq, 1.0)      # a zero-length spring: H = lam I
+    w = (lam_par - lam_perp) / np.maximum(sq, _TINY)      # a zero-length spring: H = lam_perp I
     return _edge_blocks(lam_perp + w * dx * dx, w * dx * dy, lam_perp + w * dy * dy)
 
 
 def _edge_blocks(h00, h01, h11):
     """[[1, -1], [-1, 1]] (x) [[h00, h01], [h01, h11]] for every edge, entry-major (4, 4, E)."""
-    n00, n01, n11 = -h00, -h01, -h11
-    return np.stack([h00, h01, n00, n01, h01, h11, n01, n11,
-                     n00, n01, h00, h01, n01, n11, h01, h11]).reshape(4, 4, -1)
+    H = np.array([h00, h01, h11])
+    return (H.take(_BLOCK_ENTRY, axis=0) * _BLOCK_SIGN).reshape(4, 4, -1)

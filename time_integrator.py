@@ -83,14 +83,16 @@ class IncrementalPotential:
         unknown = set(self.potentials) - set(POTENTIALS)
         if unknown:
             raise ValueError(f"scene.terms has an unknown term {sorted(unknown)[0]!r}")
-        self.contact_x_n = x_n[self.contacts]
-        self.contact_mu_lambda = None if mu_lambda is None else mu_lambda[self.contacts]
-        # M is constant: its slot values are filled once per solve, not per Newton iteration
+        self.contact_x_n = x_n.take(self.contacts, axis=0)
+        self.contact_mu_lambda = None if mu_lambda is None else mu_lambda.take(self.contacts)
+        # constant in x, so computed once per solve: M's slot values and gravity's gradient
         self.inertia = scene.pattern.diagonal(InertiaEnergy.hess_kernel(x_n, x_tilde, scene.m))
+        self.gravity_grad = (GravityEnergy.grad_kernel(x_n, scene.m, scene.g) if "gravity" in self.potentials
+                             else np.zeros(x_n.shape))
 
     def _contact_velocity(self, x):
         """v = (x - x^n) / h at the nodes in contact, the friction term's argument."""
-        return (x[self.contacts] - self.contact_x_n) / self.scene.h
+        return (x.take(self.contacts, axis=0) - self.contact_x_n) / self.scene.h
 
     def val(self, x):
         """E(x) = 1/2 ||x - x_tilde||_M^2 + h^2 sum_terms P(x); +inf where a node is on or below the
@@ -113,28 +115,23 @@ class IncrementalPotential:
     def gradient_and_hessian(self, x):
         """grad E(x) = M (x - x_tilde) + h^2 sum_terms grad P(x), and the slot values (scene.pattern)
         of H = M + h^2 sum_terms hess P(x), each term PSD-projected (gravity's Hessian is zero)."""
-        s, g, slots, blocks = self.scene, np.zeros(x.shape), [], []
+        s, pattern = self.scene, self.scene.pattern
+        g, H = self.gravity_grad.copy(), np.zeros(len(pattern.rows))
         for term in self.potentials:
             if term == "spring":
-                g_term, (_, b) = MassSpringEnergy.grad_hess_kernel(x, s.e, s.l2, s.k)
-                slots.append(s.pattern.edge_slots)
-            elif term == "gravity":
-                g += GravityEnergy.grad_kernel(x, s.m, s.g)
-                continue
+                g_term, (_, blocks) = MassSpringEnergy.grad_hess_kernel(x, s.e, s.l2, s.k)
+                g += g_term
+                H += pattern.sum_edge_blocks(blocks)
             elif term == "barrier":
-                g_term, (nodes, b) = BarrierEnergy.grad_hess_kernel(x, s.n, s.o, s.contact_area, s.dhat, s.kappa)
-                slots.append(s.pattern.node_slots[:, nodes[:, 0]])
-            else:
-                g_c, (nodes, b) = FrictionEnergy.grad_hess_kernel(self._contact_velocity(x), self.contact_mu_lambda,
-                                                                  s.h, s.n, s.epsv)
-                g[self.contacts] += g_c
-                slots.append(s.pattern.node_slots[:, self.contacts[nodes[:, 0]]])
-                blocks.append(b)
-                continue
-            g += g_term
-            blocks.append(b)
-        H = self.inertia + self.h2 * s.pattern.sum_into_slots(slots, blocks) if blocks else self.inertia
-        return InertiaEnergy.grad_kernel(x, self.x_tilde, s.m) + self.h2 * g, H
+                g_term, (nodes, blocks) = BarrierEnergy.grad_hess_kernel(x, s.n, s.o, s.contact_area, s.dhat, s.kappa)
+                g += g_term
+                pattern.add_node_blocks(H, nodes[:, 0], blocks)
+            elif term == "friction":
+                g_term, (nodes, blocks) = FrictionEnergy.grad_hess_kernel(
+                    self._contact_velocity(x), self.contact_mu_lambda, s.h, s.n, s.epsv)
+                g[self.contacts] += g_term
+                pattern.add_node_blocks(H, self.contacts[nodes[:, 0]], blocks)
+        return InertiaEnergy.grad_kernel(x, self.x_tilde, s.m) + self.h2 * g, self.inertia + self.h2 * H
 
     def search_direction(self, x):
         """Projected Newton direction p = -H^-1 grad E at x (H is PSD-projected, so SPD with M > 0)."""

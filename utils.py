@@ -156,8 +156,10 @@ def project_psd_2x2_entries(a, b, c):
 def scatter_add_pairs(e, gx, gy, n):
     """(n, 2) array: each pair (a, b) of `e` adds (gx, gy)[j] to row a and subtracts it from row b."""
     a, b = e[:, 0], e[:, 1]
-    return np.stack([np.bincount(a, gx, n) - np.bincount(b, gx, n),
-                     np.bincount(a, gy, n) - np.bincount(b, gy, n)], axis=1)
+    out = np.empty((n, 2))
+    out[:, 0] = np.bincount(a, gx, n) - np.bincount(b, gx, n)
+    out[:, 1] = np.bincount(a, gy, n) - np.bincount(b, gy, n)
+    return out
 
 
 def empty_ijv():
@@ -273,13 +275,15 @@ class BlockPattern:
         return cls(n, rows, cols, node_slots, edge_slots, diagonal_slots, solver, bandwidth,
                    band_index, indptr, indices, full_from_upper, node_entries, edge_entries)
 
-    def sum_into_slots(self, slots, blocks):
-        """Upper-triangle values: the upper triangle of every entry-major block (2m, 2m, B) added
-        into its slots (n_upper, B) (from node_slots or edge_slots), all with one np.bincount."""
-        values = [np.take(b.reshape(len(b) ** 2, -1), self.node_entries if len(b) == 2 else self.edge_entries,
-                          axis=0) for b in blocks]
-        return np.bincount(np.concatenate([s.reshape(-1) for s in slots]),
-                           np.concatenate([v.reshape(-1) for v in values]), minlength=len(self.rows))
+    def sum_edge_blocks(self, blocks):
+        """Upper-triangle values of the sum of the edges' entry-major 4x4 blocks (4, 4, E): each
+        entry of a block's upper triangle added into its slot (edge_slots), with one np.bincount."""
+        values = blocks.reshape(16, -1).take(self.edge_entries, axis=0)
+        return np.bincount(self.edge_slots.reshape(-1), values.reshape(-1), minlength=len(self.rows))
+
+    def add_node_blocks(self, upper, nodes, blocks):
+        """upper += the entry-major 2x2 blocks (2, 2, k) of the nodes `nodes`, in place."""
+        np.add.at(upper, self.node_slots.take(nodes, axis=1), blocks.reshape(4, -1).take(self.node_entries, axis=0))
 
     def diagonal(self, d):
         """Slot values of the diagonal matrix diag(d), d one value per DOF."""

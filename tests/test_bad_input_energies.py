@@ -77,10 +77,10 @@ def test_ccd_and_mu_lambda_bad_input():
 
 
 @pytest.mark.parametrize("call", [
-    lambda: FrictionEnergy.hess(np.full((2, 2), 1e-170), np.ones(2), 0.01, [0.0, 1.0], epsv=1e-160),
+    lambda: FrictionEnergy.hess(np.full((2, 2), 1e-320), np.ones(2), 0.01, [0.0, 1.0], epsv=1e-310),
     lambda: BarrierEnergy.grad(np.array([[0.0, 1e-320]]), [0.0, 1.0], [0.0, 0.0], [1.0]),
     lambda: BarrierEnergy.hess(np.array([[0.0, 1e-160]]), [0.0, 1.0], [0.0, 0.0], [1.0]),
-], ids=["friction eps_v=1e-160", "barrier grad d=1e-320", "barrier hess d=1e-160"])
+], ids=["friction eps_v=1e-310", "barrier grad d=1e-320", "barrier hess d=1e-160"])
 def test_overflow_beyond_float64_raises_instead_of_nan(call):
     with np.errstate(all="ignore"), pytest.raises(ValueError, match="overflowed to a non-finite value"):
         call()
@@ -91,6 +91,9 @@ def test_tiny_eps_v_still_exact_where_representable():
     assert FrictionEnergy.f1_over_y(np.array([0.0, 5e-161]), 1e-160) == pytest.approx([2e160, 1.5e160])
     assert FrictionEnergy.f1(np.array([5e-161]), 1e-160) == pytest.approx([0.75])
     assert FrictionEnergy.f0(np.array([0.0]), 1e-160, 0.01) == pytest.approx([1e-162 / 3])
+    # the Hessian there is mu_lambda f1'(y) / hhat along the tangent: 2/eps_v / hhat = 2e162, finite
+    rows, cols, vals = FrictionEnergy.hess(np.full((2, 2), 1e-170), np.ones(2), 0.01, [0.0, 1.0], epsv=1e-160)
+    assert vals.max() == pytest.approx(2e162, rel=1e-6) and np.isfinite(vals).all()
 
 
 def test_ccd_refuses_a_start_below_the_slope():

@@ -190,6 +190,14 @@ def test_friction(seed, where):
     assert np.abs(g @ N_SLOPE).max() <= 1e-12 * max(np.abs(g).max(), 1.0), "friction acts along the slope only"
 
 
+def test_tangent_spans_the_tangent_operator():
+    """The kernels use T = I - n n^T = t t^T (a half-space in 2-D)."""
+    for n in (N_SLOPE, np.array([0.0, 1.0]), np.array([-0.6, 0.8])):
+        t = FrictionEnergy.tangent(n)
+        assert_close(np.outer(t, t), np.eye(2) - np.outer(n, n), 1e-15, "t t^T")
+        assert t @ n == 0.0
+
+
 def test_friction_force_magnitude_is_mu_lambda_when_sliding():
     rng = np.random.default_rng(0)
     x_n, x, mu_lambda = friction_setup(rng, np.full(5, 0.7), 1e-3, 0.01)
@@ -233,6 +241,19 @@ def test_mollifier_continuity_at_branch_point():
     assert FrictionEnergy.f0(0.0, epsv, hhat) == pytest.approx(epsv * hhat / 3)
 
 
+def test_f1_prime_is_the_bracket_along_the_tangent():
+    """f1'(y) = f_hess_term(y) y + f1(y)/y (Eq. 9.2.6 times y, plus Eq. 9.2.5), and the derivative of f1."""
+    epsv = 1e-3
+    y = np.linspace(1e-6, 3e-3, 400)
+    assert_close(FrictionEnergy.f1_prime(y, epsv),
+                 FrictionEnergy.f_hess_term(y, epsv) * y + FrictionEnergy.f1_over_y(y, epsv), 1e-12, "identity",
+                 atol=1e-9 / epsv)
+    step = 1e-9
+    inside = np.abs(y - epsv) > 2 * step
+    numeric = (FrictionEnergy.f1(y + step, epsv) - FrictionEnergy.f1(y - step, epsv)) / (2 * step)
+    assert_close(FrictionEnergy.f1_prime(y, epsv)[inside], numeric[inside], 1e-6, "f1' = d f1 / dy")
+
+
 def test_f1_over_y_finite_at_zero():
     with np.errstate(all="raise"):                      # any division by zero would raise here
         value = FrictionEnergy.f1_over_y(np.array([0.0, 1e-300, 1e-3, 5.0]), 1e-3)
@@ -262,8 +283,8 @@ def test_fd_check_catches_broken_formula(break_it, monkeypatch):
         original = FrictionEnergy.f1_over_y
         monkeypatch.setattr(FrictionEnergy, "f1_over_y", lambda y, epsv: 2.0 * original(y, epsv))
     else:
-        original = FrictionEnergy.f_hess_term
-        monkeypatch.setattr(FrictionEnergy, "f_hess_term", lambda y, epsv: 2.0 * original(y, epsv))
+        original = FrictionEnergy.f1_prime
+        monkeypatch.setattr(FrictionEnergy, "f1_prime", lambda y, epsv: 2.0 * original(y, epsv))
     args = (mu_lambda, 0.01, N_SLOPE, 1e-3)
     with pytest.raises(AssertionError):
         check_derivatives(lambda y: FrictionEnergy.val((y - x_n) / 0.01, *args),

@@ -138,7 +138,8 @@ def pattern_setup(n_seg, seed=0):
 def test_block_pattern_assembles_what_the_triplets_do(solver):
     x, e, nodes, spring, node_blocks = pattern_setup(3)
     P = utils.BlockPattern.build(len(x), e, solver=solver)
-    upper = P.sum_into_slots([P.edge_slots, P.node_slots[:, nodes]], [spring, node_blocks])
+    upper = P.sum_edge_blocks(spring)
+    P.add_node_blocks(upper, nodes, node_blocks)
     ijv = utils.concat_ijv([utils.blocks_to_ijv(e, spring), utils.blocks_to_ijv(nodes[:, None], node_blocks)])
     expected = utils.ijv_to_csr(ijv, 2 * len(x)).toarray()
     assert np.allclose(P.to_csc(upper).toarray(), expected, rtol=0, atol=1e-12 * np.abs(expected).max())
@@ -158,8 +159,8 @@ def test_both_solvers_solve_the_spd_system():
     solutions = []
     for solver in ("banded", "superlu"):
         P = utils.BlockPattern.build(len(x), e, solver=solver)
-        upper = P.diagonal(np.ones(2 * len(x))) + P.sum_into_slots([P.edge_slots, P.node_slots[:, nodes]],
-                                                                   [spring, node_blocks])
+        upper = P.diagonal(np.ones(2 * len(x))) + P.sum_edge_blocks(spring)
+        P.add_node_blocks(upper, nodes, node_blocks)
         dense_A = P.to_csc(upper).toarray()
         solutions.append(P.factor_solve(P.matrix(upper), b))
         assert np.allclose(dense_A @ solutions[-1], b, rtol=0, atol=1e-10 * np.abs(b).max())
