@@ -68,10 +68,8 @@ def dP_dd(d, w, dhat=DHAT, kappa=KAPPA):
 
 
 def val_kernel(x, n, o, contact_area, dhat, kappa):
-    """P_b = sum_{d_i < dhat} w_i dhat kappa/2 (s - 1) ln s, s = d_i / dhat."""
-    idx, d = _active(x, n, o, dhat)
-    s = d / dhat
-    return dhat * kappa / 2.0 * float(contact_area.take(idx) @ ((s - 1.0) * np.log(s)))
+    """P_b = sum_{d_i < dhat} w_i dhat kappa/2 (s - 1) ln s, s = d_i / dhat (see _val)."""
+    return _val(*_active(x, n, o, dhat), contact_area, dhat, kappa)
 
 
 def grad_kernel(x, n, o, contact_area, dhat, kappa):
@@ -86,11 +84,17 @@ def hess_kernel(x, n, o, contact_area, dhat, kappa):
     return idx[:, None], _blocks(idx, d, n, contact_area, dhat, kappa)
 
 
-def grad_hess_kernel(x, n, o, contact_area, dhat, kappa):
-    """grad_kernel and hess_kernel at once, from one active set."""
+def val_grad_kernel(x, n, o, contact_area, dhat, kappa):
+    """val_kernel and grad_kernel at once, from one active set."""
     idx, d = _active(x, n, o, dhat)
-    return (_grad(x.shape, idx, d, n, contact_area, dhat, kappa),
-            (idx[:, None], _blocks(idx, d, n, contact_area, dhat, kappa)))
+    return _val(idx, d, contact_area, dhat, kappa), _grad(x.shape, idx, d, n, contact_area, dhat, kappa)
+
+
+def _val(idx, d, contact_area, dhat, kappa):
+    """P_b = sum_{d_i < dhat} w_i dhat kappa/2 (s - 1) ln s, s = d_i / dhat, over the active nodes
+    idx (at distances d)."""
+    s = d / dhat
+    return dhat * kappa / 2.0 * float(contact_area.take(idx) @ ((s - 1.0) * np.log(s)))
 
 
 def _grad(shape, idx, d, n, contact_area, dhat, kappa):

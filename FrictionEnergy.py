@@ -104,9 +104,8 @@ def hess(v, mu_lambda, hhat, n, epsv=EPSV, project_psd=True):
 
 
 def val_kernel(v, mu_lambda, hhat, n, epsv):
-    """P_f = sum_k mu lambda_k f0(||vbar_k|| hhat) (Eq. 9.2.1)."""
-    _, ml, _, _, y = _contacts(v, mu_lambda, n)
-    return float(ml @ f0(y * hhat, epsv, hhat))
+    """P_f = sum_k mu lambda_k f0(||vbar_k|| hhat) (Eq. 9.2.1) (see _val)."""
+    return _val(*_contacts(v, mu_lambda, n), hhat, epsv)
 
 
 def grad_kernel(v, mu_lambda, hhat, n, epsv):
@@ -119,15 +118,18 @@ def hess_kernel(v, mu_lambda, hhat, n, epsv, project_psd=True):
     """hess_k P_f (Eq. 9.2.4) (see _blocks). Returns (nodes, blocks): the contact nodes as (k, 1)
     element lists and their blocks, entry-major (2, 2, k) (see utils.blocks_to_ijv)."""
     contacts = _contacts(v, mu_lambda, n)
-    return contacts[0][:, None], _blocks(*contacts, f1_over_y(contacts[4], epsv), hhat, epsv, project_psd)
+    return contacts[0][:, None], _blocks(*contacts, hhat, epsv, project_psd)
 
 
-def grad_hess_kernel(v, mu_lambda, hhat, n, epsv):
-    """grad_kernel and the PSD-projected hess_kernel at once, from one set of contacts."""
+def val_grad_kernel(v, mu_lambda, hhat, n, epsv):
+    """val_kernel and grad_kernel at once, from one set of contacts."""
     contacts = _contacts(v, mu_lambda, n)
-    f1y = f1_over_y(contacts[4], epsv)
-    return (_grad(v.shape, *contacts, f1y),
-            (contacts[0][:, None], _blocks(*contacts, f1y, hhat, epsv, True)))
+    return _val(*contacts, hhat, epsv), _grad(v.shape, *contacts, f1_over_y(contacts[4], epsv))
+
+
+def _val(idx, ml, t, u, y, hhat, epsv):
+    """P_f = sum_k mu lambda_k f0(y_k hhat) (Eq. 9.2.1), y_k = ||vbar_k||."""
+    return float(ml @ f0(y * hhat, epsv, hhat))
 
 
 def _grad(shape, idx, ml, t, u, y, f1y):
@@ -138,9 +140,9 @@ def _grad(shape, idx, ml, t, u, y, f1y):
     return g
 
 
-def _blocks(idx, ml, t, u, y, f1y, hhat, epsv, project_psd):
+def _blocks(idx, ml, t, u, y, hhat, epsv, project_psd):
     """hess_k P_f = mu lambda_k T [ (f1'y - f1)/y^3 vbar vbar^T + f1/y I ] T^T / hhat  (Eq. 9.2.4),
-    y = ||vbar_k||, f1y = f1(y)/y. With T = t t^T and vbar = u t, the bracket between T and T^T is
+    y = ||vbar_k||. With T = t t^T and vbar = u t, the bracket between T and T^T is
     (f_hess_term(y) y + f1y) t t^T = f1'(y) t t^T (at y = 0 only f1/y remains, as in the lecture).
     The bracket's eigenvalues are f1'(y) >= 0 along t and f1/y > 0 along n, so it is PSD for the
     lecture's f1; `project_psd` clamps the round-off (as the lecture's make_PD does).

@@ -51,14 +51,14 @@ def hess(x, e, l2, k, project_psd=True):
 
 
 def val_kernel(x, e, l2, k):
-    """E_s = sum_e 1/2 k l2 (||diff||^2 / l2 - 1)^2."""
-    strain = _edge_vectors(x, e)[2] / l2 - 1.0
-    return 0.5 * float((k * l2) @ (strain * strain))
+    """E_s = sum_e 1/2 k l2 (||diff||^2 / l2 - 1)^2 (see _val)."""
+    return _val(_strain(_edge_vectors(x, e)[2], l2), l2, k)
 
 
 def grad_kernel(x, e, l2, k):
     """dE/dx_a = -dE/dx_b = 2 k (||diff||^2 / l2 - 1) diff (see _grad)."""
-    return _grad(e, *_edge_vectors(x, e), l2, k, len(x))
+    dx, dy, sq = _edge_vectors(x, e)
+    return _grad(e, dx, dy, _strain(sq, l2), k, len(x))
 
 
 def hess_kernel(x, e, l2, k, project_psd=True):
@@ -67,15 +67,27 @@ def hess_kernel(x, e, l2, k, project_psd=True):
     return e, _blocks(*_edge_vectors(x, e), l2, k, project_psd)
 
 
-def grad_hess_kernel(x, e, l2, k):
-    """grad_kernel and the PSD-projected hess_kernel at once, from one set of edge vectors."""
-    vectors = _edge_vectors(x, e)
-    return _grad(e, *vectors, l2, k, len(x)), (e, _blocks(*vectors, l2, k, True))
+def val_grad_kernel(x, e, l2, k):
+    """val_kernel and grad_kernel at once, from one set of edge vectors (the line search's trial
+    point: Newton usually accepts it and then needs its gradient)."""
+    dx, dy, sq = _edge_vectors(x, e)
+    strain = _strain(sq, l2)
+    return _val(strain, l2, k), _grad(e, dx, dy, strain, k, len(x))
 
 
-def _grad(e, dx, dy, sq, l2, k, n_nodes):
-    """dE/dx_a = -dE/dx_b = 2 k (||diff||^2 / l2 - 1) diff, summed over the edges of each node."""
-    coef = 2.0 * k * (sq / l2 - 1.0)
+def _strain(sq, l2):
+    """||diff||^2 / l2 - 1, the strain measure of the lecture's spring energy."""
+    return sq / l2 - 1.0
+
+
+def _val(strain, l2, k):
+    """E_s = sum_e 1/2 k l2 strain^2."""
+    return 0.5 * float((k * l2) @ (strain * strain))
+
+
+def _grad(e, dx, dy, strain, k, n_nodes):
+    """dE/dx_a = -dE/dx_b = 2 k strain diff, summed over the edges of each node."""
+    coef = 2.0 * k * strain
     return utils.scatter_add_pairs(e, coef * dx, coef * dy, n_nodes)
 
 

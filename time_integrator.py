@@ -55,7 +55,9 @@ def _fmt(value):
 class StepReport:
     """The figures of one time step."""
     newton_iterations: int = 0          # Newton iterations, summed over friction updates
-    residual: float = math.inf          # final ||p||_inf / h (a velocity, m/s)
+    residual: float = math.inf          # final ||p||_inf / h (a velocity, m/s), or an upper bound
+                                        # on it where convergence was shown without a factorization
+    factorizations: int = 0             # sparse factorizations of H (one per Newton direction)
     alphas: list = field(default_factory=list)  # accepted line-search step sizes, in order
     min_distance: float = math.inf      # smallest node distance to the slope after the step
     friction_iterations: int = 0        # Newton solves with updated mu*lambda (1 = lagged only)
@@ -89,6 +91,8 @@ class IncrementalPotential:
         self.inertia = scene.pattern.diagonal(InertiaEnergy.hess_kernel(x_n, x_tilde, scene.m))
         self.gravity_grad = (GravityEnergy.grad_kernel(x_n, scene.m, scene.g) if "gravity" in self.potentials
                              else np.zeros(x_n.shape))
+        self.m_min = float(scene.m.min())     # H >= M, so ||H^-1||_2 <= 1 / m_min
+        self._gradient = None                 # (x, grad E(x)) of the last val_and_gradient
 
     def _contact_velocity(self, x):
         """v = (x - x^n) / h at the nodes in contact, the friction term's argument."""
@@ -112,26 +116,62 @@ class IncrementalPotential:
                 P += FrictionEnergy.val_kernel(self._contact_velocity(x), self.contact_mu_lambda, s.h, s.n, s.epsv)
         return InertiaEnergy.val_kernel(x, self.x_tilde, s.m) + self.h2 * P
 
-    def gradient_and_hessian(self, x):
-        """grad E(x) = M (x - x_tilde) + h^2 sum_terms grad P(x), and the slot values (scene.pattern)
-        of H = M + h^2 sum_terms hess P(x), each term PSD-projected (gravity's Hessian is zero)."""
-        s, pattern = self.scene, self.scene.pattern
-        g, H = self.gravity_grad.copy(), np.zeros(len(pattern.rows))
+    def val_and_gradient(self, x):
+        """E(x) exactly as val(x) sums it, with grad E(x) = M (x - x_tilde) + h^2 sum_terms grad P(x)
+        kept for gradient(x): each term's val_grad_kernel shares its geometry (edge vectors, active
+        set, contacts) between the two. The line search calls it for its first trial, which Newton
+        usually accepts and then needs the gradient of."""
+        s, P = self.scene, 0.0
+        if "barrier" in s.terms and BarrierEnergy.distances(x, s.n, s.o).min() <= 0.0:
+            return math.inf
+        g = self.gravity_grad.copy()
         for term in self.potentials:
             if term == "spring":
-                g_term, (_, blocks) = MassSpringEnergy.grad_hess_kernel(x, s.e, s.l2, s.k)
+                P_term, g_term = MassSpringEnergy.val_grad_kernel(x, s.e, s.l2, s.k)
                 g += g_term
-                H += pattern.sum_edge_blocks(blocks)
+            elif term == "gravity":
+                P_term = GravityEnergy.val_kernel(x, s.m, s.g)
             elif term == "barrier":
-                g_term, (nodes, blocks) = BarrierEnergy.grad_hess_kernel(x, s.n, s.o, s.contact_area, s.dhat, s.kappa)
+                P_term, g_term = BarrierEnergy.val_grad_kernel(x, s.n, s.o, s.contact_area, s.dhat, s.kappa)
                 g += g_term
-                pattern.add_node_blocks(H, nodes[:, 0], blocks)
-            elif term == "friction":
-                g_term, (nodes, blocks) = FrictionEnergy.grad_hess_kernel(
+            else:
+                P_term, g_term = FrictionEnergy.val_grad_kernel(
                     self._contact_velocity(x), self.contact_mu_lambda, s.h, s.n, s.epsv)
                 g[self.contacts] += g_term
+            P += P_term
+        g *= self.h2
+        g += InertiaEnergy.grad_kernel(x, self.x_tilde, s.m)
+        self._gradient = (x, g)
+        return InertiaEnergy.val_kernel(x, self.x_tilde, s.m) + self.h2 * P
+
+    def gradient(self, x):
+        """grad E(x) (see val_and_gradient), reused when it has just been computed at this x."""
+        if self._gradient is None or self._gradient[0] is not x:
+            self.val_and_gradient(x)
+        return self._gradient[1]
+
+    def hessian(self, x):
+        """The slot values (scene.pattern) of H = M + h^2 sum_terms hess P(x), each term
+        PSD-projected (gravity's Hessian is zero), so H >= M: every eigenvalue is at least min m."""
+        s, pattern = self.scene, self.scene.pattern
+        H = np.zeros(len(pattern.rows))
+        for term in self.potentials:
+            if term == "spring":
+                H += pattern.sum_edge_blocks(MassSpringEnergy.hess_kernel(x, s.e, s.l2, s.k)[1])
+            elif term == "barrier":
+                nodes, blocks = BarrierEnergy.hess_kernel(x, s.n, s.o, s.contact_area, s.dhat, s.kappa)
+                pattern.add_node_blocks(H, nodes[:, 0], blocks)
+            elif term == "friction":
+                nodes, blocks = FrictionEnergy.hess_kernel(
+                    self._contact_velocity(x), self.contact_mu_lambda, s.h, s.n, s.epsv)
                 pattern.add_node_blocks(H, self.contacts[nodes[:, 0]], blocks)
-        return InertiaEnergy.grad_kernel(x, self.x_tilde, s.m) + self.h2 * g, self.inertia + self.h2 * H
+        H *= self.h2
+        H += self.inertia
+        return H
+
+    def gradient_and_hessian(self, x):
+        """grad E(x) and the slot values of H(x) (see gradient and hessian)."""
+        return self.gradient(x), self.hessian(x)
 
     def search_direction(self, x):
         """Projected Newton direction p = -H^-1 grad E at x (H is PSD-projected, so SPD with M > 0)."""
@@ -158,32 +198,109 @@ def _init_step_size(scene, x, p):
     return BarrierEnergy.init_step_size_kernel(x, scene.n, scene.o, p)
 
 
-def _direction(ip, x, step_index, iteration):
-    """ip.search_direction(x), with a breakdown of the sparse solver turned into NonFiniteState."""
-    try:
-        return ip.search_direction(x)
-    except (RuntimeError, np.linalg.LinAlgError) as err:    # SuperLU or LAPACK could not factor H
-        raise NonFiniteState(f"the linear solve failed ({err})", step_index, newton_iteration=iteration) from err
+# Conjugate gradients confirm convergence with the previous iterate's factor when the band is at
+# least this wide (or SuperLU solves): a factorization then costs 10 or more triangular solves. Below it
+# a factorization costs about as much as the iterations that would try to save it.
+CG_MIN_BANDWIDTH = 48
+CG_ITERATIONS = 4       # at most this many before giving up and factoring H
 
 
-def _residual(scene, p, step_index, iteration):
-    """||p||_inf / h, the lecture's convergence measure (a velocity); NonFiniteState if p is not finite."""
-    residual = float(np.abs(p).max()) / scene.h
-    if not math.isfinite(residual):
-        raise NonFiniteState("the Newton direction is not finite", step_index, newton_iteration=iteration)
-    return residual
+class NewtonSystem:
+    """The Newton directions of one solve, and the lecture's convergence test ||p||_inf / h <= tol.
+
+    The lecture's loop solves H p = -grad E at every iterate, so its last factorization only confirms
+    that the loop is done. H = M + h^2 (PSD-projected terms) >= M, so ||H^-1 r||_2 <= ||r||_2 / m_min
+    for every r, and convergence can often be confirmed without factoring H:
+      1. ||p||_inf <= ||grad E||_2 / m_min, before H is even assembled;
+      2. for wide bands, conjugate gradients on H q = -grad E preconditioned by the previous iterate's
+         factor: ||p||_inf <= ||q||_inf + ||grad E + H q||_2 / m_min after each iteration.
+    Where neither shows ||p||_inf <= tol h, H is factored and p solved for, as in the lecture. Newton
+    stops exactly where the lecture's loop stops; the residual it reports is then an upper bound.
+    """
+
+    def __init__(self, scene, ip, step_index):
+        self.scene, self.ip, self.step_index = scene, ip, step_index
+        self.pattern = scene.pattern
+        self.limit = scene.tol * scene.h            # ||p||_inf <= limit <=> converged
+        self.use_cg = self.pattern.solver == "superlu" or self.pattern.bandwidth >= CG_MIN_BANDWIDTH
+        self.factor = None                          # the factor of the last H solved with
+        self.factorizations = 0
+
+    def direction(self, x, iteration):
+        """p = -H^-1 grad E at x, by a fresh factorization; and ||p||_inf / h."""
+        g = self.ip.gradient(x).reshape(-1)
+        return self._solve(self.ip.hessian(x), g, iteration)
+
+    def check(self, x, iteration):
+        """(None, bound) when ||p||_inf / h <= bound <= tol is shown without a factorization; else
+        (p, ||p||_inf / h) as direction(x) gives them."""
+        g = self.ip.gradient(x).reshape(-1)
+        bound = math.sqrt(g @ g) / self.ip.m_min
+        if bound <= self.limit:
+            return None, bound / self.scene.h
+        H = self.ip.hessian(x)
+        if self.use_cg and self.factor is not None:
+            bound = self._cg_bound(H, g)
+            if bound is not None:
+                return None, bound / self.scene.h
+        return self._solve(H, g, iteration)
+
+    def _solve(self, H, g, iteration):
+        self.factor = None                          # no stale factor survives a failed one
+        try:
+            self.factor = self.pattern.factor(self.pattern.matrix(H))
+            p = -self.pattern.solve(self.factor, g)
+        except (RuntimeError, np.linalg.LinAlgError) as err:  # SuperLU or LAPACK could not factor H
+            raise NonFiniteState(f"the linear solve failed ({err})", self.step_index,
+                                 newton_iteration=iteration) from err
+        self.factorizations += 1
+        residual = float(np.abs(p).max()) / self.scene.h
+        if not math.isfinite(residual):
+            raise NonFiniteState("the Newton direction is not finite", self.step_index, newton_iteration=iteration)
+        return p.reshape(-1, 2), residual
+
+    def _cg_bound(self, H, g):
+        """An upper bound on ||H^-1 g||_inf that is <= limit, or None: conjugate gradients on
+        H q = g preconditioned by the previous factor, bounded after each iteration by
+        ||q||_inf + ||g - H q||_2 / m_min. None as soon as that cannot come out below the limit
+        (the previous factor's own answer is over the limit, ||q||_inf - ||g - H q||_2 / m_min is
+        over it, or CG_ITERATIONS are done)."""
+        pattern, factor, m_min, limit = self.pattern, self.factor, self.ip.m_min, self.limit
+        q, r = np.zeros_like(g), g.copy()
+        z = pattern.solve(factor, r)
+        if not np.abs(z).max() <= limit:
+            return None
+        A = pattern.to_csc(H)
+        d, rz = z, r @ z
+        for _ in range(CG_ITERATIONS):
+            Hd = A @ d
+            alpha = rz / (d @ Hd)
+            q += alpha * d
+            r -= alpha * Hd
+            q_max, r_bound = np.abs(q).max(), math.sqrt(r @ r) / m_min
+            if not q_max - r_bound <= limit:          # shown not converged (or not finite)
+                return None
+            if q_max + r_bound <= limit:              # confirm with the true residual g - H q
+                r_true = g - A @ q
+                bound = q_max + math.sqrt(r_true @ r_true) / m_min
+                return bound if bound <= limit else None
+            z = pattern.solve(factor, r)
+            rz, rz_last = r @ z, rz
+            d = z + (rz / rz_last) * d
+        return None
 
 
-def _newton(scene, ip, x, step_index, report, p=None):
+def _newton(scene, ip, x, step_index, report, system=None, p=None, residual=None):
     """Minimize `ip` from x by projected Newton with the filtered line search; returns x.
 
-    Stops when ||p||_inf / h < tol after at least one iteration: the lecture's loop tests before
+    Stops when ||p||_inf / h <= tol after at least one iteration: the lecture's loop tests before
     iterating, which at small h (h*|g| below tol) would leave a body at rest frozen forever.
+    `p`, `residual` (from `system`) are the first direction, when the caller has it already.
     """
-    E_last = ip.val(x)
+    system = system or NewtonSystem(scene, ip, step_index)
+    E_last = ip.val_and_gradient(x)
     if p is None:
-        p = _direction(ip, x, step_index, 0)
-    residual = _residual(scene, p, step_index, 0)
+        p, residual = system.direction(x, 0)
     iterations = 0
     while iterations == 0 or residual > scene.tol:
         if iterations >= scene.max_newton_iterations:
@@ -191,28 +308,33 @@ def _newton(scene, ip, x, step_index, report, p=None):
                 "Newton did not converge", step_index, iterations=iterations, residual=residual,
                 tol=scene.tol, h=scene.h)
         alpha = _init_step_size(scene, x, p)
-        E_new, halvings = ip.val(x + alpha * p), 0
+        x_trial = x + alpha * p
+        E_new, halvings = ip.val_and_gradient(x_trial), 0   # keeps grad E: usually accepted
         while not E_new <= E_last:        # a NaN trial energy is rejected too
             if halvings >= scene.max_halvings:
                 if residual <= scene.tol:   # already converged; the rest is round-off in E
-                    report.residual = residual
-                    report.newton_iterations += iterations
-                    return x
+                    return _finish(report, system, x, iterations, residual)
                 raise LineSearchFailed(
                     "line search could not decrease the Incremental Potential", step_index,
                     newton_iteration=iterations, alpha=alpha, halvings=halvings,
                     residual=residual, E=E_last, E_trial=E_new)
             alpha *= 0.5
             halvings += 1
-            E_new = ip.val(x + alpha * p)
-        x = x + alpha * p
-        E_last = E_new
+            x_trial = x + alpha * p
+            E_new = ip.val(x_trial)
+        x, E_last = x_trial, E_new
         report.alphas.append(alpha)
         iterations += 1
-        p = _direction(ip, x, step_index, iterations)
-        residual = _residual(scene, p, step_index, iterations)
+        p, residual = system.check(x, iterations)
+    return _finish(report, system, x, iterations, residual)
+
+
+def _finish(report, system, x, iterations, residual):
+    """Add one Newton solve's figures to the step's report; returns its minimizer x."""
     report.residual = residual
     report.newton_iterations += iterations
+    report.factorizations += system.factorizations
+    system.factorizations = 0
     return x
 
 
@@ -235,15 +357,17 @@ def step(scene, x, v, step_index=0):
             report.friction_converged = False
             for update in range(scene.friction_updates + 1):
                 ip = IncrementalPotential(scene, x_n, x_tilde, _mu_lambda(scene, x_next))
-                p = _direction(ip, x_next, step_index, 0)
-                residual = _residual(scene, p, step_index, 0)
+                system = NewtonSystem(scene, ip, step_index)
+                p, residual = system.check(x_next, 0)
+                report.factorizations += system.factorizations
+                system.factorizations = 0
                 if residual <= scene.tol:       # x_next already minimizes the updated problem
                     report.friction_converged = True
                     report.residual = residual
                     break
                 if update == scene.friction_updates:
                     break                       # cap reached, and now known not to be a fixed point
-                x_next = _newton(scene, ip, x_next, step_index, report, p=p)
+                x_next = _newton(scene, ip, x_next, step_index, report, system, p, residual)
                 report.friction_iterations += 1
     except ValueError as err:               # an energy overflowed at the state the solver reached
         raise NonFiniteState(f"an energy became non-finite ({err})", step_index) from err

@@ -304,23 +304,32 @@ class BlockPattern:
         band[self.band_index] = upper
         return band.reshape(self.bandwidth + 1, self.n_dofs, order="F")
 
-    def factor_solve(self, A, b):
-        """x = A^-1 b for A = matrix(...) symmetric positive definite; a band A is overwritten.
+    def factor(self, A):
+        """Factor A = matrix(...), symmetric positive definite; a band A is overwritten.
 
-        Banded: Cholesky A = U^T U (dpbtrf), then two triangular band solves (dpbtrs). SuperLU: in
-        symmetric mode with a minimum-degree ordering of A^T + A and no off-diagonal pivoting
-        (diag_pivot_thresh=0), which an SPD matrix needs none of; the factor stays as sparse as a
-        Cholesky factor instead of the larger unsymmetric LU.
+        Banded: Cholesky A = U^T U (LAPACK dpbtrf). SuperLU: in symmetric mode with a minimum-degree
+        ordering of A^T + A and no off-diagonal pivoting (diag_pivot_thresh=0), which an SPD matrix
+        needs none of; the factor stays as sparse as a Cholesky factor instead of the larger
+        unsymmetric LU. LinAlgError (banded) or RuntimeError (SuperLU) when A is not SPD.
         """
         if self.solver == "superlu":
-            lu = scipy.sparse.linalg.splu(A, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                                          options={"SymmetricMode": True})
-            return lu.solve(b)
+            return scipy.sparse.linalg.splu(A, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                                            options={"SymmetricMode": True})
         factor, info = lapack.dpbtrf(A, lower=0, overwrite_ab=1)
         if info != 0:
             raise np.linalg.LinAlgError(f"banded Cholesky failed (dpbtrf info {info}): the matrix "
                                         "is not positive definite")
+        return factor
+
+    def solve(self, factor, b):
+        """A^-1 b from factor(A): two triangular solves (dpbtrs for the band)."""
+        if self.solver == "superlu":
+            return factor.solve(b)
         return lapack.dpbtrs(factor, b, lower=0)[0]
+
+    def factor_solve(self, A, b):
+        """x = A^-1 b for A = matrix(...) symmetric positive definite: solve(factor(A), b)."""
+        return self.solve(self.factor(A), b)
 
 
 def _upper_entries(size):

@@ -55,7 +55,7 @@ DROP_CAP = 1000     # Newton iteration cap for the drop: the impact needs > 100 
 SPREAD_LIMIT, WAIT_LIMIT = 0.20, 1.15
 
 COLUMNS = ["n_seg", "dof", "scene", "solver", "steps_per_s", "ms_per_step", "newton_per_step",
-           "factorizations_per_step", "energy_assembly_ms", "solve_ms", "line_search_ms", "rest_ms",
+           "factorizations_per_step", "energy_assembly_ms", "solve_ms", "proof_ms", "line_search_ms", "rest_ms",
            "one_factor_solve_ms", "ratio_per_factorization", "ratio_per_newton", "peak_mb",
            "run_ms_per_step", "run_newton_per_step", "lecture_ms_per_step", "lecture_ms_per_newton",
            "noise"]
@@ -86,23 +86,28 @@ def slide_scene(n_seg, d0=0.008, speed=0.43):
 # Timing (in the worker process of one size)
 # ------------------------------------------------------------------------------------------------
 
-PHASES = {  # (owner, attribute): phase
-    (time_integrator.IncrementalPotential, "gradient_and_hessian"): "energy_assembly",
+PHASES = {  # (owner, attribute): phase; a call inside another timed call counts for its own phase only
+    (time_integrator.IncrementalPotential, "val_and_gradient"): "energy_assembly",
+    (time_integrator.IncrementalPotential, "hessian"): "energy_assembly",
     (utils.BlockPattern, "matrix"): "energy_assembly",
-    (utils.BlockPattern, "factor_solve"): "solve",
+    (utils.BlockPattern, "to_csc"): "energy_assembly",
+    (utils.BlockPattern, "factor"): "solve",
+    (utils.BlockPattern, "solve"): "solve",
+    (time_integrator.NewtonSystem, "_cg_bound"): "proof",
     (time_integrator.IncrementalPotential, "val"): "line_search",
     (time_integrator, "_init_step_size"): "line_search",
 }
 
 
 class PhaseTimer:
-    """Wraps the functions of PHASES to add up their wall time per phase; counts factorizations and
-    keeps the slot values of the last matrix built (to time its factorization afterwards)."""
+    """Wraps the functions of PHASES to add up their own wall time per phase (a timed call's time
+    less that of the timed calls inside it), and keeps the slot values of the last matrix built
+    (to time its factorization afterwards)."""
 
     def __init__(self):
         self.seconds = dict.fromkeys(PHASES.values(), 0.0)
-        self.factorizations = 0
         self.last_upper = None
+        self.inner = []             # per open timed call: the time spent in timed calls inside it
         self.originals = {key: getattr(*key) for key in PHASES}
 
     def __enter__(self):
@@ -116,25 +121,28 @@ class PhaseTimer:
 
     def _wrap(self, f, phase, name):
         def timed(*args, **kw):
+            if name == "matrix":
+                self.last_upper = args[1]
+            self.inner.append(0.0)
             start = time.perf_counter()
             try:
                 return f(*args, **kw)
             finally:
-                self.seconds[phase] += time.perf_counter() - start
-                if name == "factor_solve":
-                    self.factorizations += 1
-                elif name == "matrix":
-                    self.last_upper = args[1]
+                elapsed = time.perf_counter() - start
+                self.seconds[phase] += elapsed - self.inner.pop()
+                if self.inner:
+                    self.inner[-1] += elapsed
         return timed
 
 
 def run_window(scene, x, v, steps, first_index):
     """Step `steps` times from (x, v); returns wall and CPU seconds and Newton iterations."""
-    wall, cpu, newton = time.perf_counter(), time.process_time(), 0
+    wall, cpu, newton, factorizations = time.perf_counter(), time.process_time(), 0, 0
     for i in range(steps):
         x, v, report = time_integrator.step(scene, x, v, first_index + i)
         newton += report.newton_iterations
-    return time.perf_counter() - wall, time.process_time() - cpu, newton
+        factorizations += report.factorizations
+    return time.perf_counter() - wall, time.process_time() - cpu, newton, factorizations
 
 
 def time_factor_solve(pattern, upper, repeats):
@@ -174,7 +182,7 @@ def measure(n_seg, scene_kind, warm, steps, repeats, fs_repeats, run_steps):
     clean = [run_window(scene, x, v, steps, warm) for _ in range(repeats)]
     walls, cpus = [c[0] for c in clean], [c[1] for c in clean]
     per_step = statistics.median(walls) / steps
-    phases, fs_times, fs_spreads, factorizations = [], [], [], 0
+    phases, fs_times, fs_spreads = [], [], []
     for _ in range(repeats):
         timer = PhaseTimer()
         xs, vs = x, v
@@ -188,9 +196,8 @@ def measure(n_seg, scene_kind, warm, steps, repeats, fs_repeats, run_steps):
                     fs_spreads.append(fs_spread)
                     timer.__enter__()
         phases.append(timer.seconds)
-        factorizations = timer.factorizations / steps
     one_fs = statistics.median(fs_times)
-    newton = clean[0][2] / steps
+    newton, factorizations = clean[0][2] / steps, clean[0][3] / steps
     out.update(
         n_seg=n_seg, dof=scene.pattern.n_dofs, scene=scene_kind, solver=scene.pattern.solver,
         steps_per_s=1.0 / per_step, ms_per_step=1e3 * per_step, newton_per_step=newton,
@@ -198,7 +205,7 @@ def measure(n_seg, scene_kind, warm, steps, repeats, fs_repeats, run_steps):
         ratio_per_factorization=per_step / (factorizations * one_fs),
         ratio_per_newton=per_step / (newton * one_fs) if newton else math.inf,
         peak_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0)
-    for phase in ("energy_assembly", "solve", "line_search"):
+    for phase in ("energy_assembly", "solve", "proof", "line_search"):
         out[f"{phase}_ms"] = 1e3 * statistics.median(p[phase] for p in phases) / steps
     instrumented = statistics.median(sum(p.values()) for p in phases) / steps
     out["rest_ms"] = 1e3 * max(per_step - instrumented, 0.0)
@@ -252,10 +259,10 @@ def fmt(value, digits=3):
 def format_table(rows):
     """The table as printed: one line per n_seg, then the notes."""
     head = ["n_seg", "DOF", "scene", "solver", "steps/s", "ms/step", "Newton/step", "fact/step",
-            "energy+asm", "solve", "line srch", "rest", "1 f+s ms", "t/(fact*f+s)", "t/(Newton*f+s)",
+            "energy+asm", "solve", "proof", "line srch", "rest", "1 f+s ms", "t/(fact*f+s)", "t/(Newton*f+s)",
             "peak MB", "noise"]
     keys = ["n_seg", "dof", "scene", "solver", "steps_per_s", "ms_per_step", "newton_per_step",
-            "factorizations_per_step", "energy_assembly_ms", "solve_ms", "line_search_ms", "rest_ms",
+            "factorizations_per_step", "energy_assembly_ms", "solve_ms", "proof_ms", "line_search_ms", "rest_ms",
             "one_factor_solve_ms", "ratio_per_factorization", "ratio_per_newton", "peak_mb", "noise"]
     cells = [head] + [[fmt(r[k]) for k in keys] for r in rows]
     widths = [max(len(c[i]) for c in cells) for i in range(len(head))]
@@ -266,8 +273,12 @@ def format_table(rows):
 
 
 def notes(rows):
-    out = ["energy+asm, solve, line srch, rest: ms per step (an instrumented run of the same window);",
-           "fact = factorizations per step (Newton iterations + 1 per solve: the last one checks convergence);",
+    out = ["energy+asm, solve, proof, line srch, rest: ms per step (an instrumented run of the same window);",
+           "energy+asm: E and grad E at the line search's first trial, H, its band or CSC form; solve: factorizations",
+           "and triangular solves; proof: the rest of the conjugate-gradient convergence checks; line srch: CCD",
+           "and halved trials;",
+           "fact = factorizations per step: one per Newton direction, plus one per solve for the final",
+           "convergence check unless that was shown without one (time_integrator.NewtonSystem);",
            "1 f+s = one factorization-and-solve of that step's matrix with the solver the simulator uses;",
            "drop: the lecture's default scene, steps 110.. after the impact; slide: square placed on the slope,",
            "sliding at 0.43 m/s (the speed after the impact), steps 5..; peak MB: the process's max RSS."]
