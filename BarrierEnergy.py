@@ -84,10 +84,11 @@ def hess_kernel(x, n, o, contact_area, dhat, kappa):
     return idx[:, None], _blocks(idx, d, n, contact_area, dhat, kappa)
 
 
-def val_grad_kernel(x, n, o, contact_area, dhat, kappa):
-    """val_kernel and grad_kernel at once, from one active set."""
+def val_grad_hess_kernel(x, n, o, contact_area, dhat, kappa):
+    """val_kernel, grad_kernel and hess_kernel at once, from one active set."""
     idx, d = _active(x, n, o, dhat)
-    return _val(idx, d, contact_area, dhat, kappa), _grad(x.shape, idx, d, n, contact_area, dhat, kappa)
+    return (_val(idx, d, contact_area, dhat, kappa), _grad(x.shape, idx, d, n, contact_area, dhat, kappa),
+            (idx[:, None], _blocks(idx, d, n, contact_area, dhat, kappa)))
 
 
 def _val(idx, d, contact_area, dhat, kappa):

@@ -121,10 +121,11 @@ def hess_kernel(v, mu_lambda, hhat, n, epsv, project_psd=True):
     return contacts[0][:, None], _blocks(*contacts, hhat, epsv, project_psd)
 
 
-def val_grad_kernel(v, mu_lambda, hhat, n, epsv):
-    """val_kernel and grad_kernel at once, from one set of contacts."""
+def val_grad_hess_kernel(v, mu_lambda, hhat, n, epsv):
+    """val_kernel, grad_kernel and the PSD-projected hess_kernel at once, from one set of contacts."""
     contacts = _contacts(v, mu_lambda, n)
-    return _val(*contacts, hhat, epsv), _grad(v.shape, *contacts, f1_over_y(contacts[4], epsv))
+    return (_val(*contacts, hhat, epsv), _grad(v.shape, *contacts, f1_over_y(contacts[4], epsv)),
+            (contacts[0][:, None], _blocks(*contacts, hhat, epsv, True)))
 
 
 def _val(idx, ml, t, u, y, hhat, epsv):

@@ -67,12 +67,12 @@ def hess_kernel(x, e, l2, k, project_psd=True):
     return e, _blocks(*_edge_vectors(x, e), l2, k, project_psd)
 
 
-def val_grad_kernel(x, e, l2, k):
-    """val_kernel and grad_kernel at once, from one set of edge vectors (the line search's trial
-    point: Newton usually accepts it and then needs its gradient)."""
+def val_grad_hess_kernel(x, e, l2, k):
+    """val_kernel, grad_kernel and the PSD-projected hess_kernel at once, from one set of edge
+    vectors (the line search's first trial: Newton usually accepts it and then needs all three)."""
     dx, dy, sq = _edge_vectors(x, e)
     strain = _strain(sq, l2)
-    return _val(strain, l2, k), _grad(e, dx, dy, strain, k, len(x))
+    return _val(strain, l2, k), _grad(e, dx, dy, strain, k, len(x)), (e, _blocks(dx, dy, sq, l2, k, True))
 
 
 def _strain(sq, l2):

@@ -253,9 +253,10 @@ def simulate(scene, steps, x=None, v=None):
     steps = _whole("steps", steps, 1)
     x = scene.x0.copy() if x is None else x
     v = scene.v0.copy() if v is None else v
+    report = None
     for i in range(steps):
         start = time.perf_counter()
-        x, v, report = time_integrator.step(scene, x, v, step_index=i)
+        x, v, report = time_integrator.step(scene, x, v, step_index=i, previous=report)
         yield StepRecord(i, (i + 1) * scene.h, x, v, report, time.perf_counter() - start)
 
 

@@ -63,6 +63,21 @@ class StepReport:
     friction_iterations: int = 0        # Newton solves with updated mu*lambda (1 = lagged only)
     friction_converged: bool = True     # fixed point reached (always True when lagged)
     friction_work: float = 0.0          # work of the friction forces over the step (J, <= 0)
+    # the terms of x alone at x^{n+1}, for the next step to start from (see PositionTerms)
+    end_terms: object = field(default=None, repr=False, compare=False)
+
+
+@dataclass(frozen=True)
+class PositionTerms:
+    """The scene's terms that depend on x alone (springs, gravity, the barrier) at one x: their sum
+    P, its gradient and the slot values of its Hessian (PSD-projected, before the h^2 scaling).
+    A step ends with them at x^{n+1}, the next step's x^n; handed that step's report, the next step
+    starts from them instead of evaluating the same terms at the same x again."""
+    scene: object
+    x: np.ndarray               # a copy: the numbers hold for exactly these positions
+    P: float
+    g: np.ndarray
+    H: np.ndarray
 
 
 class IncrementalPotential:
@@ -73,7 +88,7 @@ class IncrementalPotential:
     Friction is evaluated on the nodes in contact at x^n only (mu*lambda^n > 0), fixed for the solve.
     """
 
-    def __init__(self, scene, x_n, x_tilde, mu_lambda):
+    def __init__(self, scene, x_n, x_tilde, mu_lambda, start_terms=None):
         self.scene = scene
         self.x_n = x_n
         self.x_tilde = x_tilde
@@ -92,7 +107,11 @@ class IncrementalPotential:
         self.gravity_grad = (GravityEnergy.grad_kernel(x_n, scene.m, scene.g) if "gravity" in self.potentials
                              else np.zeros(x_n.shape))
         self.m_min = float(scene.m.min())     # H >= M, so ||H^-1||_2 <= 1 / m_min
-        self._gradient = None                 # (x, grad E(x)) of the last val_and_gradient
+        self._evaluated = None                # (x, grad E(x), H(x)) of the last evaluate
+        self._position_terms = None           # (x, P, grad P, hess P) of the terms of x alone
+        if (start_terms is not None and start_terms.scene is scene
+                and np.array_equal(start_terms.x, x_n)):
+            self._position_terms = (x_n, start_terms.P, start_terms.g, start_terms.H)
 
     def _contact_velocity(self, x):
         """v = (x - x^n) / h at the nodes in contact, the friction term's argument."""
@@ -116,58 +135,77 @@ class IncrementalPotential:
                 P += FrictionEnergy.val_kernel(self._contact_velocity(x), self.contact_mu_lambda, s.h, s.n, s.epsv)
         return InertiaEnergy.val_kernel(x, self.x_tilde, s.m) + self.h2 * P
 
-    def val_and_gradient(self, x):
+    def evaluate(self, x):
         """E(x) exactly as val(x) sums it, with grad E(x) = M (x - x_tilde) + h^2 sum_terms grad P(x)
-        kept for gradient(x): each term's val_grad_kernel shares its geometry (edge vectors, active
-        set, contacts) between the two. The line search calls it for its first trial, which Newton
-        usually accepts and then needs the gradient of."""
-        s, P = self.scene, 0.0
+        and the slot values (scene.pattern) of H(x) = M + h^2 sum_terms hess P(x), each term
+        PSD-projected (gravity's Hessian is zero), so H >= M: every eigenvalue of H is at least
+        min m. Each term's val_grad_hess_kernel shares its geometry (edge vectors, active set,
+        contacts) among the three; the terms of x alone are summed apart (_position_terms_at), so
+        the step can hand them to the next one. The line search calls it for its first trial, which
+        Newton usually accepts and then needs grad E and H at; gradient(x) and hessian(x) reuse them."""
+        s = self.scene
         if "barrier" in s.terms and BarrierEnergy.distances(x, s.n, s.o).min() <= 0.0:
             return math.inf
-        g = self.gravity_grad.copy()
-        for term in self.potentials:
-            if term == "spring":
-                P_term, g_term = MassSpringEnergy.val_grad_kernel(x, s.e, s.l2, s.k)
-                g += g_term
-            elif term == "gravity":
-                P_term = GravityEnergy.val_kernel(x, s.m, s.g)
-            elif term == "barrier":
-                P_term, g_term = BarrierEnergy.val_grad_kernel(x, s.n, s.o, s.contact_area, s.dhat, s.kappa)
-                g += g_term
-            else:
-                P_term, g_term = FrictionEnergy.val_grad_kernel(
-                    self._contact_velocity(x), self.contact_mu_lambda, s.h, s.n, s.epsv)
-                g[self.contacts] += g_term
+        P, g, H = self._position_terms_at(x)
+        g, H = g.copy(), H.copy()
+        if "friction" in self.potentials:
+            P_term, g_term, (nodes, blocks) = FrictionEnergy.val_grad_hess_kernel(
+                self._contact_velocity(x), self.contact_mu_lambda, s.h, s.n, s.epsv)
+            g[self.contacts] += g_term
+            s.pattern.add_node_blocks(H, self.contacts[nodes[:, 0]], blocks)
             P += P_term
         g *= self.h2
         g += InertiaEnergy.grad_kernel(x, self.x_tilde, s.m)
-        self._gradient = (x, g)
-        return InertiaEnergy.val_kernel(x, self.x_tilde, s.m) + self.h2 * P
-
-    def gradient(self, x):
-        """grad E(x) (see val_and_gradient), reused when it has just been computed at this x."""
-        if self._gradient is None or self._gradient[0] is not x:
-            self.val_and_gradient(x)
-        return self._gradient[1]
-
-    def hessian(self, x):
-        """The slot values (scene.pattern) of H = M + h^2 sum_terms hess P(x), each term
-        PSD-projected (gravity's Hessian is zero), so H >= M: every eigenvalue is at least min m."""
-        s, pattern = self.scene, self.scene.pattern
-        H = np.zeros(len(pattern.rows))
-        for term in self.potentials:
-            if term == "spring":
-                H += pattern.sum_edge_blocks(MassSpringEnergy.hess_kernel(x, s.e, s.l2, s.k)[1])
-            elif term == "barrier":
-                nodes, blocks = BarrierEnergy.hess_kernel(x, s.n, s.o, s.contact_area, s.dhat, s.kappa)
-                pattern.add_node_blocks(H, nodes[:, 0], blocks)
-            elif term == "friction":
-                nodes, blocks = FrictionEnergy.hess_kernel(
-                    self._contact_velocity(x), self.contact_mu_lambda, s.h, s.n, s.epsv)
-                pattern.add_node_blocks(H, self.contacts[nodes[:, 0]], blocks)
         H *= self.h2
         H += self.inertia
-        return H
+        self._evaluated = (x, g, H)
+        return InertiaEnergy.val_kernel(x, self.x_tilde, s.m) + self.h2 * P
+
+    def _position_terms_at(self, x):
+        """P, grad P and hess P of the terms of x alone (all but friction, the last term) at x, with
+        each term's val_grad_hess_kernel; kept for the end of the step."""
+        known = self._position_terms
+        if known is not None and known[0] is x:
+            return known[1:]
+        s, pattern, P = self.scene, self.scene.pattern, 0.0
+        g, H = self.gravity_grad.copy(), np.zeros(len(pattern.rows))
+        for term in self.potentials:
+            if term == "spring":
+                P_term, g_term, (_, blocks) = MassSpringEnergy.val_grad_hess_kernel(x, s.e, s.l2, s.k)
+                g += g_term
+                H += pattern.sum_edge_blocks(blocks)
+            elif term == "gravity":
+                P_term = GravityEnergy.val_kernel(x, s.m, s.g)
+            elif term == "barrier":
+                P_term, g_term, (nodes, blocks) = BarrierEnergy.val_grad_hess_kernel(
+                    x, s.n, s.o, s.contact_area, s.dhat, s.kappa)
+                g += g_term
+                pattern.add_node_blocks(H, nodes[:, 0], blocks)
+            else:
+                continue                            # friction: depends on x^n too (evaluate)
+            P += P_term
+        self._position_terms = (x, P, g, H)
+        return P, g, H
+
+    def end_terms(self, x):
+        """PositionTerms at x if this solve evaluated them there (else None)."""
+        known = self._position_terms
+        if known is None or known[0] is not x:
+            return None
+        return PositionTerms(self.scene, x.copy(), *known[1:])
+
+    def gradient(self, x):
+        """grad E(x) (see evaluate)."""
+        return self._derivatives(x)[0]
+
+    def hessian(self, x):
+        """The slot values of H(x) (see evaluate)."""
+        return self._derivatives(x)[1]
+
+    def _derivatives(self, x):
+        if self._evaluated is None or self._evaluated[0] is not x:
+            self.evaluate(x)
+        return self._evaluated[1:]
 
     def gradient_and_hessian(self, x):
         """grad E(x) and the slot values of H(x) (see gradient and hessian)."""
@@ -298,7 +336,7 @@ def _newton(scene, ip, x, step_index, report, system=None, p=None, residual=None
     `p`, `residual` (from `system`) are the first direction, when the caller has it already.
     """
     system = system or NewtonSystem(scene, ip, step_index)
-    E_last = ip.val_and_gradient(x)
+    E_last = ip.evaluate(x)
     if p is None:
         p, residual = system.direction(x, 0)
     iterations = 0
@@ -309,7 +347,7 @@ def _newton(scene, ip, x, step_index, report, system=None, p=None, residual=None
                 tol=scene.tol, h=scene.h)
         alpha = _init_step_size(scene, x, p)
         x_trial = x + alpha * p
-        E_new, halvings = ip.val_and_gradient(x_trial), 0   # keeps grad E: usually accepted
+        E_new, halvings = ip.evaluate(x_trial), 0   # keeps grad E and H: usually accepted
         while not E_new <= E_last:        # a NaN trial energy is rejected too
             if halvings >= scene.max_halvings:
                 if residual <= scene.tol:   # already converged; the rest is round-off in E
@@ -338,8 +376,13 @@ def _finish(report, system, x, iterations, residual):
     return x
 
 
-def step(scene, x, v, step_index=0):
-    """Advance (x^n, v^n) by one implicit Euler step of scene.h: returns (x^{n+1}, v^{n+1}, StepReport)."""
+def step(scene, x, v, step_index=0, previous=None):
+    """Advance (x^n, v^n) by one implicit Euler step of scene.h: returns (x^{n+1}, v^{n+1}, StepReport).
+
+    `previous`, the StepReport of the step that ended at this x (optional; `simulator.simulate`
+    passes it), lets the step start from the terms of x alone that step already evaluated here
+    (its `end_terms`): the same numbers, one evaluation fewer. They are used only for the same
+    scene and exactly the same positions."""
     x_n = utils.check_points("x", x)
     v_n = utils.check_points("v", v)
     if x_n.shape != scene.x0.shape or v_n.shape != scene.x0.shape:
@@ -349,7 +392,8 @@ def step(scene, x, v, step_index=0):
 
     mu_lambda = _mu_lambda(scene, x_n)      # lagged: mu*lambda^n, T^n from x^n (checks x^n is above the slope)
     try:
-        ip = IncrementalPotential(scene, x_n, x_tilde, mu_lambda)
+        start_terms = None if previous is None else previous.end_terms
+        ip = IncrementalPotential(scene, x_n, x_tilde, mu_lambda, start_terms)
         x_next = _newton(scene, ip, x_n, step_index, report)
         report.friction_iterations = 1 if mu_lambda is not None else 0
 
@@ -379,4 +423,5 @@ def step(scene, x, v, step_index=0):
         report.friction_work = float(np.sum(force * (x_next[c] - x_n[c])))
     if "barrier" in scene.terms:
         report.min_distance = float(np.min(BarrierEnergy.distances(x_next, scene.n, scene.o)))
+    report.end_terms = ip.end_terms(x_next)
     return x_next, v_next, report

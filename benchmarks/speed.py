@@ -87,8 +87,7 @@ def slide_scene(n_seg, d0=0.008, speed=0.43):
 # ------------------------------------------------------------------------------------------------
 
 PHASES = {  # (owner, attribute): phase; a call inside another timed call counts for its own phase only
-    (time_integrator.IncrementalPotential, "val_and_gradient"): "energy_assembly",
-    (time_integrator.IncrementalPotential, "hessian"): "energy_assembly",
+    (time_integrator.IncrementalPotential, "evaluate"): "energy_assembly",
     (utils.BlockPattern, "matrix"): "energy_assembly",
     (utils.BlockPattern, "to_csc"): "energy_assembly",
     (utils.BlockPattern, "factor"): "solve",
@@ -135,11 +134,13 @@ class PhaseTimer:
         return timed
 
 
-def run_window(scene, x, v, steps, first_index):
-    """Step `steps` times from (x, v); returns wall and CPU seconds and Newton iterations."""
+def run_window(scene, x, v, steps, first_index, previous):
+    """Step `steps` times from (x, v), as simulator.simulate does (each step handed the previous
+    one's report); returns wall and CPU seconds, Newton iterations and factorizations."""
     wall, cpu, newton, factorizations = time.perf_counter(), time.process_time(), 0, 0
+    report = previous
     for i in range(steps):
-        x, v, report = time_integrator.step(scene, x, v, first_index + i)
+        x, v, report = time_integrator.step(scene, x, v, first_index + i, report)
         newton += report.newton_iterations
         factorizations += report.factorizations
     return time.perf_counter() - wall, time.process_time() - cpu, newton, factorizations
@@ -163,32 +164,32 @@ def spread(values):
 def measure(n_seg, scene_kind, warm, steps, repeats, fs_repeats, run_steps):
     """All figures of one size (runs in the worker process)."""
     scene = drop_scene(n_seg) if scene_kind == "drop" else slide_scene(n_seg)
-    x, v, out = scene.x0, scene.v0, {}
+    x, v, report, out = scene.x0, scene.v0, None, {}
     if scene_kind == "drop":              # the whole default run once; the window starts inside it
         wall, newton, saved = time.perf_counter(), 0, None
         for i in range(max(run_steps, warm)):
             if i == warm:
-                saved = (x, v)
-            x, v, report = time_integrator.step(scene, x, v, i)
+                saved = (x, v, report)
+            x, v, report = time_integrator.step(scene, x, v, i, report)
             newton += report.newton_iterations
             if i + 1 == run_steps:
                 out["run_ms_per_step"] = 1e3 * (time.perf_counter() - wall) / run_steps
                 out["run_newton_per_step"] = newton / run_steps
-        x, v = saved if saved is not None else (x, v)
+        x, v, report = saved if saved is not None else (x, v, report)
     else:
         for i in range(warm):
-            x, v, _ = time_integrator.step(scene, x, v, i)
+            x, v, report = time_integrator.step(scene, x, v, i, report)
 
-    clean = [run_window(scene, x, v, steps, warm) for _ in range(repeats)]
+    clean = [run_window(scene, x, v, steps, warm, report) for _ in range(repeats)]
     walls, cpus = [c[0] for c in clean], [c[1] for c in clean]
     per_step = statistics.median(walls) / steps
     phases, fs_times, fs_spreads = [], [], []
     for _ in range(repeats):
         timer = PhaseTimer()
-        xs, vs = x, v
+        xs, vs, previous = x, v, report
         with timer:
             for i in range(steps):
-                xs, vs, _ = time_integrator.step(scene, xs, vs, warm + i)
+                xs, vs, previous = time_integrator.step(scene, xs, vs, warm + i, previous)
                 if i in (0, steps // 2, steps - 1) and len(fs_times) < 3 * repeats:
                     timer.__exit__()                # time the factorization unwrapped, then re-wrap
                     fs, fs_spread = time_factor_solve(scene.pattern, timer.last_upper, fs_repeats)
@@ -274,7 +275,7 @@ def format_table(rows):
 
 def notes(rows):
     out = ["energy+asm, solve, proof, line srch, rest: ms per step (an instrumented run of the same window);",
-           "energy+asm: E and grad E at the line search's first trial, H, its band or CSC form; solve: factorizations",
+           "energy+asm: E, grad E and H at the line search's first trials, H's band or CSC form; solve: factorizations",
            "and triangular solves; proof: the rest of the conjugate-gradient convergence checks; line srch: CCD",
            "and halved trials;",
            "fact = factorizations per step: one per Newton direction, plus one per solve for the final",
