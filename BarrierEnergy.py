@@ -18,6 +18,10 @@ DHAT = 0.01     # barrier activation distance (m)
 KAPPA = 1e5     # barrier stiffness
 
 
+class NotAboveHalfSpace(ValueError):
+    """A node on or below the half-space (d <= 0), where the barrier is not defined."""
+
+
 def _check(x, n, o, contact_area, dhat, kappa):
     x = utils.check_points("x", x)
     n = utils.check_unit_normal("n", n)
@@ -34,13 +38,14 @@ def distances(x, n, o):
 
 
 def _active(x, n, o, dhat):
-    """Indices and distances of the nodes with d < dhat; ValueError if any node has d <= 0."""
+    """Indices and distances of the nodes with d < dhat; NotAboveHalfSpace (a ValueError) if any
+    node has d <= 0 (every such node has d < dhat)."""
     d = distances(x, n, o)
     idx = (d < dhat).nonzero()[0]
     d_active = d.take(idx)
     if d_active.size and d_active.min() <= 0.0:
         i = int(idx[np.argmin(d_active)])
-        raise ValueError(f"x: node {i} is at distance {d[i]:.6g} <= 0 from the half-space; "
+        raise NotAboveHalfSpace(f"x: node {i} is at distance {d[i]:.6g} <= 0 from the half-space; "
                          "the barrier is only defined for d > 0")
     return idx, d_active
 

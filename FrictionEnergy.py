@@ -61,6 +61,18 @@ def f1_prime(y, epsv):
     return np.where(y < epsv, 2.0 * (1.0 - y / epsv) / epsv, 0.0)
 
 
+def mollifier(y, epsv, hhat):
+    """f0(y hhat), f1(y)/y and f1'(y) at once, for the kernels that need all three: the formulas of
+    f0 (Eq. 9.2.2), f1_over_y (Eq. 9.2.5) and f1_prime, sharing r = y/eps_v and the branch
+    y < eps_v (for y = ||vbar||, f0's r = y hhat/(eps_v hhat) is this r)."""
+    r = y / epsv
+    slow = y < epsv
+    f0_of_y = np.where(slow, (epsv * hhat) * (-r ** 3 / 3.0 + r * r + 1.0 / 3.0), y * hhat)
+    f1y = np.where(slow, (2.0 - r) / epsv, 1.0 / np.where(slow, 1.0, y))
+    f1p = np.where(slow, 2.0 * (1.0 - r) / epsv, 0.0)
+    return f0_of_y, f1y, f1p
+
+
 def tangent(n):
     """t = (n_y, -n_x), the unit tangent of the half-space with unit normal n: T = I - n n^T = t t^T."""
     return np.array([n[1], -n[0]])
@@ -122,10 +134,12 @@ def hess_kernel(v, mu_lambda, hhat, n, epsv, project_psd=True):
 
 
 def val_grad_hess_kernel(v, mu_lambda, hhat, n, epsv):
-    """val_kernel, grad_kernel and the PSD-projected hess_kernel at once, from one set of contacts."""
+    """val_kernel, grad_kernel and the PSD-projected hess_kernel at once, from one set of contacts
+    and one pass of the mollifier (see mollifier)."""
     contacts = _contacts(v, mu_lambda, n)
-    return (_val(*contacts, hhat, epsv), _grad(v.shape, *contacts, f1_over_y(contacts[4], epsv)),
-            (contacts[0][:, None], _blocks(*contacts, hhat, epsv, True)))
+    f0_of_y, f1y, f1p = mollifier(contacts[4], epsv, hhat)
+    return (float(contacts[1] @ f0_of_y), _grad(v.shape, *contacts, f1y),
+            (contacts[0][:, None], _tangent_blocks(contacts[1], contacts[2], f1p, hhat, True)))
 
 
 def _val(idx, ml, t, u, y, hhat, epsv):
@@ -148,7 +162,11 @@ def _blocks(idx, ml, t, u, y, hhat, epsv, project_psd):
     The bracket's eigenvalues are f1'(y) >= 0 along t and f1/y > 0 along n, so it is PSD for the
     lecture's f1; `project_psd` clamps the round-off (as the lecture's make_PD does).
     Entry-major, (2, 2, k)."""
-    along_t = f1_prime(y, epsv)
+    return _tangent_blocks(ml, t, f1_prime(y, epsv), hhat, project_psd)
+
+
+def _tangent_blocks(ml, t, along_t, hhat, project_psd):
+    """mu lambda_k / hhat f1'(y_k) t t^T (see _blocks), along_t = f1'(y_k), entry-major (2, 2, k)."""
     if project_psd:
         along_t = np.maximum(along_t, 0.0)
     return np.multiply.outer(t[:, None] * t, (ml / hhat) * along_t)

@@ -109,6 +109,7 @@ class IncrementalPotential:
         self.m_min = float(scene.m.min())     # H >= M, so ||H^-1||_2 <= 1 / m_min
         self._evaluated = None                # (x, grad E(x), H(x)) of the last evaluate
         self._position_terms = None           # (x, P, grad P, hess P) of the terms of x alone
+        self._friction_gradient = None        # (x, grad P_f at the contacts) of the last evaluate
         if (start_terms is not None and start_terms.scene is scene
                 and np.array_equal(start_terms.x, x_n)):
             self._position_terms = (x_n, start_terms.P, start_terms.g, start_terms.H)
@@ -119,20 +120,21 @@ class IncrementalPotential:
 
     def val(self, x):
         """E(x) = 1/2 ||x - x_tilde||_M^2 + h^2 sum_terms P(x); +inf where a node is on or below the
-        slope, so the line search halves away from it even where round-off defeats the CCD bound
-        (the "filter" of the filtered line search)."""
+        slope (the barrier refuses it), so the line search halves away from it even where round-off
+        defeats the CCD bound (the "filter" of the filtered line search)."""
         s, P = self.scene, 0.0
-        if "barrier" in s.terms and BarrierEnergy.distances(x, s.n, s.o).min() <= 0.0:
+        try:
+            for term in self.potentials:
+                if term == "spring":
+                    P += MassSpringEnergy.val_kernel(x, s.e, s.l2, s.k)
+                elif term == "gravity":
+                    P += GravityEnergy.val_kernel(x, s.m, s.g)
+                elif term == "barrier":
+                    P += BarrierEnergy.val_kernel(x, s.n, s.o, s.contact_area, s.dhat, s.kappa)
+                else:
+                    P += FrictionEnergy.val_kernel(self._contact_velocity(x), self.contact_mu_lambda, s.h, s.n, s.epsv)
+        except BarrierEnergy.NotAboveHalfSpace:
             return math.inf
-        for term in self.potentials:
-            if term == "spring":
-                P += MassSpringEnergy.val_kernel(x, s.e, s.l2, s.k)
-            elif term == "gravity":
-                P += GravityEnergy.val_kernel(x, s.m, s.g)
-            elif term == "barrier":
-                P += BarrierEnergy.val_kernel(x, s.n, s.o, s.contact_area, s.dhat, s.kappa)
-            else:
-                P += FrictionEnergy.val_kernel(self._contact_velocity(x), self.contact_mu_lambda, s.h, s.n, s.epsv)
         return InertiaEnergy.val_kernel(x, self.x_tilde, s.m) + self.h2 * P
 
     def evaluate(self, x):
@@ -144,9 +146,10 @@ class IncrementalPotential:
         the step can hand them to the next one. The line search calls it for its first trial, which
         Newton usually accepts and then needs grad E and H at; gradient(x) and hessian(x) reuse them."""
         s = self.scene
-        if "barrier" in s.terms and BarrierEnergy.distances(x, s.n, s.o).min() <= 0.0:
+        try:
+            P, g, H = self._position_terms_at(x)
+        except BarrierEnergy.NotAboveHalfSpace:       # the filter, as in val
             return math.inf
-        P, g, H = self._position_terms_at(x)
         g, H = g.copy(), H.copy()
         if "friction" in self.potentials:
             P_term, g_term, (nodes, blocks) = FrictionEnergy.val_grad_hess_kernel(
@@ -154,6 +157,7 @@ class IncrementalPotential:
             g[self.contacts] += g_term
             s.pattern.add_node_blocks(H, self.contacts[nodes[:, 0]], blocks)
             P += P_term
+            self._friction_gradient = (x, g_term)
         g *= self.h2
         g += InertiaEnergy.grad_kernel(x, self.x_tilde, s.m)
         H *= self.h2
@@ -186,6 +190,14 @@ class IncrementalPotential:
             P += P_term
         self._position_terms = (x, P, g, H)
         return P, g, H
+
+    def friction_gradient(self, x):
+        """grad P_f at the contact nodes at x (the last evaluate's, when it was at x)."""
+        known = self._friction_gradient
+        if known is not None and known[0] is x:
+            return known[1]
+        s = self.scene
+        return FrictionEnergy.grad_kernel(self._contact_velocity(x), self.contact_mu_lambda, s.h, s.n, s.epsv)
 
     def end_terms(self, x):
         """PositionTerms at x if this solve evaluated them there (else None)."""
@@ -419,8 +431,7 @@ def step(scene, x, v, step_index=0, previous=None):
     v_next = (x_next - x_n) / scene.h
     if len(ip.contacts):            # force -grad P_f at the end of the step, times the displacement
         c = ip.contacts
-        force = -FrictionEnergy.grad_kernel(v_next[c], ip.contact_mu_lambda, scene.h, scene.n, scene.epsv)
-        report.friction_work = float(np.sum(force * (x_next[c] - x_n[c])))
+        report.friction_work = -float(np.sum(ip.friction_gradient(x_next) * (x_next[c] - x_n[c])))
     if "barrier" in scene.terms:
         report.min_distance = float(np.min(BarrierEnergy.distances(x_next, scene.n, scene.o)))
     report.end_terms = ip.end_terms(x_next)

@@ -282,8 +282,10 @@ class BlockPattern:
         return np.bincount(self.edge_slots.reshape(-1), values.reshape(-1), minlength=len(self.rows))
 
     def add_node_blocks(self, upper, nodes, blocks):
-        """upper += the entry-major 2x2 blocks (2, 2, k) of the nodes `nodes`, in place."""
-        np.add.at(upper, self.node_slots.take(nodes, axis=1), blocks.reshape(4, -1).take(self.node_entries, axis=0))
+        """upper += the entry-major 2x2 blocks (2, 2, k) of the distinct nodes `nodes`, in place (the
+        nodes of one term, an active set or the contacts, each once, so no slot is hit twice)."""
+        slots = self.node_slots.take(nodes, axis=1)
+        upper[slots] += blocks.reshape(4, -1).take(self.node_entries, axis=0)
 
     def diagonal(self, d):
         """Slot values of the diagonal matrix diag(d), d one value per DOF."""

@@ -190,6 +190,47 @@ def test_friction(seed, where):
     assert np.abs(g @ N_SLOPE).max() <= 1e-12 * max(np.abs(g).max(), 1.0), "friction acts along the slope only"
 
 
+@pytest.mark.parametrize("where", ["static", "just_below_epsv", "just_above_epsv", "sliding", "zero"])
+def test_val_grad_hess_kernels_are_the_three_kernels(where):
+    """What the integrator calls (one pass per term, friction through `mollifier`) gives the numbers
+    of the FD-checked kernels, for every term and on both sides of every branch."""
+    rng = np.random.default_rng(3)
+
+    def same(fused, val, grad, hess):
+        assert fused[0] == pytest.approx(val, rel=1e-13, abs=1e-300)
+        assert_close(fused[1], grad, 1e-13, "grad", atol=1e-13 * np.abs(grad).max(initial=0.0))
+        assert np.array_equal(fused[2][0], hess[0])
+        assert_close(fused[2][1], hess[1], 1e-13, "hess", atol=1e-13 * np.abs(hess[1]).max(initial=0.0))
+
+    epsv, hhat = 1e-3, 0.01
+    speeds = {"static": rng.uniform(0.05, 0.9, 6) * epsv, "just_below_epsv": epsv * (1 - 1e-12) * np.ones(6),
+              "just_above_epsv": epsv * (1 + 1e-12) * np.ones(6), "sliding": rng.uniform(2, 500, 6) * epsv,
+              "zero": np.zeros(6)}[where]
+    x_n, x, mu_lambda = friction_setup(rng, speeds, epsv, hhat)
+    args = ((x - x_n) / hhat, mu_lambda, hhat, N_SLOPE, epsv)
+    same(FrictionEnergy.val_grad_hess_kernel(*args), FrictionEnergy.val_kernel(*args),
+         FrictionEnergy.grad_kernel(*args), FrictionEnergy.hess_kernel(*args))
+    stretch = {"static": 0.6, "just_below_epsv": 0.97, "just_above_epsv": 1.03, "sliding": 1.5, "zero": 1.0}[where]
+    spring = spring_setup(1, stretch)
+    same(MassSpringEnergy.val_grad_hess_kernel(*spring), MassSpringEnergy.val_kernel(*spring),
+         MassSpringEnergy.grad_kernel(*spring), MassSpringEnergy.hess_kernel(*spring))
+    dhat = 0.01
+    d = rng.uniform(0.05, 3.0, 6) * dhat
+    barrier = (barrier_points(rng, d), N_SLOPE, O_SLOPE, rng.uniform(0.1, 0.5, 6), dhat, 1e5)
+    same(BarrierEnergy.val_grad_hess_kernel(*barrier), BarrierEnergy.val_kernel(*barrier),
+         BarrierEnergy.grad_kernel(*barrier), BarrierEnergy.hess_kernel(*barrier))
+
+
+def test_mollifier_is_f0_f1_over_y_and_f1_prime():
+    epsv, hhat = 2e-3, 0.02
+    y = np.concatenate([[0.0, 1e-300, np.nextafter(epsv, 0), epsv], np.linspace(0, 4 * epsv, 101)])
+    with np.errstate(divide="raise", invalid="raise"):
+        f0_of_y, f1y, f1p = FrictionEnergy.mollifier(y, epsv, hhat)
+    assert_close(f0_of_y, FrictionEnergy.f0(y * hhat, epsv, hhat), 1e-14, "f0")
+    assert_close(f1y, FrictionEnergy.f1_over_y(y, epsv), 1e-14, "f1/y")
+    assert_close(f1p, FrictionEnergy.f1_prime(y, epsv), 1e-14, "f1'", atol=1e-14 / epsv)
+
+
 def test_tangent_spans_the_tangent_operator():
     """The kernels use T = I - n n^T = t t^T (a half-space in 2-D)."""
     for n in (N_SLOPE, np.array([0.0, 1.0]), np.array([-0.6, 0.8])):
