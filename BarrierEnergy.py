@@ -114,7 +114,7 @@ def _blocks(idx, d, n, contact_area, dhat, kappa):
     """hess_i P_b = w_i dhat b''(d_i) n n^T, b''(d) = kappa (d + dhat) / (2 d^2 dhat) > 0 (PSD),
     entry-major (2, 2, k)."""
     curvature = contact_area[idx] * kappa / 2.0 * (d + dhat) / d / d     # w dhat b''(d), no d^2 underflow
-    return np.multiply.outer(np.outer(n, n), curvature)
+    return np.multiply.outer(n[:, None] * n, curvature)
 
 
 def init_step_size(x, n, o, p):
@@ -135,7 +135,7 @@ def init_step_size_kernel(x, n, o, p):
     approaching = p_n < 0.0
     if not approaching.any():
         return 1.0
-    return float(min(1.0, np.min(0.9 * distances(x[approaching], n, o) / -p_n[approaching])))
+    return float(min(1.0, (0.9 * distances(x[approaching], n, o) / -p_n[approaching]).min()))
 
 
 def compute_mu_lambda(x, n, o, contact_area, mu, dhat=DHAT, kappa=KAPPA):

@@ -69,10 +69,12 @@ def hess_kernel(x, e, l2, k, project_psd=True):
 
 def val_grad_hess_kernel(x, e, l2, k):
     """val_kernel, grad_kernel and the PSD-projected hess_kernel at once, from one set of edge
-    vectors (the line search's first trial: Newton usually accepts it and then needs all three)."""
+    vectors (the line search's first trial: Newton usually accepts it and then needs all three).
+    The Hessian comes as (e, H), H (3, E) the entries (h00, h01, h11) of each spring's projected
+    2x2 H, whose 4x4 block is [[H, -H], [-H, H]] (utils.BlockPattern.sum_spring_blocks adds them)."""
     dx, dy, sq = _edge_vectors(x, e)
     strain = _strain(sq, l2)
-    return _val(strain, l2, k), _grad(e, dx, dy, strain, k, len(x)), (e, _blocks(dx, dy, sq, l2, k, True))
+    return _val(strain, l2, k), _grad(e, dx, dy, strain, k, len(x)), (e, _spring_hessians(dx, dy, sq, l2, k, True))
 
 
 def _strain(sq, l2):
@@ -100,16 +102,23 @@ def _blocks(dx, dy, sq, l2, k, project_psd):
     is [[1, -1], [-1, 1]] (x) H, whose eigenvalues are 2 eig(H) and 0, so its projection is
     [[1, -1], [-1, 1]] (x) H+. Entry-major, (4, 4, E).
     """
+    return _edge_blocks(_spring_hessians(dx, dy, sq, l2, k, project_psd))
+
+
+def _spring_hessians(dx, dy, sq, l2, k, project_psd):
+    """The 2x2 H (PSD-projected if asked) of every spring as its entries (h00, h01, h11), (3, E)
+    (see _blocks for the closed form)."""
     c = (2.0 * k) / l2
     lam_perp = c * (sq - l2)
     lam_par = lam_perp + (2.0 * c) * sq
     if project_psd:
         lam_par, lam_perp = np.maximum(lam_par, 0.0), np.maximum(lam_perp, 0.0)
     w = (lam_par - lam_perp) / np.maximum(sq, _TINY)      # a zero-length spring: H = lam_perp I
-    return _edge_blocks(lam_perp + w * dx * dx, w * dx * dy, lam_perp + w * dy * dy)
+    w_dx = w * dx
+    return np.array([lam_perp + w_dx * dx, w_dx * dy, lam_perp + w * dy * dy])
 
 
-def _edge_blocks(h00, h01, h11):
-    """[[1, -1], [-1, 1]] (x) [[h00, h01], [h01, h11]] for every edge, entry-major (4, 4, E)."""
-    H = np.array([h00, h01, h11])
+def _edge_blocks(H):
+    """[[1, -1], [-1, 1]] (x) [[h00, h01], [h01, h11]] for every edge, H = (h00, h01, h11) (3, E);
+    entry-major (4, 4, E)."""
     return (H.take(_BLOCK_ENTRY, axis=0) * _BLOCK_SIGN).reshape(4, 4, -1)

@@ -111,7 +111,7 @@ class IncrementalPotential:
         self._position_terms = None           # (x, P, grad P, hess P) of the terms of x alone
         self._friction_gradient = None        # (x, grad P_f at the contacts) of the last evaluate
         if (start_terms is not None and start_terms.scene is scene
-                and np.array_equal(start_terms.x, x_n)):
+                and start_terms.x.shape == x_n.shape and (start_terms.x == x_n).all()):
             self._position_terms = (x_n, start_terms.P, start_terms.g, start_terms.H)
 
     def _contact_velocity(self, x):
@@ -175,9 +175,9 @@ class IncrementalPotential:
         g, H = self.gravity_grad.copy(), np.zeros(len(pattern.rows))
         for term in self.potentials:
             if term == "spring":
-                P_term, g_term, (_, blocks) = MassSpringEnergy.val_grad_hess_kernel(x, s.e, s.l2, s.k)
+                P_term, g_term, (_, spring_H) = MassSpringEnergy.val_grad_hess_kernel(x, s.e, s.l2, s.k)
                 g += g_term
-                H += pattern.sum_edge_blocks(blocks)
+                H += pattern.sum_spring_blocks(spring_H)
             elif term == "gravity":
                 P_term = GravityEnergy.val_kernel(x, s.m, s.g)
             elif term == "barrier":
@@ -431,8 +431,8 @@ def step(scene, x, v, step_index=0, previous=None):
     v_next = (x_next - x_n) / scene.h
     if len(ip.contacts):            # force -grad P_f at the end of the step, times the displacement
         c = ip.contacts
-        report.friction_work = -float(np.sum(ip.friction_gradient(x_next) * (x_next[c] - x_n[c])))
+        report.friction_work = -float((ip.friction_gradient(x_next) * (x_next[c] - x_n[c])).sum())
     if "barrier" in scene.terms:
-        report.min_distance = float(np.min(BarrierEnergy.distances(x_next, scene.n, scene.o)))
+        report.min_distance = float(BarrierEnergy.distances(x_next, scene.n, scene.o).min())
     report.end_terms = ip.end_terms(x_next)
     return x_next, v_next, report

@@ -251,7 +251,8 @@ class BlockPattern:
     csc_indices: np.ndarray
     full_from_upper: np.ndarray     # slot of every stored entry of the full CSC pattern
     node_entries: np.ndarray        # row-major flat indices of a 2x2 block's upper triangle
-    edge_entries: np.ndarray        # ... and of a 4x4 block's
+    edge_sources: np.ndarray        # for a spring's 4x4 upper triangle: which of (h00, h01, h11)
+    edge_signs: np.ndarray          # ... and its sign, (10, 1)
 
     @classmethod
     def build(cls, n_nodes, e, solver=None):
@@ -269,16 +270,21 @@ class BlockPattern:
             raise ValueError(f"solver must be 'banded' or 'superlu', got {solver!r}")
         band_index = (bandwidth + rows - cols) + (bandwidth + 1) * cols
         indptr, indices, full_from_upper = _full_csc(rows, cols, n)
-        node_entries, edge_entries = _upper_entries(2), _upper_entries(4)
+        node_entries = _upper_entries(2)
+        r, c = np.triu_indices(4)
+        edge_sources = r % 2 + c % 2
+        edge_signs = np.where(r // 2 == c // 2, 1.0, -1.0)[:, None]
         _readonly(rows, cols, node_slots, edge_slots, diagonal_slots, band_index, indptr, indices,
-                  full_from_upper, node_entries, edge_entries)
+                  full_from_upper, node_entries, edge_sources, edge_signs)
         return cls(n, rows, cols, node_slots, edge_slots, diagonal_slots, solver, bandwidth,
-                   band_index, indptr, indices, full_from_upper, node_entries, edge_entries)
+                   band_index, indptr, indices, full_from_upper, node_entries, edge_sources, edge_signs)
 
-    def sum_edge_blocks(self, blocks):
-        """Upper-triangle values of the sum of the edges' entry-major 4x4 blocks (4, 4, E): each
-        entry of a block's upper triangle added into its slot (edge_slots), with one np.bincount."""
-        values = blocks.reshape(16, -1).take(self.edge_entries, axis=0)
+    def sum_spring_blocks(self, H):
+        """Upper-triangle values of the sum of the springs' 4x4 blocks [[H, -H], [-H, H]], each
+        spring's 2x2 H given by its entries H = (h00, h01, h11), (3, E): entry (r, c), r <= c, of a
+        block is h_{i+j} (i = r % 2, j = c % 2) with the sign + on the nodes' diagonal blocks and -
+        off them, added into its slot (edge_slots) with one np.bincount."""
+        values = H.take(self.edge_sources, axis=0) * self.edge_signs
         return np.bincount(self.edge_slots.reshape(-1), values.reshape(-1), minlength=len(self.rows))
 
     def add_node_blocks(self, upper, nodes, blocks):

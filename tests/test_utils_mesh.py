@@ -127,18 +127,20 @@ def pattern_setup(n_seg, seed=0):
     x, e = square_mesh.generate(1.0, n_seg)
     d = x[e[:, 0]] - x[e[:, 1]]
     y = x * 0.9 + 0.02 * rng.normal(size=x.shape)
-    _, spring = MassSpringEnergy.hess_kernel(y, e, np.einsum("ij,ij->i", d, d), np.full(len(e), 1e3))
+    l2, k = np.einsum("ij,ij->i", d, d), np.full(len(e), 1e3)
+    spring_H = MassSpringEnergy.val_grad_hess_kernel(y, e, l2, k)[2][1]   # each spring's 2x2 H, (3, E)
+    _, spring = MassSpringEnergy.hess_kernel(y, e, l2, k)                   # the same as 4x4 blocks
     nodes = rng.choice(len(x), size=len(x) // 3, replace=False)
     A = rng.normal(size=(len(nodes), 2, 2))
     node_blocks = np.moveaxis(A @ np.swapaxes(A, 1, 2), 0, -1)       # entry-major (2, 2, k)
-    return x, e, nodes, spring, node_blocks
+    return x, e, nodes, spring_H, spring, node_blocks
 
 
 @pytest.mark.parametrize("solver", ["banded", "superlu"])
 def test_block_pattern_assembles_what_the_triplets_do(solver):
-    x, e, nodes, spring, node_blocks = pattern_setup(3)
+    x, e, nodes, spring_H, spring, node_blocks = pattern_setup(3)
     P = utils.BlockPattern.build(len(x), e, solver=solver)
-    upper = P.sum_edge_blocks(spring)
+    upper = P.sum_spring_blocks(spring_H)
     P.add_node_blocks(upper, nodes, node_blocks)
     ijv = utils.concat_ijv([utils.blocks_to_ijv(e, spring), utils.blocks_to_ijv(nodes[:, None], node_blocks)])
     expected = utils.ijv_to_csr(ijv, 2 * len(x)).toarray()
@@ -154,12 +156,12 @@ def test_block_pattern_assembles_what_the_triplets_do(solver):
 
 
 def test_both_solvers_solve_the_spd_system():
-    x, e, nodes, spring, node_blocks = pattern_setup(6, seed=1)
+    x, e, nodes, spring_H, spring, node_blocks = pattern_setup(6, seed=1)
     b = np.random.default_rng(2).normal(size=2 * len(x))
     solutions = []
     for solver in ("banded", "superlu"):
         P = utils.BlockPattern.build(len(x), e, solver=solver)
-        upper = P.diagonal(np.ones(2 * len(x))) + P.sum_edge_blocks(spring)
+        upper = P.diagonal(np.ones(2 * len(x))) + P.sum_spring_blocks(spring_H)
         P.add_node_blocks(upper, nodes, node_blocks)
         dense_A = P.to_csc(upper).toarray()
         solutions.append(P.factor_solve(P.matrix(upper), b))
