@@ -253,6 +253,10 @@ def _init_step_size(scene, x, p):
 # a factorization costs about as much as the iterations that would try to save it.
 CG_MIN_BANDWIDTH = 48
 CG_ITERATIONS = 4       # at most this many before giving up and factoring H
+# ... and only when the previous direction's residual was at most this many times tol: after a
+# larger step H has changed too much for the previous factor to say anything (above all the first
+# step out of x^n, where friction's Hessian at v = 0 is the stiff static one)
+CG_AFTER_RESIDUAL = 10.0
 
 
 class NewtonSystem:
@@ -274,6 +278,7 @@ class NewtonSystem:
         self.limit = scene.tol * scene.h            # ||p||_inf <= limit <=> converged
         self.use_cg = self.pattern.solver == "superlu" or self.pattern.bandwidth >= CG_MIN_BANDWIDTH
         self.factor = None                          # the factor of the last H solved with
+        self.factor_residual = math.inf             # ||p||_inf / h of the direction solved with it
         self.factorizations = 0
 
     def direction(self, x, iteration):
@@ -289,7 +294,7 @@ class NewtonSystem:
         if bound <= self.limit:
             return None, bound / self.scene.h
         H = self.ip.hessian(x)
-        if self.use_cg and self.factor is not None:
+        if self.use_cg and self.factor is not None and self.factor_residual <= CG_AFTER_RESIDUAL * self.scene.tol:
             bound = self._cg_bound(H, g)
             if bound is not None:
                 return None, bound / self.scene.h
@@ -307,6 +312,7 @@ class NewtonSystem:
         residual = float(np.abs(p).max()) / self.scene.h
         if not math.isfinite(residual):
             raise NonFiniteState("the Newton direction is not finite", self.step_index, newton_iteration=iteration)
+        self.factor_residual = residual
         return p.reshape(-1, 2), residual
 
     def _cg_bound(self, H, g):
