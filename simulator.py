@@ -359,7 +359,7 @@ def draw_summary(pygame, scene, snapshots, com_path, lines, font):
 # ------------------------------------------------------------------------------------------------
 
 CSV_COLUMNS = ["step", "t", "wall_s", "com_x", "com_y", "v_tangential", "newton_iterations",
-               "residual", "alpha_min", "line_search_steps", "min_distance", "friction_iterations",
+               "factorizations", "residual", "alpha_min", "line_search_steps", "min_distance", "friction_iterations",
                "friction_converged", "E_kinetic", "E_gravity", "E_spring", "E_barrier", "E_total",
                "W_friction"]
 
@@ -473,7 +473,7 @@ def csv_row(scene, record, friction_work):
     tangent = np.array([scene.n[1], -scene.n[0]]) if scene.n is not None else np.array([1.0, 0.0])
     E = energies(scene, x, v)
     return [record.index + 1, f"{record.t:.6f}", f"{record.wall:.6f}", f"{com[0]:.9f}", f"{com[1]:.9f}",
-            f"{float(vcom @ tangent):.9f}", rep.newton_iterations, f"{rep.residual:.3e}",
+            f"{float(vcom @ tangent):.9f}", rep.newton_iterations, rep.factorizations, f"{rep.residual:.3e}",
             f"{min(rep.alphas, default=1.0):.6g}", len(rep.alphas), f"{rep.min_distance:.9g}",
             rep.friction_iterations, int(rep.friction_converged), f"{E['kinetic']:.9g}",
             f"{E['gravity']:.9g}", f"{E['spring']:.9g}", f"{E['barrier']:.9g}", f"{E['total']:.9g}",
