@@ -188,31 +188,37 @@ def measure(n_seg, scene_kind, warm, steps, repeats, fs_repeats, run_steps):
         for i in range(warm):
             x, v, report = time_integrator.step(scene, x, v, i, report)
 
-    clean = [run_window(scene, x, v, steps, warm, report) for _ in range(repeats)]
-    walls, cpus = [c[0] for c in clean], [c[1] for c in clean]
-    per_step = statistics.median(walls) / steps
-    phases, fs_times, fs_spreads = [], [], []
+    # the split: instrumented runs of the window, keeping three of its matrices to factor below
+    phases, uppers = [], []
     for _ in range(repeats):
         timer = PhaseTimer()
         xs, vs, previous = x, v, report
         with timer:
             for i in range(steps):
                 xs, vs, previous = time_integrator.step(scene, xs, vs, warm + i, previous)
-                if i in (0, steps // 2, steps - 1) and len(fs_times) < 3 * repeats:
-                    timer.__exit__()                # time the factorization unwrapped, then re-wrap
-                    fs, fs_spread = time_factor_solve(scene.pattern, timer.last_upper, fs_repeats)
-                    fs_times.append(fs)
-                    fs_spreads.append(fs_spread)
-                    timer.__enter__()
+                if i in (0, steps // 2, steps - 1) and len(uppers) < 3:
+                    uppers.append(timer.last_upper)
         phases.append(timer.seconds)
+    # the clean window, each repeat followed at once by one factorization-and-solve of one of those
+    # matrices: a ratio compares two times taken while the machine ran at the same speed
+    clean, fs_times, fs_spreads = [], [], []
+    for r in range(repeats):
+        clean.append(run_window(scene, x, v, steps, warm, report))
+        fs, fs_spread = time_factor_solve(scene.pattern, uppers[r % len(uppers)], fs_repeats)
+        fs_times.append(fs)
+        fs_spreads.append(fs_spread)
+    walls, cpus = [c[0] for c in clean], [c[1] for c in clean]
+    per_step = statistics.median(walls) / steps
     one_fs = statistics.median(fs_times)
     newton, factorizations = clean[0][2] / steps, clean[0][3] / steps
+
+    def ratio(per):
+        return statistics.median(w / steps / (per * fs) for w, fs in zip(walls, fs_times)) if per else math.inf
     out.update(
         n_seg=n_seg, dof=scene.pattern.n_dofs, scene=scene_kind, solver=scene.pattern.solver,
         steps_per_s=1.0 / per_step, ms_per_step=1e3 * per_step, newton_per_step=newton,
         factorizations_per_step=factorizations, one_factor_solve_ms=1e3 * one_fs,
-        ratio_per_factorization=per_step / (factorizations * one_fs),
-        ratio_per_newton=per_step / (newton * one_fs) if newton else math.inf,
+        ratio_per_factorization=ratio(factorizations), ratio_per_newton=ratio(newton),
         peak_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0)
     for phase in ("energy_assembly", "solve", "proof", "line_search"):
         out[f"{phase}_ms"] = 1e3 * statistics.median(p[phase] for p in phases) / steps
