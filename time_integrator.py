@@ -94,7 +94,7 @@ class IncrementalPotential:
         self.x_tilde = x_tilde
         self.mu_lambda = mu_lambda
         self.h2 = scene.h * scene.h
-        self.contacts = np.zeros(0, dtype=np.int64) if mu_lambda is None else np.flatnonzero(mu_lambda > 0.0)
+        self.contacts = np.zeros(0, dtype=np.int64) if mu_lambda is None else (mu_lambda > 0.0).nonzero()[0]
         self.potentials = tuple(t for t in scene.terms if t != "inertia"
                                 and (t != "friction" or len(self.contacts)))
         unknown = set(self.potentials) - set(POTENTIALS)
@@ -106,7 +106,8 @@ class IncrementalPotential:
         self.inertia = scene.pattern.diagonal(InertiaEnergy.hess_kernel(x_n, x_tilde, scene.m))
         self.gravity_grad = (GravityEnergy.grad_kernel(x_n, scene.m, scene.g) if "gravity" in self.potentials
                              else np.zeros(x_n.shape))
-        self.m_min = float(scene.m.min())     # H >= M, so ||H^-1||_2 <= 1 / m_min
+        m_min = float(scene.m.min())          # H >= M, so ||H^-1||_2 <= 1 / min m
+        self.inv_m_min = 1.0 / m_min if m_min > 0.0 else math.inf
         self._evaluated = None                # (x, grad E(x), H(x)) of the last evaluate
         self._position_terms = None           # (x, P, grad P, hess P) of the terms of x alone
         self._friction_gradient = None        # (x, grad P_f at the contacts) of the last evaluate
@@ -204,7 +205,10 @@ class IncrementalPotential:
         known = self._position_terms
         if known is None or known[0] is not x:
             return None
-        return PositionTerms(self.scene, x.copy(), *known[1:])
+        x_copy, (P, g, H) = x.copy(), known[1:]
+        for a in (x_copy, g, H):
+            a.setflags(write=False)                 # evaluate copies them before adding friction
+        return PositionTerms(self.scene, x_copy, P, g, H)
 
     def gradient(self, x):
         """grad E(x) (see evaluate)."""
@@ -290,7 +294,7 @@ class NewtonSystem:
         """(None, bound) when ||p||_inf / h <= bound <= tol is shown without a factorization; else
         (p, ||p||_inf / h) as direction(x) gives them."""
         g = self.ip.gradient(x).reshape(-1)
-        bound = math.sqrt(g @ g) / self.ip.m_min
+        bound = math.sqrt(g @ g) * self.ip.inv_m_min
         if bound <= self.limit:
             return None, bound / self.scene.h
         H = self.ip.hessian(x)
@@ -321,7 +325,7 @@ class NewtonSystem:
         ||q||_inf + ||g - H q||_2 / m_min. None as soon as that cannot come out below the limit
         (the previous factor's own answer is over the limit, ||q||_inf - ||g - H q||_2 / m_min is
         over it, or CG_ITERATIONS are done)."""
-        pattern, factor, m_min, limit = self.pattern, self.factor, self.ip.m_min, self.limit
+        pattern, factor, inv_m_min, limit = self.pattern, self.factor, self.ip.inv_m_min, self.limit
         q, r = np.zeros_like(g), g.copy()
         z = pattern.solve(factor, r)
         if not np.abs(z).max() <= limit:
@@ -333,12 +337,12 @@ class NewtonSystem:
             alpha = rz / (d @ Hd)
             q += alpha * d
             r -= alpha * Hd
-            q_max, r_bound = np.abs(q).max(), math.sqrt(r @ r) / m_min
+            q_max, r_bound = np.abs(q).max(), math.sqrt(r @ r) * inv_m_min
             if not q_max - r_bound <= limit:          # shown not converged (or not finite)
                 return None
             if q_max + r_bound <= limit:              # confirm with the true residual g - H q
                 r_true = g - A @ q
-                bound = q_max + math.sqrt(r_true @ r_true) / m_min
+                bound = q_max + math.sqrt(r_true @ r_true) * inv_m_min
                 return bound if bound <= limit else None
             z = pattern.solve(factor, r)
             rz, rz_last = r @ z, rz
