@@ -37,6 +37,11 @@ def distances(x, n, o):
     return (x - o) @ n
 
 
+def check_above(x, n, o):
+    """NotAboveHalfSpace (a ValueError) naming the first node at d <= 0; the unchecked kernel."""
+    _active(x, n, o, np.inf)
+
+
 def _active(x, n, o, dhat):
     """Indices and distances of the nodes with d < dhat; NotAboveHalfSpace (a ValueError) if any
     node has d <= 0 (every such node has d < dhat)."""

@@ -67,10 +67,16 @@ def mollifier(y, epsv, hhat):
     y < eps_v (for y = ||vbar||, f0's r = y hhat/(eps_v hhat) is this r)."""
     r = y / epsv
     slow = y < epsv
-    f0_of_y = np.where(slow, (epsv * hhat) * (-r ** 3 / 3.0 + r * r + 1.0 / 3.0), y * hhat)
+    f0_of_y = _f0_of_speed(y, r, slow, epsv, hhat)
     f1y = np.where(slow, (2.0 - r) / epsv, 1.0 / np.where(slow, 1.0, y))
     f1p = np.where(slow, 2.0 * (1.0 - r) / epsv, 0.0)
     return f0_of_y, f1y, f1p
+
+
+def _f0_of_speed(y, r, slow, epsv, hhat):
+    """f0(y hhat) (Eq. 9.2.2) from the speed y, r = y/eps_v and slow = y < eps_v: what val_kernel
+    and mollifier both use, so the line search compares energies summed the same way."""
+    return np.where(slow, (epsv * hhat) * (-r ** 3 / 3.0 + r * r + 1.0 / 3.0), y * hhat)
 
 
 def tangent(n):
@@ -144,7 +150,7 @@ def val_grad_hess_kernel(v, mu_lambda, hhat, n, epsv):
 
 def _val(idx, ml, t, u, y, hhat, epsv):
     """P_f = sum_k mu lambda_k f0(y_k hhat) (Eq. 9.2.1), y_k = ||vbar_k||."""
-    return float(ml @ f0(y * hhat, epsv, hhat))
+    return float(ml @ _f0_of_speed(y, y / epsv, y < epsv, epsv, hhat))
 
 
 def _grad(shape, idx, ml, t, u, y, f1y):

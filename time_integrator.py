@@ -63,7 +63,8 @@ class StepReport:
     friction_iterations: int = 0        # Newton solves with updated mu*lambda (1 = lagged only)
     friction_converged: bool = True     # fixed point reached (always True when lagged)
     friction_work: float = 0.0          # work of the friction forces over the step (J, <= 0)
-    # the terms of x alone at x^{n+1}, for the next step to start from (see PositionTerms)
+    # the terms of x alone at x^{n+1}, for the next step to start from (see PositionTerms); the
+    # step handed this report takes them and sets this back to None
     end_terms: object = field(default=None, repr=False, compare=False)
 
 
@@ -132,10 +133,10 @@ class IncrementalPotential:
                     P += GravityEnergy.val_kernel(x, s.m, s.g)
                 elif term == "barrier":
                     P += BarrierEnergy.val_kernel(x, s.n, s.o, s.contact_area, s.dhat, s.kappa)
-                else:
-                    P += FrictionEnergy.val_kernel(self._contact_velocity(x), self.contact_mu_lambda, s.h, s.n, s.epsv)
         except BarrierEnergy.NotAboveHalfSpace:
             return math.inf
+        if "friction" in self.potentials:       # last, as evaluate adds it
+            P += FrictionEnergy.val_kernel(self._contact_velocity(x), self.contact_mu_lambda, s.h, s.n, s.epsv)
         return InertiaEnergy.val_kernel(x, self.x_tilde, s.m) + self.h2 * P
 
     def evaluate(self, x):
@@ -146,11 +147,15 @@ class IncrementalPotential:
         contacts) among the three; the terms of x alone are summed apart (_position_terms_at), so
         the step can hand them to the next one. The line search calls it for its first trial, which
         Newton usually accepts and then needs grad E and H at; gradient(x) and hessian(x) reuse them."""
-        s = self.scene
         try:
-            P, g, H = self._position_terms_at(x)
+            return self._evaluate(x)
         except BarrierEnergy.NotAboveHalfSpace:       # the filter, as in val
             return math.inf
+
+    def _evaluate(self, x):
+        """evaluate(x) without the filter: NotAboveHalfSpace where the barrier refuses x."""
+        s = self.scene
+        P, g, H = self._position_terms_at(x)
         g, H = g.copy(), H.copy()
         if "friction" in self.potentials:
             P_term, g_term, (nodes, blocks) = FrictionEnergy.val_grad_hess_kernel(
@@ -220,7 +225,7 @@ class IncrementalPotential:
 
     def _derivatives(self, x):
         if self._evaluated is None or self._evaluated[0] is not x:
-            self.evaluate(x)
+            self._evaluate(x)           # NotAboveHalfSpace (a ValueError) where x has no derivatives
         return self._evaluated[1:]
 
     def gradient_and_hessian(self, x):
@@ -273,7 +278,8 @@ class NewtonSystem:
       2. for wide bands, conjugate gradients on H q = -grad E preconditioned by the previous iterate's
          factor: ||p||_inf <= ||q||_inf + ||grad E + H q||_2 / m_min after each iteration.
     Where neither shows ||p||_inf <= tol h, H is factored and p solved for, as in the lecture. Newton
-    stops exactly where the lecture's loop stops; the residual it reports is then an upper bound.
+    stops where the lecture's loop stops (up to round-off: the bound covers the exact H^-1 grad E,
+    the lecture tests the p it computed); the residual it reports is then the upper bound.
     """
 
     def __init__(self, scene, ip, step_index):
@@ -294,13 +300,13 @@ class NewtonSystem:
         """(None, bound) when ||p||_inf / h <= bound <= tol is shown without a factorization; else
         (p, ||p||_inf / h) as direction(x) gives them."""
         g = self.ip.gradient(x).reshape(-1)
-        bound = math.sqrt(g @ g) * self.ip.inv_m_min
-        if bound <= self.limit:
-            return None, bound / self.scene.h
+        residual = math.sqrt(g @ g) * self.ip.inv_m_min / self.scene.h
+        if residual <= self.scene.tol:              # the very test _newton makes, on the bound
+            return None, residual
         H = self.ip.hessian(x)
         if self.use_cg and self.factor is not None and self.factor_residual <= CG_AFTER_RESIDUAL * self.scene.tol:
             bound = self._cg_bound(H, g)
-            if bound is not None:
+            if bound is not None and bound / self.scene.h <= self.scene.tol:
                 return None, bound / self.scene.h
         return self._solve(H, g, iteration)
 
@@ -403,8 +409,8 @@ def step(scene, x, v, step_index=0, previous=None):
 
     `previous`, the StepReport of the step that ended at this x (optional; `simulator.simulate`
     passes it), lets the step start from the terms of x alone that step already evaluated here
-    (its `end_terms`): the same numbers, one evaluation fewer. They are used only for the same
-    scene and exactly the same positions."""
+    (its `end_terms`, which this step takes: it sets them to None): the same numbers, one
+    evaluation fewer. They are used only for the same scene and exactly the same positions."""
     x_n = utils.check_points("x", x)
     v_n = utils.check_points("v", v)
     if x_n.shape != scene.x0.shape or v_n.shape != scene.x0.shape:
@@ -413,8 +419,12 @@ def step(scene, x, v, step_index=0, previous=None):
     report = StepReport()
 
     mu_lambda = _mu_lambda(scene, x_n)      # lagged: mu*lambda^n, T^n from x^n (checks x^n is above the slope)
+    if mu_lambda is None and "barrier" in scene.terms:
+        BarrierEnergy.check_above(x_n, scene.n, scene.o)
     try:
         start_terms = None if previous is None else previous.end_terms
+        if start_terms is not None:
+            previous.end_terms = None       # handed on once: a kept list of reports holds no copies
         ip = IncrementalPotential(scene, x_n, x_tilde, mu_lambda, start_terms)
         x_next = _newton(scene, ip, x_n, step_index, report)
         report.friction_iterations = 1 if mu_lambda is not None else 0

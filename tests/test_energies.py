@@ -222,6 +222,18 @@ def test_val_grad_hess_kernels_are_the_three_kernels(where):
          BarrierEnergy.grad_kernel(*barrier), BarrierEnergy.hess_kernel(*barrier))
 
 
+def test_friction_energy_is_the_same_number_in_both_kernels():
+    """val_kernel and val_grad_hess_kernel sum P_f to the same bits (the line search compares the
+    two), in the static branch too, where f0 is a cubic in y/eps_v."""
+    rng = np.random.default_rng(5)
+    epsv, hhat = 1e-3, 0.01
+    for _ in range(300):
+        speeds = rng.uniform(0, 1.2, 8) * epsv
+        x_n, x, mu_lambda = friction_setup(rng, speeds, epsv, hhat)
+        args = ((x - x_n) / hhat, mu_lambda, hhat, N_SLOPE, epsv)
+        assert FrictionEnergy.val_grad_hess_kernel(*args)[0] == FrictionEnergy.val_kernel(*args)
+
+
 def test_mollifier_is_f0_f1_over_y_and_f1_prime():
     epsv, hhat = 2e-3, 0.02
     y = np.concatenate([[0.0, 1e-300, np.nextafter(epsv, 0), epsv], np.linspace(0, 4 * epsv, 101)])

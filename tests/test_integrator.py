@@ -383,3 +383,46 @@ def test_a_step_started_from_the_previous_report_is_the_same_step():
     assert np.array_equal(time_integrator.step(other, x, v, 40, report)[0],
                           time_integrator.step(other, x, v, 40)[0])
     assert np.array_equal(time_integrator.step(scene, x, v, 40, report)[0], x_fresh)
+
+
+def test_a_node_below_the_slope_is_refused_with_or_without_friction():
+    """x^n under the slope is bad input: a ValueError naming the node, with mu = 0 (no friction to
+    check it) as with friction; and the IP has no derivatives there (it never answers with another
+    point's)."""
+    for mu in (0.0, 0.11):
+        scene = simulator.build_scene(mu=mu)
+        with pytest.raises(ValueError, match="node .* distance"):
+            time_integrator.step(scene, scene.x0 + [0.0, -0.6], scene.v0)
+    scene = simulator.build_scene(mu=0.0)
+    ip = time_integrator.IncrementalPotential(scene, scene.x0, scene.x0, None)
+    ip.search_direction(scene.x0)
+    below = scene.x0 + [0.0, -0.6]
+    assert ip.evaluate(below) == np.inf and ip.val(below) == np.inf      # the line-search filter
+    with pytest.raises(ValueError, match="distance"):
+        ip.search_direction(below)
+
+
+def test_evaluate_sums_exactly_what_val_sums():
+    """The line search compares evaluate (first trials) with val (halved ones): the same numbers to
+    the bit, also in friction's static branch (speeds below eps_v) and at the barrier."""
+    scene = simulator.build_scene(mu=0.5, n_seg=4)
+    x, v = scene.x0, scene.v0
+    for i in range(45):                                         # on the slope, in contact
+        x, v, _ = time_integrator.step(scene, x, v, i)
+    mu_lambda = time_integrator._mu_lambda(scene, x)
+    assert (mu_lambda > 0).sum() >= 3
+    ip = time_integrator.IncrementalPotential(scene, x, x + scene.h * v, mu_lambda)
+    rng = np.random.default_rng(0)
+    for scale in (1e-9, 1e-7, 1e-6, 1e-5, 1e-3):               # contact speeds ~ scale/h vs eps_v
+        for _ in range(400):
+            y = x + scale * rng.normal(size=x.shape)
+            assert ip.evaluate(y) == ip.val(y)
+
+
+def test_handed_on_terms_are_taken_once():
+    scene = simulator.build_scene(n_seg=4)
+    _, _, first = time_integrator.step(scene, scene.x0, scene.v0, 0)
+    assert first.end_terms is not None
+    x, v, _ = time_integrator.step(scene, scene.x0, scene.v0, 0)
+    time_integrator.step(scene, x, v, 1, first)
+    assert first.end_terms is None            # a list of kept reports holds no copies of H
