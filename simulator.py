@@ -359,9 +359,9 @@ def draw_summary(pygame, scene, snapshots, com_path, lines, font):
 # ------------------------------------------------------------------------------------------------
 
 CSV_COLUMNS = ["step", "t", "wall_s", "com_x", "com_y", "v_tangential", "newton_iterations",
-               "factorizations", "residual", "alpha_min", "line_search_steps", "min_distance", "friction_iterations",
-               "friction_converged", "E_kinetic", "E_gravity", "E_spring", "E_barrier", "E_total",
-               "W_friction"]
+               "factorizations", "residual", "alpha_min", "line_search_steps", "min_distance",
+               "friction_iterations", "friction_converged", "E_kinetic", "E_gravity", "E_spring",
+               "E_barrier", "E_total", "W_friction"]
 
 
 CSV_EVERY = 2.0    # seconds of wall time between rewrites of log.csv during a run (always at the end)
