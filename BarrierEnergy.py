@@ -51,7 +51,7 @@ def _active(x, n, o, dhat):
     if d_active.size and d_active.min() <= 0.0:
         i = int(idx[np.argmin(d_active)])
         raise NotAboveHalfSpace(f"x: node {i} is at distance {d[i]:.6g} <= 0 from the half-space; "
-                         "the barrier is only defined for d > 0")
+                                "the barrier is only defined for d > 0")
     return idx, d_active
 
 

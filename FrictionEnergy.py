@@ -41,8 +41,12 @@ def f1_over_y(y, epsv):
     """Eq. 9.2.5, f1(y)/y: (-y + 2 eps_v)/eps_v^2 for y < eps_v, else 1/y. Finite (2/eps_v) at y = 0,
     and never divides by zero there."""
     y = np.asarray(y, dtype=np.float64)
-    safe_y = np.where(y < epsv, 1.0, y)
-    return np.where(y < epsv, (2.0 - y / epsv) / epsv, 1.0 / safe_y)
+    return _f1_over_y(y, y / epsv, y < epsv, epsv)
+
+
+def _f1_over_y(y, r, slow, epsv):
+    """f1(y)/y from y, r = y/eps_v and slow = y < eps_v (1/y only where y >= eps_v > 0)."""
+    return np.where(slow, (2.0 - r) / epsv, 1.0 / np.where(slow, 1.0, y))
 
 
 def f_hess_term(y, epsv):
@@ -58,7 +62,12 @@ def f1_prime(y, epsv):
     2 (1 - y/eps_v)/eps_v for y < eps_v, else 0. Written so, it never forms 1/eps_v^2, which
     overflows for tiny eps_v (and a PSD clamp would then turn -inf into a silent 0)."""
     y = np.asarray(y, dtype=np.float64)
-    return np.where(y < epsv, 2.0 * (1.0 - y / epsv) / epsv, 0.0)
+    return _f1_prime(y / epsv, y < epsv, epsv)
+
+
+def _f1_prime(r, slow, epsv):
+    """f1'(y) from r = y/eps_v and slow = y < eps_v."""
+    return np.where(slow, 2.0 * (1.0 - r) / epsv, 0.0)
 
 
 def mollifier(y, epsv, hhat):
@@ -67,10 +76,7 @@ def mollifier(y, epsv, hhat):
     y < eps_v (for y = ||vbar||, f0's r = y hhat/(eps_v hhat) is this r)."""
     r = y / epsv
     slow = y < epsv
-    f0_of_y = _f0_of_speed(y, r, slow, epsv, hhat)
-    f1y = np.where(slow, (2.0 - r) / epsv, 1.0 / np.where(slow, 1.0, y))
-    f1p = np.where(slow, 2.0 * (1.0 - r) / epsv, 0.0)
-    return f0_of_y, f1y, f1p
+    return _f0_of_speed(y, r, slow, epsv, hhat), _f1_over_y(y, r, slow, epsv), _f1_prime(r, slow, epsv)
 
 
 def _f0_of_speed(y, r, slow, epsv, hhat):
