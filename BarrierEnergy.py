@@ -34,7 +34,7 @@ def _check(x, n, o, contact_area, dhat, kappa):
 
 def distances(x, n, o):
     """d_i = n . (x_i - o) for every node (the unchecked kernel, shared with the integrator)."""
-    return (x - o) @ n
+    return (x - o).dot(n)
 
 
 def check_above(x, n, o):
@@ -74,52 +74,62 @@ def hess(x, n, o, contact_area, dhat=DHAT, kappa=KAPPA):
 def dP_dd(d, w, dhat=DHAT, kappa=KAPPA):
     """w dhat b'(d) = w dhat kappa/2 (ln(s)/dhat + (s - 1)/d), s = d/dhat (negative for d < dhat)."""
     s = d / dhat
-    return (w * (dhat * kappa / 2.0)) * (np.log(s) / dhat + (s - 1.0) / d)
+    return _dP_dd(d, w, s, np.log(s), dhat, kappa)
+
+
+def _dP_dd(d, w, s, log_s, dhat, kappa):
+    """dP_dd from s = d/dhat and ln s."""
+    return (w * (dhat * kappa / 2.0)) * (log_s / dhat + (s - 1.0) / d)
 
 
 def val_kernel(x, n, o, contact_area, dhat, kappa):
     """P_b = sum_{d_i < dhat} w_i dhat kappa/2 (s - 1) ln s, s = d_i / dhat (see _val)."""
-    return _val(*_active(x, n, o, dhat), contact_area, dhat, kappa)
+    idx, d = _active(x, n, o, dhat)
+    s = d / dhat
+    return _val(contact_area.take(idx), s, np.log(s), dhat, kappa)
 
 
 def grad_kernel(x, n, o, contact_area, dhat, kappa):
     """grad_i P_b = w_i dhat b'(d_i) n for the active nodes, zero elsewhere (see _grad)."""
-    return _grad(x.shape, *_active(x, n, o, dhat), n, contact_area, dhat, kappa)
+    idx, d = _active(x, n, o, dhat)
+    return _grad(x.shape, idx, dP_dd(d, contact_area.take(idx), dhat, kappa), n)
 
 
 def hess_kernel(x, n, o, contact_area, dhat, kappa):
     """hess_i P_b = w_i dhat b''(d_i) n n^T (see _blocks). Returns (nodes, blocks): the active nodes
     as (k, 1) element lists and their blocks, entry-major (2, 2, k) (see utils.blocks_to_ijv)."""
     idx, d = _active(x, n, o, dhat)
-    return idx[:, None], _blocks(idx, d, n, contact_area, dhat, kappa)
+    return idx[:, None], _blocks(d, contact_area.take(idx), n, dhat, kappa)
 
 
 def val_grad_hess_kernel(x, n, o, contact_area, dhat, kappa):
-    """val_kernel, grad_kernel and hess_kernel at once, from one active set."""
+    """val_kernel, grad_kernel and hess_kernel at once, from one active set, its weights and one ln s."""
     idx, d = _active(x, n, o, dhat)
-    return (_val(idx, d, contact_area, dhat, kappa), _grad(x.shape, idx, d, n, contact_area, dhat, kappa),
-            (idx[:, None], _blocks(idx, d, n, contact_area, dhat, kappa)))
-
-
-def _val(idx, d, contact_area, dhat, kappa):
-    """P_b = sum_{d_i < dhat} w_i dhat kappa/2 (s - 1) ln s, s = d_i / dhat, over the active nodes
-    idx (at distances d)."""
+    w = contact_area.take(idx)
     s = d / dhat
-    return dhat * kappa / 2.0 * float(contact_area.take(idx) @ ((s - 1.0) * np.log(s)))
+    log_s = np.log(s)
+    return (_val(w, s, log_s, dhat, kappa), _grad(x.shape, idx, _dP_dd(d, w, s, log_s, dhat, kappa), n),
+            (idx[:, None], _blocks(d, w, n, dhat, kappa)))
 
 
-def _grad(shape, idx, d, n, contact_area, dhat, kappa):
-    """grad_i P_b = w_i dhat b'(d_i) n for the active nodes idx (at distances d), zero elsewhere."""
+def _val(w, s, log_s, dhat, kappa):
+    """P_b = sum_{d_i < dhat} w_i dhat kappa/2 (s - 1) ln s over the active nodes, with their
+    weights w, s = d_i / dhat and ln s."""
+    return dhat * kappa / 2.0 * float(w.dot((s - 1.0) * log_s))
+
+
+def _grad(shape, idx, dP, n):
+    """grad_i P_b = w_i dhat b'(d_i) n for the active nodes idx (dP = w_i dhat b'(d_i)), zero elsewhere."""
     g = np.zeros(shape)
-    g[idx] = np.multiply.outer(dP_dd(d, contact_area.take(idx), dhat, kappa), n)
+    g[idx] = dP[:, None] * n
     return g
 
 
-def _blocks(idx, d, n, contact_area, dhat, kappa):
+def _blocks(d, w, n, dhat, kappa):
     """hess_i P_b = w_i dhat b''(d_i) n n^T, b''(d) = kappa (d + dhat) / (2 d^2 dhat) > 0 (PSD),
-    entry-major (2, 2, k)."""
-    curvature = contact_area[idx] * kappa / 2.0 * (d + dhat) / d / d     # w dhat b''(d), no d^2 underflow
-    return np.multiply.outer(n[:, None] * n, curvature)
+    for the active nodes at distances d with weights w; entry-major (2, 2, k)."""
+    curvature = w * kappa / 2.0 * (d + dhat) / d / d     # w dhat b''(d), no d^2 underflow
+    return (n[:, None] * n)[:, :, None] * curvature
 
 
 def init_step_size(x, n, o, p):
@@ -136,7 +146,7 @@ def init_step_size(x, n, o, p):
 def init_step_size_kernel(x, n, o, p):
     """CCD against the half-space (Algorithm 4, line 1): the largest alpha <= 1 that keeps every
     node on the positive side along x + alpha p, scaled by 0.9 so no node lands on the boundary."""
-    p_n = p @ n
+    p_n = p.dot(n)
     approaching = p_n < 0.0
     if not approaching.any():
         return 1.0

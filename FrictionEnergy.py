@@ -106,9 +106,11 @@ def _contacts(v, mu_lambda, n):
     """Indices of the nodes in contact, their mu*lambda, the tangent t, and vbar = T^T v = u t given
     by u = t . v, with ||vbar|| = |u|."""
     idx = (mu_lambda > 0.0).nonzero()[0]
+    if len(idx) < len(mu_lambda):          # (the integrator passes the nodes in contact only)
+        v, mu_lambda = v.take(idx, axis=0), mu_lambda.take(idx)
     t = tangent(n)
-    u = v.take(idx, axis=0) @ t
-    return idx, mu_lambda.take(idx), t, u, np.abs(u)
+    u = v.dot(t)
+    return idx, mu_lambda, t, u, np.abs(u)
 
 
 def val(v, mu_lambda, hhat, n, epsv=EPSV):
@@ -150,20 +152,20 @@ def val_grad_hess_kernel(v, mu_lambda, hhat, n, epsv):
     and one pass of the mollifier (see mollifier)."""
     contacts = _contacts(v, mu_lambda, n)
     f0_of_y, f1y, f1p = mollifier(contacts[4], epsv, hhat)
-    return (float(contacts[1] @ f0_of_y), _grad(v.shape, *contacts, f1y),
+    return (float(contacts[1].dot(f0_of_y)), _grad(v.shape, *contacts, f1y),
             (contacts[0][:, None], _tangent_blocks(contacts[1], contacts[2], f1p, hhat, True)))
 
 
 def _val(idx, ml, t, u, y, hhat, epsv):
     """P_f = sum_k mu lambda_k f0(y_k hhat) (Eq. 9.2.1), y_k = ||vbar_k||."""
-    return float(ml @ _f0_of_speed(y, y / epsv, y < epsv, epsv, hhat))
+    return float(ml.dot(_f0_of_speed(y, y / epsv, y < epsv, epsv, hhat)))
 
 
 def _grad(shape, idx, ml, t, u, y, f1y):
     """grad_k P_f = mu lambda_k T (f1(y)/y) vbar_k (Eq. 9.2.3), y = ||vbar_k||, f1y = f1(y)/y.
     T vbar = vbar = u t, so it is mu lambda_k f1y u_k t: zero at vbar = 0 and out of contact."""
     g = np.zeros(shape)
-    g[idx] = np.multiply.outer(ml * f1y * u, t)
+    g[idx] = (ml * f1y * u)[:, None] * t
     return g
 
 
@@ -181,4 +183,4 @@ def _tangent_blocks(ml, t, along_t, hhat, project_psd):
     """mu lambda_k / hhat f1'(y_k) t t^T (see _blocks), along_t = f1'(y_k), entry-major (2, 2, k)."""
     if project_psd:
         along_t = np.maximum(along_t, 0.0)
-    return np.multiply.outer(t[:, None] * t, (ml / hhat) * along_t)
+    return (t[:, None] * t)[:, :, None] * ((ml / hhat) * along_t)

@@ -36,7 +36,7 @@ def hess(x, m, g=GRAVITY):
 
 def val_kernel(x, m, g):
     """E_g = -sum_i m_i g . x_i."""
-    return -float(m @ (x @ g))
+    return -float(m.dot(x.dot(g)))
 
 
 def grad_kernel(x, m, g):

@@ -39,14 +39,20 @@ def hess(x, x_tilde, m):
 
 
 def val_kernel(x, x_tilde, m):
-    """E_I = 1/2 sum_i m_i ||x_i - x_tilde_i||^2."""
-    diff = x - x_tilde
-    return 0.5 * float(m @ np.einsum("ij,ij->i", diff, diff))
+    """E_I = 1/2 sum_i m_i ||x_i - x_tilde_i||^2 = 1/2 (x - x_tilde) . M (x - x_tilde)."""
+    return val_grad_kernel(x, x_tilde, m)[0]
 
 
 def grad_kernel(x, x_tilde, m):
     """grad E_I = M (x - x_tilde)."""
     return m[:, None] * (x - x_tilde)
+
+
+def val_grad_kernel(x, x_tilde, m):
+    """val_kernel and grad_kernel at once, from one x - x_tilde: E_I = 1/2 diff . (M diff), M diff."""
+    diff = x - x_tilde
+    M_diff = m[:, None] * diff
+    return 0.5 * float(diff.ravel().dot(M_diff.ravel())), M_diff
 
 
 def hess_kernel(x, x_tilde, m):

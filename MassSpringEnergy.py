@@ -84,7 +84,7 @@ def _strain(sq, l2):
 
 def _val(strain, l2, k):
     """E_s = sum_e 1/2 k l2 strain^2."""
-    return 0.5 * float((k * l2) @ (strain * strain))
+    return 0.5 * float((k * l2).dot(strain * strain))
 
 
 def _grad(e, dx, dy, strain, k, n_nodes):

@@ -154,22 +154,21 @@ class IncrementalPotential:
 
     def _evaluate(self, x):
         """evaluate(x) without the filter: NotAboveHalfSpace where the barrier refuses x."""
-        s = self.scene
+        s, h2 = self.scene, self.h2
         P, g, H = self._position_terms_at(x)
-        g, H = g.copy(), H.copy()
+        g, H = g * h2, H * h2                   # new arrays: the terms of x alone stay as they are
         if "friction" in self.potentials:
-            P_term, g_term, (nodes, blocks) = FrictionEnergy.val_grad_hess_kernel(
+            P_term, g_term, (_, blocks) = FrictionEnergy.val_grad_hess_kernel(
                 self._contact_velocity(x), self.contact_mu_lambda, s.h, s.n, s.epsv)
-            g[self.contacts] += g_term
-            s.pattern.add_node_blocks(H, self.contacts[nodes[:, 0]], blocks)
+            g[self.contacts] += h2 * g_term     # (every node passed is in contact: mu*lambda > 0)
+            s.pattern.add_node_blocks(H, self.contacts, h2 * blocks)
             P += P_term
             self._friction_gradient = (x, g_term)
-        g *= self.h2
-        g += InertiaEnergy.grad_kernel(x, self.x_tilde, s.m)
-        H *= self.h2
+        E_inertia, g_inertia = InertiaEnergy.val_grad_kernel(x, self.x_tilde, s.m)
+        g += g_inertia
         H += self.inertia
         self._evaluated = (x, g, H)
-        return InertiaEnergy.val_kernel(x, self.x_tilde, s.m) + self.h2 * P
+        return E_inertia + h2 * P
 
     def _position_terms_at(self, x):
         """P, grad P and hess P of the terms of x alone (all but friction, the last term) at x, with
@@ -177,23 +176,25 @@ class IncrementalPotential:
         known = self._position_terms
         if known is not None and known[0] is x:
             return known[1:]
-        s, pattern, P = self.scene, self.scene.pattern, 0.0
-        g, H = self.gravity_grad.copy(), np.zeros(len(pattern.rows))
+        s, pattern = self.scene, self.scene.pattern
+        P, g, H = 0.0, self.gravity_grad, None      # g and H are new arrays before any += below
         for term in self.potentials:
             if term == "spring":
                 P_term, g_term, (_, spring_H) = MassSpringEnergy.val_grad_hess_kernel(x, s.e, s.l2, s.k)
-                g += g_term
-                H += pattern.sum_spring_blocks(spring_H)
+                g = g + g_term
+                H = pattern.sum_spring_blocks(spring_H) if H is None else H + pattern.sum_spring_blocks(spring_H)
             elif term == "gravity":
                 P_term = GravityEnergy.val_kernel(x, s.m, s.g)
             elif term == "barrier":
                 P_term, g_term, (nodes, blocks) = BarrierEnergy.val_grad_hess_kernel(
                     x, s.n, s.o, s.contact_area, s.dhat, s.kappa)
-                g += g_term
+                g = g + g_term
+                H = np.zeros(len(pattern.rows)) if H is None else H
                 pattern.add_node_blocks(H, nodes[:, 0], blocks)
             else:
                 continue                            # friction: depends on x^n too (evaluate)
             P += P_term
+        H = np.zeros(len(pattern.rows)) if H is None else H
         self._position_terms = (x, P, g, H)
         return P, g, H
 
@@ -300,7 +301,7 @@ class NewtonSystem:
         """(None, bound) when ||p||_inf / h <= bound <= tol is shown without a factorization; else
         (p, ||p||_inf / h) as direction(x) gives them."""
         g = self.ip.gradient(x).reshape(-1)
-        residual = math.sqrt(g @ g) * self.ip.inv_m_min / self.scene.h
+        residual = math.sqrt(g.dot(g)) * self.ip.inv_m_min / self.scene.h
         if residual <= self.scene.tol:              # the very test _newton makes, on the bound
             return None, residual
         H = self.ip.hessian(x)

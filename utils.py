@@ -251,8 +251,7 @@ class BlockPattern:
     csc_indices: np.ndarray
     full_from_upper: np.ndarray     # slot of every stored entry of the full CSC pattern
     node_entries: np.ndarray        # row-major flat indices of a 2x2 block's upper triangle
-    edge_sources: np.ndarray        # for a spring's 4x4 upper triangle: which of (h00, h01, h11)
-    edge_signs: np.ndarray          # ... and its sign, (10, 1)
+    spring_sum: scipy.sparse.csr_matrix   # (slots, 3E): the springs' (h00, h01, h11) -> slot values
 
     @classmethod
     def build(cls, n_nodes, e, solver=None):
@@ -271,21 +270,17 @@ class BlockPattern:
         band_index = (bandwidth + rows - cols) + (bandwidth + 1) * cols
         indptr, indices, full_from_upper = _full_csc(rows, cols, n)
         node_entries = _upper_entries(2)
-        r, c = np.triu_indices(4)
-        edge_sources = r % 2 + c % 2
-        edge_signs = np.where(r // 2 == c // 2, 1.0, -1.0)[:, None]
+        spring_sum = _spring_sum(edge_slots, len(upper))
         _readonly(rows, cols, node_slots, edge_slots, diagonal_slots, band_index, indptr, indices,
-                  full_from_upper, node_entries, edge_sources, edge_signs)
+                  full_from_upper, node_entries, spring_sum.data, spring_sum.indices, spring_sum.indptr)
         return cls(n, rows, cols, node_slots, edge_slots, diagonal_slots, solver, bandwidth,
-                   band_index, indptr, indices, full_from_upper, node_entries, edge_sources, edge_signs)
+                   band_index, indptr, indices, full_from_upper, node_entries, spring_sum)
 
     def sum_spring_blocks(self, H):
         """Upper-triangle values of the sum of the springs' 4x4 blocks [[H, -H], [-H, H]], each
-        spring's 2x2 H given by its entries H = (h00, h01, h11), (3, E): entry (r, c), r <= c, of a
-        block is h_{i+j} (i = r % 2, j = c % 2) with the sign + on the nodes' diagonal blocks and -
-        off them, added into its slot (edge_slots) with one np.bincount."""
-        values = H.take(self.edge_sources, axis=0) * self.edge_signs
-        return np.bincount(self.edge_slots.reshape(-1), values.reshape(-1), minlength=len(self.rows))
+        spring's 2x2 H given by its entries H = (h00, h01, h11), (3, E): one sparse matrix-vector
+        product with `spring_sum` (see _spring_sum)."""
+        return self.spring_sum @ H.reshape(-1)
 
     def add_node_blocks(self, upper, nodes, blocks):
         """upper += the entry-major 2x2 blocks (2, 2, k) of the distinct nodes `nodes`, in place (the
@@ -353,6 +348,20 @@ def _upper_keys(nodes, n):
     entries = _upper_entries(2 * nodes.shape[1])
     rows, cols = rows[:, entries].T, cols[:, entries].T
     return np.maximum(rows, cols) * n + np.minimum(rows, cols)
+
+
+def _spring_sum(edge_slots, n_slots):
+    """The (n_slots, 3E) matrix S with S @ H.ravel() = the slot values of the sum of the springs'
+    blocks [[H, -H], [-H, H]], H (3, E) = (h00, h01, h11) per spring: entry (r, c), r <= c, of a
+    spring's 4x4 block is h_{i+j} (i = r % 2, j = c % 2), + on the nodes' diagonal blocks and - off
+    them, so S holds +-1 at (edge_slots[entry, edge], (i + j) E + edge). Fixed per scene: filling
+    the pattern is then one sparse product instead of a gather, a scaling and a scatter."""
+    n_edges = edge_slots.shape[1]
+    r, c = np.triu_indices(4)
+    source = (r % 2 + c % 2)[:, None] * n_edges + np.arange(n_edges)
+    sign = np.broadcast_to(np.where(r // 2 == c // 2, 1.0, -1.0)[:, None], edge_slots.shape)
+    return scipy.sparse.csr_matrix((sign.ravel(), (edge_slots.ravel(), source.ravel())),
+                                   shape=(n_slots, 3 * n_edges))
 
 
 def _full_csc(rows, cols, n):
