@@ -41,12 +41,8 @@ def f1_over_y(y, epsv):
     """Eq. 9.2.5, f1(y)/y: (-y + 2 eps_v)/eps_v^2 for y < eps_v, else 1/y. Finite (2/eps_v) at y = 0,
     and never divides by zero there."""
     y = np.asarray(y, dtype=np.float64)
-    return _f1_over_y(y, y / epsv, y < epsv, epsv)
-
-
-def _f1_over_y(y, r, slow, epsv):
-    """f1(y)/y from y, r = y/eps_v and slow = y < eps_v (1/y only where y >= eps_v > 0)."""
-    return np.where(slow, (2.0 - r) / epsv, 1.0 / np.where(slow, 1.0, y))
+    slow = y < epsv
+    return np.where(slow, (2.0 - y / epsv) / epsv, 1.0 / np.where(slow, 1.0, y))   # 1/y only where y >= eps_v
 
 
 def f_hess_term(y, epsv):
@@ -62,27 +58,33 @@ def f1_prime(y, epsv):
     2 (1 - y/eps_v)/eps_v for y < eps_v, else 0. Written so, it never forms 1/eps_v^2, which
     overflows for tiny eps_v (and a PSD clamp would then turn -inf into a silent 0)."""
     y = np.asarray(y, dtype=np.float64)
-    return _f1_prime(y / epsv, y < epsv, epsv)
-
-
-def _f1_prime(r, slow, epsv):
-    """f1'(y) from r = y/eps_v and slow = y < eps_v."""
-    return np.where(slow, 2.0 * (1.0 - r) / epsv, 0.0)
+    return np.where(y < epsv, 2.0 * (1.0 - y / epsv) / epsv, 0.0)
 
 
 def mollifier(y, epsv, hhat):
     """f0(y hhat), f1(y)/y and f1'(y) at once, for the kernels that need all three: the formulas of
-    f0 (Eq. 9.2.2), f1_over_y (Eq. 9.2.5) and f1_prime, sharing r = y/eps_v and the branch
-    y < eps_v (for y = ||vbar||, f0's r = y hhat/(eps_v hhat) is this r)."""
-    r = y / epsv
+    f0 (Eq. 9.2.2), f1_over_y (Eq. 9.2.5) and f1_prime, branch by branch (y < eps_v or not; for
+    y = ||vbar||, f0's y hhat < eps_v hhat is the same branch). A branch no y is on is not computed:
+    all contacts sliding or all sticking, the usual cases, cost one branch; the numbers are the same."""
     slow = y < epsv
-    return _f0_of_speed(y, r, slow, epsv, hhat), _f1_over_y(y, r, slow, epsv), _f1_prime(r, slow, epsv)
+    if not slow.any():
+        return _sliding_branch(y, hhat)
+    static = _static_branch(y / epsv, epsv, hhat)
+    if slow.all():
+        return static
+    sliding = _sliding_branch(np.where(slow, 1.0, y), hhat)     # 1/y only where y >= eps_v > 0
+    return tuple(np.where(slow, a, b) for a, b in zip(static, sliding))
 
 
-def _f0_of_speed(y, r, slow, epsv, hhat):
-    """f0(y hhat) (Eq. 9.2.2) from the speed y, r = y/eps_v and slow = y < eps_v: what val_kernel
-    and mollifier both use, so the line search compares energies summed the same way."""
-    return np.where(slow, (epsv * hhat) * (-r ** 3 / 3.0 + r * r + 1.0 / 3.0), y * hhat)
+def _static_branch(r, epsv, hhat):
+    """f0(y hhat), f1(y)/y, f1'(y) for y < eps_v, from r = y/eps_v: eps_v hhat (-r^3/3 + r^2 + 1/3),
+    (2 - r)/eps_v, 2 (1 - r)/eps_v."""
+    return (epsv * hhat) * (-r ** 3 / 3.0 + r * r + 1.0 / 3.0), (2.0 - r) / epsv, 2.0 * (1.0 - r) / epsv
+
+
+def _sliding_branch(y, hhat):
+    """f0(y hhat), f1(y)/y, f1'(y) for y >= eps_v: y hhat, 1/y, 0."""
+    return y * hhat, 1.0 / y, np.zeros(len(y))
 
 
 def tangent(n):
@@ -157,8 +159,9 @@ def val_grad_hess_kernel(v, mu_lambda, hhat, n, epsv):
 
 
 def _val(idx, ml, t, u, y, hhat, epsv):
-    """P_f = sum_k mu lambda_k f0(y_k hhat) (Eq. 9.2.1), y_k = ||vbar_k||."""
-    return float(ml.dot(_f0_of_speed(y, y / epsv, y < epsv, epsv, hhat)))
+    """P_f = sum_k mu lambda_k f0(y_k hhat) (Eq. 9.2.1), y_k = ||vbar_k||, with f0 from mollifier: the
+    same bits as val_grad_hess_kernel's P_f (the line search compares the two)."""
+    return float(ml.dot(mollifier(y, epsv, hhat)[0]))
 
 
 def _grad(shape, idx, ml, t, u, y, f1y):

@@ -227,8 +227,8 @@ def test_friction_energy_is_the_same_number_in_both_kernels():
     two), in the static branch too, where f0 is a cubic in y/eps_v."""
     rng = np.random.default_rng(5)
     epsv, hhat = 1e-3, 0.01
-    for _ in range(300):
-        speeds = rng.uniform(0, 1.2, 8) * epsv
+    for i in range(300):
+        speeds = rng.uniform(0, 1.2, 8) * epsv if i % 3 else rng.uniform(1.0, 300.0, 8) * epsv   # or all sliding
         x_n, x, mu_lambda = friction_setup(rng, speeds, epsv, hhat)
         args = ((x - x_n) / hhat, mu_lambda, hhat, N_SLOPE, epsv)
         assert FrictionEnergy.val_grad_hess_kernel(*args)[0] == FrictionEnergy.val_kernel(*args)
@@ -242,6 +242,15 @@ def test_mollifier_is_f0_f1_over_y_and_f1_prime():
     assert_close(f0_of_y, FrictionEnergy.f0(y * hhat, epsv, hhat), 1e-14, "f0")
     assert_close(f1y, FrictionEnergy.f1_over_y(y, epsv), 1e-14, "f1/y")
     assert_close(f1p, FrictionEnergy.f1_prime(y, epsv), 1e-14, "f1'", atol=1e-14 / epsv)
+    # every contact on one side of eps_v: mollifier computes that branch alone, with the same numbers
+    sliding = np.linspace(epsv, 50 * epsv, 7)
+    assert [a.tolist() for a in FrictionEnergy.mollifier(sliding, epsv, hhat)] == [
+        FrictionEnergy.f0(sliding * hhat, epsv, hhat).tolist(), (1.0 / sliding).tolist(), [0.0] * 7]
+    static = np.linspace(0.0, np.nextafter(epsv, 0), 7)
+    f0_of_y, f1y, f1p = FrictionEnergy.mollifier(static, epsv, hhat)
+    assert_close(f0_of_y, FrictionEnergy.f0(static * hhat, epsv, hhat), 1e-14, "f0 static")
+    assert f1y.tolist() == FrictionEnergy.f1_over_y(static, epsv).tolist()
+    assert f1p.tolist() == FrictionEnergy.f1_prime(static, epsv).tolist()
 
 
 def test_tangent_spans_the_tangent_operator():
