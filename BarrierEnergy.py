@@ -145,12 +145,11 @@ def init_step_size(x, n, o, p):
 
 def init_step_size_kernel(x, n, o, p):
     """CCD against the half-space (Algorithm 4, line 1): the largest alpha <= 1 that keeps every
-    node on the positive side along x + alpha p, scaled by 0.9 so no node lands on the boundary."""
-    p_n = p.dot(n)
-    approaching = p_n < 0.0
-    if not approaching.any():
-        return 1.0
-    return float(min(1.0, (0.9 * distances(x[approaching], n, o) / -p_n[approaching]).min()))
+    node on the positive side along x + alpha p, scaled by 0.9 so no node lands on the boundary.
+    Node i reaches the boundary at alpha_i = d_i / (-n . p_i) if it approaches it (n . p_i < 0), so
+    the bound is 0.9 / max_i (-n . p_i / d_i), every d_i > 0."""
+    fastest = float((-p.dot(n) / distances(x, n, o)).max(initial=0.0))
+    return 1.0 if fastest <= 0.9 else 0.9 / fastest
 
 
 def compute_mu_lambda(x, n, o, contact_area, mu, dhat=DHAT, kappa=KAPPA):

@@ -167,8 +167,11 @@ def _val(idx, ml, t, u, y, hhat, epsv):
 def _grad(shape, idx, ml, t, u, y, f1y):
     """grad_k P_f = mu lambda_k T (f1(y)/y) vbar_k (Eq. 9.2.3), y = ||vbar_k||, f1y = f1(y)/y.
     T vbar = vbar = u t, so it is mu lambda_k f1y u_k t: zero at vbar = 0 and out of contact."""
+    forces = (ml * f1y * u)[:, None] * t
+    if len(idx) == shape[0]:                # every node in contact (as the integrator passes them)
+        return forces
     g = np.zeros(shape)
-    g[idx] = (ml * f1y * u)[:, None] * t
+    g[idx] = forces
     return g
 
 
