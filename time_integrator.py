@@ -69,16 +69,42 @@ class StepReport:
 
 
 @dataclass(frozen=True)
+class SceneConstants:
+    """What the Incremental Potential needs of a scene that no x changes: M's slot values, gravity's
+    gradient (zero without gravity) and 1 / min m. Read-only, computed once and handed on with the
+    position terms."""
+    inertia: np.ndarray
+    gravity_grad: np.ndarray
+    inv_m_min: float            # H >= M, so ||H^-1||_2 <= 1 / min m
+
+    @classmethod
+    def of(cls, scene):
+        unknown = set(scene.terms) - {"inertia", *POTENTIALS}
+        if unknown:
+            raise ValueError(f"scene.terms has an unknown term {sorted(unknown)[0]!r}")
+        x0 = scene.x0
+        inertia = scene.pattern.diagonal(InertiaEnergy.hess_kernel(x0, x0, scene.m))
+        gravity_grad = (GravityEnergy.grad_kernel(x0, scene.m, scene.g) if "gravity" in scene.terms
+                        else np.zeros(x0.shape))
+        m_min = float(scene.m.min())
+        inertia.setflags(write=False)
+        gravity_grad.setflags(write=False)
+        return cls(inertia, gravity_grad, 1.0 / m_min if m_min > 0.0 else math.inf)
+
+
+@dataclass(frozen=True)
 class PositionTerms:
     """The scene's terms that depend on x alone (springs, gravity, the barrier) at one x: their sum
     P, its gradient and the slot values of its Hessian (PSD-projected, before the h^2 scaling).
     A step ends with them at x^{n+1}, the next step's x^n; handed that step's report, the next step
-    starts from them instead of evaluating the same terms at the same x again."""
+    starts from them instead of evaluating the same terms at the same x again (and takes the scene's
+    constants from them)."""
     scene: object
     x: np.ndarray               # a copy: the numbers hold for exactly these positions
     P: float
     g: np.ndarray
     H: np.ndarray
+    constants: SceneConstants
 
 
 class IncrementalPotential:
@@ -98,23 +124,18 @@ class IncrementalPotential:
         self.contacts = np.zeros(0, dtype=np.int64) if mu_lambda is None else (mu_lambda > 0.0).nonzero()[0]
         self.potentials = tuple(t for t in scene.terms if t != "inertia"
                                 and (t != "friction" or len(self.contacts)))
-        unknown = set(self.potentials) - set(POTENTIALS)
-        if unknown:
-            raise ValueError(f"scene.terms has an unknown term {sorted(unknown)[0]!r}")
         self.contact_x_n = x_n.take(self.contacts, axis=0)
         self.contact_mu_lambda = None if mu_lambda is None else mu_lambda.take(self.contacts)
-        # constant in x, so computed once per solve: M's slot values and gravity's gradient
-        self.inertia = scene.pattern.diagonal(InertiaEnergy.hess_kernel(x_n, x_tilde, scene.m))
-        self.gravity_grad = (GravityEnergy.grad_kernel(x_n, scene.m, scene.g) if "gravity" in self.potentials
-                             else np.zeros(x_n.shape))
-        m_min = float(scene.m.min())          # H >= M, so ||H^-1||_2 <= 1 / min m
-        self.inv_m_min = 1.0 / m_min if m_min > 0.0 else math.inf
         self._evaluated = None                # (x, grad E(x), H(x)) of the last evaluate
         self._position_terms = None           # (x, P, grad P, hess P) of the terms of x alone
         self._friction_gradient = None        # (x, grad P_f at the contacts) of the last evaluate
-        if (start_terms is not None and start_terms.scene is scene
-                and start_terms.x.shape == x_n.shape and (start_terms.x == x_n).all()):
-            self._position_terms = (x_n, start_terms.P, start_terms.g, start_terms.H)
+        if start_terms is not None and start_terms.scene is scene:
+            self.constants = start_terms.constants
+            if start_terms.x.shape == x_n.shape and (start_terms.x == x_n).all():
+                self._position_terms = (x_n, start_terms.P, start_terms.g, start_terms.H)
+        else:
+            self.constants = SceneConstants.of(scene)
+        self.inv_m_min = self.constants.inv_m_min
 
     def _contact_velocity(self, x):
         """v = (x - x^n) / h at the nodes in contact, the friction term's argument."""
@@ -166,7 +187,7 @@ class IncrementalPotential:
             self._friction_gradient = (x, g_term)
         E_inertia, g_inertia = InertiaEnergy.val_grad_kernel(x, self.x_tilde, s.m)
         g += g_inertia
-        H += self.inertia
+        H += self.constants.inertia
         self._evaluated = (x, g, H)
         return E_inertia + h2 * P
 
@@ -177,7 +198,7 @@ class IncrementalPotential:
         if known is not None and known[0] is x:
             return known[1:]
         s, pattern = self.scene, self.scene.pattern
-        P, g, H = 0.0, self.gravity_grad, None      # g and H are new arrays before any += below
+        P, g, H = 0.0, self.constants.gravity_grad, None    # g and H are new arrays before any += below
         for term in self.potentials:
             if term == "spring":
                 P_term, g_term, (_, spring_H) = MassSpringEnergy.val_grad_hess_kernel(x, s.e, s.l2, s.k)
@@ -214,7 +235,7 @@ class IncrementalPotential:
         x_copy, (P, g, H) = x.copy(), known[1:]
         for a in (x_copy, g, H):
             a.setflags(write=False)                 # evaluate copies them before adding friction
-        return PositionTerms(self.scene, x_copy, P, g, H)
+        return PositionTerms(self.scene, x_copy, P, g, H, self.constants)
 
     def gradient(self, x):
         """grad E(x) (see evaluate)."""
