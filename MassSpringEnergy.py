@@ -28,10 +28,10 @@ def _check(x, e, l2, k):
 
 
 def _edge_vectors(x, e):
-    """The components (dx, dy) of diff_e = x_a - x_b for every edge, and ||diff_e||^2."""
+    """diff_e = x_a - x_b (E, 2) for every edge, its components (dx, dy) and ||diff_e||^2."""
     diff = x.take(e[:, 0], axis=0) - x.take(e[:, 1], axis=0)
     dx, dy = diff[:, 0], diff[:, 1]
-    return dx, dy, dx * dx + dy * dy
+    return diff, dx, dy, dx * dx + dy * dy
 
 
 def val(x, e, l2, k):
@@ -52,29 +52,32 @@ def hess(x, e, l2, k, project_psd=True):
 
 def val_kernel(x, e, l2, k):
     """E_s = sum_e 1/2 k l2 (||diff||^2 / l2 - 1)^2 (see _val)."""
-    return _val(_strain(_edge_vectors(x, e)[2], l2), l2, k)
+    return _val(_strain(_edge_vectors(x, e)[3], l2), l2, k)
 
 
 def grad_kernel(x, e, l2, k):
     """dE/dx_a = -dE/dx_b = 2 k (||diff||^2 / l2 - 1) diff (see _grad)."""
-    dx, dy, sq = _edge_vectors(x, e)
+    _, dx, dy, sq = _edge_vectors(x, e)
     return _grad(e, dx, dy, _strain(sq, l2), k, len(x))
 
 
 def hess_kernel(x, e, l2, k, project_psd=True):
     """Per edge [[H, -H], [-H, H]], H = 2k/l2 (2 diff diff^T + (||diff||^2 - l2) I) (see _blocks).
     Returns (e, blocks), the blocks entry-major (4, 4, E) (see utils.blocks_to_ijv)."""
-    return e, _blocks(*_edge_vectors(x, e), l2, k, project_psd)
+    return e, _blocks(*_edge_vectors(x, e)[1:], l2, k, project_psd)
 
 
 def val_grad_hess_kernel(x, e, l2, k):
     """val_kernel, grad_kernel and the PSD-projected hess_kernel at once, from one set of edge
-    vectors (the line search's first trial: Newton usually accepts it and then needs all three).
-    The Hessian comes as (e, H), H (3, E) the entries (h00, h01, h11) of each spring's projected
-    2x2 H, whose 4x4 block is [[H, -H], [-H, H]] (utils.BlockPattern.sum_spring_blocks adds them)."""
-    dx, dy, sq = _edge_vectors(x, e)
+    vectors (the line search's first trial: Newton usually accepts it and then needs all three),
+    spring by spring: the gradient comes as (e, f), f (E, 2) = dE/dx_a = -dE/dx_b of each spring
+    (utils.BlockPattern.sum_spring_forces adds them up per node), the Hessian as (e, H), H (3, E)
+    the entries (h00, h01, h11) of each spring's projected 2x2 H, whose 4x4 block is
+    [[H, -H], [-H, H]] (utils.BlockPattern.sum_spring_blocks adds them)."""
+    diff, dx, dy, sq = _edge_vectors(x, e)
     strain = _strain(sq, l2)
-    return _val(strain, l2, k), _grad(e, dx, dy, strain, k, len(x)), (e, _spring_hessians(dx, dy, sq, l2, k, True))
+    forces = diff * (2.0 * k * strain)[:, None]
+    return _val(strain, l2, k), (e, forces), (e, _spring_hessians(dx, dy, sq, l2, k, True))
 
 
 def _strain(sq, l2):

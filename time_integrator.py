@@ -201,8 +201,8 @@ class IncrementalPotential:
         P, g, H = 0.0, self.constants.gravity_grad, None    # g and H are new arrays before any += below
         for term in self.potentials:
             if term == "spring":
-                P_term, g_term, (_, spring_H) = MassSpringEnergy.val_grad_hess_kernel(x, s.e, s.l2, s.k)
-                g = g + g_term
+                P_term, (_, forces), (_, spring_H) = MassSpringEnergy.val_grad_hess_kernel(x, s.e, s.l2, s.k)
+                g = g + pattern.sum_spring_forces(forces)
                 H = pattern.sum_spring_blocks(spring_H) if H is None else H + pattern.sum_spring_blocks(spring_H)
             elif term == "gravity":
                 P_term = GravityEnergy.val_kernel(x, s.m, s.g)

@@ -252,6 +252,7 @@ class BlockPattern:
     full_from_upper: np.ndarray     # slot of every stored entry of the full CSC pattern
     node_entries: np.ndarray        # row-major flat indices of a 2x2 block's upper triangle
     spring_sum: scipy.sparse.csr_matrix   # (slots, 3E): the springs' (h00, h01, h11) -> slot values
+    spring_scatter: scipy.sparse.csr_matrix   # (2N, 2E): the springs' forces on node a -> per DOF
 
     @classmethod
     def build(cls, n_nodes, e, solver=None):
@@ -270,17 +271,23 @@ class BlockPattern:
         band_index = (bandwidth + rows - cols) + (bandwidth + 1) * cols
         indptr, indices, full_from_upper = _full_csc(rows, cols, n)
         node_entries = _upper_entries(2)
-        spring_sum = _spring_sum(edge_slots, len(upper))
+        spring_sum, spring_scatter = _spring_sum(edge_slots, len(upper)), _spring_scatter(e, n)
         _readonly(rows, cols, node_slots, edge_slots, diagonal_slots, band_index, indptr, indices,
-                  full_from_upper, node_entries, spring_sum.data, spring_sum.indices, spring_sum.indptr)
+                  full_from_upper, node_entries, *(getattr(S, a) for S in (spring_sum, spring_scatter)
+                                                   for a in ("data", "indices", "indptr")))
         return cls(n, rows, cols, node_slots, edge_slots, diagonal_slots, solver, bandwidth,
-                   band_index, indptr, indices, full_from_upper, node_entries, spring_sum)
+                   band_index, indptr, indices, full_from_upper, node_entries, spring_sum, spring_scatter)
 
     def sum_spring_blocks(self, H):
         """Upper-triangle values of the sum of the springs' 4x4 blocks [[H, -H], [-H, H]], each
         spring's 2x2 H given by its entries H = (h00, h01, h11), (3, E): one sparse matrix-vector
         product with `spring_sum` (see _spring_sum)."""
         return self.spring_sum @ H.reshape(-1)
+
+    def sum_spring_forces(self, f):
+        """The (N, 2) gradient of the springs from each spring's f = dE/dx_a = -dE/dx_b, (E, 2): one
+        sparse matrix-vector product with `spring_scatter`, +f to node a and -f to node b."""
+        return (self.spring_scatter @ f.reshape(-1)).reshape(-1, 2)
 
     def add_node_blocks(self, upper, nodes, blocks):
         """upper += the entry-major 2x2 blocks (2, 2, k) of the distinct nodes `nodes`, in place (the
@@ -362,6 +369,16 @@ def _spring_sum(edge_slots, n_slots):
     sign = np.broadcast_to(np.where(r // 2 == c // 2, 1.0, -1.0)[:, None], edge_slots.shape)
     return scipy.sparse.csr_matrix((sign.ravel(), (edge_slots.ravel(), source.ravel())),
                                    shape=(n_slots, 3 * n_edges))
+
+
+def _spring_scatter(e, n):
+    """The (2N, 2E) matrix with +1 at (2a + i, 2j + i) and -1 at (2b + i, 2j + i) for spring j = (a, b)
+    and axis i: applied to the springs' forces f (E, 2) raveled, it sums them per node and axis."""
+    dofs = block_dofs(e)                                  # (E, 4): 2a, 2a + 1, 2b, 2b + 1
+    columns = np.arange(2 * len(e)).reshape(-1, 2)
+    return scipy.sparse.csr_matrix(
+        (np.repeat([[1.0, 1.0, -1.0, -1.0]], len(e), axis=0).ravel(),
+         (dofs.ravel(), np.concatenate([columns, columns], axis=1).ravel())), shape=(n, 2 * len(e)))
 
 
 def _full_csc(rows, cols, n):

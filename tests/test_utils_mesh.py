@@ -155,6 +155,19 @@ def test_block_pattern_assembles_what_the_triplets_do(solver):
         assert not expected[i[~inside], j[~inside]].any()
 
 
+def test_block_pattern_sums_the_spring_forces_per_node():
+    """The springs' forces, summed per node by the pattern's fixed sparse product, are grad E_s."""
+    rng = np.random.default_rng(4)
+    x, e = square_mesh.generate(1.0, 5)
+    y = x * 1.1 + 0.02 * rng.normal(size=x.shape)
+    l2, k = np.full(len(e), 0.04), rng.uniform(1e3, 1e4, len(e))
+    forces = MassSpringEnergy.val_grad_hess_kernel(y, e, l2, k)[1][1]
+    expected = MassSpringEnergy.grad_kernel(y, e, l2, k)
+    summed = utils.BlockPattern.build(len(x), e).sum_spring_forces(forces)
+    assert summed.shape == x.shape
+    assert np.allclose(summed, expected, rtol=0, atol=1e-12 * np.abs(expected).max())
+
+
 def test_both_solvers_solve_the_spd_system():
     x, e, nodes, spring_H, spring, node_blocks = pattern_setup(6, seed=1)
     b = np.random.default_rng(2).normal(size=2 * len(x))
