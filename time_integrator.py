@@ -203,7 +203,8 @@ class IncrementalPotential:
             if term == "spring":
                 P_term, (_, forces), (_, spring_H) = MassSpringEnergy.val_grad_hess_kernel(x, s.e, s.l2, s.k)
                 g = g + pattern.sum_spring_forces(forces)
-                H = pattern.sum_spring_blocks(spring_H) if H is None else H + pattern.sum_spring_blocks(spring_H)
+                H_term = pattern.sum_spring_blocks(spring_H)
+                H = H_term if H is None else H + H_term
             elif term == "gravity":
                 P_term = GravityEnergy.val_kernel(x, s.m, s.g)
             elif term == "barrier":
