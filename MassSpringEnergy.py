@@ -56,9 +56,10 @@ def val_kernel(x, e, l2, k):
 
 
 def grad_kernel(x, e, l2, k):
-    """dE/dx_a = -dE/dx_b = 2 k (||diff||^2 / l2 - 1) diff (see _grad)."""
-    _, dx, dy, sq = _edge_vectors(x, e)
-    return _grad(e, dx, dy, _strain(sq, l2), k, len(x))
+    """dE/dx_a = -dE/dx_b = 2 k (||diff||^2 / l2 - 1) diff, summed over the edges of each node (see _forces)."""
+    diff, _, _, sq = _edge_vectors(x, e)
+    forces = _forces(diff, _strain(sq, l2), k)
+    return utils.scatter_add_pairs(e, forces[:, 0], forces[:, 1], len(x))
 
 
 def hess_kernel(x, e, l2, k, project_psd=True):
@@ -76,8 +77,7 @@ def val_grad_hess_kernel(x, e, l2, k):
     [[H, -H], [-H, H]] (utils.BlockPattern.sum_spring_blocks adds them)."""
     diff, dx, dy, sq = _edge_vectors(x, e)
     strain = _strain(sq, l2)
-    forces = diff * (2.0 * k * strain)[:, None]
-    return _val(strain, l2, k), (e, forces), (e, _spring_hessians(dx, dy, sq, l2, k, True))
+    return _val(strain, l2, k), (e, _forces(diff, strain, k)), (e, _spring_hessians(dx, dy, sq, l2, k, True))
 
 
 def _strain(sq, l2):
@@ -90,10 +90,9 @@ def _val(strain, l2, k):
     return 0.5 * float((k * l2).dot(strain * strain))
 
 
-def _grad(e, dx, dy, strain, k, n_nodes):
-    """dE/dx_a = -dE/dx_b = 2 k strain diff, summed over the edges of each node."""
-    coef = 2.0 * k * strain
-    return utils.scatter_add_pairs(e, coef * dx, coef * dy, n_nodes)
+def _forces(diff, strain, k):
+    """dE/dx_a = -dE/dx_b = 2 k strain diff of every spring, (E, 2)."""
+    return diff * (2.0 * k * strain)[:, None]
 
 
 def _blocks(dx, dy, sq, l2, k, project_psd):
