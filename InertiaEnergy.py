@@ -49,9 +49,10 @@ def grad_kernel(x, x_tilde, m):
 
 
 def val_grad_kernel(x, x_tilde, m):
-    """val_kernel and grad_kernel at once, from one x - x_tilde: E_I = 1/2 diff . (M diff), M diff."""
+    """val_kernel and grad_kernel at once, from one x - x_tilde: E_I = 1/2 diff . (M diff), M diff.
+    m may also be given per DOF, (N, 2) (m_i twice per row), which multiplies faster (the integrator's)."""
     diff = x - x_tilde
-    M_diff = m[:, None] * diff
+    M_diff = (m[:, None] if m.ndim == 1 else m) * diff
     return 0.5 * float(diff.ravel().dot(M_diff.ravel())), M_diff
 
 

@@ -213,7 +213,8 @@ def build_scene(**overrides):
             terms.append("friction")
 
     return Scene(
-        params=types.MappingProxyType(p), x0=_readonly(x), v0=_readonly(np.tile(p["v0"], (n_nodes, 1))), e=_readonly(e),
+        params=types.MappingProxyType(p), x0=_readonly(x), v0=_readonly(np.tile(p["v0"], (n_nodes, 1))),
+        e=_readonly(np.asfortranarray(e)),      # column by column: e[:, 0] and e[:, 1] gather fast
         l2=_readonly(np.einsum("ij,ij->i", diff, diff)), k=_readonly(np.full(len(e), p["k"])),
         m=_readonly(np.full(n_nodes, total_mass / n_nodes)),
         contact_area=_readonly(np.full(n_nodes, p["side_len"] / p["n_seg"])),

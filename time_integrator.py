@@ -74,6 +74,7 @@ class SceneConstants:
     gradient (zero without gravity) and 1 / min m. Read-only, computed once and handed on with the
     position terms."""
     inertia: np.ndarray
+    dof_masses: np.ndarray      # (N, 2): m_i twice per row, the masses InertiaEnergy multiplies by
     gravity_grad: np.ndarray
     inv_m_min: float            # H >= M, so ||H^-1||_2 <= 1 / min m
 
@@ -86,10 +87,11 @@ class SceneConstants:
         inertia = scene.pattern.diagonal(InertiaEnergy.hess_kernel(x0, x0, scene.m))
         gravity_grad = (GravityEnergy.grad_kernel(x0, scene.m, scene.g) if "gravity" in scene.terms
                         else np.zeros(x0.shape))
+        dof_masses = np.repeat(scene.m, 2).reshape(-1, 2)
         m_min = float(scene.m.min())
-        inertia.setflags(write=False)
-        gravity_grad.setflags(write=False)
-        return cls(inertia, gravity_grad, 1.0 / m_min if m_min > 0.0 else math.inf)
+        for a in (inertia, dof_masses, gravity_grad):
+            a.setflags(write=False)
+        return cls(inertia, dof_masses, gravity_grad, 1.0 / m_min if m_min > 0.0 else math.inf)
 
 
 @dataclass(frozen=True)
@@ -158,7 +160,7 @@ class IncrementalPotential:
             return math.inf
         if "friction" in self.potentials:       # last, as evaluate adds it
             P += FrictionEnergy.val_kernel(self._contact_velocity(x), self.contact_mu_lambda, s.h, s.n, s.epsv)
-        return InertiaEnergy.val_kernel(x, self.x_tilde, s.m) + self.h2 * P
+        return InertiaEnergy.val_kernel(x, self.x_tilde, self.constants.dof_masses) + self.h2 * P
 
     def evaluate(self, x):
         """E(x) exactly as val(x) sums it, with grad E(x) = M (x - x_tilde) + h^2 sum_terms grad P(x)
@@ -185,7 +187,7 @@ class IncrementalPotential:
             s.pattern.add_node_blocks(H, self.contacts, h2 * blocks)
             P += P_term
             self._friction_gradient = (x, g_term)
-        E_inertia, g_inertia = InertiaEnergy.val_grad_kernel(x, self.x_tilde, s.m)
+        E_inertia, g_inertia = InertiaEnergy.val_grad_kernel(x, self.x_tilde, self.constants.dof_masses)
         g += g_inertia
         H += self.constants.inertia
         self._evaluated = (x, g, H)
@@ -359,10 +361,10 @@ class NewtonSystem:
         z = pattern.solve(factor, r)
         if not np.abs(z).max() <= limit:
             return None
-        A = pattern.to_csc(H)
+        A = pattern.product(H)
         d, rz = z, r @ z
         for _ in range(CG_ITERATIONS):
-            Hd = A @ d
+            Hd = A(d)
             alpha = rz / (d @ Hd)
             q += alpha * d
             r -= alpha * Hd
@@ -370,7 +372,7 @@ class NewtonSystem:
             if not q_max - r_bound <= limit:          # shown not converged (or not finite)
                 return None
             if q_max + r_bound <= limit:              # confirm with the true residual g - H q
-                r_true = g - A @ q
+                r_true = g - A(q)
                 bound = q_max + math.sqrt(r_true @ r_true) * inv_m_min
                 return bound if bound <= limit else None
             z = pattern.solve(factor, r)
