@@ -70,34 +70,41 @@ class StepReport:
 
 @dataclass(frozen=True)
 class SceneConstants:
-    """What the Incremental Potential needs of a scene that no x changes: M's slot values, gravity's
-    gradient (zero without gravity) and 1 / min m. Read-only, computed once and handed on with the
+    """What the Incremental Potential needs of a scene that no x changes: M's slot values, the masses
+    per DOF, 1 / min m, and the terms' parameters scaled by h^2 (see IncrementalPotential), with
+    gravity's gradient (zero without gravity). Read-only, computed once and handed on with the
     position terms."""
     inertia: np.ndarray
     dof_masses: np.ndarray      # (N, 2): m_i twice per row, the masses InertiaEnergy multiplies by
-    gravity_grad: np.ndarray
     inv_m_min: float            # H >= M, so ||H^-1||_2 <= 1 / min m
+    h2: float                   # h^2
+    k_h2: np.ndarray            # h^2 k
+    g_h2: np.ndarray            # h^2 g
+    kappa_h2: float             # h^2 kappa
+    gravity_grad: np.ndarray    # h^2 grad P_g (constant in x)
 
     @classmethod
     def of(cls, scene):
         unknown = set(scene.terms) - {"inertia", *POTENTIALS}
         if unknown:
             raise ValueError(f"scene.terms has an unknown term {sorted(unknown)[0]!r}")
-        x0 = scene.x0
+        x0, h2 = scene.x0, scene.h * scene.h
         inertia = scene.pattern.diagonal(InertiaEnergy.hess_kernel(x0, x0, scene.m))
-        gravity_grad = (GravityEnergy.grad_kernel(x0, scene.m, scene.g) if "gravity" in scene.terms
-                        else np.zeros(x0.shape))
         dof_masses = np.repeat(scene.m, 2).reshape(-1, 2)
         m_min = float(scene.m.min())
-        for a in (inertia, dof_masses, gravity_grad):
+        k_h2, g_h2 = h2 * scene.k, h2 * scene.g
+        gravity_grad = (GravityEnergy.grad_kernel(x0, scene.m, g_h2) if "gravity" in scene.terms
+                        else np.zeros(x0.shape))
+        for a in (inertia, dof_masses, k_h2, g_h2, gravity_grad):
             a.setflags(write=False)
-        return cls(inertia, dof_masses, gravity_grad, 1.0 / m_min if m_min > 0.0 else math.inf)
+        return cls(inertia, dof_masses, 1.0 / m_min if m_min > 0.0 else math.inf, h2, k_h2, g_h2,
+                   h2 * scene.kappa, gravity_grad)
 
 
 @dataclass(frozen=True)
 class PositionTerms:
-    """The scene's terms that depend on x alone (springs, gravity, the barrier) at one x: their sum
-    P, its gradient and the slot values of its Hessian (PSD-projected, before the h^2 scaling).
+    """The scene's terms that depend on x alone (springs, gravity, the barrier) at one x: h^2 times
+    their sum P, its gradient and the slot values of its Hessian (PSD-projected).
     A step ends with them at x^{n+1}, the next step's x^n; handed that step's report, the next step
     starts from them instead of evaluating the same terms at the same x again (and takes the scene's
     constants from them)."""
@@ -115,6 +122,10 @@ class IncrementalPotential:
     It calls the energies' kernels, which skip the input checks: `build_scene` validated the scene
     once and `step` validates x^n and v^n, and every x it is asked about is x^n plus Newton steps.
     Friction is evaluated on the nodes in contact at x^n only (mu*lambda^n > 0), fixed for the solve.
+
+    Each potential term is linear in one of its parameters (k, g, kappa, mu*lambda), so h^2 P(x) is
+    the term itself with that parameter times h^2: the terms are called so (SceneConstants), and no
+    value, gradient or Hessian is scaled after the fact.
     """
 
     def __init__(self, scene, x_n, x_tilde, mu_lambda, start_terms=None):
@@ -130,7 +141,7 @@ class IncrementalPotential:
         self.contact_mu_lambda = None if mu_lambda is None else mu_lambda.take(self.contacts)
         self._evaluated = None                # (x, grad E(x), H(x)) of the last evaluate
         self._position_terms = None           # (x, P, grad P, hess P) of the terms of x alone
-        self._friction_gradient = None        # (x, grad P_f at the contacts) of the last evaluate
+        self._friction_gradient = None        # (x, h^2 grad P_f at the contacts) of the last evaluate
         if start_terms is not None and start_terms.scene is scene:
             self.constants = start_terms.constants
             if start_terms.x.shape == x_n.shape and (start_terms.x == x_n).all():
@@ -138,6 +149,7 @@ class IncrementalPotential:
         else:
             self.constants = SceneConstants.of(scene)
         self.inv_m_min = self.constants.inv_m_min
+        self.contact_mu_lambda_h2 = None if mu_lambda is None else self.h2 * self.contact_mu_lambda
 
     def _contact_velocity(self, x):
         """v = (x - x^n) / h at the nodes in contact, the friction term's argument."""
@@ -147,20 +159,20 @@ class IncrementalPotential:
         """E(x) = 1/2 ||x - x_tilde||_M^2 + h^2 sum_terms P(x); +inf where a node is on or below the
         slope (the barrier refuses it), so the line search halves away from it even where round-off
         defeats the CCD bound (the "filter" of the filtered line search)."""
-        s, P = self.scene, 0.0
+        s, c, P = self.scene, self.constants, 0.0      # P: h^2 times the potentials
         try:
             for term in self.potentials:
                 if term == "spring":
-                    P += MassSpringEnergy.val_kernel(x, s.e, s.l2, s.k)
+                    P += MassSpringEnergy.val_kernel(x, s.e, s.l2, c.k_h2)
                 elif term == "gravity":
-                    P += GravityEnergy.val_kernel(x, s.m, s.g)
+                    P += GravityEnergy.val_kernel(x, s.m, c.g_h2)
                 elif term == "barrier":
-                    P += BarrierEnergy.val_kernel(x, s.n, s.o, s.contact_area, s.dhat, s.kappa)
+                    P += BarrierEnergy.val_kernel(x, s.n, s.o, s.contact_area, s.dhat, c.kappa_h2)
         except BarrierEnergy.NotAboveHalfSpace:
             return math.inf
         if "friction" in self.potentials:       # last, as evaluate adds it
-            P += FrictionEnergy.val_kernel(self._contact_velocity(x), self.contact_mu_lambda, s.h, s.n, s.epsv)
-        return InertiaEnergy.val_kernel(x, self.x_tilde, self.constants.dof_masses) + self.h2 * P
+            P += FrictionEnergy.val_kernel(self._contact_velocity(x), self.contact_mu_lambda_h2, s.h, s.n, s.epsv)
+        return InertiaEnergy.val_kernel(x, self.x_tilde, c.dof_masses) + P
 
     def evaluate(self, x):
         """E(x) exactly as val(x) sums it, with grad E(x) = M (x - x_tilde) + h^2 sum_terms grad P(x)
@@ -177,41 +189,39 @@ class IncrementalPotential:
 
     def _evaluate(self, x):
         """evaluate(x) without the filter: NotAboveHalfSpace where the barrier refuses x."""
-        s, h2 = self.scene, self.h2
+        s, c = self.scene, self.constants
         P, g, H = self._position_terms_at(x)
-        g, H = g * h2, H * h2                   # new arrays: the terms of x alone stay as they are
+        E_inertia, g_inertia = InertiaEnergy.val_grad_kernel(x, self.x_tilde, c.dof_masses)
+        g, H = g + g_inertia, H + c.inertia     # new arrays: the terms of x alone stay as they are
         if "friction" in self.potentials:
             P_term, g_term, (_, blocks) = FrictionEnergy.val_grad_hess_kernel(
-                self._contact_velocity(x), self.contact_mu_lambda, s.h, s.n, s.epsv)
-            g[self.contacts] += h2 * g_term     # (every node passed is in contact: mu*lambda > 0)
-            s.pattern.add_node_blocks(H, self.contacts, h2 * blocks)
+                self._contact_velocity(x), self.contact_mu_lambda_h2, s.h, s.n, s.epsv)
+            g[self.contacts] += g_term          # (every node passed is in contact: mu*lambda > 0)
+            s.pattern.add_node_blocks(H, self.contacts, blocks)
             P += P_term
             self._friction_gradient = (x, g_term)
-        E_inertia, g_inertia = InertiaEnergy.val_grad_kernel(x, self.x_tilde, self.constants.dof_masses)
-        g += g_inertia
-        H += self.constants.inertia
         self._evaluated = (x, g, H)
-        return E_inertia + h2 * P
+        return E_inertia + P
 
     def _position_terms_at(self, x):
-        """P, grad P and hess P of the terms of x alone (all but friction, the last term) at x, with
-        each term's val_grad_hess_kernel; kept for the end of the step."""
+        """h^2 P, its gradient and its Hessian, P the terms of x alone (all but friction, the last
+        term) at x, with each term's val_grad_hess_kernel; kept for the end of the step."""
         known = self._position_terms
         if known is not None and known[0] is x:
             return known[1:]
-        s, pattern = self.scene, self.scene.pattern
-        P, g, H = 0.0, self.constants.gravity_grad, None    # g and H are new arrays before any += below
+        s, c, pattern = self.scene, self.constants, self.scene.pattern
+        P, g, H = 0.0, c.gravity_grad, None     # g and H are new arrays before any += below
         for term in self.potentials:
             if term == "spring":
-                P_term, (_, forces), (_, spring_H) = MassSpringEnergy.val_grad_hess_kernel(x, s.e, s.l2, s.k)
+                P_term, (_, forces), (_, spring_H) = MassSpringEnergy.val_grad_hess_kernel(x, s.e, s.l2, c.k_h2)
                 g = g + pattern.sum_spring_forces(forces)
                 H_term = pattern.sum_spring_blocks(spring_H)
                 H = H_term if H is None else H + H_term
             elif term == "gravity":
-                P_term = GravityEnergy.val_kernel(x, s.m, s.g)
+                P_term = GravityEnergy.val_kernel(x, s.m, c.g_h2)
             elif term == "barrier":
                 P_term, g_term, (nodes, blocks) = BarrierEnergy.val_grad_hess_kernel(
-                    x, s.n, s.o, s.contact_area, s.dhat, s.kappa)
+                    x, s.n, s.o, s.contact_area, s.dhat, c.kappa_h2)
                 g = g + g_term
                 H = np.zeros(len(pattern.rows)) if H is None else H
                 pattern.add_node_blocks(H, nodes[:, 0], blocks)
@@ -223,10 +233,10 @@ class IncrementalPotential:
         return P, g, H
 
     def friction_gradient(self, x):
-        """grad P_f at the contact nodes at x (the last evaluate's, when it was at x)."""
+        """grad P_f at the contact nodes at x (from the last evaluate's h^2 grad P_f, when it was at x)."""
         known = self._friction_gradient
         if known is not None and known[0] is x:
-            return known[1]
+            return known[1] / self.h2
         s = self.scene
         return FrictionEnergy.grad_kernel(self._contact_velocity(x), self.contact_mu_lambda, s.h, s.n, s.epsv)
 
