@@ -116,12 +116,22 @@ def _spring_hessians(dx, dy, sq, l2, k, project_psd):
     (see _blocks for the closed form)."""
     c = (2.0 * k) / l2
     lam_perp = c * (sq - l2)
-    lam_par = lam_perp + (2.0 * c) * sq
+    lam_par = (2.0 * c) * sq
+    lam_par += lam_perp                     # (in place, here and below: fewer temporaries)
     if project_psd:
-        lam_par, lam_perp = np.maximum(lam_par, 0.0), np.maximum(lam_perp, 0.0)
-    w = (lam_par - lam_perp) / np.maximum(sq, _TINY)      # a zero-length spring: H = lam_perp I
+        np.maximum(lam_par, 0.0, out=lam_par)
+        np.maximum(lam_perp, 0.0, out=lam_perp)
+    w = np.subtract(lam_par, lam_perp, out=lam_par)
+    w /= np.maximum(sq, _TINY)              # w = (lam_par - lam_perp) / ||diff||^2; a zero-length spring: H = lam_perp I
+    H = np.empty((3, len(sq)))
     w_dx = w * dx
-    return np.array([lam_perp + w_dx * dx, w_dx * dy, lam_perp + w * dy * dy])
+    np.multiply(w_dx, dx, out=H[0])
+    H[0] += lam_perp                        # h00 = lam_perp + w dx^2
+    np.multiply(w_dx, dy, out=H[1])         # h01 = w dx dy
+    np.multiply(w, dy, out=H[2])
+    H[2] *= dy
+    H[2] += lam_perp                        # h11 = lam_perp + w dy^2
+    return H
 
 
 def _edge_blocks(H):
