@@ -371,10 +371,10 @@ class NewtonSystem:
         z = pattern.solve(factor, r)
         if not np.abs(z).max() <= limit:
             return None
-        A = pattern.product(H)
+        A = pattern.to_csc(H)
         d, rz = z, r @ z
         for _ in range(CG_ITERATIONS):
-            Hd = A(d)
+            Hd = A @ d
             alpha = rz / (d @ Hd)
             q += alpha * d
             r -= alpha * Hd
@@ -382,7 +382,7 @@ class NewtonSystem:
             if not q_max - r_bound <= limit:          # shown not converged (or not finite)
                 return None
             if q_max + r_bound <= limit:              # confirm with the true residual g - H q
-                r_true = g - A(q)
+                r_true = g - A @ q
                 bound = q_max + math.sqrt(r_true @ r_true) * inv_m_min
                 return bound if bound <= limit else None
             z = pattern.solve(factor, r)

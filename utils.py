@@ -249,8 +249,6 @@ class BlockPattern:
     band_index: np.ndarray          # slot -> flat index of the (bandwidth + 1, n_dofs) band, Fortran order
     csc_indptr: np.ndarray          # the full symmetric pattern in CSC form, for SuperLU
     csc_indices: np.ndarray
-    upper_indptr: np.ndarray        # the upper triangle's CSC column pointers: the slots are in its CSC
-                                    # order (by column, then row), so the slot values are its data
     full_from_upper: np.ndarray     # slot of every stored entry of the full CSC pattern
     node_entries: np.ndarray        # row-major flat indices of a 2x2 block's upper triangle
     spring_sum: scipy.sparse.csr_matrix   # (slots, 3E): the springs' (h00, h01, h11) -> slot values
@@ -272,17 +270,16 @@ class BlockPattern:
             raise ValueError(f"solver must be 'banded' or 'superlu', got {solver!r}")
         band_index = (bandwidth + rows - cols) + (bandwidth + 1) * cols
         indptr, indices, full_from_upper = _full_csc(rows, cols, n)
-        index = np.int32 if len(indices) < np.iinfo(np.int32).max else np.int64    # scipy's own choice
-        rows, indptr, indices = rows.astype(index), indptr.astype(index), indices.astype(index)
-        upper_indptr = np.concatenate([[0], np.cumsum(np.bincount(cols, minlength=n))]).astype(index)
+        # stored as the index type scipy picks, which it would otherwise convert to at every to_csc
+        index = np.int32 if max(n, len(indices)) <= np.iinfo(np.int32).max else np.int64
+        indptr, indices = indptr.astype(index), indices.astype(index)
         node_entries = _upper_entries(2)
         spring_sum, spring_scatter = _spring_sum(edge_slots, len(upper)), _spring_scatter(e, n)
         _readonly(rows, cols, node_slots, edge_slots, diagonal_slots, band_index, indptr, indices,
-                  upper_indptr, full_from_upper, node_entries, *(getattr(S, a) for S in (spring_sum, spring_scatter)
+                  full_from_upper, node_entries, *(getattr(S, a) for S in (spring_sum, spring_scatter)
                                                    for a in ("data", "indices", "indptr")))
         return cls(n, rows, cols, node_slots, edge_slots, diagonal_slots, solver, bandwidth,
-                   band_index, indptr, indices, upper_indptr, full_from_upper, node_entries, spring_sum,
-                   spring_scatter)
+                   band_index, indptr, indices, full_from_upper, node_entries, spring_sum, spring_scatter)
 
     def sum_spring_blocks(self, H):
         """Upper-triangle values of the sum of the springs' 4x4 blocks [[H, -H], [-H, H]], each
@@ -311,16 +308,6 @@ class BlockPattern:
         """The full symmetric matrix of the slot values `upper`, as a scipy CSC matrix."""
         return scipy.sparse.csc_matrix((upper[self.full_from_upper], self.csc_indices, self.csc_indptr),
                                        shape=(self.n_dofs, self.n_dofs))
-
-    def product(self, upper):
-        """The function d -> A d of the full symmetric matrix A of the slot values `upper`, from its
-        upper triangle U: A d = U d + U^T d - diag(U) d. U (CSC) and U^T (CSR) take `upper` as their
-        data as it is, so nothing is gathered or copied (the conjugate-gradient proof's products)."""
-        shape = (self.n_dofs, self.n_dofs)
-        U = scipy.sparse.csc_matrix((upper, self.rows, self.upper_indptr), shape=shape)
-        U_T = scipy.sparse.csr_matrix((upper, self.rows, self.upper_indptr), shape=shape)
-        diagonal = upper.take(self.diagonal_slots)
-        return lambda d: U @ d + U_T @ d - diagonal * d
 
     def matrix(self, upper):
         """The slot values in the form `factor_solve` takes: LAPACK upper band storage, or CSC."""
