@@ -59,8 +59,8 @@ SPREAD_LIMIT, WAIT_LIMIT = 0.20, 1.15
 
 COLUMNS = ["n_seg", "dof", "scene", "solver", "steps_per_s", "ms_per_step", "newton_per_step",
            "factorizations_per_step", "energy_assembly_ms", "solve_ms", "proof_ms", "line_search_ms", "rest_ms",
-           "one_factor_solve_ms", "ratio_per_factorization", "ratio_per_newton", "peak_mb",
-           "run_ms_per_step", "run_newton_per_step", "lecture_ms_per_step", "lecture_ms_per_newton",
+           "one_factor_solve_ms", "ratio_per_factorization", "ratio_per_newton", "in_step_factor_solve_ms",
+           "ratio_per_newton_in_step", "peak_mb", "run_ms_per_step", "run_newton_per_step", "lecture_ms_per_step", "lecture_ms_per_newton",
            "noise"]
 
 
@@ -103,11 +103,13 @@ PHASES = {  # (owner, attribute): phase; a call inside another timed call counts
 
 class PhaseTimer:
     """Wraps the functions of PHASES to add up their own wall time per phase (a timed call's time
-    less that of the timed calls inside it), and keeps the slot values of the last matrix built
-    (to time its factorization afterwards)."""
+    less that of the timed calls inside it), keeps the slot values of the last matrix built (to time
+    its factorization afterwards), and the time of every factorization and triangular solve as the
+    steps ran them."""
 
     def __init__(self):
         self.seconds = dict.fromkeys(PHASES.values(), 0.0)
+        self.calls = {"factor": [], "solve": []}
         self.last_upper = None
         self.inner = []             # per open timed call: the time spent in timed calls inside it
         self.originals = {key: getattr(*key) for key in PHASES}
@@ -132,6 +134,8 @@ class PhaseTimer:
             finally:
                 elapsed = time.perf_counter() - start
                 self.seconds[phase] += elapsed - self.inner.pop()
+                if name in self.calls:
+                    self.calls[name].append(elapsed)
                 if self.inner:
                     self.inner[-1] += elapsed
         return timed
@@ -189,17 +193,23 @@ def measure(n_seg, scene_kind, warm, steps, repeats, fs_repeats, run_steps):
         for i in range(warm):
             x, v, report = time_integrator.step(scene, x, v, i, report)
 
-    # the split: instrumented runs of the window, keeping three of its matrices to factor below
-    phases, uppers = [], []
+    # the split: instrumented runs of the window, keeping three of its matrices to factor below, and
+    # the in-step ratio: the window's time over its own factorizations and solves, timed as they ran
+    phases, uppers, in_step = [], [], []
     for _ in range(repeats):
         timer = PhaseTimer()
-        xs, vs, previous = x, v, report
+        xs, vs, previous, newton = x, v, report, 0
         with timer:
+            wall = time.perf_counter()
             for i in range(steps):
                 xs, vs, previous = time_integrator.step(scene, xs, vs, warm + i, previous)
+                newton += previous.newton_iterations
                 if i in (0, steps // 2, steps - 1) and len(uppers) < 3:
                     uppers.append(timer.last_upper)
+            wall = time.perf_counter() - wall
         phases.append(timer.seconds)
+        fs = statistics.fmean(timer.calls["factor"]) + statistics.median(timer.calls["solve"])
+        in_step.append((fs, wall / (newton * fs)))
     # the clean window, each repeat followed at once by one factorization-and-solve of one of those
     # matrices: a ratio compares two times taken while the machine ran at the same speed
     clean, fs_times, fs_spreads = [], [], []
@@ -220,6 +230,8 @@ def measure(n_seg, scene_kind, warm, steps, repeats, fs_repeats, run_steps):
         steps_per_s=1.0 / per_step, ms_per_step=1e3 * per_step, newton_per_step=newton,
         factorizations_per_step=factorizations, one_factor_solve_ms=1e3 * one_fs,
         ratio_per_factorization=ratio(factorizations), ratio_per_newton=ratio(newton),
+        in_step_factor_solve_ms=1e3 * statistics.median(f for f, _ in in_step),
+        ratio_per_newton_in_step=statistics.median(r for _, r in in_step),
         peak_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0)
     for phase in ("energy_assembly", "solve", "proof", "line_search"):
         out[f"{phase}_ms"] = 1e3 * statistics.median(p[phase] for p in phases) / steps
@@ -276,10 +288,11 @@ def format_table(rows):
     """The table as printed: one line per n_seg, then the notes."""
     head = ["n_seg", "DOF", "scene", "solver", "steps/s", "ms/step", "Newton/step", "fact/step",
             "energy+asm", "solve", "proof", "line srch", "rest", "1 f+s ms", "t/(fact*f+s)", "t/(Newton*f+s)",
-            "peak MB", "noise"]
+            "f+s in step", "t/(Newton*f+s in step)", "peak MB", "noise"]
     keys = ["n_seg", "dof", "scene", "solver", "steps_per_s", "ms_per_step", "newton_per_step",
             "factorizations_per_step", "energy_assembly_ms", "solve_ms", "proof_ms", "line_search_ms", "rest_ms",
-            "one_factor_solve_ms", "ratio_per_factorization", "ratio_per_newton", "peak_mb", "noise"]
+            "one_factor_solve_ms", "ratio_per_factorization", "ratio_per_newton", "in_step_factor_solve_ms",
+            "ratio_per_newton_in_step", "peak_mb", "noise"]
     cells = [head] + [[fmt(r[k]) for k in keys] for r in rows]
     widths = [max(len(c[i]) for c in cells) for i in range(len(head))]
     lines = ["  ".join(c.rjust(w) if i < len(head) - 1 else c for i, (c, w) in enumerate(zip(line, widths)))
@@ -295,7 +308,11 @@ def notes(rows):
            "and halved trials;",
            "fact = factorizations per step: one per Newton direction, plus one per solve for the final",
            "convergence check unless that was shown without one (time_integrator.NewtonSystem);",
-           "1 f+s = one factorization-and-solve of that step's matrix with the solver the simulator uses;",
+           "1 f+s = one factorization-and-solve of that step's matrix with the solver the simulator uses, timed",
+           "right after each clean window (the median of several on the same matrix);",
+           "f+s in step = the mean factorization plus the median triangular solve, as the instrumented window's",
+           "steps ran them: the ratio beside it divides that window's time by them, so both were measured at",
+           "the same moment (the machine's speed drifts between a window and a timing after it);",
            "drop: the lecture's default scene, steps 110.. after the impact; slide: square placed on the slope,",
            "sliding at 0.43 m/s (the speed after the impact), steps 5..; peak MB: the process's max RSS."]
     lecture = [r for r in rows if r.get("run_ms_per_step") is not None]

@@ -51,4 +51,5 @@ def test_speed_benchmark_quick_table(tmp_path):
     for r in rows:
         parts = sum(float(r[k]) for k in ("energy_assembly_ms", "solve_ms", "line_search_ms", "rest_ms"))
         assert float(r["newton_per_step"]) >= 1 and parts > 0 and int(r["dof"]) == 2 * (int(r["n_seg"]) + 1) ** 2
+        assert float(r["in_step_factor_solve_ms"]) > 0 and float(r["ratio_per_newton_in_step"]) > 0
     assert "steps/s" in result.stdout and "lecture" in result.stdout
