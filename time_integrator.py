@@ -365,16 +365,24 @@ class NewtonSystem:
         H q = g preconditioned by the previous factor, bounded after each iteration by
         ||q||_inf + ||g - H q||_2 / m_min. None as soon as that cannot come out below the limit
         (the previous factor's own answer is over the limit, ||q||_inf - ||g - H q||_2 / m_min is
-        over it, or CG_ITERATIONS are done)."""
+        over it, or CG_ITERATIONS are done). The first product H z also gives the true residual of
+        q = z, the previous factor's own answer: where its bound is below the limit already (the
+        usual case), that is the bound, with no second product."""
         pattern, factor, inv_m_min, limit = self.pattern, self.factor, self.ip.inv_m_min, self.limit
         q, r = np.zeros_like(g), g.copy()
         z = pattern.solve(factor, r)
-        if not np.abs(z).max() <= limit:
+        z_max = np.abs(z).max()
+        if not z_max <= limit:
             return None
         A = pattern.to_csc(H)
         d, rz = z, r @ z
-        for _ in range(CG_ITERATIONS):
+        for iteration in range(CG_ITERATIONS):
             Hd = A @ d
+            if iteration == 0:                        # q = z: its true residual is g - H z
+                r_z = g - Hd
+                bound = z_max + math.sqrt(r_z @ r_z) * inv_m_min
+                if bound <= limit:
+                    return bound
             alpha = rz / (d @ Hd)
             q += alpha * d
             r -= alpha * Hd

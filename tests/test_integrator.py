@@ -341,14 +341,28 @@ def test_convergence_shown_without_a_factorization_is_the_lecture_s_convergence(
         return p, residual
 
     def spy_cg(self, H, g):
+        products.clear()
         bound = original_cg(self, H, g)
         by_cg.append(bound is not None)
+        if bound is not None:
+            products_to_success.append(len(products))
         return bound
+
+    class CountedProducts:                  # H's CSC form, counting the CG proof's products with it
+        def __init__(self, A):
+            self.A = A
+
+        def __matmul__(self, d):
+            products.append(1)
+            return self.A @ d
+    products, products_to_success, original_to_csc = [], [], utils.BlockPattern.to_csc
+    monkeypatch.setattr(utils.BlockPattern, "to_csc", lambda self, upper: CountedProducts(original_to_csc(self, upper)))
     monkeypatch.setattr(time_integrator.NewtonSystem, "check", spy_check)
     monkeypatch.setattr(time_integrator.NewtonSystem, "_cg_bound", spy_cg)
     xs, reports = run_positions(scene, 120)                 # the fall, the impact (~ step 30), sliding
     direct, bound = np.array(shown).T
     assert len(shown) > 60 and sum(by_cg) > 10 and len(by_cg) - sum(by_cg) > 10   # both ways, and CG failing too
+    assert 1 in products_to_success and max(products_to_success) > 1    # shown by q = z, and after iterating
     assert (direct <= bound * (1 + 1e-12)).all() and (bound <= scene.tol).all()
     factorizations = sum(r.factorizations for r in reports)
     assert factorizations < sum(r.newton_iterations for r in reports) + len(reports)
