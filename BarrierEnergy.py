@@ -149,7 +149,7 @@ def init_step_size_kernel(x, n, o, p):
     node on the positive side along x + alpha p, scaled by 0.9 so no node lands on the boundary.
     Node i reaches the boundary at alpha_i = d_i / (-n . p_i) if it approaches it (n . p_i < 0), so
     the bound is 0.9 / max_i (-n . p_i / d_i), every d_i > 0."""
-    fastest = float((-p.dot(n) / distances(x, n, o)).max(initial=0.0))
+    fastest = float((p.dot(-n) / distances(x, n, o)).max(initial=0.0))
     return 1.0 if fastest <= 0.9 else 0.9 / fastest
 
 

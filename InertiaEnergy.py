@@ -53,7 +53,7 @@ def val_grad_kernel(x, x_tilde, m):
     m may also be given per DOF, (N, 2) (m_i twice per row), which multiplies faster (the integrator's)."""
     diff = x - x_tilde
     M_diff = (m[:, None] if m.ndim == 1 else m) * diff
-    return 0.5 * float(diff.ravel().dot(M_diff.ravel())), M_diff
+    return 0.5 * float(np.vdot(diff, M_diff)), M_diff
 
 
 def hess_kernel(x, x_tilde, m):
