@@ -104,13 +104,15 @@ def hess_kernel(x, n, o, contact_area, dhat, kappa):
 
 
 def val_grad_hess_kernel(x, n, o, contact_area, dhat, kappa):
-    """val_kernel, grad_kernel and hess_kernel at once, from one active set, its weights and one ln s."""
+    """val_kernel, grad_kernel and hess_kernel at once, from one active set, its weights and one ln s.
+    The Hessian comes as (nodes, H), H (3, k) the entries (h00, h01, h11) of each node's 2x2 block
+    (what utils.BlockPattern.add_node_blocks adds)."""
     idx, d = _active(x, n, o, dhat)
     w = contact_area.take(idx)
     s = d / dhat
     log_s = np.log(s)
     return (_val(w, s, log_s, dhat, kappa), _grad(x.shape, idx, _dP_dd(d, w, s, log_s, dhat, kappa), n),
-            (idx[:, None], _blocks(d, w, n, dhat, kappa)))
+            (idx[:, None], np.multiply.outer(_upper_entries(n), _curvature(d, w, dhat, kappa))))
 
 
 def _val(w, s, log_s, dhat, kappa):
@@ -129,8 +131,17 @@ def _grad(shape, idx, dP, n):
 def _blocks(d, w, n, dhat, kappa):
     """hess_i P_b = w_i dhat b''(d_i) n n^T, b''(d) = kappa (d + dhat) / (2 d^2 dhat) > 0 (PSD),
     for the active nodes at distances d with weights w; entry-major (2, 2, k)."""
-    curvature = w * kappa / 2.0 * (d + dhat) / d / d     # w dhat b''(d), no d^2 underflow
-    return (n[:, None] * n)[:, :, None] * curvature
+    return (n[:, None] * n)[:, :, None] * _curvature(d, w, dhat, kappa)
+
+
+def _curvature(d, w, dhat, kappa):
+    """w dhat b''(d) = w kappa (d + dhat) / (2 d^2), without forming d^2 (which underflows)."""
+    return w * kappa / 2.0 * (d + dhat) / d / d
+
+
+def _upper_entries(n):
+    """The entries (n_x n_x, n_x n_y, n_y n_y) of n n^T."""
+    return np.array([n[0] * n[0], n[0] * n[1], n[1] * n[1]])
 
 
 def init_step_size(x, n, o, p):

@@ -151,11 +151,13 @@ def hess_kernel(v, mu_lambda, hhat, n, epsv, project_psd=True):
 
 def val_grad_hess_kernel(v, mu_lambda, hhat, n, epsv):
     """val_kernel, grad_kernel and the PSD-projected hess_kernel at once, from one set of contacts
-    and one pass of the mollifier (see mollifier)."""
-    contacts = _contacts(v, mu_lambda, n)
-    f0_of_y, f1y, f1p = mollifier(contacts[4], epsv, hhat)
-    return (float(contacts[1].dot(f0_of_y)), _grad(v.shape, *contacts, f1y),
-            (contacts[0][:, None], _tangent_blocks(contacts[1], contacts[2], f1p, hhat, True)))
+    and one pass of the mollifier (see mollifier). The Hessian comes as (nodes, H), H (3, k) the
+    entries (h00, h01, h11) of each node's 2x2 block (what utils.BlockPattern.add_node_blocks adds)."""
+    idx, ml, t, u, y = _contacts(v, mu_lambda, n)
+    f0_of_y, f1y, f1p = mollifier(y, epsv, hhat)
+    tt = np.array([t[0] * t[0], t[0] * t[1], t[1] * t[1]])        # the entries of t t^T
+    return (float(ml.dot(f0_of_y)), _grad(v.shape, idx, ml, t, u, y, f1y),
+            (idx[:, None], np.multiply.outer(tt, _tangent_coefficient(ml, f1p, hhat, True))))
 
 
 def _val(idx, ml, t, u, y, hhat, epsv):
@@ -187,6 +189,11 @@ def _blocks(idx, ml, t, u, y, hhat, epsv, project_psd):
 
 def _tangent_blocks(ml, t, along_t, hhat, project_psd):
     """mu lambda_k / hhat f1'(y_k) t t^T (see _blocks), along_t = f1'(y_k), entry-major (2, 2, k)."""
+    return (t[:, None] * t)[:, :, None] * _tangent_coefficient(ml, along_t, hhat, project_psd)
+
+
+def _tangent_coefficient(ml, along_t, hhat, project_psd):
+    """mu lambda_k / hhat f1'(y_k), the factor of t t^T in hess_k P_f (clamped at 0 if project_psd)."""
     if project_psd:
         along_t = np.maximum(along_t, 0.0)
-    return (t[:, None] * t)[:, :, None] * ((ml / hhat) * along_t)
+    return (ml / hhat) * along_t

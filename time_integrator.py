@@ -139,6 +139,7 @@ class IncrementalPotential:
                                 and (t != "friction" or len(self.contacts)))
         self.contact_x_n = x_n.take(self.contacts, axis=0)
         self.contact_mu_lambda = None if mu_lambda is None else mu_lambda.take(self.contacts)
+        self.contact_slots = scene.pattern.node_block_slots(self.contacts)
         self._evaluated = None                # (x, grad E(x), H(x)) of the last evaluate
         self._position_terms = None           # (x, P, grad P, hess P) of the terms of x alone
         self._friction_gradient = None        # (x, h^2 grad P_f at the contacts) of the last evaluate
@@ -194,10 +195,10 @@ class IncrementalPotential:
         E_inertia, g_inertia = InertiaEnergy.val_grad_kernel(x, self.x_tilde, c.dof_masses)
         g, H = g + g_inertia, H + c.inertia     # new arrays: the terms of x alone stay as they are
         if "friction" in self.potentials:
-            P_term, g_term, (_, blocks) = FrictionEnergy.val_grad_hess_kernel(
+            P_term, g_term, (_, H_term) = FrictionEnergy.val_grad_hess_kernel(
                 self._contact_velocity(x), self.contact_mu_lambda_h2, s.h, s.n, s.epsv)
             g[self.contacts] += g_term          # (every node passed is in contact: mu*lambda > 0)
-            s.pattern.add_node_blocks(H, self.contacts, blocks)
+            s.pattern.add_node_blocks(H, self.contact_slots, H_term)
             P += P_term
             self._friction_gradient = (x, g_term)
         self._evaluated = (x, g, H)
@@ -224,7 +225,7 @@ class IncrementalPotential:
                     x, s.n, s.o, s.contact_area, s.dhat, c.kappa_h2)
                 g = g + g_term
                 H = np.zeros(len(pattern.rows)) if H is None else H
-                pattern.add_node_blocks(H, nodes[:, 0], blocks)
+                pattern.add_node_blocks(H, pattern.node_block_slots(nodes[:, 0]), blocks)
             else:
                 continue                            # friction: depends on x^n too (evaluate)
             P += P_term

@@ -250,7 +250,6 @@ class BlockPattern:
     csc_indptr: np.ndarray          # the full symmetric pattern in CSC form, for SuperLU
     csc_indices: np.ndarray
     full_from_upper: np.ndarray     # slot of every stored entry of the full CSC pattern
-    node_entries: np.ndarray        # row-major flat indices of a 2x2 block's upper triangle
     spring_sum: scipy.sparse.csr_matrix   # (slots, 3E): the springs' (h00, h01, h11) -> slot values
     spring_scatter: scipy.sparse.csr_matrix   # (2N, 2E): the springs' forces on node a -> per DOF
 
@@ -273,13 +272,12 @@ class BlockPattern:
         # stored as the index type scipy picks, which it would otherwise convert to at every to_csc
         index = np.int32 if max(n, len(indices)) <= np.iinfo(np.int32).max else np.int64
         indptr, indices = indptr.astype(index), indices.astype(index)
-        node_entries = _upper_entries(2)
         spring_sum, spring_scatter = _spring_sum(edge_slots, len(upper)), _spring_scatter(e, n)
         _readonly(rows, cols, node_slots, edge_slots, diagonal_slots, band_index, indptr, indices,
-                  full_from_upper, node_entries, *(getattr(S, a) for S in (spring_sum, spring_scatter)
+                  full_from_upper, *(getattr(S, a) for S in (spring_sum, spring_scatter)
                                                    for a in ("data", "indices", "indptr")))
         return cls(n, rows, cols, node_slots, edge_slots, diagonal_slots, solver, bandwidth,
-                   band_index, indptr, indices, full_from_upper, node_entries, spring_sum, spring_scatter)
+                   band_index, indptr, indices, full_from_upper, spring_sum, spring_scatter)
 
     def sum_spring_blocks(self, H):
         """Upper-triangle values of the sum of the springs' 4x4 blocks [[H, -H], [-H, H]], each
@@ -292,11 +290,15 @@ class BlockPattern:
         sparse matrix-vector product with `spring_scatter`, +f to node a and -f to node b."""
         return (self.spring_scatter @ f.reshape(-1)).reshape(-1, 2)
 
-    def add_node_blocks(self, upper, nodes, blocks):
-        """upper += the entry-major 2x2 blocks (2, 2, k) of the distinct nodes `nodes`, in place (the
-        nodes of one term, an active set or the contacts, each once, so no slot is hit twice)."""
-        slots = self.node_slots.take(nodes, axis=1)
-        upper[slots] += blocks.reshape(4, -1).take(self.node_entries, axis=0)
+    def node_block_slots(self, nodes):
+        """The slots (3, k) of the entries (h00, h01, h11) of the 2x2 blocks of the distinct nodes
+        `nodes` (of one term: an active set or the contacts, each node once)."""
+        return self.node_slots.take(nodes, axis=1)
+
+    def add_node_blocks(self, upper, slots, H):
+        """upper += the nodes' 2x2 blocks, given by their entries H = (h00, h01, h11), (3, k), at
+        their `slots` (node_block_slots), in place; no slot is hit twice."""
+        upper[slots] += H
 
     def diagonal(self, d):
         """Slot values of the diagonal matrix diag(d), d one value per DOF."""
