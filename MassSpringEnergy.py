@@ -122,7 +122,7 @@ def _spring_hessians(dx, dy, sq, l2, k, project_psd):
         np.maximum(lam_par, 0.0, out=lam_par)
         np.maximum(lam_perp, 0.0, out=lam_perp)
     w = np.subtract(lam_par, lam_perp, out=lam_par)
-    w /= np.maximum(sq, _TINY)              # w = (lam_par - lam_perp) / ||diff||^2; a zero-length spring: H = lam_perp I
+    w /= np.maximum(sq, _TINY)              # w = (lam_par - lam_perp) / ||diff||^2 (zero length: H = lam_perp I)
     H = np.empty((3, len(sq)))
     w_dx = w * dx
     np.multiply(w_dx, dx, out=H[0])

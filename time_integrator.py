@@ -77,7 +77,6 @@ class SceneConstants:
     inertia: np.ndarray
     dof_masses: np.ndarray      # (N, 2): m_i twice per row, the masses InertiaEnergy multiplies by
     inv_m_min: float            # H >= M, so ||H^-1||_2 <= 1 / min m
-    h2: float                   # h^2
     k_h2: np.ndarray            # h^2 k
     g_h2: np.ndarray            # h^2 g
     kappa_h2: float             # h^2 kappa
@@ -97,7 +96,7 @@ class SceneConstants:
                         else np.zeros(x0.shape))
         for a in (inertia, dof_masses, k_h2, g_h2, gravity_grad):
             a.setflags(write=False)
-        return cls(inertia, dof_masses, 1.0 / m_min if m_min > 0.0 else math.inf, h2, k_h2, g_h2,
+        return cls(inertia, dof_masses, 1.0 / m_min if m_min > 0.0 else math.inf, k_h2, g_h2,
                    h2 * scene.kappa, gravity_grad)
 
 
@@ -141,7 +140,7 @@ class IncrementalPotential:
         self.contact_mu_lambda = None if mu_lambda is None else mu_lambda.take(self.contacts)
         self.contact_slots = scene.pattern.node_block_slots(self.contacts)
         self._evaluated = None                # (x, grad E(x), H(x)) of the last evaluate
-        self._position_terms = None           # (x, P, grad P, hess P) of the terms of x alone
+        self._position_terms = None           # (x, P, grad P, hess P) of h^2 times the terms of x alone
         self._friction_gradient = None        # (x, h^2 grad P_f at the contacts) of the last evaluate
         if start_terms is not None and start_terms.scene is scene:
             self.constants = start_terms.constants

@@ -5,10 +5,10 @@ steps per second, Newton iterations and factorizations per step, the time per st
 energy + assembly, linear solve, convergence proofs, line search and the rest, the ratio of the time
 per step to (factorizations, and to Newton iterations, x one factorization-and-solve of that step's
 matrix, timed after the window), the same ratio against the factorizations and solves the window's
-own steps ran (timed as they ran, so at the same moment), and the peak memory. For the lecture's dropped square (n_seg <= 32) it also times the whole
-default run (3 s, 300 steps; the median of 5 runs up to n_seg 8, one run above), to compare with
-the lecture's loop-based code. Steps are taken as simulator.simulate takes them (each handed the
-previous step's report).
+own steps ran (timed as they ran, so at the same moment), and the peak memory. For the lecture's
+dropped square (n_seg <= 32) it also times the whole default run (3 s, 300 steps; the median of 5
+runs up to n_seg 8, one run above), to compare with the lecture's loop-based code. Steps are taken
+as simulator.simulate takes them (each handed the previous step's report).
 
     python -m benchmarks.speed               # n_seg 4 ... 128, about two minutes
     python -m benchmarks.speed --quick       # a smoke run: n_seg 4 and 8, a few steps, a few seconds
@@ -61,8 +61,8 @@ SPREAD_LIMIT, WAIT_LIMIT = 0.20, 1.15
 COLUMNS = ["n_seg", "dof", "scene", "solver", "steps_per_s", "ms_per_step", "newton_per_step",
            "factorizations_per_step", "energy_assembly_ms", "solve_ms", "proof_ms", "line_search_ms", "rest_ms",
            "one_factor_solve_ms", "ratio_per_factorization", "ratio_per_newton", "in_step_factor_solve_ms",
-           "ratio_per_newton_in_step", "peak_mb", "run_ms_per_step", "run_newton_per_step", "lecture_ms_per_step", "lecture_ms_per_newton",
-           "noise"]
+           "ratio_per_newton_in_step", "peak_mb", "run_ms_per_step", "run_newton_per_step",
+           "lecture_ms_per_step", "lecture_ms_per_newton", "noise"]
 
 
 # ------------------------------------------------------------------------------------------------
