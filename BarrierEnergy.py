@@ -112,7 +112,7 @@ def val_grad_hess_kernel(x, n, o, contact_area, dhat, kappa):
     s = d / dhat
     log_s = np.log(s)
     return (_val(w, s, log_s, dhat, kappa), _grad(x.shape, idx, _dP_dd(d, w, s, log_s, dhat, kappa), n),
-            (idx[:, None], np.multiply.outer(_upper_entries(n), _curvature(d, w, dhat, kappa))))
+            (idx[:, None], utils.outer_entries(n, _curvature(d, w, dhat, kappa))))
 
 
 def _val(w, s, log_s, dhat, kappa):
@@ -137,11 +137,6 @@ def _blocks(d, w, n, dhat, kappa):
 def _curvature(d, w, dhat, kappa):
     """w dhat b''(d) = w kappa (d + dhat) / (2 d^2), without forming d^2 (which underflows)."""
     return w * kappa / 2.0 * (d + dhat) / d / d
-
-
-def _upper_entries(n):
-    """The entries (n_x n_x, n_x n_y, n_y n_y) of n n^T."""
-    return np.array([n[0] * n[0], n[0] * n[1], n[1] * n[1]])
 
 
 def init_step_size(x, n, o, p):

@@ -155,9 +155,8 @@ def val_grad_hess_kernel(v, mu_lambda, hhat, n, epsv):
     entries (h00, h01, h11) of each node's 2x2 block (what utils.BlockPattern.add_node_blocks adds)."""
     idx, ml, t, u, y = _contacts(v, mu_lambda, n)
     f0_of_y, f1y, f1p = mollifier(y, epsv, hhat)
-    tt = np.array([t[0] * t[0], t[0] * t[1], t[1] * t[1]])        # the entries of t t^T
     return (float(ml.dot(f0_of_y)), _grad(v.shape, idx, ml, t, u, y, f1y),
-            (idx[:, None], np.multiply.outer(tt, _tangent_coefficient(ml, f1p, hhat, True))))
+            (idx[:, None], utils.outer_entries(t, _tangent_coefficient(ml, f1p, hhat, True))))
 
 
 def _val(idx, ml, t, u, y, hhat, epsv):

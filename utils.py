@@ -149,6 +149,12 @@ def project_psd_2x2_entries(a, b, c):
             np.where(keep, scale * (c - shift), 0.0))
 
 
+def outer_entries(a, scale):
+    """The entries (h00, h01, h11), (3, k), of the symmetric 2x2 matrices scale_k a a^T, for one
+    2-vector a and k factors `scale` (the barrier's n n^T and friction's t t^T blocks)."""
+    return np.multiply.outer(np.array([a[0] * a[0], a[0] * a[1], a[1] * a[1]]), scale)
+
+
 # ----------------------------------------------------------------------------------------------
 # IJV triplets
 # ----------------------------------------------------------------------------------------------
