@@ -131,7 +131,7 @@ def _grad(shape, idx, dP, n):
 def _blocks(d, w, n, dhat, kappa):
     """hess_i P_b = w_i dhat b''(d_i) n n^T, b''(d) = kappa (d + dhat) / (2 d^2 dhat) > 0 (PSD),
     for the active nodes at distances d with weights w; entry-major (2, 2, k)."""
-    return (n[:, None] * n)[:, :, None] * _curvature(d, w, dhat, kappa)
+    return utils.outer_blocks(n, _curvature(d, w, dhat, kappa))
 
 
 def _curvature(d, w, dhat, kappa):

@@ -188,7 +188,7 @@ def _blocks(idx, ml, t, u, y, hhat, epsv, project_psd):
 
 def _tangent_blocks(ml, t, along_t, hhat, project_psd):
     """mu lambda_k / hhat f1'(y_k) t t^T (see _blocks), along_t = f1'(y_k), entry-major (2, 2, k)."""
-    return (t[:, None] * t)[:, :, None] * _tangent_coefficient(ml, along_t, hhat, project_psd)
+    return utils.outer_blocks(t, _tangent_coefficient(ml, along_t, hhat, project_psd))
 
 
 def _tangent_coefficient(ml, along_t, hhat, project_psd):

@@ -155,6 +155,11 @@ def outer_entries(a, scale):
     return np.multiply.outer(np.array([a[0] * a[0], a[0] * a[1], a[1] * a[1]]), scale)
 
 
+def outer_blocks(a, scale):
+    """The same matrices scale_k a a^T whole, entry-major (2, 2, k) (the public hess kernels' form)."""
+    return (a[:, None] * a)[:, :, None] * scale
+
+
 # ----------------------------------------------------------------------------------------------
 # IJV triplets
 # ----------------------------------------------------------------------------------------------
