@@ -34,9 +34,6 @@ def test_twenty_steps_write_frames_objs_csv_and_summary(tmp_path):
     com_y = [float(r["com_y"]) for r in rows]
     assert all(b < a for a, b in zip(com_y, com_y[1:]))                  # falling
     assert all(int(r["newton_iterations"]) >= 1 for r in rows)
-    # one solve a step: a factorization per Newton direction, and one more unless the final check
-    # showed convergence without one
-    assert all(0 <= int(r["factorizations"]) - int(r["newton_iterations"]) <= 1 for r in rows)
     assert "simulated 20 steps" in result.stderr.splitlines()[-1]
     obj = (out / "frame_00020.obj").read_text().splitlines()
     last = np.array([[float(t) for t in line.split()[1:3]] for line in obj if line.startswith("v ")])
