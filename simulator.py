@@ -248,12 +248,18 @@ def _floor_digits(value, digits):
 ROUNDOFF_ULPS = 8
 
 
+def _roundoff(x, o):
+    """How near the slope a node can be and still be told apart from touching it: ROUNDOFF_ULPS eps
+    (max_i |x_i| + |o|)."""
+    return ROUNDOFF_ULPS * np.finfo(float).eps * (float(np.hypot(x[:, 0], x[:, 1]).max()) + float(np.hypot(*o)))
+
+
 def _check_clear_of_slope(p, x, n, o):
     """ValueError unless every node starts above the slope by more than the round-off of the
     coordinates (ROUNDOFF_ULPS): a start within it touches the slope as much as one below it."""
     d = BarrierEnergy.distances(x, n, o)
     i = int(np.argmin(d))
-    roundoff = ROUNDOFF_ULPS * np.finfo(float).eps * (float(np.hypot(x[:, 0], x[:, 1]).max()) + float(np.hypot(*o)))
+    roundoff = _roundoff(x, o)
     if d[i] > roundoff:
         return
     center = np.array(p["center"])
@@ -296,7 +302,8 @@ def _float64_scales(p, x, n, o):
     parameters it grows with (a product of their powers) to name the one that made it too large.
     M total mass, m node mass, l spring rest length, w contact area, D = |v0| h + |g| h^2 how far
     the first step moves, X the largest coordinate, d the nearest node's distance to the slope (at
-    most dhat: where the barrier starts). Plain float products: an overflow gives inf, never raises."""
+    most dhat, where the barrier starts, and at least the round-off below which the start is refused
+    as touching). Plain float products: an overflow gives inf, never raises."""
     h, k, v, g = p["h"], p["k"], math.hypot(*p["v0"]), math.hypot(*p["gravity"])
     M = p["mass"] if p["mass"] is not None else p["rho"] * p["side_len"] * p["side_len"]
     l, D, X = p["side_len"] / p["n_seg"], v * h + g * h * h, float(np.abs(x).max())
@@ -312,7 +319,7 @@ def _float64_scales(p, x, n, o):
     ]
     if n is not None:
         w, dhat, kappa = p["side_len"] / p["n_seg"], p["dhat"], p["kappa"]
-        d = min(float(BarrierEnergy.distances(x, n, o).min()), dhat)
+        d = min(max(float(BarrierEnergy.distances(x, n, o).min()), _roundoff(x, o)), dhat)
         barrier = {"h": 2, "kappa": 1, "side_len": 1, "n_seg": -1}
         scales += [
             ("the barrier's energy scale h^2 kappa w dhat", h * h * kappa * w * dhat, {**barrier, "dhat": 1}),
@@ -391,10 +398,10 @@ def build_scene(**overrides):
     if p["slope"] is not None:
         n = np.array(p["slope"]) / np.hypot(*p["slope"])
         o = np.array(p["slope_point"])
+    _check_float64_range(p, x, n, o)
     _check_resolved(p, x, o)
     if n is not None:
         _check_clear_of_slope(p, x, n, o)
-    _check_float64_range(p, x, n, o)
     diff = x[e[:, 0]] - x[e[:, 1]]
     n_nodes = len(x)
     total_mass = p["mass"] if p["mass"] is not None else p["rho"] * p["side_len"] ** 2
