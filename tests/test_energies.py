@@ -86,6 +86,8 @@ def test_mass_spring_value_at_rest_and_by_hand():
     x0, e = square_mesh.generate(1.0, 2)
     d = x0[e[:, 0]] - x0[e[:, 1]]
     l2 = np.einsum("ij,ij->i", d, d)
+    # exact by construction: every coordinate is a multiple of 0.5, so each edge vector, its squared
+    # length and the strain ||d||^2 / l^2 - 1 = 0 are exact in float64, whatever order or FMA is used
     assert MassSpringEnergy.val(x0, e, l2, 5.0) == 0.0
     # one spring of rest length 1 stretched to 2: 1/2 k l^2 (4/1 - 1)^2 = 4.5 k
     assert MassSpringEnergy.val([[0.0, 0.0], [2.0, 0.0]], [[0, 1]], [1.0], [3.0]) == pytest.approx(13.5)
@@ -113,7 +115,7 @@ def test_barrier(seed, where):
     eps = 1e-3 * min(d.min(), abs(d - dhat).min())   # never straddles the branch at d = dhat
     check_derivatives(lambda y: BarrierEnergy.val(y, *args), lambda y: BarrierEnergy.grad(y, *args),
                       lambda y: BarrierEnergy.hess(y, *args), x, eps)
-    if where == "just_above_dhat":
+    if where == "just_above_dhat":          # empty active set: the sum of nothing, 0.0 exactly
         assert BarrierEnergy.val(x, *args) == 0.0 and len(BarrierEnergy.hess(x, *args)[0]) == 0
 
 
@@ -123,7 +125,7 @@ def test_barrier_keyword_constants_and_value():
     expect = 0.25 * 0.01 * 1e5 / 2 * (-0.5) * np.log(0.5)
     assert BarrierEnergy.val(x, [0.0, 1.0], [0.0, 0.0], [0.25]) == pytest.approx(expect)
     assert BarrierEnergy.val(x, [0.0, 1.0], [0.0, 0.0], [0.25], kappa=2e5) == pytest.approx(2 * expect)
-    assert BarrierEnergy.val(x, [0.0, 1.0], [0.0, 0.0], [0.25], dhat=0.004) == 0.0
+    assert BarrierEnergy.val(x, [0.0, 1.0], [0.0, 0.0], [0.25], dhat=0.004) == 0.0     # inactive: 0.0 exactly
 
 
 def test_mu_lambda_is_mu_times_contact_force():
@@ -133,7 +135,7 @@ def test_mu_lambda_is_mu_times_contact_force():
     mu_lambda = BarrierEnergy.compute_mu_lambda(x, N_SLOPE, O_SLOPE, w, 0.3)
     force = -BarrierEnergy.grad(x, N_SLOPE, O_SLOPE, w)       # contact force on each node
     assert_close(mu_lambda, 0.3 * np.linalg.norm(force, axis=1), 1e-12, "mu*lambda")
-    assert (mu_lambda[:2] > 0).all() and (mu_lambda[2:] == 0).all()
+    assert (mu_lambda[:2] > 0).all() and (mu_lambda[2:] == 0).all()     # beyond dhat: no force at all, 0.0 exactly
 
 
 def test_init_step_size_is_ccd_scaled_by_0_9():
@@ -142,6 +144,7 @@ def test_init_step_size_is_ccd_scaled_by_0_9():
     p = np.array([[0.0, -2.0], [0.0, -4.0], [0.0, 1.0]])
     # node 0 reaches the ground at alpha 0.5, node 1 at 0.125: 0.9 * 0.125
     assert BarrierEnergy.init_step_size(x, n, o, p) == pytest.approx(0.1125)
+    # no node reaches the ground within alpha <= 1 / 0.9: the full step, the constant 1.0 exactly
     assert BarrierEnergy.init_step_size(x, n, o, -p * 0.01) == 1.0
     assert BarrierEnergy.init_step_size(x, n, o, p * 0.01) == 1.0
 
@@ -236,6 +239,7 @@ def test_friction_energy_is_the_same_number_in_both_kernels():
         speeds = rng.uniform(0, 1.2, 8) * epsv if i % 3 else rng.uniform(1.0, 300.0, 8) * epsv   # or all sliding
         x_n, x, mu_lambda = friction_setup(rng, speeds, epsv, hhat)
         args = ((x - x_n) / hhat, mu_lambda, hhat, N_SLOPE, epsv)
+        # bit for bit: one code path (both call mollifier on the same y, then the same ml.dot)
         assert FrictionEnergy.val_grad_hess_kernel(*args)[0] == FrictionEnergy.val_kernel(*args)
 
 
@@ -247,7 +251,9 @@ def test_mollifier_is_f0_f1_over_y_and_f1_prime():
     assert_close(f0_of_y, FrictionEnergy.f0(y * hhat, epsv, hhat), 1e-14, "f0")
     assert_close(f1y, FrictionEnergy.f1_over_y(y, epsv), 1e-14, "f1/y")
     assert_close(f1p, FrictionEnergy.f1_prime(y, epsv), 1e-14, "f1'", atol=1e-14 / epsv)
-    # every contact on one side of eps_v: mollifier computes that branch alone, with the same numbers
+    # every contact on one side of eps_v: mollifier computes that branch alone, with the same numbers;
+    # bit for bit, as both sides are the same element-wise operations in the same order (y * hhat,
+    # 1 / y, (2 - y/eps_v)/eps_v, ...), each rounded once by IEEE on every CPU (no BLAS, no reduction)
     sliding = np.linspace(epsv, 50 * epsv, 7)
     assert [a.tolist() for a in FrictionEnergy.mollifier(sliding, epsv, hhat)] == [
         FrictionEnergy.f0(sliding * hhat, epsv, hhat).tolist(), (1.0 / sliding).tolist(), [0.0] * 7]
