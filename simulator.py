@@ -300,7 +300,7 @@ def _mass_powers(p):
 def _float64_scales(p, x, n, o):
     """(what, value, powers) for each scale of the first time step's arithmetic, `powers` the
     parameters it grows with (a product of their powers) to name the one that made it too large.
-    M total mass, m node mass, l spring rest length, w contact area, D = |v0| h + |g| h^2 how far
+    M total mass, l spring rest length, w contact area, D = |v0| h + |g| h^2 how far
     the first step moves, X the largest coordinate, d the nearest node's distance to the slope (at
     most dhat, where the barrier starts, and at least the round-off below which the start is refused
     as touching). Plain float products: an overflow gives inf, never raises."""
@@ -335,13 +335,16 @@ def _culprit(p, powers):
     """Of the parameters a scale grows with (`powers`, name -> exponent), the one that moved it
     furthest from the lecture's scene: the largest exponent * log10(|value| / |lecture's value|)
     (1 m or 1 m/s for the vectors that are zero there, rho side_len^2 for the mass)."""
+    def size(value):
+        return float(np.hypot(*value)) if np.ndim(value) else abs(value)
+
     def reference(name):
-        default = DEFAULTS["rho"] * DEFAULTS["side_len"] ** 2 if name == "mass" else DEFAULTS[name]
-        return float(np.hypot(*default)) or 1.0 if np.ndim(default) else default
+        if name == "mass":
+            return DEFAULTS["rho"] * DEFAULTS["side_len"] ** 2
+        return size(DEFAULTS[name]) or 1.0
 
     def push(name):
-        size = float(np.hypot(*p[name])) if np.ndim(p[name]) else abs(p[name])
-        return powers[name] * math.log10(max(size, 1e-300) / reference(name))
+        return powers[name] * math.log10(max(size(p[name]), 1e-300) / reference(name))
     return max(powers, key=push)
 
 
