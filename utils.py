@@ -41,7 +41,9 @@ def check_per_item(name, a, count, what="node"):
 
 
 def check_vector(name, a):
-    """Return `a` as a finite float64 2-vector."""
+    """Return `a` as a finite float64 2-vector; ValueError for text or booleans, even where they convert."""
+    if np.asarray(a).dtype.kind in "bUS":
+        raise ValueError(f"{name} must be a 2-vector of numbers, got {a!r}")
     a = np.asarray(a, dtype=np.float64)
     if a.shape != (2,):
         raise ValueError(f"{name} must be a 2-vector, got shape {a.shape}")
@@ -60,8 +62,9 @@ def check_unit_normal(name, n):
 
 
 def as_float(name, value, requirement):
-    """float(value), or a ValueError saying `name` {requirement} for anything that is not a number."""
-    if isinstance(value, (bool, np.bool_)):
+    """float(value), or a ValueError saying `name` {requirement} for anything that is not a number
+    (a bool, or a string even where float() would parse it: '4' is text, not a count)."""
+    if isinstance(value, (bool, np.bool_, str, bytes, np.str_, np.bytes_)):
         raise ValueError(f"{name} {requirement}, got {value!r}")
     try:
         return float(value)

@@ -85,6 +85,8 @@ def test_mass_spring_value_at_rest_and_by_hand():
     x0, e = square_mesh.generate(1.0, 2)
     d = x0[e[:, 0]] - x0[e[:, 1]]
     l2 = np.einsum("ij,ij->i", d, d)
+    # exact by construction: every coordinate is a multiple of 0.5, so each edge vector, its squared
+    # length and the strain ||d||^2 / l^2 - 1 = 0 are exact in float64, whatever order or FMA is used
     assert MassSpringEnergy.val(x0, e, l2, 5.0) == 0.0
     # one spring of rest length 1 stretched to 2: 1/2 k l^2 (4/1 - 1)^2 = 4.5 k
     assert MassSpringEnergy.val([[0.0, 0.0], [2.0, 0.0]], [[0, 1]], [1.0], [3.0]) == pytest.approx(13.5)
@@ -112,7 +114,7 @@ def test_barrier(seed, where):
     eps = 1e-3 * min(d.min(), abs(d - dhat).min())   # never straddles the branch at d = dhat
     check_derivatives(lambda y: BarrierEnergy.val(y, *args), lambda y: BarrierEnergy.grad(y, *args),
                       lambda y: BarrierEnergy.hess(y, *args), x, eps)
-    if where == "just_above_dhat":
+    if where == "just_above_dhat":          # empty active set: the sum of nothing, 0.0 exactly
         assert BarrierEnergy.val(x, *args) == 0.0 and len(BarrierEnergy.hess(x, *args)[0]) == 0
 
 
@@ -122,7 +124,7 @@ def test_barrier_keyword_constants_and_value():
     expect = 0.25 * 0.01 * 1e5 / 2 * (-0.5) * np.log(0.5)
     assert BarrierEnergy.val(x, [0.0, 1.0], [0.0, 0.0], [0.25]) == pytest.approx(expect)
     assert BarrierEnergy.val(x, [0.0, 1.0], [0.0, 0.0], [0.25], kappa=2e5) == pytest.approx(2 * expect)
-    assert BarrierEnergy.val(x, [0.0, 1.0], [0.0, 0.0], [0.25], dhat=0.004) == 0.0
+    assert BarrierEnergy.val(x, [0.0, 1.0], [0.0, 0.0], [0.25], dhat=0.004) == 0.0     # inactive: 0.0 exactly
 
 
 def test_mu_lambda_is_mu_times_contact_force():
@@ -132,7 +134,7 @@ def test_mu_lambda_is_mu_times_contact_force():
     mu_lambda = BarrierEnergy.compute_mu_lambda(x, N_SLOPE, O_SLOPE, w, 0.3)
     force = -BarrierEnergy.grad(x, N_SLOPE, O_SLOPE, w)       # contact force on each node
     assert_close(mu_lambda, 0.3 * np.linalg.norm(force, axis=1), 1e-12, "mu*lambda")
-    assert (mu_lambda[:2] > 0).all() and (mu_lambda[2:] == 0).all()
+    assert (mu_lambda[:2] > 0).all() and (mu_lambda[2:] == 0).all()     # beyond dhat: no force at all, 0.0 exactly
 
 
 def test_init_step_size_is_ccd_scaled_by_0_9():
@@ -141,6 +143,7 @@ def test_init_step_size_is_ccd_scaled_by_0_9():
     p = np.array([[0.0, -2.0], [0.0, -4.0], [0.0, 1.0]])
     # node 0 reaches the ground at alpha 0.5, node 1 at 0.125: 0.9 * 0.125
     assert BarrierEnergy.init_step_size(x, n, o, p) == pytest.approx(0.1125)
+    # no node reaches the ground within alpha <= 1 / 0.9: the full step, the constant 1.0 exactly
     assert BarrierEnergy.init_step_size(x, n, o, -p * 0.01) == 1.0
     assert BarrierEnergy.init_step_size(x, n, o, p * 0.01) == 1.0
 

@@ -178,7 +178,7 @@ def test_small_time_step_slides_like_large_one():
     the slope as it does at h = 1e-3: same centre of mass within 1 cm after 0.3 s."""
     coms = {}
     for h in (1e-3, 1e-4):
-        scene = simulator.build_scene(h=h, mu=0.05, center=(0.0, -0.45))
+        scene = simulator.build_scene(h=h, mu=0.05, center=(0.0, -0.40))
         rec = run_steps(scene, int(round(0.3 / h)))
         coms[h] = np.average(rec.x, axis=0, weights=scene.m)
     assert np.abs(coms[1e-3] - coms[1e-4]).max() < 1e-2

@@ -69,6 +69,7 @@ def test_flags_reach_the_scene():
          "--v0", "1,-2", "--dhat", "0.02", "--kappa", "1e6", "--epsv", "1e-4", "--tol", "1e-3",
          "--friction-iterations", "3"])
     scene = simulator.scene_from_args(args)
+    # == where the value is the parsed flag itself, passed through unchanged (exact by construction)
     assert scene.mu == 0.2 and scene.h == 0.005 and scene.n_seg == 3 and scene.k[0] == 3e4
     assert scene.m.sum() == pytest.approx(500.0) and scene.dhat == 0.02 and scene.kappa == 1e6
     assert scene.epsv == 1e-4 and scene.tol == 1e-3 and scene.friction_updates == 3
