@@ -12,6 +12,7 @@ comment-only ones.
 
     python -m benchmarks.reading_path                  # the working tree
     python -m benchmarks.reading_path --against c6bcae2  # and an earlier commit, side by side
+    python -m benchmarks.reading_path --functions        # also every function that ran, with its lines
 
 The earlier commit is exported with `git archive` into a temporary folder and run in a subprocess
 with that folder first on sys.path; the folder is removed afterwards.
@@ -67,10 +68,10 @@ def enclosing_function(extents, line):
     return max(holding, key=lambda ext: ext[0]) if holding else None
 
 
-def reading_path(code_objects, tree):
-    """{file name: (functions, lines)} for the code objects that ran, over the top-level .py files of
-    `tree`: a code object maps to the innermost function holding its first line (a generator expression
-    to its function), and a line that two counted functions share (a nested function) counts once."""
+def functions_that_ran(code_objects, tree):
+    """{file name: {(first line, function name): its code lines}} for the code objects that ran, over the
+    top-level .py files of `tree`: a code object maps to the innermost function holding its first line
+    (a generator expression to its function)."""
     per_file = {}
     for path in sorted({c.co_filename for c in code_objects}):
         with open(path) as f:
@@ -78,11 +79,17 @@ def reading_path(code_objects, tree):
         extents, counted = function_extents(source), code_lines(source)
         functions = {enclosing_function(extents, c.co_firstlineno) for c in code_objects if c.co_filename == path}
         functions.discard(None)
-        lines = set()
-        for first, last, _ in functions:
-            lines.update(line for line in range(first, last + 1) if line in counted)
-        per_file[os.path.relpath(path, tree)] = (len(functions), len(lines))
+        per_file[os.path.relpath(path, tree)] = {
+            (first, name): {line for line in range(first, last + 1) if line in counted}
+            for first, last, name in functions}
     return per_file
+
+
+def reading_path(code_objects, tree):
+    """{file name: (functions, lines)}: the functions of functions_that_ran, and their code lines, a
+    line that two of them share (a nested function inside another) counted once."""
+    return {name: (len(functions), len(set().union(*functions.values())))
+            for name, functions in functions_that_ran(code_objects, tree).items()}
 
 
 def is_project_file(path, tree):
@@ -119,19 +126,26 @@ def collect(tree):
 
 
 def worker(tree):
-    """Count the reading path of `tree` in this process, with `tree` first on sys.path."""
+    """Count the reading path of `tree` in this process, with `tree` first on sys.path: the per-file
+    table and, per function, its name, first line and code lines."""
     tree = os.path.abspath(tree)
     sys.path.insert(0, tree)
-    return reading_path(collect(tree), tree)
+    code_objects = collect(tree)
+    functions = [[path, name, first, len(lines)] for path, found in functions_that_ran(code_objects, tree).items()
+                 for (first, name), lines in sorted(found.items())]
+    return {"files": reading_path(code_objects, tree), "functions": functions}
 
 
-def run_tree(tree):
-    """The reading path of `tree`, counted in a fresh Python process (so its modules are the ones imported)."""
+def run_tree(tree, functions=False):
+    """The reading path of `tree`, counted in a fresh Python process (so its modules are the ones
+    imported): {file: (functions, lines)}, and with `functions` also [(file, name, first line, lines)]."""
     done = subprocess.run([sys.executable, "-m", "benchmarks.reading_path", "--worker", tree], cwd=ROOT,
                           capture_output=True, text=True)
     if done.returncode != 0:
         raise RuntimeError(f"counting the reading path of {tree} failed:\n{done.stderr}")
-    return {name: tuple(pair) for name, pair in json.loads(done.stdout.strip().splitlines()[-1]).items()}
+    result = json.loads(done.stdout.strip().splitlines()[-1])
+    per_file = {name: tuple(pair) for name, pair in result["files"].items()}
+    return (per_file, [tuple(f) for f in result["functions"]]) if functions else per_file
 
 
 def export_tree(rev, folder):
@@ -153,35 +167,48 @@ def format_table(title, per_file):
     return "\n".join(lines)
 
 
+def format_functions(functions):
+    """One line per function that ran: file:first line, name, code lines (a nested function's lines
+    also count in the function holding it)."""
+    return "\n".join(f"  {f'{path}:{first}':<26} {name:<28} {lines:>4}" for path, name, first, lines in functions)
+
+
 def totals(per_file):
+    """(functions, lines) summed over the files."""
     return sum(f for f, _ in per_file.values()), sum(n for _, n in per_file.values())
 
 
-def main(argv=None):
+def count(tree_or_rev, functions):
+    """run_tree of a folder, or of commit `tree_or_rev` exported into a temporary folder."""
     import tempfile
+    if os.path.isdir(tree_or_rev):
+        return run_tree(os.path.abspath(tree_or_rev), functions)
+    with tempfile.TemporaryDirectory(prefix="reading_path-") as folder:
+        export_tree(tree_or_rev, folder)
+        return run_tree(folder, functions)
+
+
+def main(argv=None):
     ap = argparse.ArgumentParser(prog="python -m benchmarks.reading_path", description=__doc__.split("\n\n")[0])
     ap.add_argument("--against", metavar="REV", help="also count this commit (or an existing folder)")
+    ap.add_argument("--functions", action="store_true", help="also list every function that ran with its lines")
     ap.add_argument("--worker", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.worker:
         print(json.dumps(worker(args.worker)))
         return 0
-    what = (f"functions that run while simulator.simulate steps the default scene ({LAGGED_STEPS} lagged "
-            f"steps, then {IMPLICIT_STEPS} from the start with friction_updates={FRICTION_UPDATES}); lines without blank "
-            "lines, comment-only lines and docstrings")
-    print(what)
-    current = run_tree(ROOT)
-    print(format_table("working tree", current))
-    if args.against:
-        if os.path.isdir(args.against):
-            old = run_tree(os.path.abspath(args.against))
-        else:
-            with tempfile.TemporaryDirectory(prefix="reading_path-") as folder:
-                export_tree(args.against, folder)
-                old = run_tree(folder)
-        print(format_table(args.against, old))
-        (f_new, n_new), (f_old, n_old) = totals(current), totals(old)
-        print(f"working tree {n_new} lines in {f_new} functions; {args.against} {n_old} lines in {f_old} functions")
+    print(f"functions that run while simulator.simulate steps the default scene ({LAGGED_STEPS} lagged steps, "
+          f"then {IMPLICIT_STEPS} from the start with friction_updates={FRICTION_UPDATES}); lines without blank "
+          "lines, comment-only lines and docstrings")
+    trees = [("working tree", ROOT)] + ([(args.against, args.against)] if args.against else [])
+    results = []
+    for title, tree in trees:
+        per_file, functions = count(tree, functions=True)
+        print(format_table(title, per_file))
+        if args.functions:
+            print(format_functions(functions))
+        results.append((title, totals(per_file)))
+    print("; ".join(f"{title} {lines} lines in {functions} functions" for title, (functions, lines) in results))
     return 0
 
 

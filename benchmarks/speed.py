@@ -201,8 +201,9 @@ def compare(new_tree, old_tree, configs):
         row["cpu_ratio"] = row["cpu_ms_new"] / row["cpu_ms_old"]
         row["wall_ratio"] = row["wall_ms_new"] / row["wall_ms_old"]
         same = {n for _, _, n in new} | {n for _, _, n in old}
-        noisy = [noise([w for _, w, _ in results], [c for c, _, _ in results]) for results in (new, old)]
-        row["noise"] = "; ".join(n for n in noisy if n != "ok") or "ok"
+        noisy = [f"{name}: {verdict}" for name, results in (("new", new), ("old", old))
+                 if (verdict := noise([w for _, w, _ in results], [c for c, _, _ in results])) != "ok"]
+        row["noise"] = "; ".join(noisy) or "ok"
         if len(same) != 1:
             row["noise"] = f"NEWTON MISMATCH ({sorted(same)}); " + row["noise"]
         rows.append(row)
