@@ -408,9 +408,11 @@ def _raise_terminated(signum, frame):
     raise Terminated()
 
 
-def run(runs, log=sys.stderr):
+def run(runs, log=None):
     """Run the command line's scene (or, for a comparison, its scenes side by side), writing frames,
-    OBJs, log.csv, summary.png, plots.png and index.html. Returns the exit code."""
+    OBJs, log.csv, summary.png, plots.png and index.html; messages go to `log` (default stderr).
+    Returns the exit code."""
+    log = sys.stderr if log is None else log
     runs = runs if isinstance(runs, list) else [runs]
     scenes = [scene_from_args(args) for args in runs]
     steps = [steps_from_args(args, scene) for args, scene in zip(runs, scenes)]

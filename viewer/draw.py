@@ -6,6 +6,7 @@ PNG files are saved with 8-bit colour and zlib at its fastest level (encode_png)
 frame instead of 22 ms with pygame.image.save, which is what lets a default run write 33 frames per
 simulated second at under 3x the time of the physics alone (benchmarks/speed.py --frames).
 """
+import io
 import os
 import struct
 import zlib
@@ -180,6 +181,13 @@ def encode_png(pygame, surface):
             + chunk(b"IDAT", zlib.compress(rows.tobytes(), 1)) + chunk(b"IEND", b""))
 
 
-def save_png(pygame, surface, path):
-    """Save a surface as PNG, atomically (never half a file)."""
-    square_mesh.write_atomic(path, encode_png(pygame, surface))
+def save_png(pygame, surface, path, exact=False):
+    """Save a surface as PNG, atomically (never half a file): a frame by encode_png, a picture whose
+    colours must stay exact (plots, summary) by pygame, in 24-bit colour."""
+    if exact:
+        buffer = io.BytesIO()
+        pygame.image.save(surface, buffer, "png")
+        data = buffer.getvalue()
+    else:
+        data = encode_png(pygame, surface)
+    square_mesh.write_atomic(path, data)

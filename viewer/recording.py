@@ -192,9 +192,9 @@ def finish(tracks, out, stride, frames, frame_log, header):
     """The pictures of the whole run, from what the tracks kept: summary.png, plots.png and, when
     frames were written, index.html to play them."""
     pygame = draw.load_pygame()
-    draw.save_png(pygame, summary.draw_summary(pygame, tracks, header), os.path.join(out, "summary.png"))
+    draw.save_png(pygame, summary.draw_summary(pygame, tracks, header), os.path.join(out, "summary.png"), exact=True)
     surface, axis = plots.draw_plots(pygame, tracks)
-    draw.save_png(pygame, surface, os.path.join(out, "plots.png"))
+    draw.save_png(pygame, surface, os.path.join(out, "plots.png"), exact=True)
     if frames:
         fps = 1.0 / (stride * min(tr.scene.h for tr in tracks))
         title = "Square on a slope: " + ", ".join(tr.label for tr in tracks)

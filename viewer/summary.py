@@ -33,6 +33,11 @@ def spaced(snapshots, gap=0.05):
     return kept
 
 
+def lighten(color):
+    """The colour of the earlier snapshots: the run's colour, 55 % of the way to white."""
+    return tuple(int(c + 0.55 * (255 - c)) for c in color)
+
+
 def draw_summary(pygame, tracks, header):
     """summary.png's surface: `header` (lines of text) then one panel per track."""
     font, small = pygame.font.Font(None, 24), pygame.font.Font(None, 20)
@@ -68,7 +73,7 @@ def _panel(pygame, surface, font, small, track, lo, hi, scale, top, width, heigh
     view.center = np.array([lo[0] + width / scale / 2, 0.5 * (lo[1] + hi[1])])
     sub = panel.subsurface((0, HEADER, width, height - HEADER))
     draw.draw_slope(pygame, sub, track.scene, view, (0, 0, 0), small)
-    light = tuple(int(c + 0.55 * (255 - c)) for c in track.color)
+    light = lighten(track.color)
     kept = spaced(track.snapshots)
     for i, (t, x) in enumerate(kept):
         draw.draw_square(pygame, sub, track.scene, x, view, track.color if i == len(kept) - 1 else light, nodes=False)
