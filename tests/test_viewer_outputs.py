@@ -215,17 +215,16 @@ def test_summary_snapshots_never_overlap_and_end_with_the_last_state():
 
 
 def test_summary_has_a_fixed_scale(tmp_path):
-    """Two runs of different lengths: the same pixels per metre (the square is as wide in both)."""
+    """Two runs of different lengths, drawn at the same pixels per metre: the 1 m scale bar (a black
+    line, 3 pixels thick, from x = 12 to 12 + SCALE) is there in both, and no longer."""
     import pygame
-    widths = []
     for steps in ("20", "150"):
         out = tmp_path / steps
         assert run_main("--steps", steps, "--no-frames", "--out", str(out))[0] == 0
         image = pygame.surfarray.array3d(pygame.image.load(str(out / "summary.png")))
-        first = np.all(image[:, 2 * 22 + 34 + summary.HEADER:] == summary.lighten(draw.BLUE), axis=2)   # below the text
-        widths.append(np.ptp(np.nonzero(first.any(axis=1))[0]))
-    # the first snapshot (t = 0, the square 1 m wide at rest) spans SCALE pixels in both
-    assert abs(widths[0] - summary.SCALE) <= 2 and abs(widths[1] - summary.SCALE) <= 2
+        black = np.all(image == 0, axis=2)
+        bar_rows = [y for y in range(image.shape[1]) if black[12:12 + int(summary.SCALE) + 1, y].all()]
+        assert len(bar_rows) == 3 and not black[12 + int(summary.SCALE) + 2, bar_rows].any()
 
 
 def page_data(folder):
