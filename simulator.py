@@ -432,31 +432,34 @@ def run(runs, log=None):
                                           args_k.tag, draw.run_color(k), os.path.join(out, files.log_csv(args_k.tag))))
         recording.record(tracks, out, stride, frames, not args.no_forces, log, frame_log)
     except time_integrator.SimulationError as err:
-        failure = (1, f"simulation failed: {err}")
+        failure = (1, f"stopped: simulation failed: {err}")
     except KeyboardInterrupt as err:
-        failure = (143, "terminated (SIGTERM)") if isinstance(err, Terminated) else (130, "interrupted")
+        failure = (143, "stopped: terminated (SIGTERM)") if isinstance(err, Terminated) else (130, "stopped: interrupted")
     except OSError as err:
-        failure = (1, f"cannot write {err.filename or out}: {err.strerror or err}")
+        failure = (1, _write_error(err, out))
     finally:
         signal.signal(signal.SIGTERM, previous)
         for track in tracks:
             track.csv.close()
     wall = time.perf_counter() - start
-    kept = f"{tracks[0].step if tracks else 0} steps kept in {out}/"
-    if tracks and (failure is None or failure[0] != 1 or "cannot write" not in failure[1]):
+    if tracks and (failure is None or not failure[1].startswith("error")):     # not on a full disk
         try:
             recording.finish(tracks, out, stride, frames, frame_log, _summary_header(tracks, runs))
         except OSError as err:
-            failure = (1, f"cannot write {err.filename or out}: {err.strerror or err}")
+            failure = (1, _write_error(err, out))
     if failure is not None:
-        print(f"simulator.py: {'error' if 'cannot write' in failure[1] else 'stopped'}: {failure[1]}; {kept}",
-              file=log)
+        print(f"simulator.py: {failure[1]}; {tracks[0].step if tracks else 0} steps kept in {out}/", file=log)
         return failure[0]
     written = ("frames, OBJs, log.csv, plots.png, summary.png and index.html" if frames
                else "log.csv, plots.png and summary.png")
     print(f"simulated {steps[0]} steps ({steps[0] * scenes[0].h:.2f} s){f' x {len(runs)} runs' if len(runs) > 1 else ''}"
           f" in {wall:.2f} s wall; {written} in {out}/", file=log)
     return 0
+
+
+def _write_error(err, out):
+    """A failed write (a full disk, a folder gone) as the one line's text."""
+    return f"error: cannot write {err.filename or out}: {err.strerror or err}"
 
 
 def _summary_header(tracks, runs):

@@ -13,6 +13,7 @@ as simulator.simulate takes them (each handed the previous step's report).
     python -m benchmarks.speed               # n_seg 4 ... 128, about two minutes
     python -m benchmarks.speed --quick       # a smoke run: n_seg 4 and 8, a few steps, a few seconds
     python -m benchmarks.speed --sizes 4,32  # some sizes only
+    python -m benchmarks.speed --frames      # the default run with and without frames (frames_overhead)
 
 Each size runs in its own Python process, so the peak memory (ru_maxrss) is that size's own. BLAS
 runs on one thread unless OPENBLAS_NUM_THREADS says otherwise: on a shared 2-core machine a second
@@ -352,13 +353,59 @@ def write_csv(path, rows):
         f.write(buffer.getvalue())
 
 
+# ------------------------------------------------------------------------------------------------
+# The cost of the frames: the default `python simulator.py` against the same run with --no-frames
+# ------------------------------------------------------------------------------------------------
+
+FRAMES_TARGET = 3.0         # the default run at most 3x the wall time of --no-frames (issue 16)
+
+
+def frames_overhead(repeats=5, extra=()):
+    """Whole-process wall time of `python simulator.py` and of `python simulator.py --no-frames`,
+    run alternately (so both meet the machine in the same state), `repeats` times each: the medians,
+    their ratio, and the frames written per simulated second."""
+    import tempfile
+    times = {"frames": [], "no-frames": []}
+    with tempfile.TemporaryDirectory() as folder:
+        for _ in range(repeats):
+            for kind in times:
+                out = os.path.join(folder, kind)
+                command = [sys.executable, os.path.join(ROOT, "simulator.py"), "--out", out, *extra]
+                start = time.perf_counter()
+                done = subprocess.run(command + (["--no-frames"] if kind == "no-frames" else []), cwd=ROOT,
+                                      capture_output=True, text=True, env={**os.environ, "SDL_VIDEODRIVER": "dummy"})
+                times[kind].append(time.perf_counter() - start)
+                if done.returncode != 0:
+                    raise RuntimeError(f"simulator.py failed:\n{done.stderr}")
+        frames = len([f for f in os.listdir(os.path.join(folder, "frames")) if f.endswith(".png") and f.startswith("frame_")])
+        with open(os.path.join(folder, "frames", "log.csv")) as f:
+            simulated = float(list(csv.DictReader(f))[-1]["t"])
+    with_frames, without = statistics.median(times["frames"]), statistics.median(times["no-frames"])
+    return {"frames_s": with_frames, "no_frames_s": without, "ratio": with_frames / without,
+            "frames_per_simulated_s": (frames - 1) / simulated, "frames": frames,
+            "spread": max(spread(times["frames"]), spread(times["no-frames"]))}
+
+
+def print_frames_overhead(repeats):
+    r = frames_overhead(repeats)
+    verdict = "met" if r["ratio"] <= FRAMES_TARGET else "NOT met"
+    print(f"python simulator.py: {r['frames_s']:.2f} s with {r['frames']} frames ({r['frames_per_simulated_s']:.1f} "
+          f"per simulated second), {r['no_frames_s']:.2f} s with --no-frames (whole processes, medians of "
+          f"{repeats}, run alternately): {r['ratio']:.2f}x (target <= {FRAMES_TARGET:g}x: {verdict}; "
+          f"repeats spread {100 * r['spread']:.0f}%)")
+    return 0
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="python -m benchmarks.speed", description=__doc__.split("\n\n")[0])
     ap.add_argument("--quick", action="store_true", help="smoke run: n_seg 4 and 8, few steps")
     ap.add_argument("--sizes", help="comma-separated n_seg values (default: all of the mode)")
     ap.add_argument("--csv", help="CSV path (default benchmarks/results/speed.csv, --quick: benchmarks/out/)")
     ap.add_argument("--worker", help=argparse.SUPPRESS)
+    ap.add_argument("--frames", action="store_true", help="only the default run with frames against --no-frames")
     args = ap.parse_args(argv)
+    if args.frames:
+        return print_frames_overhead(3 if args.quick else 5)
     if args.worker:
         job = json.loads(args.worker)
         print(json.dumps(measure(job["n_seg"], *job["config"], run_steps=job["run_steps"])))

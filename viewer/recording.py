@@ -97,22 +97,22 @@ class Track:
 
 
 class Progress:
-    """Progress lines on `log`: every tenth of the run and at least every PROGRESS_EVERY s of wall time."""
+    """Progress lines on `log`: every tenth of the first run and at least every PROGRESS_EVERY s of
+    wall time, whatever the run's length (a run of 1e308 steps says how far it got)."""
 
     def __init__(self, tracks, log):
         self.log, self.tracks = log, tracks
         self.last = time.perf_counter()
-        self.total = max(tr.steps for tr in tracks)
-        self.tenth = max(1, self.total // 10)
+        self.tenth = max(1, tracks[0].steps // 10)
 
     def tick(self, track):
         now = time.perf_counter()
-        if track is self.tracks[-1] and (track.step % self.tenth == 0 or now - self.last > PROGRESS_EVERY):
+        if (track is self.tracks[0] and track.step % self.tenth == 0) or now - self.last > PROGRESS_EVERY:
             self.last = now
             parts = [f"{tr.label + ': ' if len(self.tracks) > 1 else ''}newton={tr.samples[-1].report.newton_iterations}"
                      f"  residual={tr.samples[-1].report.residual:.1e}  min_d={tr.samples[-1].min_distance:.2e}"
                      for tr in self.tracks if tr.samples[-1].report is not None]
-            print(f"step {track.step}/{self.total}  t={track.t:.2f}s  " + "  ".join(parts), file=self.log, flush=True)
+            print(f"step {track.step}/{track.steps}  t={track.t:.2f}s  " + "  ".join(parts), file=self.log, flush=True)
 
     def warn_inverted(self, track, sample):
         who = f"{track.label}: " if len(self.tracks) > 1 else ""
