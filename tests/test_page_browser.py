@@ -3,11 +3,9 @@ and the page's own script is driven as a user would: a frame is shown, frames ch
 plays, and the step button moves exactly one frame. Skips, saying why, where no browser is found
 (.ci/run installs Debian's `chromium`)."""
 import json
-import os
 import re
 import shutil
 import subprocess
-import sys
 
 import pytest
 

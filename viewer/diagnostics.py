@@ -5,6 +5,8 @@ speed is ||(I - n n^T) v_k||, the ||vbar_k|| the friction of the lecture acts on
 every node of a half-space); a contact node sticks when it is below eps_v (the static branch of the
 mollifier f1) and slides otherwise.
 """
+import math
+
 import numpy as np
 
 import BarrierEnergy
@@ -31,6 +33,11 @@ def tangent(scene):
     if scene.n is None:
         return np.array([1.0, 0.0])
     return np.array([scene.n[1], -scene.n[0]])
+
+
+def min_distance(scene, x):
+    """The smallest node distance to the slope, min_k n . (x_k - o) (inf without a slope)."""
+    return math.inf if scene.n is None else float(BarrierEnergy.distances(x, scene.n, scene.o).min())
 
 
 def contact_speeds(scene, x, v):

@@ -62,17 +62,19 @@ class Track:
         return self.step * self.scene.h
 
     def _add(self, report, t, wall):
+        """The Sample of the current state (after a step with `report`, or t = 0 without), logged at once."""
         scene, x, v = self.scene, self.x, self.v
         E = diagnostics.energies(scene, x, v)
+        E0 = self.samples[0].energies["total"] if self.samples else E["total"]
         speeds = diagnostics.contact_speeds(scene, x, v)
         sticking, sliding = diagnostics.sticking_sliding(speeds, scene.epsv)
-        E0 = self.samples[0].energies["total"] if self.samples else E["total"]
-        min_distance = (math.inf if scene.n is None else
-                        float((x @ scene.n - scene.o @ scene.n).min())) if report is None else report.min_distance
-        sample = Sample(self.step, t, wall, np.average(x, axis=0, weights=scene.m),
-                        float(np.average(v, axis=0, weights=scene.m) @ self.tangent), report, min_distance, E,
-                        self.friction_work, E0 + self.friction_work - E["total"], speeds, sticking, sliding,
-                        diagnostics.inverted_triangles(x, self.triangles))
+        sample = Sample(step=self.step, t=t, wall=wall, com=np.average(x, axis=0, weights=scene.m),
+                        v_tangential=float(np.average(v, axis=0, weights=scene.m) @ self.tangent), report=report,
+                        min_distance=report.min_distance if report else diagnostics.min_distance(scene, x),
+                        energies=E, friction_work=self.friction_work,
+                        numerical_dissipation=E0 + self.friction_work - E["total"], speeds=speeds,
+                        sticking=sticking, sliding=sliding,
+                        inverted=diagnostics.inverted_triangles(x, self.triangles))
         self.csv.append(sample)
         self.samples.append(sample)
         if not self.snapshots or t >= self.snapshots[-1][0] + SNAPSHOT_EVERY - 1e-9:
@@ -92,6 +94,7 @@ class Track:
             progress.tick(self)
 
     def last_snapshot(self):
+        """Keep the final state for summary.png, whenever it fell between two snapshots."""
         if self.snapshots[-1][0] < self.t:
             self.snapshots.append((self.t, self.x.copy()))
 
