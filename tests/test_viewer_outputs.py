@@ -17,7 +17,7 @@ import pytest
 import simulator
 import square_mesh
 import viewer.log
-from viewer import diagnostics, draw, plots, summary
+from viewer import diagnostics, draw, plots, recording, summary
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -349,7 +349,7 @@ def test_sigkill_leaves_the_log_within_a_stride_of_the_frames(tmp_path):
     last_frame = max(frame_indices(tmp_path))
     # a row is written before the frame of its step: the log holds every frame's step, and at most
     # one stride (plus the frame being written) more
-    assert 2 * last_frame <= steps[-1] <= 2 * (last_frame + 1) + 2
+    assert 2 * last_frame <= steps[-1] <= 2 * last_frame + 2
 
 
 def test_a_full_disk_is_one_line_exit_1_and_keeps_what_was_written(tmp_path, monkeypatch):
@@ -385,3 +385,14 @@ def test_a_log_row_that_cannot_be_written_whole_is_cut_back(tmp_path, monkeypatc
         log._write("1,2,3,4,5,6,7,8\n")
     log.close()
     assert os.path.getsize(tmp_path / "log.csv") == size
+
+
+def test_a_run_of_any_length_keeps_bounded_history():
+    """A run of 1e308 steps keeps at most `cap` samples for its pictures: evenly spaced, from the
+    first, with the newest always at hand."""
+    history = recording.History(cap=10)
+    for i in range(1000):
+        history.add(i)
+    assert len(history.items) <= 10 and history.items[0] == 0 and history.last == 999
+    gaps = np.diff(history.items)
+    assert (gaps == gaps[0]).all() and history.all()[-1] == 999

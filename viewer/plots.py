@@ -103,7 +103,7 @@ class Axes:
 
 def series(track):
     """The arrays the plots need from a track's samples."""
-    s = track.samples
+    s = track.samples.all()
     return {"t": np.array([x.t for x in s]),
             "E": {k: np.array([x.energies[k] for x in s]) for k in ("kinetic", "gravity", "spring", "barrier", "total")},
             "W": np.array([x.friction_work for x in s]), "D": np.array([x.numerical_dissipation for x in s]),

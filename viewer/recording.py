@@ -20,6 +20,27 @@ import square_mesh
 
 PROGRESS_EVERY = 2.0        # s of wall time: a progress line at least this often, whatever the run's length
 SNAPSHOT_EVERY = 0.1        # s of simulated time between the states kept for summary.png
+MAX_SAMPLES, MAX_SNAPSHOTS = 100_000, 2_000     # kept for the pictures, however long the run
+
+
+class History:
+    """What a run keeps for its pictures, in bounded memory whatever its length: every item until
+    `cap`, then every other one (the first kept) and from then on every 2nd, 4th, ... new one.
+    `last` is always the newest item; `all()` the kept ones and the newest."""
+
+    def __init__(self, cap):
+        self.items, self.cap, self.every, self.seen, self.last = [], cap, 1, 0, None
+
+    def add(self, item):
+        self.last = item
+        if self.seen % self.every == 0:
+            self.items.append(item)
+            if len(self.items) > self.cap:
+                self.items, self.every = self.items[::2], 2 * self.every
+        self.seen += 1
+
+    def all(self):
+        return self.items if self.items[-1] is self.last else self.items + [self.last]
 
 
 @dataclass
@@ -53,8 +74,8 @@ class Track:
         self.v = scene.v0
         self.step, self.friction_work, self.inverted_at = 0, 0.0, None
         self.csv = CsvLog(csv_path)
-        self.samples = []
-        self.snapshots = []         # (t, x) at most every SNAPSHOT_EVERY s, and the last state
+        self.samples = History(MAX_SAMPLES)
+        self.snapshots = History(MAX_SNAPSHOTS)     # (t, x) every SNAPSHOT_EVERY s of simulated time
         self._add(None, 0.0, 0.0)
 
     @property
@@ -65,7 +86,7 @@ class Track:
         """The Sample of the current state (after a step with `report`, or t = 0 without), logged at once."""
         scene, x, v = self.scene, self.x, self.v
         E = diagnostics.energies(scene, x, v)
-        E0 = self.samples[0].energies["total"] if self.samples else E["total"]
+        E0 = self.samples.items[0].energies["total"] if self.samples.items else E["total"]
         speeds = diagnostics.contact_speeds(scene, x, v)
         sticking, sliding = diagnostics.sticking_sliding(speeds, scene.epsv)
         sample = Sample(step=self.step, t=t, wall=wall, com=np.average(x, axis=0, weights=scene.m),
@@ -76,9 +97,9 @@ class Track:
                         sticking=sticking, sliding=sliding,
                         inverted=diagnostics.inverted_triangles(x, self.triangles))
         self.csv.append(sample)
-        self.samples.append(sample)
-        if not self.snapshots or t >= self.snapshots[-1][0] + SNAPSHOT_EVERY - 1e-9:
-            self.snapshots.append((t, x.copy()))
+        self.samples.add(sample)
+        if self.snapshots.last is None or t >= self.snapshots.last[0] + SNAPSHOT_EVERY - 1e-9:
+            self.snapshots.add((t, x.copy()))
         return sample
 
     def advance(self, target, progress):
@@ -95,8 +116,8 @@ class Track:
 
     def last_snapshot(self):
         """Keep the final state for summary.png, whenever it fell between two snapshots."""
-        if self.snapshots[-1][0] < self.t:
-            self.snapshots.append((self.t, self.x.copy()))
+        if self.snapshots.last[0] < self.t:
+            self.snapshots.add((self.t, self.x.copy()))
 
 
 class Progress:
@@ -112,9 +133,9 @@ class Progress:
         now = time.perf_counter()
         if (track is self.tracks[0] and track.step % self.tenth == 0) or now - self.last > PROGRESS_EVERY:
             self.last = now
-            parts = [f"{tr.label + ': ' if len(self.tracks) > 1 else ''}newton={tr.samples[-1].report.newton_iterations}"
-                     f"  residual={tr.samples[-1].report.residual:.1e}  min_d={tr.samples[-1].min_distance:.2e}"
-                     for tr in self.tracks if tr.samples[-1].report is not None]
+            parts = [f"{tr.label + ': ' if len(self.tracks) > 1 else ''}newton={tr.samples.last.report.newton_iterations}"
+                     f"  residual={tr.samples.last.report.residual:.1e}  min_d={tr.samples.last.min_distance:.2e}"
+                     for tr in self.tracks if tr.samples.last.report is not None]
             print(f"step {track.step}/{track.steps}  t={track.t:.2f}s  " + "  ".join(parts), file=self.log, flush=True)
 
     def warn_inverted(self, track, sample):
@@ -159,8 +180,8 @@ def record(tracks, out, stride, frames, forces, log, frame_log):
     for j, targets in frame_steps(tracks, stride):
         for tr, target in zip(tracks, targets):
             tr.advance(target, progress)
-        frame_log.append(FrameInfo(j, max(tr.t for tr in tracks), [_figures(tr) for tr in tracks]))
         if frames:
+            frame_log.append(FrameInfo(j, max(tr.t for tr in tracks), [_figures(tr) for tr in tracks]))
             _write_frame(pygame, fonts, view, tracks, j, out, newton_per_metre)
     for tr in tracks:
         tr.last_snapshot()
@@ -168,7 +189,7 @@ def record(tracks, out, stride, frames, forces, log, frame_log):
 
 def _figures(track):
     """The figures the page shows for a track's latest state (page.FIGURES; None where there is none)."""
-    s = track.samples[-1]
+    s = track.samples.last
     residual = s.report.residual if s.report else math.nan
     return [s.step, round(s.t, 6), s.report.newton_iterations if s.report else 0,
             float(f"{residual:.3e}") if math.isfinite(residual) else None,
@@ -177,7 +198,7 @@ def _figures(track):
 
 def _write_frame(pygame, fonts, view, tracks, j, out, newton_per_metre):
     """Frame j with every track, then each track's OBJ (after its log rows: the CSV is never behind)."""
-    view.follow(np.array([tr.samples[-1].com for tr in tracks]))
+    view.follow(np.array([tr.samples.last.com for tr in tracks]))
     runs = []
     for tr in tracks:
         run = {"scene": tr.scene, "x": tr.x, "label": tr.label, "color": tr.color}

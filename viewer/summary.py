@@ -43,7 +43,7 @@ def draw_summary(pygame, tracks, header):
     font, small = pygame.font.Font(None, 24), pygame.font.Font(None, 20)
     boxes = []
     for tr in tracks:
-        pts = np.concatenate([x for _, x in tr.snapshots] + [np.array([s.com for s in tr.samples])])
+        pts = np.concatenate([x for _, x in tr.snapshots.all()] + [np.array([s.com for s in tr.samples.all()])])
         boxes.append((pts.min(axis=0) - MARGIN, pts.max(axis=0) + MARGIN))
     width_m = max(float(hi[0] - lo[0]) for lo, hi in boxes)
     scale = min(SCALE, MAX_WIDTH / width_m)
@@ -74,7 +74,7 @@ def _panel(pygame, surface, font, small, track, lo, hi, scale, top, width, heigh
     sub = panel.subsurface((0, HEADER, width, height - HEADER))
     draw.draw_slope(pygame, sub, track.scene, view, (0, 0, 0), small)
     light = lighten(track.color)
-    kept = spaced(track.snapshots)
+    kept = spaced(track.snapshots.all())
     for i, (t, x) in enumerate(kept):
         draw.draw_square(pygame, sub, track.scene, x, view, track.color if i == len(kept) - 1 else light, nodes=False)
         label, px = small.render(f"t = {t:.1f} s", True, (0, 0, 0)), view(x)
@@ -82,9 +82,9 @@ def _panel(pygame, surface, font, small, track, lo, hi, scale, top, width, heigh
             sub.blit(label, (float(px[:, 0].max()) + 6, float(px[:, 1].mean())))
         else:
             sub.blit(label, (float(px[:, 0].mean()) - label.get_width() / 2, px[:, 1].min() - label.get_height() - 2))
-    com = np.array([s.com for s in track.samples])
+    com = np.array([s.com for s in track.samples.all()])
     if len(com) > 1:
         pygame.draw.lines(sub, (220, 0, 0), False, view(com).tolist(), 2)
     panel.blit(font.render(track.label, True, track.color), (12, 8))
-    panel.blit(small.render(f"red: centre-of-mass path; {len(track.samples) - 1} steps, t = {track.t:.2f} s",
+    panel.blit(small.render(f"red: centre-of-mass path; {track.step} steps, t = {track.t:.2f} s",
                             True, (0, 0, 0)), (12, 32))
