@@ -396,3 +396,20 @@ def test_a_run_of_any_length_keeps_bounded_history():
     assert len(history.items) <= 10 and history.items[0] == 0 and history.last == 999
     gaps = np.diff(history.items)
     assert (gaps == gaps[0]).all() and history.all()[-1] == 999
+
+
+def test_frame_png_keeps_every_drawn_colour_exactly(tmp_path):
+    """encode_png's 3-3-2 palette: the colours frames are drawn in come back exactly, any other
+    colour within one palette step (36 of 255 in red and green, 85 in blue, from below)."""
+    import pygame
+    colors = [(255, 255, 255), (0, 0, 0), draw.NORMAL_COLOR, draw.FRICTION_COLOR] + draw.RUN_COLORS
+    surface = pygame.Surface((len(colors) + 1, 3))
+    for i, color in enumerate(colors):
+        surface.fill(color, (i, 0, 1, 3))
+    surface.fill((200, 100, 50), (len(colors), 0, 1, 3))
+    draw.save_png(pygame, surface, str(tmp_path / "f.png"))
+    back = pygame.surfarray.array3d(pygame.image.load(str(tmp_path / "f.png"))).astype(int)
+    assert back.shape == (len(colors) + 1, 3, 3)
+    assert [tuple(back[i, 1]) for i in range(len(colors))] == colors
+    error = np.array([200, 100, 50]) - back[-1, 1]
+    assert (error >= 0).all() and (error < [37, 37, 86]).all()

@@ -18,7 +18,7 @@ import square_mesh
 RESOLUTION = 900            # pixels, square frames
 SCALE = 200.0               # pixels per metre, the lecture's
 BLUE = (0, 0, 255)
-# colours of PALETTE (3-3-2 bits), so that frames show them exactly
+# colours of PALETTE (below), so that frames show them exactly
 RUN_COLORS = [BLUE, (255, 146, 0), (0, 146, 0), (219, 0, 170), (146, 73, 0), (0, 182, 255), (109, 109, 85)]
 NORMAL_COLOR, FRICTION_COLOR = (219, 0, 0), (0, 109, 0)
 MARK_SPACING = 0.5          # m between marks along the slope
@@ -155,23 +155,21 @@ def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None):
     return surface
 
 
-LEVELS = np.arange(256)
-PALETTE_INDEX = (np.rint(LEVELS * 7 / 255).astype(np.uint8) << 5,     # red: 8 levels, bits 7-5
-                 np.rint(LEVELS * 7 / 255).astype(np.uint8) << 2,     # green: 8 levels, bits 4-2
-                 np.rint(LEVELS * 3 / 255).astype(np.uint8))          # blue: 4 levels, bits 1-0
+# 3-3-2 bits of colour, index r << 5 | g << 2 | b (each channel's top bits): 8 levels of red and
+# green, 4 of blue; every colour drawn here (white, black, BLUE, RUN_COLORS, ...) is one of them
 PALETTE = np.array([(round(r * 255 / 7), round(g * 255 / 7), round(b * 255 / 3))
                     for r in range(8) for g in range(8) for b in range(4)], np.uint8)
 
 
 def encode_png(pygame, surface):
-    """The surface as an 8-bit palette PNG: each pixel rounded to the nearest of 3-3-2 bits of colour
-    (PALETTE; a third of RGB's data: anti-aliased edges and text keep 8 shades), the rows each after
-    a 0 byte (no filter) in one zlib stream at level 1, the fastest; the IHDR, PLTE, IDAT and IEND
-    chunks as the PNG specification (section 11.2) lays them out."""
+    """The surface as an 8-bit palette PNG: each pixel to its PALETTE index, the top 3, 3 and 2 bits
+    of red, green and blue (a third of RGB's data; anti-aliased edges and text keep a few shades),
+    the rows each after a 0 byte (no filter) in one zlib stream at level 1, the fastest; the IHDR,
+    PLTE, IDAT and IEND chunks as the PNG specification (section 11.2) lays them out."""
     rgb = pygame.surfarray.pixels3d(surface)            # a view, [x, y, channel]
     width, height = rgb.shape[:2]
     rows = np.zeros((height, 1 + width), np.uint8)
-    rows[:, 1:] = (PALETTE_INDEX[0][rgb[:, :, 0]] | PALETTE_INDEX[1][rgb[:, :, 1]] | PALETTE_INDEX[2][rgb[:, :, 2]]).T
+    rows[:, 1:] = ((rgb[:, :, 0] & 0xE0) | ((rgb[:, :, 1] & 0xE0) >> 3) | (rgb[:, :, 2] >> 6)).T
     del rgb                                             # unlocks the surface
 
     def chunk(kind, body):
