@@ -2,8 +2,8 @@
 a line, springs and nodes in blue), with what explains the motion: marks every 0.5 m along the slope,
 the contact forces as arrows, and one colour per run when runs are compared.
 
-PNG files are saved with 8-bit colour and zlib at its fastest level (encode_png): about 4 ms a
-frame instead of 22 ms with pygame.image.save, which is what lets a default run write 33 frames per
+PNG files are saved with 8-bit colour and zlib at its fastest level (encode_png): about 5 ms a
+frame instead of 20-25 ms with pygame.image.save, which is what lets a default run write 33 frames per
 simulated second at under 3x the time of the physics alone (benchmarks/speed.py --frames).
 """
 import io
