@@ -4,8 +4,10 @@ Library use:   scene = build_scene(mu=0.2);  for record in simulate(scene, steps
 Command line:  python simulator.py --help
 
 `build_scene` validates every parameter and builds the model once (mesh, masses, rest lengths,
-slope, which energy terms exist); `simulate` steps it with time_integrator.step. pygame is imported
-only where frames are drawn, so importing this module opens no window and needs no display.
+slope, which energy terms exist); `simulate` steps it with time_integrator.step; `run` is the
+command line's run, and what it writes (frames, log.csv, plots, summary, index.html) is drawn by the
+viewer/ package. pygame is imported only where frames are drawn, so importing this module opens no
+window and needs no display.
 """
 import os
 
@@ -19,6 +21,7 @@ import math
 import re
 import signal
 import sys
+import threading
 import time
 import types
 from dataclasses import dataclass, field
@@ -408,25 +411,32 @@ def _raise_terminated(signum, frame):
     raise Terminated()
 
 
+def _main_thread():
+    """Signal handlers can only be set from the main thread (run() may be called from another)."""
+    return threading.current_thread() is threading.main_thread()
+
+
 def run(runs, log=None):
     """Run the command line's scene (or, for a comparison, its scenes side by side), writing frames,
     OBJs, log.csv, summary.png, plots.png and index.html; messages go to `log` (default stderr).
     Returns the exit code."""
     log = sys.stderr if log is None else log
     runs = runs if isinstance(runs, list) else [runs]
+    for args_k in runs:                                 # a Namespace from make_parser alone is one run
+        args_k.label, args_k.tag = getattr(args_k, "label", ""), getattr(args_k, "tag", "")
     scenes = [scene_from_args(args) for args in runs]
     steps = [steps_from_args(args, scene) for args, scene in zip(runs, scenes)]
     args, out = runs[0], runs[0].out
     stride = frame_stride(args, scenes)
     prepare_output(out)
-    files.remove_earlier_run(out)
     for args_k, scene in zip(runs, scenes):
         for warning in scene.warnings:
             print(f"simulator.py: warning: {args_k.label + ': ' if args_k.label else ''}{warning}", file=log)
     frames, tracks, frame_log, failure = not args.no_frames, [], [], None
     start = time.perf_counter()
-    previous = signal.signal(signal.SIGTERM, _raise_terminated)
+    previous = signal.signal(signal.SIGTERM, _raise_terminated) if _main_thread() else None
     try:
+        files.remove_earlier_run(out)
         for k, (args_k, scene, n) in enumerate(zip(runs, scenes, steps)):
             tracks.append(recording.Track(scene, n, simulate(scene, n), args_k.label or f"mu = {scene.mu:g}",
                                           args_k.tag, draw.run_color(k), os.path.join(out, files.log_csv(args_k.tag))))
@@ -438,7 +448,8 @@ def run(runs, log=None):
     except OSError as err:
         failure = (1, _write_error(err, out))
     finally:
-        signal.signal(signal.SIGTERM, previous)
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
         for track in tracks:
             track.csv.close()
     wall = time.perf_counter() - start

@@ -4,7 +4,7 @@ the contact forces as arrows, and one colour per run when runs are compared.
 
 PNG files are saved with 8-bit colour and zlib at its fastest level (encode_png): about 5 ms a
 frame instead of 20-25 ms with pygame.image.save, which is what lets a default run write 33 frames per
-simulated second at under 3x the time of the physics alone (benchmarks/speed.py --frames).
+simulated second at under 3x the time of the same run without frames (benchmarks/speed.py --frames).
 """
 import io
 import os
