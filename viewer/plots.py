@@ -167,7 +167,7 @@ def _energy_panel(pygame, surface, font, top, t_max, d):
     ax = Axes(pygame, surface, font, top, t_max, lo, hi,
               "energy budget (J): E = E(0) + W_friction - D, D = implicit Euler's numerical dissipation")
     names = {"kinetic": "kinetic", "gravity": "gravity", "spring": "spring", "barrier": "barrier",
-             "total": "total E", "W_friction": "friction work W", "-D_numerical": "-D (numerical)"}
+             "total": "total E", "W_friction": "friction work W", "-D_numerical": "-D, numerical dissip."}
     for key, values in curves.items():
         ax.line(d["t"], values, ENERGY_COLORS[key], 3 if key == "total" else 2)
         ax.legend(ENERGY_COLORS[key], names[key])
