@@ -365,14 +365,14 @@ def parse_command_line(parser, argv):
     `tag`, and without --duration or --steps a comparison runs COMPARISON_DURATION seconds."""
     scene = next(group for group in parser._action_groups if group.title == "scene")
     options = {name: action for action in scene._group_actions for name in action.option_strings}
-    lists = []                      # (token index, flag, values, joined by '=')
+    lists = []                      # (token index, flag, values, whether written --flag=value)
     for i, token in enumerate(argv):
         flag, joined, value = token.partition("=")
         action = options.get(flag)
-        if action is None or action.type not in (float, _pair) or (not joined and i + 1 == len(argv)):
-            continue
+        if action is None or action.nargs == 0 or (not joined and i + 1 == len(argv)):
+            continue                # not a scene flag, a switch, or a flag without its value
         value = value if joined else argv[i + 1]
-        separator = "," if action.type is float else ";"
+        separator = ";" if "," in (action.metavar or "") else ","       # a pair flag's metavar is 'X,Y'
         if separator in value:
             lists.append((i, flag, [v.strip().replace(" ", "") for v in value.split(separator)], bool(joined)))
     if not lists:
