@@ -61,9 +61,17 @@ def hess_kernel(x, e, l2, k, project_psd=True):
     The block's eigenvalues are 2 eig(H) and 0, so its PSD projection (the lecture's make_PD) is
     [[H+, -H+], [-H+, H+]] with H+ clamping lam_par and lam_perp at zero."""
     diff, sq = _edges(x, e)
-    lam_par, lam_perp = 2.0 * k / l2 * (3.0 * sq - l2), 2.0 * k / l2 * (sq - l2)
+    c = 2.0 * k / l2
+    lam_perp = c * (sq - l2)
+    lam_par = lam_perp + 2.0 * c * sq
     if project_psd:
         lam_par, lam_perp = np.maximum(lam_par, 0.0), np.maximum(lam_perp, 0.0)
-    uu = diff[:, :, None] * diff[:, None, :] / np.maximum(sq, np.finfo(float).tiny)[:, None, None]
-    H = lam_perp[:, None, None] * np.eye(2) + (lam_par - lam_perp)[:, None, None] * uu
-    return e, (np.array([[1.0, -1.0], [-1.0, 1.0]])[:, None, :, None] * H[:, None, :, None, :]).reshape(-1, 4, 4)
+    w = (lam_par - lam_perp) / np.maximum(sq, np.finfo(float).tiny)
+    H = (w[:, None] * diff)[:, :, None] * diff[:, None, :]
+    H[:, 0, 0] += lam_perp
+    H[:, 1, 1] += lam_perp
+    return e, (_PAIR_SIGNS * H[:, None, :, None, :]).reshape(-1, 4, 4)
+
+
+_PAIR_SIGNS = np.array([[1.0, -1.0], [-1.0, 1.0]])[:, None, :, None]   # [[H, -H], [-H, H]] from H
+_PAIR_SIGNS.setflags(write=False)
