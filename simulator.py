@@ -422,10 +422,13 @@ def make_parser():
     length = r.add_mutually_exclusive_group()
     length.add_argument("--duration", type=float, default=3.0, help="simulated seconds (default %(default)s)")
     length.add_argument("--steps", type=float, help="number of time steps, instead of --duration")
-    r.add_argument("--out", default="output", help="output folder (default %(default)s)")
+    r.add_argument("--out", help="output folder (default output; with --window, files only when given)")
     r.add_argument("--frame-stride", type=float, default=1, help="write a frame every N steps (default %(default)s)")
     r.add_argument("--no-frames", action="store_true", help="write only the CSV log and summary picture")
-    r.add_argument("--window", action="store_true", help="show the frames live in a pygame window")
+    r.add_argument("--window", action="store_true", help="show the run live in a pygame window (see README, Live demo)")
+    r.add_argument("--size", type=float, help="--window: its side in pixels (default: fit the display)")
+    r.add_argument("--speed", type=float, default=1.0,
+                   help="--window: simulated seconds per wall-clock second (default %(default)s; 0.25: slow motion)")
     return ap
 
 
@@ -595,6 +598,11 @@ def _attach_negative_values(argv):
 def main(argv=None):
     try:
         args = make_parser().parse_args(_attach_negative_values(sys.argv[1:] if argv is None else argv))
+        if args.window:
+            from viewer.window import run_window
+            return run_window(args)
+        if args.out is None:
+            args.out = "output"
         return run(args)
     except CommandLineError as err:
         print(f"simulator.py: error: {err}", file=sys.stderr)

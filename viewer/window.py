@@ -1,0 +1,595 @@
+"""The live window, `python simulator.py --window`: the run as it is computed, paced to wall-clock time,
+for an instructor to drive in front of a class, down to one Newton iteration.
+
+Keys: space pauses and resumes; while paused, the right arrow advances one time step and n one Newton
+iteration of the current step (the iterate, the direction p at each node, the CCD bound on alpha, the
+accepted alpha after halving, ||p||_inf / h against tol: Algorithm 4 happening); r restarts from the
+initial state; Esc, q or the window's close button end the run. At the end of the run the window
+stays open on the last frame until closed.
+
+Files are written only when --out is given (then as `run()` writes them). The run is deterministic,
+so after a restart the same steps rewrite the same files.
+"""
+import contextlib
+import math
+import os
+import sys
+import time
+from collections import deque
+
+import numpy as np
+
+import square_mesh
+import time_integrator
+from simulator import (CSV_EVERY, StepRecord, View, csv_row, draw_frame, draw_square, draw_summary, prepare_output,
+                       save_png, scene_from_args, steps_from_args, write_csv, RESOLUTION, SCALE, _whole)
+
+FPS = 60                  # frames drawn per second at most
+FRAME_BUDGET = 1.0 / 30   # s of stepping before the loop draws and reads the keys again
+FIT = 0.85                # by default the window's side is this fraction of the display's smaller side,
+                          # leaving room for the title bar and desktop panels (652 px on 1024x768)
+MIN_SIZE, MAX_SIZE = 300, 16384   # px; 16384 is the largest texture common graphics drivers accept
+DUE_SLACK = 1e-9          # of a step: t + h and the time due may differ by round-off
+SLOW = 0.9                # "slower than real time" below this fraction of the asked speed
+ARROW = 0.12              # the longest drawn p is this fraction of the window
+# SDL's drivers that draw into memory only: it falls back to one of them when it finds no display
+MEMORY_DRIVERS = ("dummy", "offscreen")
+
+BLACK, GREY, RED, GREEN = (0, 0, 0), (170, 170, 170), (200, 0, 0), (0, 140, 0)
+
+
+class WallClock:
+    """Wall-clock time for the pacing; tests hand the window a fake clock with the same two methods."""
+    now = staticmethod(time.perf_counter)
+    sleep = staticmethod(time.sleep)
+
+
+# ------------------------------------------------------------------------------------------------
+# The run: where it is, one step or one Newton iteration at a time
+# ------------------------------------------------------------------------------------------------
+
+class LiveRun:
+    """The state (x, v) after `index` time steps, and the Newton iterations of the step in progress.
+
+    A step is taken whole by `time_integrator.step`, or one Newton iteration at a time by the
+    generator `time_integrator.newton_iterates` (the same step, so the same x^{n+1})."""
+
+    def __init__(self, scene, steps):
+        self.scene, self.steps = scene, steps
+        self.restart()
+
+    def restart(self):
+        self.index, self.x, self.v = 0, self.scene.x0.copy(), self.scene.v0.copy()
+        self.iterates = None        # the generator of the step in progress, after n
+        self.iterate = None         # its last NewtonIterate
+        self.iteration = 0          # how many it has yielded
+
+    @property
+    def t(self):
+        return self.index * self.scene.h
+
+    @property
+    def finished(self):
+        return self.index >= self.steps
+
+    @property
+    def shown_x(self):
+        """What the window draws: the last Newton iterate within a step, else x^n."""
+        return self.x if self.iterate is None else self.iterate.x_next
+
+    def step(self):
+        """Complete the current time step (finishing one begun by n); returns its StepRecord."""
+        start = time.perf_counter()
+        if self.iterates is None:
+            x, v, report = time_integrator.step(self.scene, self.x, self.v, step_index=self.index)
+        else:
+            x, v, report = _run_out(self.iterates)
+        return self._advance(x, v, report, time.perf_counter() - start)
+
+    def newton_iteration(self):
+        """One Newton iteration of the current step: the StepRecord when that completes the step
+        (Newton converged at the last iterate), else None (the iterate is in `self.iterate`)."""
+        if self.iterates is None:
+            self.iterates = time_integrator.newton_iterates(self.scene, self.x, self.v, step_index=self.index)
+        start = time.perf_counter()
+        try:
+            self.iterate = next(self.iterates)
+            self.iteration += 1
+            return None
+        except StopIteration as done:
+            x, v, report = done.value
+            return self._advance(x, v, report, time.perf_counter() - start)
+
+    def _advance(self, x, v, report, wall):
+        self.index += 1
+        self.x, self.v = x, v
+        self.iterates, self.iterate, self.iteration = None, None, 0
+        return StepRecord(self.index - 1, self.t, x, v, report, wall)
+
+
+def _run_out(generator):
+    """The value a generator returns, after running through what it still yields."""
+    while True:
+        try:
+            next(generator)
+        except StopIteration as done:
+            return done.value
+
+
+# ------------------------------------------------------------------------------------------------
+# Pacing: simulated time at `speed` times wall-clock time
+# ------------------------------------------------------------------------------------------------
+
+class Pacer:
+    """Simulated time due now: t_0 + speed (now - wall_0), from the last (re)start at (wall_0, t_0).
+
+    The loop takes the steps whose end is due; where it cannot keep up it restarts from where it is
+    (it never rushes to catch up) and `rate()` says how fast it went instead: simulated seconds per
+    wall second over the last `span` seconds of play, as a fraction of `speed`."""
+
+    def __init__(self, clock, speed, h):
+        self.clock, self.speed = clock, speed
+        self.span = max(1.0, 40 * h / speed)    # a rate over half of it is within 5 % (one step)
+        self.samples = deque()                  # (wall, t) at each frame of play
+        self.start(0.0)
+
+    def start(self, t):
+        """Play from simulated time t now (at a resume, a restart, or after falling behind)."""
+        self.wall_0, self.t_0 = self.clock.now(), t
+
+    def due(self):
+        return self.t_0 + self.speed * (self.clock.now() - self.wall_0)
+
+    def forget(self):
+        """Pauses and restarts are not play: the rate is measured afresh after them."""
+        self.samples.clear()
+
+    def sample(self, t):
+        now = self.clock.now()
+        self.samples.append((now, t))
+        while now - self.samples[0][0] > self.span:
+            self.samples.popleft()
+
+    def rate(self):
+        """Simulated over wall time across the last span of play, / speed; None before a span."""
+        (wall_a, t_a), (wall_b, t_b) = self.samples[0], self.samples[-1]
+        if wall_b - wall_a < 0.5 * self.span:
+            return None
+        return (t_b - t_a) / (wall_b - wall_a) / self.speed
+
+
+# ------------------------------------------------------------------------------------------------
+# Files, only with --out
+# ------------------------------------------------------------------------------------------------
+
+def _put(items, i, value):
+    """items[i] = value, appending when i == len(items)."""
+    if i < len(items):
+        items[i] = value
+    else:
+        items.append(value)
+
+
+class Recorder:
+    """The files `run()` writes (frames and OBJs every stride-th step unless --no-frames, log.csv,
+    summary.png at the end), for the steps the window computes. Kept by step index: after a restart
+    the same steps rewrite the same rows and frames."""
+
+    def __init__(self, pygame, scene, steps, out, stride, frames, font, clock):
+        self.pygame, self.scene, self.steps, self.out = pygame, scene, steps, out
+        self.stride, self.frames, self.font, self.clock = stride, frames, font, clock
+        self.view = View()
+        self.rows, self.work = [], [0.0]        # log.csv rows; friction work summed to each step
+        self.com = [self._com(scene.x0)]        # centre of mass after each step
+        self.snapshots = {0: scene.x0}          # x every tenth of the run, for summary.png
+        self.last_x = scene.x0
+        self.csv_written = clock.now()
+        self.frame(0, scene.x0, 0.0)
+
+    def _com(self, x):
+        return np.average(x, axis=0, weights=self.scene.m)
+
+    def frame(self, index, x, t):
+        if not self.frames:
+            return
+        self.view.follow(self._com(x))
+        name = os.path.join(self.out, f"frame_{index:05d}")
+        save_png(self.pygame, draw_frame(self.pygame, self.scene, x, t, self.view, self.font), name + ".png")
+        square_mesh.write_obj(name + ".obj", x, self.scene.n_seg)
+
+    def record(self, record):
+        """Keep a completed step (step `index`, ending at step index + 1); a step computed again after
+        a restart replaces its row (the same numbers but the wall time)."""
+        i = record.index
+        work = self.work[i] + record.report.friction_work
+        _put(self.work, i + 1, work)
+        _put(self.rows, i, csv_row(self.scene, record, work))
+        _put(self.com, i + 1, self._com(record.x))
+        if (i + 1) % max(1, self.steps // 10) == 0:
+            self.snapshots[i + 1] = record.x.copy()
+        if i + 1 == len(self.rows):             # the furthest step computed
+            self.last_x = record.x
+        if (i + 1) % self.stride == 0 or i + 1 == self.steps:
+            self.frame(i + 1, record.x, record.t)
+        if self.clock.now() - self.csv_written > CSV_EVERY:
+            self.write_log()
+
+    def write_log(self):
+        write_csv(os.path.join(self.out, "log.csv"), self.rows)
+        self.csv_written = self.clock.now()
+
+    def close(self):
+        """log.csv and summary.png for the steps computed (the furthest the run got)."""
+        self.write_log()
+        scene, n = self.scene, len(self.rows)
+        lines = [f"mu = {scene.mu:g}   h = {scene.h:g} s   n_seg = {scene.n_seg}   (live window)",
+                 f"{n} steps, t = {n * scene.h:.2f} s, red: centre-of-mass path"]
+        snapshots = [x for i, x in sorted(self.snapshots.items()) if i <= n] + [self.last_x]
+        save_png(self.pygame, draw_summary(self.pygame, scene, snapshots, np.array(self.com), lines, self.font),
+                 os.path.join(self.out, "summary.png"))
+
+
+# ------------------------------------------------------------------------------------------------
+# The window
+# ------------------------------------------------------------------------------------------------
+
+class LiveWindow:
+    """The demo loop: read the keys, take the steps that are due, draw, wait for the next frame."""
+
+    def __init__(self, pygame, screen, scene, steps, speed=1.0, recorder=None, clock=None, log=sys.stderr):
+        self.pygame, self.screen, self.scene, self.log = pygame, screen, scene, log
+        self.size = screen.get_width()
+        self.clock = clock or WallClock()
+        self.run = LiveRun(scene, steps)
+        self.speed, self.recorder = speed, recorder
+        self.pacer = Pacer(self.clock, speed, scene.h)
+        self.view = View(SCALE * self.size / RESOLUTION, self.size)   # the lecture's 4.5 m across
+        self.font = pygame.font.Font(None, font_size(self.size))
+        self.playing, self.done = True, False
+        self.failure = None         # the SimulationError that stopped the run, if one did
+        self.write_error = None     # the OSError that stopped the files, if one did
+        self.message = None         # what the last key did, shown until the next key
+        self.slow = None            # the rate reached, when below SLOW of the asked speed
+        self.slow_frames = 0        # frames drawn with the "slower than real time" note
+        self.frames = 0
+
+    # -- the loop -------------------------------------------------------------------------------
+
+    def loop(self):
+        """Run until Esc, q or the close button; the exit code: 0, or 1 after a failed step or write."""
+        self.pacer.start(self.run.t)
+        while not self.done:
+            started = self.clock.now()
+            events = self.pygame.event.get()
+            for event in events:
+                self.handle(event)
+            if self.playing and not self.done:
+                self.play()
+            if events or self.playing or self.frames == 0:      # else the picture has not changed
+                self.draw()
+            self.clock.sleep(max(0.0, started + 1.0 / FPS - self.clock.now()))
+        return 0 if self.failure is None and self.write_error is None else 1
+
+    def handle(self, event):
+        pg = self.pygame
+        if event.type == pg.QUIT or (event.type == pg.KEYDOWN and event.key in (pg.K_ESCAPE, pg.K_q)):
+            self.done = True
+        elif event.type == pg.KEYDOWN:
+            self.message = None
+            if event.key == pg.K_SPACE:
+                self.toggle_pause()
+            elif event.key == pg.K_r:
+                self.restart()
+            elif event.key == pg.K_RIGHT and not self.playing:
+                self.one_step()
+            elif event.key == pg.K_n and not self.playing:
+                self.one_newton_iteration()
+
+    def stopped(self):
+        """At the end of the run, or after a failed step: nothing to play or step."""
+        return self.run.finished or self.failure is not None
+
+    def toggle_pause(self):
+        self.playing = not self.playing and not self.stopped()
+        self.pacer.start(self.run.t)
+        self.pacer.forget()
+
+    def restart(self):
+        """Back to the initial state; playing on if it was playing or had stopped, else paused."""
+        self.playing = self.playing or self.stopped()
+        self.run.restart()
+        self.failure = self.slow = None
+        self.pacer.start(0.0)
+        self.pacer.forget()
+
+    def play(self):
+        """Take the steps due by now (for at most FRAME_BUDGET of wall time), then note the rate."""
+        deadline = self.clock.now() + FRAME_BUDGET
+        while not self.run.finished and self.run.t + self.scene.h <= self.pacer.due() + DUE_SLACK * self.scene.h:
+            if not self.one_step() or self.clock.now() > deadline:
+                break
+        if self.pacer.due() - self.run.t > 2 * self.scene.h:     # behind: one step owed, never more
+            self.pacer.start(self.run.t + self.scene.h)
+        self.pacer.sample(self.run.t)
+        rate = self.pacer.rate()
+        self.slow = rate if rate is not None and rate < SLOW else None
+        if self.stopped():
+            self.playing = False
+
+    def one_step(self):
+        """Complete the current time step; False when there was none to take or it failed."""
+        if self.stopped():
+            return False
+        return self._keep(self._attempt(self.run.step))
+
+    def one_newton_iteration(self):
+        if self.stopped():
+            return
+        record = self._attempt(self.run.newton_iteration)
+        if record is not None:
+            self.message = (f"step {record.index + 1} done: Newton converged, ||p||_inf / h = "
+                            f"{record.report.residual:.3g} <= tol = {self.scene.tol:g} m/s")
+            self._keep(record)
+
+    def _attempt(self, action):
+        try:
+            return action()
+        except time_integrator.SimulationError as err:
+            self.failure = err
+            self.playing = False
+            print(f"simulator.py: simulation failed: {err}", file=self.log)
+            return None
+
+    def _keep(self, record):
+        """Hand a completed step to the files, if any; False for no step."""
+        if record is not None and self.recorder is not None:
+            try:
+                self.recorder.record(record)
+            except OSError as err:      # e.g. a full disk: the window goes on, the files stop
+                self.write_error, self.recorder = err, None
+                print(f"simulator.py: writing the files failed, none written after step {record.index}: "
+                      f"{err.strerror or err}", file=self.log)
+        return record is not None
+
+    # -- drawing --------------------------------------------------------------------------------
+
+    def draw(self):
+        run, pg = self.run, self.pygame
+        x = run.shown_x
+        self.view.follow(np.average(x, axis=0, weights=self.scene.m))
+        surface = draw_frame(pg, self.scene, x, run.t, self.view, self.font)
+        if run.iterate is not None:
+            self.draw_iterate(surface, run.iterate)
+        line, width = self.font.get_linesize(), self.size - 24
+        top = [(row, color) for text, color in self.status_lines() for row in wrap(self.font, text, width)]
+        for row, (text, color) in enumerate(top, start=1):
+            surface.blit(self.font.render(text, True, color), (12, 10 + row * line))
+        bottom = [row for text in self.help_lines() for row in wrap(self.font, text, width)]
+        for row, text in enumerate(reversed(bottom), start=1):
+            surface.blit(self.font.render(text, True, GREY), (12, self.size - 6 - row * line))
+        self.screen.blit(surface, (0, 0))
+        pg.display.flip()
+        self.frames += 1
+        self.slow_frames += self.slow is not None
+
+    def status_lines(self):
+        """(text, colour) under the caption: what the window is doing, the Newton iterate's figures."""
+        run, lines = self.run, []
+        if self.failure is not None:
+            lines.append((f"step failed: {self.failure}", RED))
+        elif run.finished:
+            lines.append((f"end of the run ({run.steps} steps)", BLACK))
+        elif self.playing:
+            lines.append((f"playing at {self.speed:g}x real time", BLACK))
+            if self.slow is not None:
+                lines.append((f"slower than real time: {self.slow * self.speed:.2g}x (asked {self.speed:g}x)", RED))
+        else:
+            lines.append((f"paused {'in' if run.iterate is not None else 'before'} step {run.index + 1}", BLACK))
+        if self.write_error is not None:
+            lines.append((f"files stopped: {self.write_error.strerror or self.write_error}", RED))
+        if self.message:
+            lines.append((self.message, GREEN))
+        if run.iterate is not None:
+            lines += [(text, BLACK) for text in iterate_lines(run, self.scene, self.arrow_scale(run.iterate))]
+        return lines
+
+    def help_lines(self):
+        if self.stopped():
+            return ["r: restart   q, Esc: quit"]
+        if self.playing:
+            return ["space: pause   r: restart   q, Esc: quit"]
+        return ["space: play   right arrow: one step   n: one Newton iteration   r: restart   q, Esc: quit"]
+
+    def arrow_scale(self, it):
+        """p is drawn times this factor (1, 2 or 5 times a power of ten), the longest arrow about
+        ARROW of the window."""
+        longest = float(np.abs(it.p).max()) * self.view.scale
+        return nice_below(ARROW * self.size / longest) if longest > 0.0 else 1.0
+
+    def draw_iterate(self, surface, it):
+        """x^i in grey under the iterate x^{i+1} = x^i + alpha p in blue; p at each node as a red
+        arrow, with a ring where alpha_CCD p ends and a dot where alpha p ends (on the drawn scale)."""
+        pg, view = self.pygame, self.view
+        draw_square(pg, surface, self.scene, it.x, view, GREY, nodes=False)
+        draw_square(pg, surface, self.scene, it.x_next, view)
+        k = self.arrow_scale(it)
+        tail, tip = view(it.x), view(it.x + k * it.p)
+        ccd, accepted = view(it.x + k * it.alpha_ccd * it.p), view(it.x + k * it.alpha * it.p)
+        heads = arrow_heads(tail, tip, 0.015 * self.size)
+        for a, b, (w1, w2), c, d in zip(tail.tolist(), tip.tolist(), heads.tolist(), ccd.tolist(), accepted.tolist()):
+            pg.draw.line(surface, RED, a, b, 2)
+            pg.draw.polygon(surface, RED, [b, w1, w2])
+            pg.draw.circle(surface, BLACK, c, 4, 1)
+            pg.draw.circle(surface, GREEN, d, 3)
+
+
+def iterate_lines(run, scene, scale):
+    """The figures of Algorithm 4 for the iterate on screen."""
+    it = run.iterate
+    friction = ("lagged friction" if it.friction_update == 0 else
+                f"friction update {it.friction_update}, Algorithm 5")
+    verdict = "<=" if it.residual <= scene.tol else ">"
+    return [f"step {run.index + 1}, Newton iteration {run.iteration} ({friction})",
+            f"||p||_inf / h = {it.residual:.3g} m/s {verdict} tol = {scene.tol:g} m/s at x^i",
+            f"CCD bound alpha_CCD = {it.alpha_ccd:.4g} (black rings)",
+            f"accepted alpha = alpha_CCD / 2^{it.halvings} = {it.alpha:.4g} (green dots)",
+            f"red: p at each node, drawn x{scale:g}; grey: x^i; blue: x^i + alpha p"]
+
+
+def wrap(font, text, width):
+    """`text` broken at spaces into rows at most `width` pixels wide (a longer word stays whole)."""
+    rows, row = [], ""
+    for word in text.split(" "):
+        trial = f"{row} {word}" if row else word
+        if row.strip() and font.size(trial)[0] > width:
+            rows.append(row.rstrip())
+            row = word
+        else:
+            row = trial
+    return rows + [row]
+
+
+def arrow_heads(tail, tip, length):
+    """(N, 2, 2): the two back corners of each arrow's head, `length` pixels behind its tip."""
+    d = tip - tail
+    norm = np.hypot(d[:, 0], d[:, 1])[:, None]
+    u = np.divide(d, norm, out=np.zeros_like(d), where=norm > 0)
+    side = np.stack([-u[:, 1], u[:, 0]], axis=1)
+    back = tip - length * u
+    return np.stack([back + 0.5 * length * side, back - 0.5 * length * side], axis=1)
+
+
+def nice_below(value):
+    """The largest of 1, 2, 5 times a power of ten that is at most `value` (> 0)."""
+    power = 10.0 ** math.floor(math.log10(value))
+    return max(m * power for m in (1, 2, 5) if m * power <= value * (1 + 1e-12))
+
+
+def font_size(size):
+    """The lecture's 26 px font at 900 px, in proportion, and at least 14 px to stay readable."""
+    return max(14, round(26 * size / RESOLUTION))
+
+
+# ------------------------------------------------------------------------------------------------
+# Opening the display, and the command line's entry point
+# ------------------------------------------------------------------------------------------------
+
+def display_problem(driver, requested):
+    """Why a window on SDL video driver `driver` would show nothing, or None. SDL falls back to a driver
+    that draws into memory when it finds no display; that is fine only when asked for by name
+    (SDL_VIDEODRIVER=dummy, as the tests and benchmarks run)."""
+    if driver in MEMORY_DRIVERS and driver != requested:
+        where = os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")
+        found = f"none at DISPLAY={where}" if where else "DISPLAY is not set"
+        return (f"no display to open the window on ({found}; SDL fell back to its {driver!r} driver): "
+                f"run on a desktop, under Xvfb, or without --window")
+    return None
+
+
+@contextlib.contextmanager
+def c_stderr_hidden():
+    """SDL's C code writes its probes' complaints ("XDG_RUNTIME_DIR is invalid") straight to file
+    descriptor 2; hide them while the display opens, so a failure reads as one line."""
+    sys.stderr.flush()
+    saved = os.dup(2)
+    try:
+        with open(os.devnull, "w") as null:
+            os.dup2(null.fileno(), 2)
+        yield
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)
+
+
+def open_display():
+    """pygame with its display initialized on a real screen; ValueError when there is none."""
+    requested = os.environ.get("SDL_VIDEODRIVER")
+    os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
+    os.environ.setdefault("SDL_VIDEO_CENTERED", "1")
+    import pygame
+    try:
+        with c_stderr_hidden():
+            pygame.display.init()
+    except pygame.error as err:
+        raise ValueError(f"no display to open the window on (SDL: {err}): run on a desktop, under Xvfb, "
+                         f"or without --window") from None
+    problem = display_problem(pygame.display.get_driver(), requested)
+    if problem:
+        pygame.display.quit()
+        raise ValueError(problem)
+    pygame.font.init()
+    return pygame
+
+
+def window_size(args, pygame):
+    """--size, or the largest square that fits the display: FIT of its smaller side."""
+    if args.size is not None:
+        return _size(args.size)
+    info = pygame.display.Info()
+    if info.current_w > 0 and info.current_h > 0:
+        return max(MIN_SIZE, int(FIT * min(info.current_w, info.current_h)))
+    return RESOLUTION
+
+
+def _size(value):
+    try:
+        size = _whole("size", value, MIN_SIZE)
+    except ValueError:
+        raise ValueError(f"--size: the window's side must be a whole number of pixels in [{MIN_SIZE}, "
+                         f"{MAX_SIZE}], got {value:g}") from None
+    if size > MAX_SIZE:
+        raise ValueError(f"--size: the window's side must be a whole number of pixels in [{MIN_SIZE}, "
+                         f"{MAX_SIZE}], got {value:g}")
+    return size
+
+
+def _speed(value):
+    if not (math.isfinite(value) and value > 0.0):
+        raise ValueError(f"--speed: speed must be a finite number > 0 (simulated seconds per second), got {value:g}")
+    return value
+
+
+def run_window(args, clock=None, log=sys.stderr):
+    """`python simulator.py --window`: check the flags, open the window, run the demo until closed.
+    Returns the exit code: 0; 1 after a failed step or write; 130 after Ctrl+C."""
+    scene = scene_from_args(args)
+    steps = steps_from_args(args, scene)
+    speed = _speed(args.speed)
+    stride = _whole("frame-stride", args.frame_stride, 1)
+    if args.size is not None:
+        _size(args.size)
+    if args.out is not None:
+        prepare_output(args.out)
+    for warning in scene.warnings:
+        print(f"simulator.py: warning: {warning}", file=log)
+    pygame = open_display()
+    try:
+        screen = pygame.display.set_mode((window_size(args, pygame),) * 2)
+        pygame.display.set_caption(f"simulator.py: mu = {scene.mu:g}, n_seg = {scene.n_seg}")
+        clock = clock or WallClock()
+        recorder = None
+        if args.out is not None:
+            recorder = Recorder(pygame, scene, steps, args.out, stride, not args.no_frames,
+                                pygame.font.Font(None, 26), clock)
+        window = LiveWindow(pygame, screen, scene, steps, speed, recorder, clock, log)
+        try:
+            code = window.loop()
+        except KeyboardInterrupt:
+            print("simulator.py: interrupted", file=log)
+            code = 130
+        if window.recorder is not None:
+            return _close(window.recorder, args.out, code, log)
+        return code
+    finally:
+        pygame.display.quit()
+
+
+def _close(recorder, out, code, log):
+    try:
+        recorder.close()
+    except OSError as err:
+        print(f"simulator.py: writing the files failed: {err.strerror or err}; what was written before "
+              f"is in {out}/", file=log)
+        return 1
+    print(f"simulator.py: {len(recorder.rows)} steps written to {out}/", file=log)
+    return code
