@@ -240,6 +240,7 @@ def test_the_window_stays_open_on_the_last_frame_until_closed():
             yield
             assert w.run.index == 10 and not w.playing and not w.done
         assert w.status_lines()[0][0].startswith("end of the run")
+        assert showing_the_current_state(w)
         press("K_SPACE")                                            # nothing left to play
         press("K_RIGHT")
         yield
@@ -448,3 +449,10 @@ def red_pixels(w):
     w.draw()
     pixels = pygame().surfarray.array3d(w.screen).reshape(-1, 3)
     return int((pixels == window.RED).all(axis=1).sum())
+
+
+def showing_the_current_state(w):
+    """The screen shows what drawing the window's state now would show."""
+    shown = pygame().surfarray.array3d(w.screen)
+    w.draw()
+    return np.array_equal(shown, pygame().surfarray.array3d(w.screen))

@@ -263,9 +263,10 @@ class LiveWindow:
             events = self.pygame.event.get()
             for event in events:
                 self.handle(event)
-            if self.playing and not self.done:
+            playing = self.playing and not self.done
+            if playing:
                 self.play()
-            if events or self.playing or self.frames == 0:      # else the picture has not changed
+            if events or playing or self.frames == 0:      # else the picture has not changed
                 self.draw()
             self.clock.sleep(max(0.0, started + 1.0 / FPS - self.clock.now()))
         return 0 if self.failure is None and self.write_error is None else 1
