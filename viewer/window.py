@@ -63,6 +63,7 @@ class LiveRun:
         self.iterates = None        # the generator of the step in progress, after n
         self.iterate = None         # its last NewtonIterate
         self.iteration = 0          # how many it has yielded
+        self.iterates_wall = 0.0    # the seconds computing them took
 
     @property
     def t(self):
@@ -98,13 +99,18 @@ class LiveRun:
             return None
         except StopIteration as done:
             x, v, report = done.value
-            return self._advance(x, v, report, time.perf_counter() - start)
+            return self._advance(x, v, report, 0.0)
+        finally:
+            self.iterates_wall += time.perf_counter() - start
 
     def _advance(self, x, v, report, wall):
+        """The step is done: x^{n+1}, v^{n+1}; its record, with the seconds computing it took (those
+        of its iterations too, when n took them one at a time)."""
+        record = StepRecord(self.index, (self.index + 1) * self.scene.h, x, v, report, wall + self.iterates_wall)
         self.index += 1
         self.x, self.v = x, v
-        self.iterates, self.iterate, self.iteration = None, None, 0
-        return StepRecord(self.index - 1, self.t, x, v, report, wall)
+        self.iterates, self.iterate, self.iteration, self.iterates_wall = None, None, 0, 0.0
+        return record
 
 
 def _run_out(generator):
@@ -175,9 +181,9 @@ class Recorder:
     summary.png at the end), for the steps the window computes. Kept by step index: after a restart
     the same steps rewrite the same rows and frames."""
 
-    def __init__(self, pygame, scene, steps, out, stride, frames, font, clock):
+    def __init__(self, pygame, scene, steps, out, stride, write_frames, font, clock):
         self.pygame, self.scene, self.steps, self.out = pygame, scene, steps, out
-        self.stride, self.frames, self.font, self.clock = stride, frames, font, clock
+        self.stride, self.write_frames, self.font, self.clock = stride, write_frames, font, clock
         self.view = View()
         self.rows, self.work = [], [0.0]        # log.csv rows; friction work summed to each step
         self.com = [self._com(scene.x0)]        # centre of mass after each step
@@ -190,7 +196,7 @@ class Recorder:
         return np.average(x, axis=0, weights=self.scene.m)
 
     def frame(self, index, x, t):
-        if not self.frames:
+        if not self.write_frames:
             return
         self.view.follow(self._com(x))
         name = os.path.join(self.out, f"frame_{index:05d}")
@@ -236,8 +242,8 @@ class Recorder:
 class LiveWindow:
     """The demo loop: read the keys, take the steps that are due, draw, wait for the next frame."""
 
-    def __init__(self, pygame, screen, scene, steps, speed=1.0, recorder=None, clock=None, log=sys.stderr):
-        self.pygame, self.screen, self.scene, self.log = pygame, screen, scene, log
+    def __init__(self, pygame, screen, scene, steps, speed=1.0, recorder=None, clock=None, log=None):
+        self.pygame, self.screen, self.scene, self.log = pygame, screen, scene, log or sys.stderr
         self.size = screen.get_width()
         self.clock = clock or WallClock()
         self.run = LiveRun(scene, steps)
@@ -550,7 +556,7 @@ def _speed(value):
     return value
 
 
-def run_window(args, clock=None, log=sys.stderr):
+def run_window(args, clock=None, log=None):
     """`python simulator.py --window`: check the flags, open the window, run the demo until closed.
     Returns the exit code: 0; 1 after a failed step or write; 130 after Ctrl+C."""
     scene = scene_from_args(args)
@@ -559,12 +565,13 @@ def run_window(args, clock=None, log=sys.stderr):
     stride = _whole("frame-stride", args.frame_stride, 1)
     if args.size is not None:
         _size(args.size)
-    if args.out is not None:
-        prepare_output(args.out)
-    for warning in scene.warnings:
-        print(f"simulator.py: warning: {warning}", file=log)
-    pygame = open_display()
+    log = log or sys.stderr
+    pygame = open_display()                 # before anything is written
     try:
+        if args.out is not None:
+            prepare_output(args.out)
+        for warning in scene.warnings:
+            print(f"simulator.py: warning: {warning}", file=log)
         screen = pygame.display.set_mode((window_size(args, pygame),) * 2)
         pygame.display.set_caption(f"simulator.py: mu = {scene.mu:g}, n_seg = {scene.n_seg}")
         clock = clock or WallClock()
