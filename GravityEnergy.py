@@ -1,8 +1,7 @@
-"""Gravitational potential: E_g(x) = -sum_i m_i g . x_i.
+"""Gravitational potential: P_g(x) = -sum_i m_i g . x_i.
 
-`val` and `grad` check their input, then call the `*_kernel` function of the same name, which holds
-the formula and trusts its input (the time integrator calls the kernels on a scene it has validated
-once). The Hessian is zero, so the integrator never asks for it.
+`val`, `grad`, `hess` check their input and call the `*_kernel` of the same name, which holds the
+formula and trusts its input (the time integrator calls the kernels on a scene validated once).
 """
 import numpy as np
 
@@ -13,32 +12,34 @@ GRAVITY = (0.0, -9.81)  # m/s^2, the lecture's g
 
 def _check(x, m, g):
     x = utils.check_points("x", x)
-    m = utils.check_per_item("m", m, len(x))
-    g = utils.check_vector("g", g)
-    return x, m, g
+    return x, utils.check_per_item("m", m, len(x)), utils.check_vector("g", g)
 
 
 def val(x, m, g=GRAVITY):
-    """E_g = -sum_i m_i g . x_i (checked; see val_kernel)."""
+    """P_g = -sum_i m_i g . x_i (checked; see val_kernel)."""
     return val_kernel(*_check(x, m, g))
 
 
 def grad(x, m, g=GRAVITY):
-    """grad E_g = -m_i g at every node (checked; see grad_kernel)."""
+    """grad P_g = -m_i g at every node (checked; see grad_kernel)."""
     return grad_kernel(*_check(x, m, g))
 
 
 def hess(x, m, g=GRAVITY):
-    """E_g is linear in x: its Hessian is zero, returned as an empty IJV triplet."""
-    _check(x, m, g)
-    return utils.empty_ijv()
+    """P_g is linear in x: its Hessian is zero, an empty IJV triplet (checked)."""
+    return utils.blocks_to_ijv(*hess_kernel(*_check(x, m, g)))
 
 
 def val_kernel(x, m, g):
-    """E_g = -sum_i m_i g . x_i."""
-    return -float(m.dot(x.dot(g)))
+    """P_g = -sum_i m_i g . x_i."""
+    return -float(m @ (x @ g))
 
 
 def grad_kernel(x, m, g):
-    """grad E_g = -m_i g at every node (constant in x)."""
-    return -m[:, None] * g[None, :]
+    """grad P_g = -m_i g at every node (constant in x)."""
+    return -m[:, None] * g
+
+
+def hess_kernel(x, m, g):
+    """Zero: no element blocks."""
+    return np.zeros((0, 1), dtype=np.int64), np.zeros((0, 2, 2))

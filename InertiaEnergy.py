@@ -1,8 +1,7 @@
 """Inertia term of the Incremental Potential: E_I(x) = 1/2 ||x - x_tilde||_M^2 (lumped masses).
 
-`val`, `grad`, `hess` check their input, then call the `*_kernel` function of the same name, which
-holds the formula and trusts its input (the time integrator calls the kernels on a scene it has
-validated once).
+`val`, `grad`, `hess` check their input and call the `*_kernel` of the same name, which holds the
+formula and trusts its input (the time integrator calls the kernels on a scene validated once).
 """
 import numpy as np
 
@@ -32,15 +31,14 @@ def grad(x, x_tilde, m):
 
 
 def hess(x, x_tilde, m):
-    """hess E_I = M: one diagonal entry m_i per DOF (2i, 2i + 1), as an IJV triplet (checked)."""
-    x, x_tilde, m = _check(x, x_tilde, m)
-    dofs = np.arange(2 * len(x), dtype=np.int64)
-    return dofs, dofs.copy(), hess_kernel(x, x_tilde, m)
+    """hess E_I = M as an IJV triplet (checked; see hess_kernel)."""
+    return utils.blocks_to_ijv(*hess_kernel(*_check(x, x_tilde, m)))
 
 
 def val_kernel(x, x_tilde, m):
-    """E_I = 1/2 sum_i m_i ||x_i - x_tilde_i||^2 = 1/2 (x - x_tilde) . M (x - x_tilde)."""
-    return val_grad_kernel(x, x_tilde, m)[0]
+    """E_I = 1/2 sum_i m_i ||x_i - x_tilde_i||^2."""
+    diff = x - x_tilde
+    return 0.5 * float(m @ np.einsum("ij,ij->i", diff, diff))
 
 
 def grad_kernel(x, x_tilde, m):
@@ -48,14 +46,6 @@ def grad_kernel(x, x_tilde, m):
     return m[:, None] * (x - x_tilde)
 
 
-def val_grad_kernel(x, x_tilde, m):
-    """val_kernel and grad_kernel at once, from one x - x_tilde: E_I = 1/2 diff . (M diff), M diff.
-    m may also be given per DOF, (N, 2) (m_i twice per row), which multiplies faster (the integrator's)."""
-    diff = x - x_tilde
-    M_diff = (m[:, None] if m.ndim == 1 else m) * diff
-    return 0.5 * float(np.vdot(diff, M_diff)), M_diff
-
-
 def hess_kernel(x, x_tilde, m):
-    """The diagonal of M, DOF by DOF: (m_0, m_0, m_1, m_1, ...). Constant in x."""
-    return np.repeat(m, 2)
+    """hess E_I = M: the 2x2 block m_i I at every node, constant in x."""
+    return np.arange(len(m))[:, None], m[:, None, None] * np.eye(2)

@@ -16,6 +16,7 @@ if __name__ == "__main__":
 
 import argparse
 import csv
+import decimal
 import io
 import math
 import re
@@ -84,7 +85,7 @@ class Scene:
     max_halvings: int
     terms: tuple = field(default=())    # the energy terms the Incremental Potential sums
     warnings: tuple = field(default=())  # what this scene's results cannot be trusted for
-    pattern: utils.BlockPattern = None  # sparsity pattern of the Newton system and its solver (of e)
+    solver: utils.SPDSolver = None      # how the Newton system H p = -grad E is solved on this mesh
 
 
 def _finite(name, value):
@@ -103,7 +104,7 @@ def _whole(name, value, minimum):
 
 def _vector(name, value):
     try:
-        return utils.check_vector(name, np.asarray(value, dtype=np.float64))
+        return utils.check_vector(name, value)
     except (TypeError, ValueError) as err:
         if "must" in str(err):
             raise
@@ -118,15 +119,15 @@ def _readonly(a):
 
 def validate_params(**overrides):
     """The full parameter set (DEFAULTS updated by `overrides`), each checked; ValueError names the bad one."""
-    unknown = set(overrides) - set(DEFAULTS)
-    if unknown:
-        raise ValueError(f"unknown scene parameter(s): {', '.join(sorted(unknown))}")
+    overrides = _resolve_aliases(overrides)
     p = {**DEFAULTS, **overrides}
-    for name in ("side_len", "rho", "k", "h", "dhat", "kappa", "epsv", "tol"):
+    for name in ("side_len", "rho", "k", "h", "dhat", "kappa", "tol"):
         p[name] = utils.check_positive(name, p[name])
+    p["epsv"] = utils.check_epsv(p["epsv"])
     if p["mass"] is not None:
         p["mass"] = utils.check_positive("mass", p["mass"])
     p["n_seg"] = _whole("n_seg", p["n_seg"], 1)
+    _check_memory(p["n_seg"])
     p["friction_updates"] = _whole("friction_updates", p["friction_updates"], 0)
     p["max_newton_iterations"] = _whole("max_newton_iterations", p["max_newton_iterations"], 1)
     p["max_halvings"] = _whole("max_halvings", p["max_halvings"], 1)
@@ -146,6 +147,54 @@ def validate_params(**overrides):
     return p
 
 
+ALIASES = {"dt": "h"}     # other names a user may pass for a parameter (the command line's --dt)
+
+
+def _resolve_aliases(overrides):
+    """`overrides` with each alias renamed to its parameter; ValueError for an unknown name (listing
+    the valid ones, and the parameter a command-line flag's name stands for) or a name given twice."""
+    out = {}
+    for name, value in overrides.items():
+        target = ALIASES.get(name, name)
+        if target != name and target in overrides:
+            raise ValueError(f"{target} is given twice, as {target} and as its alias {name}; give one")
+        out[target] = value
+    unknown = sorted(set(out) - set(DEFAULTS))
+    if unknown:
+        hints = [f"{name} is {param} here" for name in unknown for param, flag in FLAGS.items()
+                 if param in DEFAULTS and flag == "--" + name.replace("_", "-")]
+        raise ValueError(f"unknown scene parameter(s): {', '.join(unknown)}"
+                         + (f" ({'; '.join(hints)})" if hints else "")
+                         + f"; valid: {', '.join(sorted([*DEFAULTS, *ALIASES]))}")
+    return out
+
+
+# Memory a scene takes per node, measured as the peak resident memory of build_scene plus one time
+# step (less the interpreter's) at n_seg = 128 (banded solve, 7.6 KiB/node) to 400 (SuperLU,
+# 8.4 to 10 KiB/node, slowly growing with its fill-in), rounded up.
+MEMORY_PER_NODE = 16 * 1024
+
+
+def _physical_memory():
+    """This machine's physical memory in bytes, or None where the OS does not say."""
+    try:
+        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    except (ValueError, OSError, AttributeError):
+        return None
+
+
+def _check_memory(n_seg):
+    """ValueError if a mesh of n_seg segments per side would not fit this machine's memory,
+    estimated as MEMORY_PER_NODE for each of its (n_seg + 1)^2 nodes, before anything is allocated."""
+    nodes, have = (n_seg + 1) ** 2, _physical_memory()      # Python ints: exact at any n_seg
+    if have is not None and MEMORY_PER_NODE * nodes > have:
+        gib = decimal.Decimal(MEMORY_PER_NODE * nodes) / 2**30
+        raise ValueError(f"n_seg = {float(n_seg):g} makes {decimal.Decimal(nodes):.3g} nodes, about "
+                         f"{gib:.3g} GiB of memory at {MEMORY_PER_NODE // 1024} KiB each, more than this "
+                         f"machine's {have / 2**30:.3g} GiB (largest n_seg that fits: "
+                         f"{math.isqrt(have // MEMORY_PER_NODE) - 1})")
+
+
 def resolution_warnings(p, x0=None, n=None, o=None):
     """Parameter combinations the scheme runs stably but cannot resolve, as sentences for the user.
 
@@ -159,11 +208,11 @@ def resolution_warnings(p, x0=None, n=None, o=None):
        friction (the static branch's curvature keeps each Newton step small), so the square stays put.
     """
     warnings = []
-    travel = np.hypot(*p["v0"]) * p["h"] + np.hypot(*p["gravity"]) * p["h"] ** 2
+    travel = math.hypot(*p["v0"]) * p["h"] + math.hypot(*p["gravity"]) * p["h"] * p["h"]
     if travel > p["side_len"]:
         warnings.append(f"time step h = {p['h']:g} s moves the square {travel:.3g} m per step, more than its "
                         f"size {p['side_len']:g} m: impacts are not resolved in time (results are qualitative "
-                        f"only; use h <= {_largest_resolving_h(p):.3g} s)")
+                        f"only; use h <= {_floor_digits(_largest_resolving_h(p), 3)} s)")
     if n is not None and p["mu"] > 0:
         g = np.array(p["gravity"])
         g_normal = float(g @ n)
@@ -179,9 +228,168 @@ def resolution_warnings(p, x0=None, n=None, o=None):
 
 
 def _largest_resolving_h(p):
-    """The h at which |v0| h + |g| h^2 = side_len."""
-    v, g, L = np.hypot(*p["v0"]), np.hypot(*p["gravity"]), p["side_len"]
-    return L / v if g == 0 else (-v + math.sqrt(v * v + 4 * g * L)) / (2 * g)
+    """The h at which |v0| h + |g| h^2 = side_len: the positive root of g h^2 + v h - L = 0, in the form
+    2 L / (v + sqrt(v^2 + 4 g L)), which neither cancels (-v + sqrt(...) is 0 in float64 once
+    v^2 >> 4 g L, e.g. v = 1e10 m/s) nor overflows (the root by hypot, not v^2)."""
+    v, g, L = math.hypot(*p["v0"]), math.hypot(*p["gravity"]), p["side_len"]
+    return 2.0 * L / (v + math.hypot(v, 2.0 * math.sqrt(g * L)))
+
+
+def _floor_digits(value, digits):
+    """`value` > 0 rounded down to `digits` significant digits, as text: a bound stays a bound."""
+    exact = decimal.Decimal(value)
+    step = decimal.Decimal(1).scaleb(exact.adjusted() - digits + 1)
+    return f"{exact.quantize(step, rounding=decimal.ROUND_FLOOR).normalize():g}"
+
+
+# A node closer to the slope than this many ulps of the coordinates' scale, eps (max_i |x_i| + |o|),
+# touches it as far as float64 can tell: x_i itself carries up to 2 roundings (rotation, centre),
+# the normalized n 1, and d = n . x_i - n . o 2 more per dot product, each at most eps/2 of its
+# scale; 8 covers their sum with a margin (the lecture's 45 degree corner lands 1.1e-16 m away).
+ROUNDOFF_ULPS = 8
+
+
+def _roundoff(x, o):
+    """How near the slope a node can be and still be told apart from touching it: ROUNDOFF_ULPS eps
+    (max_i |x_i| + |o|)."""
+    return ROUNDOFF_ULPS * np.finfo(float).eps * (float(np.hypot(x[:, 0], x[:, 1]).max()) + float(np.hypot(*o)))
+
+
+def _check_clear_of_slope(p, x, n, o):
+    """ValueError unless every node starts above the slope by more than the round-off of the
+    coordinates (ROUNDOFF_ULPS): a start within it touches the slope as much as one below it."""
+    d = BarrierEnergy.distances(x, n, o)
+    i = int(np.argmin(d))
+    roundoff = _roundoff(x, o)
+    if d[i] > roundoff:
+        return
+    center = np.array(p["center"])
+    moved = center + (p["dhat"] - d[i]) * n
+    raise ValueError(
+        f"the square starts touching or below the slope: node {i} at {x[i].tolist()} has distance "
+        f"{d[i]:.3g} m, not above the round-off of its coordinates ({roundoff:.2g} m); move center "
+        f"(now {_show(center)}) away from the slope, e.g. to {_show(moved, ',')}, which puts that "
+        f"node dhat = {p['dhat']:g} m above it")
+
+
+def _show(value, sep=", "):
+    """A parameter's value as the user typed it: a number, or a vector's numbers joined by `sep`."""
+    if value is None or np.ndim(value) == 0:
+        return f"{value:g}" if isinstance(value, float) else str(value)
+    return sep.join(f"{float(a):g}" for a in value)
+
+
+# Every scale the first step computes (an energy term's value or curvature, see _float64_scales)
+# must stay below this: the solver squares and sums them (||grad E||_2, dot products, the energies
+# summed over nodes), and 1e150^2 summed over the 1e8 nodes that at most fit in memory is still 1e308.
+FLOAT64_SCALE_LIMIT = 1e150
+
+# The Newton matrix M + h^2 K: K (the springs, PSD) is singular along the translations, where M alone
+# makes it definite, so its smallest eigenvalue is a node mass m and its largest about m + h^2 k (times
+# a mesh constant). Cholesky's backward error is a few eps times the largest entry, so m is lost once
+# h^2 k / m nears 1/eps: measured, LAPACK's banded Cholesky fails from 0.5/eps (n_seg 4 and 16, h 0.01
+# and 1 s); 0.1/eps leaves that factor 5 for the barrier's curvature, which enlarges the largest
+# entry at contact but not the smallest eigenvalue (sliding along the slope).
+NEWTON_RATIO_LIMIT = 0.1 / np.finfo(float).eps
+
+
+def _mass_powers(p):
+    """The total mass M as powers of the parameters: mass, or rho side_len^2."""
+    return {"mass": 1} if p["mass"] is not None else {"rho": 1, "side_len": 2}
+
+
+def _float64_scales(p, x, n, o):
+    """(what, value, powers) for each scale of the first time step's arithmetic, `powers` the
+    parameters it grows with (a product of their powers) to name the one that made it too large.
+    M total mass, l spring rest length, w contact area, D = |v0| h + |g| h^2 how far
+    the first step moves, X the largest coordinate, d the nearest node's distance to the slope (at
+    most dhat, where the barrier starts, and at least the round-off below which the start is refused
+    as touching). Plain float products: an overflow gives inf, never raises."""
+    h, k, v, g = p["h"], p["k"], math.hypot(*p["v0"]), math.hypot(*p["gravity"])
+    M = p["mass"] if p["mass"] is not None else p["rho"] * p["side_len"] * p["side_len"]
+    l, D, X = p["side_len"] / p["n_seg"], v * h + g * h * h, float(np.abs(x).max())
+    mass = _mass_powers(p)
+    scales = [
+        ("the total mass M", M, mass),
+        ("the kinetic energy 1/2 M |v0|^2", 0.5 * M * v * v, {**mass, "v0": 2}),
+        ("the first step's inertia term 1/2 M (|v0| h + |g| h^2)^2", 0.5 * M * D * D, {**mass, "v0": 2, "h": 2, "gravity": 2}),
+        ("gravity's term h^2 M |g| (max |x| + |v0| h + |g| h^2)", h * h * M * g * (X + D),
+         {**mass, "h": 2, "gravity": 1, "center": 1, "side_len": 1}),
+        ("the springs' stiffness h^2 k", h * h * k, {"h": 2, "k": 1}),
+        ("the springs' energy scale h^2 k l^2", h * h * k * l * l, {"h": 2, "k": 1, "side_len": 2, "n_seg": -2}),
+    ]
+    if n is not None:
+        w, dhat, kappa = p["side_len"] / p["n_seg"], p["dhat"], p["kappa"]
+        d = min(max(float(BarrierEnergy.distances(x, n, o).min()), _roundoff(x, o)), dhat)
+        barrier = {"h": 2, "kappa": 1, "side_len": 1, "n_seg": -1}
+        scales += [
+            ("the barrier's energy scale h^2 kappa w dhat", h * h * kappa * w * dhat, {**barrier, "dhat": 1}),
+            ("the barrier's curvature h^2 kappa w (1/d + dhat/d^2) / 2", h * h * kappa * w * (1 / d + dhat / d / d) / 2,
+             {**barrier, "dhat": 1}),
+            ("friction's stiffness h mu M |g| / eps_v", h * p["mu"] * M * g / p["epsv"],
+             {**mass, "h": 1, "mu": 1, "gravity": 1, "epsv": -1}),
+        ]
+    return scales
+
+
+def _culprit(p, powers):
+    """Of the parameters a scale grows with (`powers`, name -> exponent), the one that moved it
+    furthest from the lecture's scene: the largest exponent * log10(|value| / |lecture's value|)
+    (1 m or 1 m/s for the vectors that are zero there, rho side_len^2 for the mass)."""
+    def size(value):
+        return float(np.hypot(*value)) if np.ndim(value) else abs(value)
+
+    def reference(name):
+        if name == "mass":
+            return DEFAULTS["rho"] * DEFAULTS["side_len"] ** 2
+        return size(DEFAULTS[name]) or 1.0
+
+    def push(name):
+        return powers[name] * math.log10(max(size(p[name]), 1e-300) / reference(name))
+    return max(powers, key=push)
+
+
+def _check_resolved(p, x, o):
+    """ValueError where the round-off of the first step's coordinates (ROUNDOFF_ULPS ulps of
+    max |x| + |o| + |v0| h + |g| h^2) swallows the mesh spacing l = side_len / n_seg (the springs'
+    rest lengths) or dhat (the barrier's reach), or l^2 underflows: the square is too far from the
+    origin, or too small, for float64."""
+    l, h = p["side_len"] / p["n_seg"], p["h"]
+    travel = math.hypot(*p["v0"]) * h + math.hypot(*p["gravity"]) * h * h
+    scale = float(np.abs(x).max()) + (0.0 if o is None else float(np.abs(o).max())) + travel
+    roundoff = ROUNDOFF_ULPS * np.finfo(float).eps * scale
+    if not l * l >= np.finfo(float).tiny:
+        raise ValueError(f"side_len = {p['side_len']:g} is too small for float64: the squared spring rest "
+                         f"length (side_len / n_seg)^2 = {l * l:.3g} underflows")
+    where = {"center": 1, "slope_point": 1, "v0": 1, "gravity": 1, "h": 1}
+    for what, length, powers in (("the mesh spacing side_len / n_seg", l, {"side_len": -1, "n_seg": 1}),
+                                 ("dhat", p["dhat"], {"dhat": -1, "side_len": 1})):
+        if not length > roundoff:
+            name = _culprit(p, {**where, **powers})
+            raise ValueError(f"{name} = {_show(p[name])} leaves {what} = {length:.3g} m below the round-off "
+                             f"of the first step's coordinates, which reach {scale:.3g} m and are rounded to "
+                             f"{roundoff:.2g} m (keep every coordinate below {1 / (ROUNDOFF_ULPS * np.finfo(float).eps):.2g} "
+                             f"times the spacing and dhat)")
+
+
+def _check_float64_range(p, x, n, o):
+    """ValueError, naming the parameter and value, for a scene whose first time step would overflow
+    float64 (a scale of _float64_scales above FLOAT64_SCALE_LIMIT) or whose Newton matrix float64
+    cannot resolve (h^2 k / m above NEWTON_RATIO_LIMIT)."""
+    for what, value, powers in _float64_scales(p, x, n, o):
+        if not value <= FLOAT64_SCALE_LIMIT:
+            name = _culprit(p, powers)
+            raise ValueError(f"{name} = {_show(p[name])} is beyond float64's range in this scene: {what} "
+                             f"would be {value:.3g}, above the {FLOAT64_SCALE_LIMIT:g} whose squares still "
+                             f"sum to a finite number")
+    m = (p["mass"] if p["mass"] is not None else p["rho"] * p["side_len"] * p["side_len"]) / len(x)
+    ratio = p["h"] * p["h"] * p["k"] / m if m > 0.0 else math.inf
+    if not ratio <= NEWTON_RATIO_LIMIT:
+        name = _culprit(p, {"k": 1, "h": 2, "n_seg": 2, **{a: -b for a, b in _mass_powers(p).items()}})
+        raise ValueError(f"{name} = {_show(p[name])}: float64 cannot resolve the Newton matrix M + h^2 K, as "
+                         f"h^2 k / m = {ratio:.3g} (h = {p['h']:g} s, k = {p['k']:g}, node mass m = {m:.3g} kg) "
+                         f"is above 0.1/eps = {NEWTON_RATIO_LIMIT:.2g}, where m is lost in the round-off of "
+                         f"h^2 k (lower k or h, or raise the mass)")
 
 
 def build_scene(**overrides):
@@ -190,6 +398,14 @@ def build_scene(**overrides):
     x, e = square_mesh.generate(p["side_len"], p["n_seg"])
     c, s = math.cos(p["angle"]), math.sin(p["angle"])
     x = x @ np.array([[c, s], [-s, c]]) + np.array(p["center"])
+    n = o = None
+    if p["slope"] is not None:
+        n = np.array(p["slope"]) / np.hypot(*p["slope"])
+        o = np.array(p["slope_point"])
+    _check_float64_range(p, x, n, o)
+    _check_resolved(p, x, o)
+    if n is not None:
+        _check_clear_of_slope(p, x, n, o)
     diff = x[e[:, 0]] - x[e[:, 1]]
     n_nodes = len(x)
     total_mass = p["mass"] if p["mass"] is not None else p["rho"] * p["side_len"] ** 2
@@ -198,16 +414,7 @@ def build_scene(**overrides):
     terms = ["inertia", "spring"]
     if np.any(g != 0.0):
         terms.append("gravity")
-    n = o = None
-    if p["slope"] is not None:
-        n = np.array(p["slope"]) / np.hypot(*p["slope"])
-        o = np.array(p["slope_point"])
-        d = BarrierEnergy.distances(x, n, o)
-        if d.min() <= 0.0:
-            i = int(np.argmin(d))
-            raise ValueError(
-                f"the square starts touching or below the slope: node {i} at {x[i].tolist()} has "
-                f"distance {d[i]:.6g} <= 0 (move center, currently {list(p['center'])}, above the slope)")
+    if n is not None:
         terms.append("barrier")
         if p["mu"] > 0.0:
             terms.append("friction")
@@ -223,7 +430,7 @@ def build_scene(**overrides):
         n_seg=p["n_seg"], side_len=p["side_len"], friction_updates=p["friction_updates"],
         max_newton_iterations=p["max_newton_iterations"], max_halvings=p["max_halvings"],
         terms=tuple(terms), warnings=resolution_warnings(p, x, n, o),
-        pattern=utils.BlockPattern.build(n_nodes, e))
+        solver=utils.SPDSolver.for_mesh(n_nodes, e))
 
 
 def energies(scene, x, v):
@@ -254,10 +461,9 @@ def simulate(scene, steps, x=None, v=None):
     steps = _whole("steps", steps, 1)
     x = scene.x0.copy() if x is None else x
     v = scene.v0.copy() if v is None else v
-    report = None
     for i in range(steps):
         start = time.perf_counter()
-        x, v, report = time_integrator.step(scene, x, v, step_index=i, previous=report)
+        x, v, report = time_integrator.step(scene, x, v, step_index=i)
         yield StepRecord(i, (i + 1) * scene.h, x, v, report, time.perf_counter() - start)
 
 
@@ -360,7 +566,7 @@ def draw_summary(pygame, scene, snapshots, com_path, lines, font):
 # ------------------------------------------------------------------------------------------------
 
 CSV_COLUMNS = ["step", "t", "wall_s", "com_x", "com_y", "v_tangential", "newton_iterations",
-               "factorizations", "residual", "alpha_min", "line_search_steps", "min_distance",
+               "residual", "alpha_min", "line_search_steps", "min_distance",
                "friction_iterations", "friction_converged", "E_kinetic", "E_gravity", "E_spring",
                "E_barrier", "E_total", "W_friction"]
 
@@ -408,6 +614,8 @@ def make_parser():
     slope.add_argument("--no-slope", action="store_true", help="free fall: no slope, no contact")
     g.add_argument("--slope-point", type=_pair, default=d["slope_point"], metavar="OX,OY",
                    help="a point on the slope (default 0,-1)")
+    g.add_argument("--center", type=_pair, default=d["center"], metavar="X,Y",
+                   help="initial centre of the square in m (default 0,0)")
     g.add_argument("--v0", type=_pair, default=d["v0"], metavar="VX,VY", help="initial velocity in m/s (default 0,0)")
     g.add_argument("--gravity", type=_pair, default=d["gravity"], metavar="GX,GY", help="m/s^2 (default 0,-9.81)")
     g.add_argument("--dhat", type=float, default=d["dhat"], help="barrier activation distance in m (default %(default)s)")
@@ -434,7 +642,7 @@ def make_parser():
 
 def scene_from_args(args):
     overrides = {name: getattr(args, name) for name in (
-        "mu", "h", "n_seg", "side_len", "k", "rho", "mass", "slope_point", "v0", "gravity", "dhat",
+        "mu", "h", "n_seg", "side_len", "k", "rho", "mass", "slope_point", "center", "v0", "gravity", "dhat",
         "kappa", "epsv", "tol", "friction_updates", "max_newton_iterations")}
     if args.no_slope:
         overrides["slope"] = None
@@ -454,19 +662,27 @@ def steps_from_args(args, scene):
     duration = utils.check_positive("duration", args.duration)
     if duration < scene.h:
         raise ValueError(f"duration {duration:g} s is shorter than one time step h = {scene.h:g} s")
-    return int(round(duration / scene.h))
+    steps = duration / scene.h
+    if not math.isfinite(steps):
+        raise ValueError(f"duration {duration:g} s is more time steps of h = {scene.h:g} s than float64 "
+                         f"can count (use --steps, or a larger h)")
+    return int(round(steps))
 
 
 def prepare_output(folder):
     """Create the output folder and prove it can be written; ValueError otherwise."""
     try:
         os.makedirs(folder, exist_ok=True)
+    except OSError as err:
+        raise ValueError(f"out folder {folder!r} cannot be created: {err.strerror or err}") from None
+    try:
         probe = os.path.join(folder, ".write-test")
         with open(probe, "w") as f:
             f.write("ok")
         os.remove(probe)
-    except OSError as err:
-        raise ValueError(f"out folder {folder!r} cannot be written: {err.strerror or err}") from None
+    except OSError as err:      # e.g. /proc/self: a folder, where creating a file says ENOENT
+        raise ValueError(f"out folder {folder!r} cannot be written: creating a file in it failed "
+                         f"({err.strerror or err})") from None
 
 
 def csv_row(scene, record, friction_work):
@@ -477,7 +693,7 @@ def csv_row(scene, record, friction_work):
     tangent = np.array([scene.n[1], -scene.n[0]]) if scene.n is not None else np.array([1.0, 0.0])
     E = energies(scene, x, v)
     return [record.index + 1, f"{record.t:.6f}", f"{record.wall:.6f}", f"{com[0]:.9f}", f"{com[1]:.9f}",
-            f"{float(vcom @ tangent):.9f}", rep.newton_iterations, rep.factorizations, f"{rep.residual:.3e}",
+            f"{float(vcom @ tangent):.9f}", rep.newton_iterations, f"{rep.residual:.3e}",
             f"{min(rep.alphas, default=1.0):.6g}", len(rep.alphas), f"{rep.min_distance:.9g}",
             rep.friction_iterations, int(rep.friction_converged), f"{E['kinetic']:.9g}",
             f"{E['gravity']:.9g}", f"{E['spring']:.9g}", f"{E['barrier']:.9g}", f"{E['total']:.9g}",
@@ -571,9 +787,9 @@ FLAGS = {"side_len": "--side", "n_seg": "--n-seg", "rho": "--density", "mass": "
          "mu": "--mu", "dhat": "--dhat", "kappa": "--kappa", "epsv": "--epsv", "tol": "--tol",
          "friction_updates": "--friction-iterations", "max_newton_iterations": "--max-newton",
          "slope": "--slope-normal", "slope normal": "--slope-normal", "slope-angle": "--slope-angle",
-         "slope_point": "--slope-point", "v0": "--v0", "gravity": "--gravity", "steps": "--steps",
+         "slope_point": "--slope-point", "center": "--center", "v0": "--v0", "gravity": "--gravity", "steps": "--steps",
          "duration": "--duration", "frame-stride": "--frame-stride", "out folder": "--out",
-         "the square starts": "--slope-point/--slope-normal"}
+         "the square starts": "--center"}
 
 
 def _flag_for(message):
@@ -584,11 +800,11 @@ def _flag_for(message):
 
 
 def _attach_negative_values(argv):
-    """['--k', '-2e4'] -> ['--k=-2e4']: argparse takes '-2e4' or '-1,2' for an option, but no flag
-    starts with a digit or a dot, so such a token is always the previous option's value."""
+    """['--k', '-2e4'] -> ['--k=-2e4']: argparse takes '-2e4', '-1,2' or '-inf' for an option, but no
+    flag starts with a digit, a dot, 'inf' or 'nan', so such a token is always the previous option's value."""
     out = []
     for token in argv:
-        if out and out[-1].startswith("--") and "=" not in out[-1] and re.match(r"^-[0-9.]", token):
+        if out and out[-1].startswith("--") and "=" not in out[-1] and re.match(r"^-([0-9.]|inf|nan)", token, re.I):
             out[-1] = f"{out[-1]}={token}"
         else:
             out.append(token)

@@ -77,23 +77,30 @@ def test_ccd_and_mu_lambda_bad_input():
 
 
 @pytest.mark.parametrize("call", [
-    lambda: FrictionEnergy.hess(np.full((2, 2), 1e-320), np.ones(2), 0.01, [0.0, 1.0], epsv=1e-310),
     lambda: BarrierEnergy.grad(np.array([[0.0, 1e-320]]), [0.0, 1.0], [0.0, 0.0], [1.0]),
     lambda: BarrierEnergy.hess(np.array([[0.0, 1e-160]]), [0.0, 1.0], [0.0, 0.0], [1.0]),
-], ids=["friction eps_v=1e-310", "barrier grad d=1e-320", "barrier hess d=1e-160"])
+], ids=["barrier grad d=1e-320", "barrier hess d=1e-160"])
 def test_overflow_beyond_float64_raises_instead_of_nan(call):
     with np.errstate(all="ignore"), pytest.raises(ValueError, match="overflowed to a non-finite value"):
         call()
 
 
+@pytest.mark.parametrize("kind", ["val", "grad", "hess"])
+def test_eps_v_whose_square_underflows_is_refused(kind):
+    """f_hess_term is -1/eps_v^2, which overflows float64 for eps_v below 7.5e-155: refused, named."""
+    with pytest.raises(ValueError, match=r"epsv must be >= 1e-150 .* got 1e-310"):
+        getattr(FrictionEnergy, kind)(np.full((2, 2), 1e-320), np.ones(2), 0.01, [0.0, 1.0], epsv=1e-310)
+
+
 def test_tiny_eps_v_still_exact_where_representable():
-    """The mollifier is written in y/eps_v, so eps_v = 1e-160 loses nothing until a result overflows."""
-    assert FrictionEnergy.f1_over_y(np.array([0.0, 5e-161]), 1e-160) == pytest.approx([2e160, 1.5e160])
-    assert FrictionEnergy.f1(np.array([5e-161]), 1e-160) == pytest.approx([0.75])
+    """The mollifier is written in ||vbar||/eps_v, so a tiny eps_v loses nothing until a result overflows
+    (the lecture's (-||vbar|| + 2 eps_v)/(eps_v eps_v) would overflow at eps_v = 1e-160)."""
+    assert FrictionEnergy.f1_div_vbarnorm(np.array([0.0, 5e-161]), 1e-160) == pytest.approx([2e160, 1.5e160])
     assert FrictionEnergy.f0(np.array([0.0]), 1e-160, 0.01) == pytest.approx([1e-162 / 3])
-    # the Hessian there is mu_lambda f1'(y) / hhat along the tangent: 2/eps_v / hhat = 2e162, finite
-    rows, cols, vals = FrictionEnergy.hess(np.full((2, 2), 1e-170), np.ones(2), 0.01, [0.0, 1.0], epsv=1e-160)
-    assert vals.max() == pytest.approx(2e162, rel=1e-6) and np.isfinite(vals).all()
+    # the Hessian there is mu_lambda (f1/||vbar|| + f_hess_term ||vbar||) / hhat along the tangent:
+    # 2/eps_v / hhat = 2e152 at ||vbar|| ~ 1e-170, finite
+    rows, cols, vals = FrictionEnergy.hess(np.full((2, 2), 1e-170), np.ones(2), 0.01, [0.0, 1.0], epsv=1e-150)
+    assert vals.max() == pytest.approx(2e152, rel=1e-6) and np.isfinite(vals).all()
 
 
 def test_ccd_refuses_a_start_below_the_slope():

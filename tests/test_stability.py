@@ -40,7 +40,7 @@ def run_checked(scene, steps):
         if scene.n is not None:
             d = BarrierEnergy.distances(rec.x, scene.n, scene.o)
             assert d.min() > 0.0, f"step {rec.index}: node {int(np.argmin(d))} at distance {d.min():.3e}"
-            assert rec.report.min_distance == d.min()
+            assert rec.report.min_distance == d.min()     # bit for bit: the same distances() on the same x
         assert rec.report.residual <= scene.tol and rec.report.newton_iterations <= scene.max_newton_iterations
         v_max = max(v_max, np.abs(rec.v).max())
         dv_max = max(dv_max, np.abs(rec.v - v_prev).max())

@@ -1,0 +1,254 @@
+"""Scenes at the edge of float64 and of the machine: a start within round-off of the slope, values whose
+first step would overflow or whose Newton matrix float64 cannot resolve, meshes too large for memory,
+and the library's parameter names. Refused at scene build with a ValueError naming the parameter and
+its value; on the command line in one line, exit code 2, with nothing written."""
+import math
+import os
+import re
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import simulator
+import time_integrator
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+EPS = np.finfo(float).eps
+
+
+def cli(*args):
+    return subprocess.run([sys.executable, os.path.join(ROOT, "simulator.py"), *args], capture_output=True,
+                          text=True, timeout=120, env={**os.environ, "SDL_VIDEODRIVER": "dummy"})
+
+
+def refused_in_one_line(args, out):
+    """Run the command line on a folder holding an earlier run's log.csv; the one error line, after
+    checking the exit code 2 and that the folder was not touched."""
+    out.mkdir(exist_ok=True)
+    (out / "log.csv").write_text("an earlier run\n")
+    result = cli(*args, *([] if "--out" in args else ["--out", str(out)]),
+                 *([] if {"--steps", "--duration"} & set(args) else ["--steps", "3"]))
+    lines = result.stderr.strip().splitlines()
+    assert result.returncode == 2 and len(lines) == 1, result.stderr
+    assert lines[0].startswith("simulator.py: error: ") and "Traceback" not in result.stderr
+    assert os.listdir(out) == ["log.csv"] and (out / "log.csv").read_text() == "an earlier run\n"
+    return lines[0]
+
+
+# ---- a start within round-off of the slope (issue 13, part 3) ---------------------------------------
+
+def test_the_lectures_45_degree_start_touches_the_slope_and_is_refused():
+    """At 45 degrees the lecture's placement puts corner 0 on the slope up to round-off (1.1e-16 m
+    computed): refused like a start below it, naming --center and a centre that works."""
+    args = simulator.make_parser().parse_args(["--slope-angle", "45"])
+    with pytest.raises(ValueError, match=r"starts touching or below the slope: node 0 .* not above the "
+                                         r"round-off .* move center \(now 0, 0\)") as info:
+        simulator.scene_from_args(args)
+    suggested = str(info.value).split("e.g. to ")[1].split(",")[:2]
+    center = (float(suggested[0]), float(suggested[1].split()[0]))
+    scene = simulator.scene_from_args(simulator.make_parser().parse_args(
+        ["--slope-angle", "45", "--center", f"{center[0]!r},{center[1]!r}"]))
+    d = (scene.x0 - scene.o) @ scene.n
+    assert d.min() == pytest.approx(scene.dhat, rel=1e-5)       # as the message says: dhat above (6 digits shown)
+
+
+def test_cli_45_degree_slope_names_center(tmp_path):
+    line = refused_in_one_line(["--slope-angle", "45"], tmp_path / "out")
+    assert line.startswith("simulator.py: error: --center: the square starts touching or below the slope")
+
+
+@pytest.mark.parametrize("gap, refused", [(0.0, True), (1.2e-16, True), (1e-15, True), (1e-12, False)])
+def test_round_off_threshold_on_a_flat_slope(gap, refused):
+    """Corner 0 at (-0.5, -0.5) above y = -0.5 - gap: the threshold is ROUNDOFF_ULPS eps (max|x| + |o|),
+    3e-15 m here; a gap of 1e-12 m is a real (if tiny) gap and builds, one ulp of 0.5 does not."""
+    kwargs = dict(slope=(0.0, 1.0), slope_point=(0.0, -0.5 - gap))
+    if refused:
+        with pytest.raises(ValueError, match="starts touching or below the slope"):
+            simulator.build_scene(**kwargs)
+    else:
+        assert "barrier" in simulator.build_scene(**kwargs).terms
+    threshold = simulator.ROUNDOFF_ULPS * EPS * (math.hypot(0.5, 0.5) + 0.5 + gap)
+    assert (gap <= threshold) == refused
+
+
+def test_center_flag_reaches_the_scene():
+    scene = simulator.scene_from_args(simulator.make_parser().parse_args(["--center", "1.5,-0.25", "--no-slope"]))
+    assert np.average(scene.x0, axis=0, weights=scene.m) == pytest.approx([1.5, -0.25], abs=1e-12)
+    assert "--center" in cli("--help").stdout
+
+
+# ---- absurd values (issue 13, part 5) ----------------------------------------------------------------
+
+CLI = [
+    (["--h", "1e200"], "--h: h = 1e+200 is beyond float64's range"),
+    (["--dt", "1e300"], "--h: h = 1e+300 is beyond float64's range"),
+    (["--side", "1e200"], "--side: side_len = 1e+200 is beyond float64's range in this scene: the total mass"),
+    (["--side", "1e100", "--mass", "1", "--k", "1e-190"], "--side: side_len = 1e+100 leaves dhat = 0.01 m below the round-off"),
+    (["--side", "1e200", "--no-slope", "--mass", "1"], "--side: side_len = 1e+200 is beyond float64's range"),
+    (["--duration", "1e308"], "--duration: duration 1e+308 s is more time steps of h = 0.01 s than float64 can count"),
+    (["--n-seg", "1e5"], "--n-seg: n_seg = 100000 makes 1.00e+10 nodes"),
+    (["--n-seg", "1e308"], "--n-seg: n_seg = 1e+308 makes"),
+    (["--v0", "1e308,0"], "--v0: v0 = 1e+308, 0 is beyond float64's range"),
+    (["--dhat", "1e308"], "--dhat: dhat = 1e+308 is beyond float64's range"),
+    (["--k", "1e30"], "--k: k = 1e+30: float64 cannot resolve the Newton matrix"),
+    (["--h", "1e10"], "--h: h = 1e+10"),
+    (["--mu", "-inf"], "--mu: mu must be finite, got -inf"),
+    (["--k", "-inf"], "--k: k must be a finite number > 0, got -inf"),
+    (["--v0", "-inf,0"], "--v0: v0 must be finite, got [-inf, 0.0]"),
+    (["--center", "1e16,0"], "--center: center = 1e+16, 0 leaves the mesh spacing"),
+    (["--epsv", "1e-300"], "--epsv: epsv must be >= 1e-150"),
+]
+
+
+@pytest.mark.parametrize("args, message", CLI, ids=[" ".join(a) for a, _ in CLI])
+def test_absurd_value_is_one_line_naming_flag_and_value(args, message, tmp_path):
+    line = refused_in_one_line(args, tmp_path / "out")
+    assert line.startswith(f"simulator.py: error: {message}"), line
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc/self"), reason="needs Linux's /proc")
+def test_out_folder_where_no_file_can_be_created(tmp_path):
+    """/proc/self is a folder, but creating a file in it fails with ENOENT: the message says what failed."""
+    result = cli("--steps", "2", "--out", "/proc/self")
+    lines = result.stderr.strip().splitlines()
+    assert result.returncode == 2 and len(lines) == 1
+    assert lines[0] == ("simulator.py: error: --out: out folder '/proc/self' cannot be written: creating a "
+                        "file in it failed (No such file or directory)")
+
+
+LIBRARY_OVERFLOW = [
+    (dict(v0=(1e308, 0.0)), "v0", "the kinetic energy"),
+    (dict(v0=(1e76, 0.0)), "v0", "the kinetic energy"),            # 1/2 1000 kg 1e152 = 5e154 J
+    (dict(dhat=1e308), "dhat", "the barrier's energy scale"),
+    (dict(h=1e200), "h", "the first step's inertia term"),
+    (dict(gravity=(0.0, -1e200)), "gravity", ""),
+    (dict(kappa=1e300), "kappa", "the barrier's energy scale"),
+    (dict(rho=1e300), "rho", "the total mass"),
+    (dict(epsv=1e-149), "epsv", "friction's stiffness"),
+    (dict(k=1e300, h=1e-70), "k", "the springs' stiffness"),
+    (dict(side_len=1e200, mass=1.0, slope=None), "side_len", "gravity's term"),
+]
+
+
+@pytest.mark.parametrize("kwargs, culprit, what", LIBRARY_OVERFLOW, ids=[str(k) for k, _, _ in LIBRARY_OVERFLOW])
+def test_build_scene_refuses_first_step_overflow(kwargs, culprit, what):
+    with pytest.raises(ValueError) as info:
+        simulator.build_scene(**kwargs)
+    message = str(info.value)
+    assert message.startswith(f"{culprit} = ") and what in message, message
+
+
+def test_scale_limit_leaves_finite_sums():
+    """FLOAT64_SCALE_LIMIT: a scale squared and summed over the 1e8 nodes that fit at most (16 KiB
+    each in 1.6 TB) stays finite."""
+    assert np.isfinite(np.sum(np.full(10, simulator.FLOAT64_SCALE_LIMIT) ** 2) * 1e7)
+
+
+def test_newton_matrix_bound():
+    """h^2 k / m above 0.1/eps is refused naming k (the parameter furthest from the lecture's); at a
+    tenth of it, the first step converges and falls g h^2 as free fall does (the translation, which
+    only M resolves, comes out right)."""
+    m = simulator.DEFAULTS["rho"] / 25                       # n_seg 4: 25 nodes, 40 kg each
+    h = simulator.DEFAULTS["h"]
+    k_limit = simulator.NEWTON_RATIO_LIMIT * m / h ** 2
+    with pytest.raises(ValueError, match=r"^k = .*: float64 cannot resolve the Newton matrix M \+ h\^2 K, "
+                                         r"as h\^2 k / m = 9\.0\de\+14"):
+        simulator.build_scene(k=2 * k_limit)
+    scene = simulator.build_scene(k=k_limit / 10, tol=1e-6)
+    x, v, report = time_integrator.step(scene, scene.x0.copy(), scene.v0.copy())
+    fall = np.average(x - scene.x0, axis=0, weights=scene.m)
+    # Newton stops once its step is below tol h: the position is within that of the exact g h^2
+    assert fall == pytest.approx([0.0, scene.g[1] * h * h], abs=scene.tol * h)
+    with pytest.raises(ValueError, match=r"^h = 1e\+10: float64 cannot resolve"):
+        simulator.build_scene(h=1e10, slope=None)
+    with pytest.raises(ValueError, match=r"^rho = 1e-20: float64 cannot resolve"):
+        simulator.build_scene(rho=1e-20, slope=None)
+
+
+def test_lectures_scene_and_stability_extremes_are_far_inside_the_limits():
+    """The stability suite's extremes (k 1e9 at h 1 s, kappa 1e9, dhat 1e-4, eps_v 1e-6, 100 m/s, n_seg 32)
+    build: the limits refuse only what float64 cannot do."""
+    simulator.build_scene(k=1e9, h=1.0, kappa=1e9, dhat=1e-4, epsv=1e-6, mu=10.0, v0=(0.0, -100.0))
+    simulator.build_scene(k=1e9, h=1.0, n_seg=32)
+
+
+# ---- memory -------------------------------------------------------------------------------------------
+
+def test_memory_check_refuses_what_does_not_fit(monkeypatch):
+    """With 1 GiB of memory, the largest n_seg the message names fits and the next does not."""
+    monkeypatch.setattr(simulator, "_physical_memory", lambda: 2 ** 30)
+    with pytest.raises(ValueError, match=r"^n_seg = 300 makes 9.06e\+4 nodes, about 1.38 GiB .* more than "
+                                         r"this machine's 1 GiB \(largest n_seg that fits: (\d+)\)") as info:
+        simulator.validate_params(n_seg=300)
+    largest = int(str(info.value).rsplit(" ", 1)[1].rstrip(")"))
+    simulator._check_memory(largest)
+    with pytest.raises(ValueError):
+        simulator._check_memory(largest + 1)
+
+
+PEAK = """import resource, sys, simulator, time_integrator
+scene = simulator.build_scene(n_seg=int(sys.argv[1]))
+if scene.n_seg > 1:
+    time_integrator.step(scene, scene.x0.copy(), scene.v0.copy())
+print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)"""
+
+
+@pytest.mark.skipif(sys.platform != "linux", reason="ru_maxrss is in KiB on Linux")
+def test_memory_per_node_bounds_the_measured_peak():
+    """MEMORY_PER_NODE against the peak resident memory of build_scene and one step at n_seg = 128
+    (16641 nodes), less that of a 1-segment scene: at least the measurement, at most 4 times it (so
+    the check refuses no scene that would fit by a wide margin)."""
+    def peak(n_seg):
+        out = subprocess.run([sys.executable, "-c", PEAK, str(n_seg)], cwd=ROOT, capture_output=True, text=True,
+                             timeout=120, env={**os.environ, "OPENBLAS_NUM_THREADS": "1"})
+        return int(out.stdout.split()[-1]) * 1024
+    per_node = (peak(128) - peak(1)) / 129 ** 2
+    assert per_node <= simulator.MEMORY_PER_NODE <= 4 * per_node
+
+
+# ---- the too-large-h warning -------------------------------------------------------------------------
+
+@pytest.mark.parametrize("params", [dict(h=1.0), dict(v0=(1e10, 0.0)), dict(v0=(100.0, 0.0)),
+                                    dict(h=0.5, gravity=(0.0, 0.0), v0=(3.0, 0.0)), dict(h=1.0, gravity=(0.0, -1e6)),
+                                    dict(v0=(1e70, 0.0), h=1e-60)], ids=str)
+def test_warning_suggests_the_largest_h_that_resolves(params):
+    """The warning's 'use h <= H s' is the largest h with |v0| h + |g| h^2 <= side_len, to its 3 digits:
+    H itself resolves, H plus one unit in its third digit reaches the size (it said 0 s for 1e10 m/s;
+    4 eps: the rounding of travel's two products and sum)."""
+    p = simulator.validate_params(**params)
+    (warning,) = simulator.resolution_warnings(p)
+    text = warning.split("use h <= ")[1].split(" s)")[0]
+    H, unit = float(text), 10.0 ** (math.floor(math.log10(float(text))) - 2)
+
+    def travel(h):
+        return math.hypot(*p["v0"]) * h + math.hypot(*p["gravity"]) * h * h
+    assert 0.0 < H and travel(H) <= p["side_len"] <= travel(H + unit) * (1 + 4 * EPS)
+
+
+# ---- library edges (issue 13, part 7) ----------------------------------------------------------------
+
+def test_dt_is_an_alias_of_h():
+    assert simulator.build_scene(dt=0.005).h == 0.005 == simulator.build_scene(h=0.005).params["h"]
+    with pytest.raises(ValueError, match="h is given twice, as h and as its alias dt"):
+        simulator.build_scene(dt=0.005, h=0.01)
+
+
+def test_unknown_parameter_lists_the_valid_names():
+    with pytest.raises(ValueError) as info:
+        simulator.build_scene(colour="red")
+    message = str(info.value)
+    assert message.startswith("unknown scene parameter(s): colour; valid: ")
+    assert set(message.split("valid: ")[1].split(", ")) == {*simulator.DEFAULTS, "dt"}
+    with pytest.raises(ValueError, match=r"unknown scene parameter\(s\): side \(side is side_len here\)"):
+        simulator.build_scene(side=2.0)
+
+
+@pytest.mark.parametrize("name, value", [("n_seg", "4"), ("h", "0.01"), ("mu", "0.2"), ("k", b"2e4"),
+                                         ("angle", "0"), ("mass", "10"), ("v0", ("1", "2")),
+                                         ("center", ["0", "0"]), ("friction_updates", "2"), ("v0", (True, False))])
+def test_text_for_numbers_is_refused(name, value):
+    with pytest.raises(ValueError, match=f"^{name} must be .*, got {re.escape(repr(value))}"):
+        simulator.build_scene(**{name: value})
+
