@@ -382,9 +382,10 @@ class MeteredClock:
 
 def window_real_time(n_seg, speed=1.0, duration=3.0):
     """The default run (3 s) in the live window at `speed`, drawing included, under SDL's dummy video
-    driver: wall seconds per simulated second (1/speed when it keeps up), the share of the wall time
-    the loop was busy (not sleeping), frames drawn and those with the 'slower than real time' note,
-    and the lowest rate the window measured (over its one-second spans, as a fraction of speed)."""
+    driver: wall seconds per simulated second (1/speed when it keeps up), CPU seconds per simulated
+    second (what it needs of one core, whatever else the machine runs), the share of the wall time the
+    loop was busy (not sleeping), frames drawn and those with the 'slower than real time' note, and
+    the lowest rate the window measured (over its one-second spans, as a fraction of speed)."""
     os.environ["SDL_VIDEODRIVER"] = "dummy"
     from viewer import window
     scene = drop_scene(n_seg)
@@ -394,12 +395,14 @@ def window_real_time(n_seg, speed=1.0, duration=3.0):
         screen = pygame.display.set_mode((WINDOW_PIXELS, WINDOW_PIXELS))
         clock = MeteredClock()
         live = clock.window = window.LiveWindow(pygame, screen, scene, steps, speed, clock=clock)
-        start = time.perf_counter()
+        start, cpu = time.perf_counter(), time.process_time()
         live.loop()
+        cpu = time.process_time() - cpu
     finally:
         pygame.display.quit()
     wall = clock.end - start
     return {"n_seg": n_seg, "speed": speed, "wall_per_simulated": wall / (steps * scene.h),
+            "cpu_per_simulated": cpu / (steps * scene.h),
             "busy": 1.0 - min(clock.slept, wall) / wall, "frames": live.frames, "slow_frames": live.slow_frames,
             "lowest_rate": clock.lowest_rate}
 
@@ -407,13 +410,16 @@ def window_real_time(n_seg, speed=1.0, duration=3.0):
 def window_table(sizes=WINDOW_N_SEGS):
     """The window's real-time figures at speed 1, and flat out (speed 100: as fast as it can go)."""
     lines = [f"Live window ({WINDOW_PIXELS} px, SDL dummy driver, drawing included), the default 3 s run:",
-             "  n_seg  speed  wall/simulated s  busy  frames  frames 'slower'  lowest rate  -> x real time"]
+             "  n_seg  speed  wall/simulated s  CPU/simulated s  busy  frames  frames 'slower'  lowest rate  "
+             "-> x real time"]
     for n_seg in sizes:
         for speed in (1.0, 100.0):
             r = window_real_time(n_seg, speed)
-            lines.append(f"  {n_seg:>5}  {speed:>5g}  {r['wall_per_simulated']:>16.3f}  {100 * r['busy']:>3.0f}%  "
+            lines.append(f"  {n_seg:>5}  {speed:>5g}  {r['wall_per_simulated']:>16.3f}  {r['cpu_per_simulated']:>15.3f}  "
+                         f"{100 * r['busy']:>3.0f}%  "
                          f"{r['frames']:>6}  {r['slow_frames']:>15}  {fmt(r['lowest_rate'], 2) if r['lowest_rate'] < math.inf else '-':>11}  "
                          f"{1 / r['wall_per_simulated']:>6.2f}")
+    lines.append("CPU/simulated: CPU seconds per simulated second (below 1: one free core keeps real time);")
     lines.append("busy: share of the wall time not spent sleeping between frames; lowest rate: simulated over wall")
     lines.append("time over the window's one-second spans, / speed ('-': the run was shorter than a span); at speed")
     lines.append("100 the window steps flat out, so 'x real time' is the fastest it can run")

@@ -278,7 +278,7 @@ def test_simulated_time_follows_the_wall_clock_at_speed(monkeypatch, speed, cost
     w, clock = live_window(steps=150, speed=speed)
     clock.script = script()
     assert w.loop() == 0
-    assert w.slow_frames == 0
+    assert w.slow_frames == 0 and w.frames == clock.frames      # keeping up: every loop draws
     # the last step is taken within a frame of being due; the script sees it the frame after and its
     # close button ends the loop one frame later
     assert clock.t == pytest.approx(150 * H / speed, abs=3 / window.FPS)
@@ -304,6 +304,32 @@ def test_slower_than_real_time_is_said_on_screen(monkeypatch):
     w, clock = live_window()
     clock.script = script()
     assert w.loop() == 0 and w.slow_frames > 0
+
+
+def test_frames_are_dropped_not_simulated_time_when_behind(monkeypatch):
+    """Steps costing 1.2x their simulated time: the loop draws only every 1/MIN_FPS s, the rest of the
+    time goes to the steps."""
+    step = time_integrator.step
+
+    def slow_step(*args, **kw):
+        clock.t += 1.2 * H
+        return step(*args, **kw)
+
+    monkeypatch.setattr(time_integrator, "step", slow_step)
+    drawn = []
+
+    def script():
+        while w.run.index < 200:
+            if not drawn or w.drawn_at != drawn[-1]:
+                drawn.append(w.drawn_at)
+            yield
+
+    w, clock = live_window()
+    clock.script = script()
+    assert w.loop() == 0
+    later = [t for t in drawn if t > 1.0]                           # once behind
+    assert min(np.diff(later)) >= 1.0 / window.MIN_FPS - 1e-9
+    assert len(drawn) < 0.75 * clock.frames and w.slow_frames > 0
 
 
 # ------------------------------------------------------------------------------------------------

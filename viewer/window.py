@@ -25,11 +25,13 @@ from simulator import (CSV_EVERY, StepRecord, View, csv_row, draw_frame, draw_sq
                        save_png, scene_from_args, steps_from_args, write_csv, RESOLUTION, SCALE, _whole)
 
 FPS = 60                  # frames drawn per second at most
+MIN_FPS = 20              # ... and at least, when the steps fall behind (the other frames are dropped)
 FRAME_BUDGET = 1.0 / 30   # s of stepping before the loop draws and reads the keys again
 FIT = 0.85                # by default the window's side is this fraction of the display's smaller side,
                           # leaving room for the title bar and desktop panels (652 px on 1024x768)
 MIN_SIZE, MAX_SIZE = 300, 16384   # px; 16384 is the largest texture common graphics drivers accept
 DUE_SLACK = 1e-9          # of a step: t + h and the time due may differ by round-off
+CATCH_UP = 0.1            # s of wall time the steps may fall behind and catch up (a slow step, a busy CPU)
 SLOW = 0.9                # "slower than real time" below this fraction of the asked speed
 ARROW = 0.12              # the longest drawn p is this fraction of the window
 # SDL's drivers that draw into memory only: it falls back to one of them when it finds no display
@@ -129,9 +131,10 @@ def _run_out(generator):
 class Pacer:
     """Simulated time due now: t_0 + speed (now - wall_0), from the last (re)start at (wall_0, t_0).
 
-    The loop takes the steps whose end is due; where it cannot keep up it restarts from where it is
-    (it never rushes to catch up) and `rate()` says how fast it went instead: simulated seconds per
-    wall second over the last `span` seconds of play, as a fraction of `speed`."""
+    The loop takes the steps whose end is due, catching up after a slow step; where it falls further
+    behind than CATCH_UP it goes on from where it is instead (no rush to catch up), and `rate()` says
+    how fast it went: simulated seconds per wall second over the last `span` seconds of play, as a
+    fraction of `speed`."""
 
     def __init__(self, clock, speed, h):
         self.clock, self.speed = clock, speed
@@ -258,6 +261,7 @@ class LiveWindow:
         self.slow = None            # the rate reached, when below SLOW of the asked speed
         self.slow_frames = 0        # frames drawn with the "slower than real time" note
         self.frames = 0
+        self.drawn_at = -math.inf   # when the last frame was drawn
 
     # -- the loop -------------------------------------------------------------------------------
 
@@ -272,7 +276,7 @@ class LiveWindow:
             playing = self.playing and not self.done
             if playing:
                 self.play()
-            if events or playing or self.frames == 0:      # else the picture has not changed
+            if events or self.frames == 0 or (playing and self.frame_due()):   # else nothing changed
                 self.draw()
             self.clock.sleep(max(0.0, started + 1.0 / FPS - self.clock.now()))
         return 0 if self.failure is None and self.write_error is None else 1
@@ -291,6 +295,12 @@ class LiveWindow:
                 self.one_step()
             elif event.key == pg.K_n and not self.playing:
                 self.one_newton_iteration()
+
+    def frame_due(self):
+        """Draw after this play? Yes while the steps keep up (FPS a second at most); when they are
+        behind, only every 1/MIN_FPS s: the time goes to the steps (frames dropped, not simulated time)."""
+        behind = self.pacer.due() - self.run.t >= self.scene.h
+        return not behind or self.stopped() or self.clock.now() - self.drawn_at >= 1.0 / MIN_FPS
 
     def stopped(self):
         """At the end of the run, or after a failed step: nothing to play or step."""
@@ -315,8 +325,8 @@ class LiveWindow:
         while not self.run.finished and self.run.t + self.scene.h <= self.pacer.due() + DUE_SLACK * self.scene.h:
             if not self.one_step() or self.clock.now() > deadline:
                 break
-        if self.pacer.due() - self.run.t > 2 * self.scene.h:     # behind: one step owed, never more
-            self.pacer.start(self.run.t + self.scene.h)
+        if self.pacer.due() - self.run.t > max(2 * self.scene.h, self.speed * CATCH_UP):
+            self.pacer.start(self.run.t + self.scene.h)         # too far behind: one step owed, no more
         self.pacer.sample(self.run.t)
         rate = self.pacer.rate()
         self.slow = rate if rate is not None and rate < SLOW else None
@@ -378,6 +388,7 @@ class LiveWindow:
         pg.display.flip()
         self.frames += 1
         self.slow_frames += self.slow is not None
+        self.drawn_at = self.clock.now()
 
     def status_lines(self):
         """(text, colour) under the caption: what the window is doing, the Newton iterate's figures."""
