@@ -409,18 +409,24 @@ def test_bad_window_flags_are_one_line_and_exit_code_2(capsys, flags, message):
 # ------------------------------------------------------------------------------------------------
 
 @needs_newton_hook
-def test_n_advances_exactly_one_newton_iteration_and_completes_the_step():
+@pytest.mark.parametrize("overrides, index", [({}, 31), ({}, 40), ({"h": 0.03}, 17), ({"friction_updates": 3}, 31)])
+def test_n_advances_exactly_one_newton_iteration_and_completes_the_step(overrides, index):
     """While paused, each n takes the next iterate of time_integrator.newton_iterates for the current
-    step and shows it; the n after the last iterate completes the step, with the x^{n+1} of step()."""
-    scene = simulator.build_scene()
+    step and shows it; the n after the last iterate completes the step, with the x^{n+1} of step().
+    Steps at the impact (the CCD bound below 1), sliding, at h = 0.03 where alpha is halved, and with
+    the fixed-point friction updates of Algorithm 5."""
+    scene = simulator.build_scene(**overrides)
 
     def script():
-        yield from frames_until(lambda: w.run.index >= 40)          # sliding on the slope
-        press("K_SPACE")
+        press("K_SPACE")                                            # paused at once,
+        press("K_r")                                                # back at the start,
+        for _ in range(index):                                      # and stepped to the step wanted
+            press("K_RIGHT")
         yield
-        index, x, v = w.run.index, w.run.x.copy(), w.run.v.copy()
+        assert w.run.index == index and not w.playing
+        x, v = w.run.x.copy(), w.run.v.copy()
         reference = time_integrator.newton_iterates(scene, x, v, step_index=index)
-        red_before = red_pixels(w)
+        red_before, updates = red_pixels(w), set()
         for count in range(1, 1000):
             press("K_n")
             yield
@@ -434,8 +440,14 @@ def test_n_advances_exactly_one_newton_iteration_and_completes_the_step():
             lines = " ".join(text for text, _ in w.status_lines())
             assert f"Newton iteration {count}" in lines and f"{expected.alpha:.4g}" in lines
             assert f"{expected.alpha_ccd:.4g}" in lines and f"{expected.residual:.3g} m/s" in lines
+            assert f"alpha_CCD / 2^{expected.halvings} = {expected.alpha:.4g}" in lines
+            assert (f"friction update {expected.friction_update}," if expected.friction_update else
+                    "lagged friction") in lines
+            updates.add(expected.friction_update)
             assert red_pixels(w) > red_before                       # p drawn as red arrows
         assert count >= 2 and w.run.index == index + 1 and w.run.iterate is None
+        assert updates == set(range(len(updates)))                  # the lagged solve, then updates 1, 2, ...
+        assert "friction_updates" not in overrides or 1 in updates  # (measured: the impact's step 32 re-solves)
         assert np.array_equal(w.run.x, x_next) and np.array_equal(w.run.v, v_next)
         assert np.array_equal(w.run.x, time_integrator.step(scene, x, v, step_index=index)[0])
 
