@@ -5,7 +5,8 @@ springs), stretched by 2 % and with its bottom row 5 mm above flat ground (so th
 are active there) and moving along it, this times the public val + grad + hess of every term, then
 building the CSR matrix M + h^2 sum hess from their IJV triplets, and compares the sum with one
 factorization-and-solve of that matrix by scipy.sparse.linalg.splu (symmetric mode, minimum-degree
-ordering of A^T + A, as the simulator uses for large systems). Target: ratio < 0.5.
+ordering of A^T + A), a sparse direct solve as a notebook would call it. (The simulator itself calls
+the unchecked kernels and solves with utils.SPDSolver; see benchmarks.speed.) Target: ratio < 0.5.
 
     python -m benchmarks.energies            # n_seg 64 and 128
     python -m benchmarks.energies --quick    # n_seg 8 and 16, a smoke run
@@ -18,6 +19,7 @@ import sys
 import time
 
 import numpy as np
+import scipy.sparse
 import scipy.sparse.linalg
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -29,7 +31,6 @@ import GravityEnergy      # noqa: E402
 import InertiaEnergy      # noqa: E402
 import MassSpringEnergy   # noqa: E402
 import square_mesh        # noqa: E402
-import utils              # noqa: E402
 
 H = 0.01
 COLUMNS = ["n_seg", "nodes", "springs", "inertia_ms", "spring_ms", "gravity_ms", "barrier_ms", "friction_ms",
@@ -84,12 +85,16 @@ def measure(n_seg, repeats):
     for name, f in terms(c).items():
         row[f"{name}_ms"] = median_ms(f, repeats)
         results[name] = f()
-    hessians = [results["inertia"][2]] + [utils.scale_ijv(results[t][2], H * H) for t in
-                                          ("spring", "gravity", "barrier", "friction")]
-    triplets = utils.concat_ijv(hessians)
+    # H = M + h^2 sum hess P: the potentials' values scaled by h^2, all triplets joined
+    hessians = [results["inertia"][2]] + [(rows, cols, H * H * vals) for rows, cols, vals in
+                                          (results[t][2] for t in ("spring", "gravity", "barrier", "friction"))]
+    rows, cols, vals = (np.concatenate(parts) for parts in zip(*hessians))
     n_dofs = 2 * len(c["x"])
-    row["csr_ms"] = median_ms(lambda: utils.ijv_to_csr(triplets, n_dofs), repeats)
-    A = utils.ijv_to_csr(triplets, n_dofs).tocsc()
+
+    def csr():
+        return scipy.sparse.csr_matrix((vals, (rows, cols)), shape=(n_dofs, n_dofs))
+    row["csr_ms"] = median_ms(csr, repeats)
+    A = csr().tocsc()
     b = sum(results[t][1] for t in results).ravel()
 
     def factor_solve():

@@ -1,25 +1,29 @@
-"""Speed of the time step, and how far it is above the floor, the sparse factorization.
+"""Speed of the time step: time per step by n_seg, and side by side against an earlier commit.
 
-For each n_seg the slope scene is stepped through a fixed window of time steps after the impact:
-steps per second, Newton iterations and factorizations per step, the time per step split into
-energy + assembly, linear solve, convergence proofs, line search and the rest, the ratio of the time
-per step to (factorizations, and to Newton iterations, x one factorization-and-solve of that step's
-matrix, timed after the window), the same ratio against the factorizations and solves the window's
-own steps ran (timed as they ran, so at the same moment), and the peak memory. For the lecture's
-dropped square (n_seg <= 32) it also times the whole default run (3 s, 300 steps; the median of 5
-runs up to n_seg 8, one run above), to compare with the lecture's loop-based code. Steps are taken
-as simulator.simulate takes them (each handed the previous step's report).
+The table: for each n_seg the slope scene is stepped through a fixed window of time steps (after
+the impact for the dropped square up to n_seg 32; at n_seg 64, where the impact takes minutes, the
+square starts on the slope, sliding as the dropped one does after its impact): the time per step
+(process CPU time and wall time, medians over repeats of the same window), Newton iterations per
+step, and the share of the step spent in `utils.SPDSolver.solve` (assembling the band and the
+factorization and solve) against the rest (energies, line search, CCD, friction update).
 
-    python -m benchmarks.speed               # n_seg 4 ... 128, about two minutes
-    python -m benchmarks.speed --quick       # a smoke run: n_seg 4 and 8, a few steps, a few seconds
-    python -m benchmarks.speed --sizes 4,32  # some sizes only
+The comparison (`--against REV`): the default scene run by `simulator.simulate` at n_seg 4 (300
+steps), 16 (300 steps) and 32 (150 steps, through the impact), once with the working tree and once
+with commit REV (exported with `git archive` into a temporary folder), each run in its own Python
+process with its tree first on sys.path, alternating A/B/A/B; medians of the per-step CPU and wall
+time, each tree's total Newton iterations (the same trajectory must take the same number: a mismatch
+is flagged) and the ratio working tree / REV. Only `simulator.build_scene(n_seg=...)`,
+`simulator.simulate(scene, steps)` and `record.report.newton_iterations` are used, so any tree that
+has them can be compared. REV may also be a folder holding a tree.
 
-Each size runs in its own Python process, so the peak memory (ru_maxrss) is that size's own. BLAS
-runs on one thread unless OPENBLAS_NUM_THREADS says otherwise: on a shared 2-core machine a second
-BLAS thread gains at most 20 % on the banded factorization and sometimes loses 10x to contention.
-Timings are medians over repeats of the same window (same state, same work); a figure is marked
-noisy when the repeats spread by more than 20 % or the process waited for a CPU more than 15 % of
-the time (wall / CPU time > 1.15): such a figure says more about the machine than the code.
+    python -m benchmarks.speed                       # the table, n_seg 4 ... 64 (about a minute)
+    python -m benchmarks.speed --against c6bcae2     # and the comparison (about 3 more minutes)
+    python -m benchmarks.speed --quick [--against REV]   # a smoke run, a few seconds
+
+Timing on a shared machine: other processes take the CPU at times, which stretches wall time but
+not the process's own CPU time, so the figures to read are the CPU medians; a line is marked noisy
+when wall / CPU time exceeds WAIT_LIMIT (the process waited for a CPU) or the repeats spread by more
+than SPREAD_LIMIT. BLAS runs on one thread unless OPENBLAS_NUM_THREADS says otherwise.
 """
 import os
 
@@ -27,57 +31,40 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")     # before numpy loads Open
 
 import argparse
 import csv
-import io
 import json
 import math
-import resource
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
 
-import numpy as np
-
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, ROOT)
 
-import BarrierEnergy       # noqa: E402  (the project's flat modules, after the path is set)
-import simulator           # noqa: E402
-import time_integrator     # noqa: E402
-import utils               # noqa: E402
-
-# The lecture's loop-based code on these machines (issues A and B): ms per step, ms per Newton iteration.
-LECTURE = {4: (15.0, None), 16: (830.0, 77.0), 32: (7500.0, 289.0)}
-
-# n_seg: (scene, steps before the window, window steps, repeats, factorization repeats)
-FULL = {4: ("drop", 110, 200, 5, 20), 8: ("drop", 110, 100, 5, 20), 16: ("drop", 110, 50, 5, 10),
-        32: ("drop", 110, 20, 5, 10), 64: ("slide", 5, 10, 3, 5), 128: ("slide", 5, 4, 3, 3)}
-QUICK = {4: ("drop", 40, 10, 3, 3), 8: ("drop", 40, 5, 3, 3)}
-RUN_STEPS = {"full": 300, "quick": 60}     # the whole default run, timed for the drop scenes:
-RUN_REPEATS, RUN_REPEAT_MAX_N_SEG = 5, 8        # the median of 5 up to n_seg 8, once above
-DROP_CAP = 1000     # Newton iteration cap for the drop: the impact needs > 100 at n_seg >= 16
+# n_seg: (scene, steps before the window, window steps, repeats)
+TABLE = {4: ("drop", 110, 200, 5), 8: ("drop", 110, 100, 5), 16: ("drop", 110, 50, 5),
+         32: ("drop", 110, 20, 3), 64: ("slide", 5, 10, 3)}
+TABLE_QUICK = {4: ("drop", 40, 10, 3), 8: ("drop", 40, 5, 3)}
+# n_seg: (steps from the start, runs per tree) for the comparison
+AGAINST = {4: (300, 7), 16: (300, 5), 32: (150, 3)}
+AGAINST_QUICK = {4: (30, 2)}
 SPREAD_LIMIT, WAIT_LIMIT = 0.20, 1.15
 
-COLUMNS = ["n_seg", "dof", "scene", "solver", "steps_per_s", "ms_per_step", "newton_per_step",
-           "factorizations_per_step", "energy_assembly_ms", "solve_ms", "proof_ms", "line_search_ms", "rest_ms",
-           "one_factor_solve_ms", "ratio_per_factorization", "ratio_per_newton", "in_step_factor_solve_ms",
-           "ratio_per_newton_in_step", "peak_mb", "run_ms_per_step", "run_newton_per_step",
-           "lecture_ms_per_step", "lecture_ms_per_newton", "noise"]
+COLUMNS = ["n_seg", "dof", "scene", "solver", "cpu_ms_per_step", "wall_ms_per_step", "newton_per_step",
+           "solve_share", "noise"]
+AGAINST_COLUMNS = ["n_seg", "steps", "runs", "cpu_ms_new", "cpu_ms_old", "cpu_ratio", "wall_ms_new", "wall_ms_old",
+                   "wall_ratio", "newton_new", "newton_old", "noise"]
 
 
 # ------------------------------------------------------------------------------------------------
-# Scenes
+# The table (in this process, with the working tree)
 # ------------------------------------------------------------------------------------------------
 
-def drop_scene(n_seg):
-    """The lecture's default scene (the square dropped onto the slope) at this n_seg."""
-    return simulator.build_scene(n_seg=n_seg, max_newton_iterations=DROP_CAP)
-
-
-def slide_scene(n_seg, d0=0.008, speed=0.43):
-    """The same slope and parameters, but the square starts on the slope, aligned with it (bottom
-    row at d0 < dhat), sliding down at `speed` m/s, as the dropped square does after its impact:
-    the window after the impact without paying for the impact (minutes at n_seg 64, hours at 128)."""
+def slide_scene(simulator, n_seg, d0=0.008, speed=0.43):
+    """The default slope and parameters, but the square starts on the slope, aligned with it (bottom
+    row at d0 < dhat), sliding down at `speed` m/s, as the dropped square does after its impact."""
+    import numpy as np
+    import BarrierEnergy
     theta = math.atan(0.1)
     probe = simulator.build_scene(n_seg=n_seg, angle=-theta, center=(0.0, 1.0))
     d = BarrierEnergy.distances(probe.x0, probe.n, probe.o)
@@ -86,270 +73,178 @@ def slide_scene(n_seg, d0=0.008, speed=0.43):
                                  v0=tuple(speed * tangent))
 
 
-# ------------------------------------------------------------------------------------------------
-# Timing (in the worker process of one size)
-# ------------------------------------------------------------------------------------------------
+class SolveTimer:
+    """Adds up the wall time spent in utils.SPDSolver.solve while it is open (the method is wrapped)."""
 
-PHASES = {  # (owner, attribute): phase; a call inside another timed call counts for its own phase only
-    (time_integrator.IncrementalPotential, "evaluate"): "energy_assembly",
-    (utils.BlockPattern, "matrix"): "energy_assembly",
-    (utils.BlockPattern, "to_csc"): "energy_assembly",
-    (utils.BlockPattern, "factor"): "solve",
-    (utils.BlockPattern, "solve"): "solve",
-    (time_integrator.NewtonSystem, "_cg_bound"): "proof",
-    (time_integrator.IncrementalPotential, "val"): "line_search",
-    (time_integrator, "_init_step_size"): "line_search",
-}
-
-
-class PhaseTimer:
-    """Wraps the functions of PHASES to add up their own wall time per phase (a timed call's time
-    less that of the timed calls inside it), keeps the slot values of the last matrix built (to time
-    its factorization afterwards), and the time of every factorization and triangular solve as the
-    steps ran them."""
-
-    def __init__(self):
-        self.seconds = dict.fromkeys(PHASES.values(), 0.0)
-        self.calls = {"factor": [], "solve": []}
-        self.last_upper = None
-        self.inner = []             # per open timed call: the time spent in timed calls inside it
-        self.originals = {key: getattr(*key) for key in PHASES}
+    def __init__(self, utils):
+        self.utils, self.seconds = utils, 0.0
 
     def __enter__(self):
-        for (owner, name), phase in PHASES.items():
-            setattr(owner, name, self._wrap(self.originals[owner, name], phase, name))
+        self.original = original = self.utils.SPDSolver.solve
+
+        def timed(solver, H, b):
+            start = time.perf_counter()
+            try:
+                return original(solver, H, b)
+            finally:
+                self.seconds += time.perf_counter() - start
+        self.utils.SPDSolver.solve = timed
         return self
 
     def __exit__(self, *exc):
-        for (owner, name), original in self.originals.items():
-            setattr(owner, name, original)
-
-    def _wrap(self, f, phase, name):
-        def timed(*args, **kw):
-            if name == "matrix":
-                self.last_upper = args[1]
-            self.inner.append(0.0)
-            start = time.perf_counter()
-            try:
-                return f(*args, **kw)
-            finally:
-                elapsed = time.perf_counter() - start
-                self.seconds[phase] += elapsed - self.inner.pop()
-                if name in self.calls:
-                    self.calls[name].append(elapsed)
-                if self.inner:
-                    self.inner[-1] += elapsed
-        return timed
+        self.utils.SPDSolver.solve = self.original
 
 
-def run_window(scene, x, v, steps, first_index, previous):
-    """Step `steps` times from (x, v), as simulator.simulate does (each step handed the previous
-    one's report); returns wall and CPU seconds, Newton iterations and factorizations."""
-    wall, cpu, newton, factorizations = time.perf_counter(), time.process_time(), 0, 0
-    report = previous
+def run_window(time_integrator, scene, x, v, first, steps):
+    """Take `steps` steps from (x, v): (wall s, CPU s, Newton iterations)."""
+    wall, cpu, newton = time.perf_counter(), time.process_time(), 0
     for i in range(steps):
-        x, v, report = time_integrator.step(scene, x, v, first_index + i, report)
+        x, v, report = time_integrator.step(scene, x, v, step_index=first + i)
         newton += report.newton_iterations
-        factorizations += report.factorizations
-    return time.perf_counter() - wall, time.process_time() - cpu, newton, factorizations
+    return time.perf_counter() - wall, time.process_time() - cpu, newton
 
 
-def time_factor_solve(pattern, upper, repeats):
-    """Median wall time of one factorization-and-solve of the matrix with slot values `upper`."""
-    b, times = np.ones(pattern.n_dofs), []
-    for _ in range(repeats):
-        A = pattern.matrix(upper)
-        start = time.perf_counter()
-        pattern.factor_solve(A, b)
-        times.append(time.perf_counter() - start)
-    return statistics.median(times), spread(times)
+def measure(n_seg, kind, warm, steps, repeats):
+    """One row of the table."""
+    sys.path.insert(0, ROOT)
+    import simulator
+    import time_integrator
+    import utils
+    scene = simulator.build_scene(n_seg=n_seg) if kind == "drop" else slide_scene(simulator, n_seg)
+    x, v = scene.x0, scene.v0
+    for i in range(warm):
+        x, v, _ = time_integrator.step(scene, x, v, step_index=i)
+    runs = [run_window(time_integrator, scene, x, v, warm, steps) for _ in range(repeats)]
+    with SolveTimer(utils) as timer:
+        wall_instrumented = run_window(time_integrator, scene, x, v, warm, steps)[0]
+    walls, cpus = [r[0] for r in runs], [r[1] for r in runs]
+    return {"n_seg": n_seg, "dof": 2 * len(scene.x0), "scene": kind, "solver": scene.solver.kind,
+            "cpu_ms_per_step": 1e3 * statistics.median(cpus) / steps,
+            "wall_ms_per_step": 1e3 * statistics.median(walls) / steps,
+            "newton_per_step": runs[0][2] / steps, "solve_share": timer.seconds / wall_instrumented,
+            "noise": noise(walls, cpus)}
 
 
 def spread(values):
     return (max(values) - min(values)) / statistics.median(values)
 
 
-def measure(n_seg, scene_kind, warm, steps, repeats, fs_repeats, run_steps):
-    """All figures of one size (runs in the worker process)."""
-    scene = drop_scene(n_seg) if scene_kind == "drop" else slide_scene(n_seg)
-    x, v, report, out = scene.x0, scene.v0, None, {}
-    if scene_kind == "drop":              # the whole default run; the window starts inside it
-        runs, saved = [], None
-        for _ in range(RUN_REPEATS if n_seg <= RUN_REPEAT_MAX_N_SEG else 1):
-            x, v, report = scene.x0, scene.v0, None
-            wall, newton = time.perf_counter(), 0
-            for i in range(max(run_steps, warm)):
-                if i == warm:
-                    saved = (x, v, report)
-                x, v, report = time_integrator.step(scene, x, v, i, report)
-                if i < run_steps:
-                    newton += report.newton_iterations
-                if i + 1 == run_steps:
-                    runs.append(time.perf_counter() - wall)
-        out["run_ms_per_step"] = 1e3 * statistics.median(runs) / run_steps
-        out["run_steps"] = run_steps
-        out["run_newton_per_step"] = newton / run_steps
-        x, v, report = saved if saved is not None else (x, v, report)
-    else:
-        for i in range(warm):
-            x, v, report = time_integrator.step(scene, x, v, i, report)
-
-    # the split: instrumented runs of the window, keeping three of its matrices to factor below, and
-    # the in-step ratio: the window's time over its own factorizations and solves, timed as they ran
-    phases, uppers, in_step = [], [], []
-    for _ in range(repeats):
-        timer = PhaseTimer()
-        xs, vs, previous, newton = x, v, report, 0
-        with timer:
-            wall = time.perf_counter()
-            for i in range(steps):
-                xs, vs, previous = time_integrator.step(scene, xs, vs, warm + i, previous)
-                newton += previous.newton_iterations
-                if i in (0, steps // 2, steps - 1) and len(uppers) < 3:
-                    uppers.append(timer.last_upper)
-            wall = time.perf_counter() - wall
-        phases.append(timer.seconds)
-        fs = statistics.fmean(timer.calls["factor"]) + statistics.median(timer.calls["solve"])
-        in_step.append((fs, wall / (newton * fs)))
-    # the clean window, each repeat followed at once by one factorization-and-solve of one of those
-    # matrices: a ratio compares two times taken while the machine ran at the same speed
-    clean, fs_times, fs_spreads = [], [], []
-    for r in range(repeats):
-        clean.append(run_window(scene, x, v, steps, warm, report))
-        fs, fs_spread = time_factor_solve(scene.pattern, uppers[r % len(uppers)], fs_repeats)
-        fs_times.append(fs)
-        fs_spreads.append(fs_spread)
-    walls, cpus = [c[0] for c in clean], [c[1] for c in clean]
-    per_step = statistics.median(walls) / steps
-    one_fs = statistics.median(fs_times)
-    newton, factorizations = clean[0][2] / steps, clean[0][3] / steps
-
-    def ratio(per):
-        return statistics.median(w / steps / (per * fs) for w, fs in zip(walls, fs_times)) if per else math.inf
-    out.update(
-        n_seg=n_seg, dof=scene.pattern.n_dofs, scene=scene_kind, solver=scene.pattern.solver,
-        steps_per_s=1.0 / per_step, ms_per_step=1e3 * per_step, newton_per_step=newton,
-        factorizations_per_step=factorizations, one_factor_solve_ms=1e3 * one_fs,
-        ratio_per_factorization=ratio(factorizations), ratio_per_newton=ratio(newton),
-        in_step_factor_solve_ms=1e3 * statistics.median(f for f, _ in in_step),
-        ratio_per_newton_in_step=statistics.median(r for _, r in in_step),
-        peak_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0)
-    for phase in ("energy_assembly", "solve", "proof", "line_search"):
-        out[f"{phase}_ms"] = 1e3 * statistics.median(p[phase] for p in phases) / steps
-    instrumented = statistics.median(sum(p.values()) for p in phases) / steps
-    out["rest_ms"] = 1e3 * max(per_step - instrumented, 0.0)
-    out["noise"] = noise_verdict(walls, cpus, statistics.median(fs_spreads))
-    return out
-
-
-def noise_verdict(walls, cpus, fs_spread):
-    """'ok', or why the machine was too noisy for the figures of this size to mean much."""
+def noise(walls, cpus):
+    """'ok', or why the machine was too busy for these figures to mean much."""
     reasons = []
-    if spread(walls) > SPREAD_LIMIT:
-        reasons.append(f"repeats spread {100 * spread(walls):.0f}%")
-    if fs_spread > SPREAD_LIMIT:
-        reasons.append(f"factorizations spread {100 * fs_spread:.0f}%")
+    if spread(cpus) > SPREAD_LIMIT:
+        reasons.append(f"CPU times spread {100 * spread(cpus):.0f}%")
     wait = statistics.median(walls) / statistics.median(cpus)
     if wait > WAIT_LIMIT:
         reasons.append(f"wall/CPU {wait:.2f}")
     return "NOISY: " + ", ".join(reasons) if reasons else "ok"
 
 
-# ------------------------------------------------------------------------------------------------
-# The table
-# ------------------------------------------------------------------------------------------------
-
-def run_size(n_seg, config, mode):
-    """Measure one size in a fresh Python process; its figures as a dict."""
-    job = json.dumps({"n_seg": n_seg, "config": list(config), "run_steps": RUN_STEPS[mode]})
-    done = subprocess.run([sys.executable, "-m", "benchmarks.speed", "--worker", job], cwd=ROOT,
-                          capture_output=True, text=True, env={**os.environ, "OPENBLAS_NUM_THREADS":
-                                                                os.environ["OPENBLAS_NUM_THREADS"]})
-    if done.returncode != 0:
-        raise RuntimeError(f"n_seg {n_seg} failed:\n{done.stderr}")
-    row = json.loads(done.stdout.strip().splitlines()[-1])
-    lecture = LECTURE.get(n_seg, (None, None)) if config[0] == "drop" else (None, None)
-    row["lecture_ms_per_step"], row["lecture_ms_per_newton"] = lecture
-    return row
-
-
-def fmt(value, digits=3):
-    if value is None:
-        return "-"
-    if isinstance(value, str):
-        return value
-    if isinstance(value, int):
-        return str(value)
-    if value >= 100:
-        return f"{value:.0f}"
-    return f"{value:.{digits}g}"
-
-
 def format_table(rows):
-    """The table as printed: one line per n_seg, then the notes."""
-    head = ["n_seg", "DOF", "scene", "solver", "steps/s", "ms/step", "Newton/step", "fact/step",
-            "energy+asm", "solve", "proof", "line srch", "rest", "1 f+s ms", "t/(fact*f+s)", "t/(Newton*f+s)",
-            "f+s in step", "t/(Newton*f+s in step)", "peak MB", "noise"]
-    keys = ["n_seg", "dof", "scene", "solver", "steps_per_s", "ms_per_step", "newton_per_step",
-            "factorizations_per_step", "energy_assembly_ms", "solve_ms", "proof_ms", "line_search_ms", "rest_ms",
-            "one_factor_solve_ms", "ratio_per_factorization", "ratio_per_newton", "in_step_factor_solve_ms",
-            "ratio_per_newton_in_step", "peak_mb", "noise"]
-    cells = [head] + [[fmt(r[k]) for k in keys] for r in rows]
-    widths = [max(len(c[i]) for c in cells) for i in range(len(head))]
-    lines = ["  ".join(c.rjust(w) if i < len(head) - 1 else c for i, (c, w) in enumerate(zip(line, widths)))
-             for line in cells]
-    lines.insert(1, "-" * len(lines[0]))
-    return "\n".join(lines + [""] + notes(rows))
+    head = ["n_seg", "DOF", "scene", "solver", "CPU ms/step", "wall ms/step", "Newton/step", "solve", "rest", "noise"]
+    cells = [head] + [[str(r["n_seg"]), str(r["dof"]), r["scene"], r["solver"], f"{r['cpu_ms_per_step']:.3g}",
+                       f"{r['wall_ms_per_step']:.3g}", f"{r['newton_per_step']:.3g}",
+                       f"{100 * r['solve_share']:.0f}%", f"{100 * (1 - r['solve_share']):.0f}%", r["noise"]]
+                      for r in rows]
+    return "\n".join(aligned(cells) + [
+        "CPU, wall: medians over repeats of one window of steps; drop: the default scene after the impact;",
+        "slide: the square placed on the slope sliding at 0.43 m/s; solve: share of the window's wall time in",
+        "utils.SPDSolver.solve (band assembly, factorization, triangular solves), rest: everything else"])
 
 
-def notes(rows):
-    out = ["energy+asm, solve, proof, line srch, rest: ms per step (an instrumented run of the same window);",
-           "energy+asm: E, grad E and H at the line search's first trials, H's band or CSC form; solve: factorizations",
-           "and triangular solves; proof: the rest of the conjugate-gradient convergence checks; line srch: CCD",
-           "and halved trials;",
-           "fact = factorizations per step: one per Newton direction, plus one per solve for the final",
-           "convergence check unless that was shown without one (time_integrator.NewtonSystem);",
-           "1 f+s = one factorization-and-solve of that step's matrix with the solver the simulator uses, timed",
-           "right after each clean window (the median of several on the same matrix);",
-           "f+s in step = the mean factorization plus the median triangular solve, as the instrumented window's",
-           "steps ran them: the ratio beside it divides that window's time by them, so both were measured at",
-           "the same moment (the machine's speed drifts between a window and a timing after it);",
-           "drop: the lecture's default scene, steps 110.. after the impact; slide: square placed on the slope,",
-           "sliding at 0.43 m/s (the speed after the impact), steps 5..; peak MB: the process's max RSS."]
-    lecture = [r for r in rows if r.get("run_ms_per_step") is not None]
-    if lecture:
-        steps = lecture[0]["run_steps"]
-        what = "3 s = 300 steps incl. the impact" if steps == RUN_STEPS["full"] else f"its first {steps} steps"
-        out.append(f"Whole default run ({what}; median of {RUN_REPEATS} runs up to n_seg "
-                   f"{RUN_REPEAT_MAX_N_SEG}, one above) vs the lecture's loop-based code:")
-    for r in lecture:
-        ms_per_newton = r["run_ms_per_step"] / r["run_newton_per_step"]
-        line = (f"  n_seg {r['n_seg']:>3}: {1e3 / r['run_ms_per_step']:.0f} steps/s, {r['run_ms_per_step']:.3g} ms/step, "
-                f"{r['run_newton_per_step']:.3g} "
-                f"Newton/step, {ms_per_newton:.3g} ms/Newton")
-        if r["lecture_ms_per_step"] is not None:
-            line += f"; lecture {r['lecture_ms_per_step']:.4g} ms/step: {r['lecture_ms_per_step'] / r['run_ms_per_step']:.0f}x"
-        if r["lecture_ms_per_newton"] is not None:
-            line += (f"; lecture {r['lecture_ms_per_newton']:.3g} ms/Newton: "
-                     f"{r['lecture_ms_per_newton'] / ms_per_newton:.0f}x")
-        out.append(line)
-    noisy = [str(r["n_seg"]) for r in rows if r["noise"] != "ok"]
-    if noisy:
-        out.append(f"NOISY machine for n_seg {', '.join(noisy)}: those timings do not mean much; rerun when it is quiet.")
-    out.append(f"BLAS threads: OPENBLAS_NUM_THREADS={os.environ['OPENBLAS_NUM_THREADS']}")
-    return out
+def aligned(cells):
+    widths = [max(len(c[i]) for c in cells) for i in range(len(cells[0]))]
+    lines = ["  ".join(c.rjust(w) for c, w in zip(line[:-1], widths)) + "  " + line[-1] for line in cells]
+    return lines[:1] + ["-" * len(lines[0])] + lines[1:]
 
 
-def write_csv(path, rows):
-    buffer = io.StringIO()
-    writer = csv.writer(buffer, lineterminator="\n")
-    writer.writerow(COLUMNS)
-    for r in rows:
-        writer.writerow([f"{r[c]:.6g}" if isinstance(r.get(c), float) else ("" if r.get(c) is None else r[c])
-                         for c in COLUMNS])
+# ------------------------------------------------------------------------------------------------
+# The comparison: each run a fresh process with its tree first on sys.path
+# ------------------------------------------------------------------------------------------------
+
+def run_default_scene(tree, n_seg, steps):
+    """(CPU s, wall s, Newton iterations) of `steps` steps of simulator.simulate on the default scene
+    at n_seg, with `tree`'s modules (runs in the worker process)."""
+    sys.path.insert(0, tree)
+    import simulator
+    scene = simulator.build_scene(n_seg=n_seg)
+    newton, wall, cpu = 0, time.perf_counter(), time.process_time()
+    for record in simulator.simulate(scene, steps):
+        newton += record.report.newton_iterations
+    return time.process_time() - cpu, time.perf_counter() - wall, newton
+
+
+def run_in_process(tree, n_seg, steps):
+    job = json.dumps({"tree": tree, "n_seg": n_seg, "steps": steps})
+    done = subprocess.run([sys.executable, "-m", "benchmarks.speed", "--worker", job], cwd=ROOT,
+                          capture_output=True, text=True)
+    if done.returncode != 0:
+        raise RuntimeError(f"n_seg {n_seg} with the tree {tree} failed:\n{done.stderr}")
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def compare(new_tree, old_tree, configs):
+    """The comparison's rows: per n_seg, runs alternating new/old, medians per step."""
+    rows = []
+    for n_seg, (steps, runs) in configs.items():
+        new, old = [], []
+        for r in range(runs):
+            new.append(run_in_process(new_tree, n_seg, steps))
+            old.append(run_in_process(old_tree, n_seg, steps))
+            print(f"  n_seg {n_seg} run {r + 1}/{runs}: CPU {new[-1][0] / steps * 1e3:.3g} ms/step (working tree), "
+                  f"{old[-1][0] / steps * 1e3:.3g} (against)", file=sys.stderr, flush=True)
+        row = {"n_seg": n_seg, "steps": steps, "runs": runs}
+        for name, results in (("new", new), ("old", old)):
+            row[f"cpu_ms_{name}"] = 1e3 * statistics.median(c for c, _, _ in results) / steps
+            row[f"wall_ms_{name}"] = 1e3 * statistics.median(w for _, w, _ in results) / steps
+            row[f"newton_{name}"] = results[0][2]
+        row["cpu_ratio"] = row["cpu_ms_new"] / row["cpu_ms_old"]
+        row["wall_ratio"] = row["wall_ms_new"] / row["wall_ms_old"]
+        same = {n for _, _, n in new} | {n for _, _, n in old}
+        noisy = [f"{name}: {verdict}" for name, results in (("new", new), ("old", old))
+                 if (verdict := noise([w for _, w, _ in results], [c for c, _, _ in results])) != "ok"]
+        row["noise"] = "; ".join(noisy) or "ok"
+        if len(same) != 1:
+            row["noise"] = f"NEWTON MISMATCH ({sorted(same)}); " + row["noise"]
+        rows.append(row)
+    return rows
+
+
+def format_comparison(rows, rev):
+    head = ["n_seg", "steps", "runs", "CPU ms/step new", f"CPU {rev}", "CPU new/old", "wall ms/step new",
+            f"wall {rev}", "wall new/old", "Newton new", f"Newton {rev}", "noise"]
+    cells = [head] + [[str(r["n_seg"]), str(r["steps"]), str(r["runs"]), f"{r['cpu_ms_new']:.3g}",
+                       f"{r['cpu_ms_old']:.3g}", f"{r['cpu_ratio']:.2f}", f"{r['wall_ms_new']:.3g}",
+                       f"{r['wall_ms_old']:.3g}", f"{r['wall_ratio']:.2f}", str(r["newton_new"]),
+                       str(r["newton_old"]), r["noise"]] for r in rows]
+    return "\n".join(aligned(cells) + [
+        f"new: the working tree; {rev}: the tree compared against; the default scene from its start through",
+        "simulator.simulate, each run a fresh process, runs alternating new/old; medians of CPU and wall time per step;",
+        "Newton: total Newton iterations of a run (the same trajectory must take the same number)"])
+
+
+def export_tree(rev, folder):
+    """The tree to compare against: `rev` itself if it is a folder, else commit `rev` (git archive into
+    `folder`; the checkout is not touched)."""
+    if os.path.isdir(rev):
+        return os.path.abspath(rev)
+    archive = subprocess.run(["git", "-C", ROOT, "archive", "--format=tar", rev], capture_output=True)
+    if archive.returncode != 0:
+        raise SystemExit(f"speed: error: git archive {rev}: {archive.stderr.decode().strip()}")
+    subprocess.run(["tar", "-x", "-C", folder], input=archive.stdout, check=True)
+    return folder
+
+
+# ------------------------------------------------------------------------------------------------
+# The command line
+# ------------------------------------------------------------------------------------------------
+
+def write_csv(path, columns, rows):
     os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
-    with open(path, "w") as f:
-        f.write(buffer.getvalue())
+    with open(path, "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=columns, extrasaction="ignore", lineterminator="\n")
+        writer.writeheader()
+        writer.writerows({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in r.items()} for r in rows)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -428,9 +323,11 @@ def window_table(sizes=WINDOW_N_SEGS):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="python -m benchmarks.speed", description=__doc__.split("\n\n")[0])
-    ap.add_argument("--quick", action="store_true", help="smoke run: n_seg 4 and 8, few steps")
-    ap.add_argument("--sizes", help="comma-separated n_seg values (default: all of the mode)")
-    ap.add_argument("--csv", help="CSV path (default benchmarks/results/speed.csv, --quick: benchmarks/out/)")
+    ap.add_argument("--quick", action="store_true", help="smoke run: n_seg 4 and 8, few steps (comparison: n_seg 4)")
+    ap.add_argument("--against", metavar="REV", help="also compare with this commit (or folder), side by side")
+    ap.add_argument("--sizes", help="comma-separated n_seg values of the table (default: all of the mode)")
+    ap.add_argument("--csv", help="the table's CSV (default benchmarks/results/speed.csv, --quick: benchmarks/out/); "
+                                  "the comparison's goes beside it, '-against' added to the name")
     ap.add_argument("--worker", help=argparse.SUPPRESS)
     ap.add_argument("--window", action="store_true", help="only the live window's real-time figures (n_seg 4, 8)")
     args = ap.parse_args(argv)
@@ -439,22 +336,26 @@ def main(argv=None):
         return 0
     if args.worker:
         job = json.loads(args.worker)
-        print(json.dumps(measure(job["n_seg"], *job["config"], run_steps=job["run_steps"])))
+        print(json.dumps(run_default_scene(job["tree"], job["n_seg"], job["steps"])))
         return 0
-    mode = "quick" if args.quick else "full"
-    configs = QUICK if args.quick else FULL
-    sizes = [int(s) for s in args.sizes.split(",")] if args.sizes else list(configs)
+    table = TABLE_QUICK if args.quick else TABLE
+    sizes = [int(s) for s in args.sizes.split(",")] if args.sizes else list(table)
     rows = []
     for n_seg in sizes:
-        config = configs.get(n_seg) or (("drop", 110, 10, 3, 5) if n_seg <= 32 else ("slide", 5, 3, 3, 3))
-        rows.append(run_size(n_seg, config, mode))
-        print(f"n_seg {n_seg}: {rows[-1]['ms_per_step']:.3g} ms/step", file=sys.stderr, flush=True)
-    table = format_table(rows)
-    print(table)
-    path = args.csv or os.path.join(ROOT, "benchmarks", "out" if args.quick else "results",
-                                    "speed-quick.csv" if args.quick else "speed.csv")
-    write_csv(path, rows)
-    print(f"CSV: {os.path.relpath(path, ROOT)}")
+        rows.append(measure(n_seg, *table.get(n_seg, ("drop" if n_seg <= 32 else "slide", 110 if n_seg <= 32 else 5, 10, 3))))
+        print(f"n_seg {n_seg}: {rows[-1]['cpu_ms_per_step']:.3g} ms/step", file=sys.stderr, flush=True)
+    print(format_table(rows))
+    path = args.csv or os.path.join(ROOT, "benchmarks", "out" if args.quick else "results", "speed.csv")
+    write_csv(path, COLUMNS, rows)
+    if args.against:
+        with tempfile.TemporaryDirectory(prefix="speed-against-") as folder:
+            old_tree = export_tree(args.against, folder)
+            comparison = compare(ROOT, old_tree, AGAINST_QUICK if args.quick else AGAINST)
+        print()
+        print(format_comparison(comparison, args.against))
+        write_csv(path[:-len(".csv")] + "-against.csv" if path.endswith(".csv") else path + "-against",
+                  AGAINST_COLUMNS, comparison)
+    print(f"BLAS threads: OPENBLAS_NUM_THREADS={os.environ['OPENBLAS_NUM_THREADS']}")
     return 0
 
 
