@@ -267,9 +267,12 @@ class MeteredClock:
     def sleep(self, seconds):
         rate = self.window.pacer.rate() if self.window.pacer.samples else None
         self.lowest_rate = min(self.lowest_rate, math.inf if rate is None else rate)
-        if self.window.run.finished and self.end is None:
+        if self.end is not None:            # the run is over: the close button is on its way
+            return
+        if self.window.run.finished:
             self.end = time.perf_counter()
             self.window.pygame.event.post(self.window.pygame.event.Event(self.window.pygame.QUIT))
+            return
         start = time.perf_counter()
         time.sleep(seconds)
         self.slept += time.perf_counter() - start
@@ -282,8 +285,10 @@ def window_real_time(n_seg, speed=1.0, duration=3.0):
     loop was busy (not sleeping), frames drawn and those with the 'slower than real time' note, and
     the lowest rate the window measured (over its one-second spans, as a fraction of speed)."""
     os.environ["SDL_VIDEODRIVER"] = "dummy"
+    sys.path.insert(0, ROOT)
+    import simulator
     from viewer import window
-    scene = drop_scene(n_seg)
+    scene = simulator.build_scene(n_seg=n_seg)
     steps = int(round(duration / scene.h))
     pygame = window.open_display()
     try:
@@ -310,9 +315,9 @@ def window_table(sizes=WINDOW_N_SEGS):
     for n_seg in sizes:
         for speed in (1.0, 100.0):
             r = window_real_time(n_seg, speed)
+            lowest = f"{r['lowest_rate']:.2g}" if r["lowest_rate"] < math.inf else "-"
             lines.append(f"  {n_seg:>5}  {speed:>5g}  {r['wall_per_simulated']:>16.3f}  {r['cpu_per_simulated']:>15.3f}  "
-                         f"{100 * r['busy']:>3.0f}%  "
-                         f"{r['frames']:>6}  {r['slow_frames']:>15}  {fmt(r['lowest_rate'], 2) if r['lowest_rate'] < math.inf else '-':>11}  "
+                         f"{100 * r['busy']:>3.0f}%  {r['frames']:>6}  {r['slow_frames']:>15}  {lowest:>11}  "
                          f"{1 / r['wall_per_simulated']:>6.2f}")
     lines.append("CPU/simulated: CPU seconds per simulated second (below 1: one free core keeps real time);")
     lines.append("busy: share of the wall time not spent sleeping between frames; lowest rate: simulated over wall")
