@@ -16,8 +16,8 @@ is flagged) and the ratio working tree / REV. Only `simulator.build_scene(n_seg=
 `simulator.simulate(scene, steps)` and `record.report.newton_iterations` are used, so any tree that
 has them can be compared. REV may also be a folder holding a tree.
 
-    python -m benchmarks.speed                       # the table, n_seg 4 ... 64 (about a minute)
-    python -m benchmarks.speed --against c6bcae2     # and the comparison (about 3 more minutes)
+    python -m benchmarks.speed                       # the table, n_seg 4 ... 64 (1-2 minutes)
+    python -m benchmarks.speed --against c6bcae2     # and the comparison (3 min CPU, 5-7 min on a busy machine)
     python -m benchmarks.speed --quick [--against REV]   # a smoke run, a few seconds
 
 Timing on a shared machine: other processes take the CPU at times, which stretches wall time but
