@@ -4,8 +4,10 @@ Library use:   scene = build_scene(mu=0.2);  for record in simulate(scene, steps
 Command line:  python simulator.py --help
 
 `build_scene` validates every parameter and builds the model once (mesh, masses, rest lengths,
-slope, which energy terms exist); `simulate` steps it with time_integrator.step. pygame is imported
-only where frames are drawn, so importing this module opens no window and needs no display.
+slope, which energy terms exist); `simulate` steps it with time_integrator.step; `run` is the
+command line's run, and what it writes (frames, log.csv, plots, summary, index.html) is drawn by the
+viewer/ package. pygame is imported only where frames are drawn, so importing this module opens no
+window and needs no display.
 """
 import os
 
@@ -15,12 +17,12 @@ if __name__ == "__main__":
     os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 import argparse
-import csv
 import decimal
-import io
 import math
 import re
+import signal
 import sys
+import threading
 import time
 import types
 from dataclasses import dataclass, field
@@ -28,11 +30,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 import BarrierEnergy
-import GravityEnergy
-import MassSpringEnergy
 import square_mesh
 import time_integrator
 import utils
+from viewer import draw, files, recording
+from viewer.diagnostics import energies     # noqa: F401  (simulator.energies, as tests and notebooks call it)
 
 DEFAULTS = types.MappingProxyType({
     "side_len": 1.0,            # m
@@ -433,18 +435,6 @@ def build_scene(**overrides):
         solver=utils.SPDSolver.for_mesh(n_nodes, e))
 
 
-def energies(scene, x, v):
-    """Mechanical energy by term: kinetic, gravity, spring, barrier (J), and their total."""
-    out = {"kinetic": 0.5 * float(np.sum(scene.m * np.einsum("ij,ij->i", v, v))),
-           "gravity": GravityEnergy.val(x, scene.m, scene.g),
-           "spring": MassSpringEnergy.val(x, scene.e, scene.l2, scene.k),
-           "barrier": 0.0}
-    if "barrier" in scene.terms:
-        out["barrier"] = BarrierEnergy.val(x, scene.n, scene.o, scene.contact_area, scene.dhat, scene.kappa)
-    out["total"] = sum(out.values())
-    return out
-
-
 @dataclass
 class StepRecord:
     """One step of a run: its index, time after it, the new state, its report and wall time."""
@@ -468,111 +458,8 @@ def simulate(scene, steps, x=None, v=None):
 
 
 # ------------------------------------------------------------------------------------------------
-# Drawing (pygame on an off-screen surface)
-# ------------------------------------------------------------------------------------------------
-
-RESOLUTION = 900
-SCALE = 200.0               # pixels per metre, the lecture's
-BLUE = (0, 0, 255)
-
-
-def _pygame(window=False):
-    if not window:
-        os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
-    os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
-    import pygame
-    pygame.font.init()
-    return pygame
-
-
-class View:
-    """Maps world coordinates to pixels; pans only once the square is 1.2 m from the view's centre."""
-
-    def __init__(self, scale=SCALE, size=RESOLUTION):
-        self.scale, self.size, self.center = scale, size, np.zeros(2)
-
-    def follow(self, com, margin=1.2):
-        offset = com - self.center
-        self.center = self.center + offset - np.clip(offset, -margin, margin)
-
-    def __call__(self, p):
-        q = (np.asarray(p) - self.center) * self.scale
-        return np.stack([self.size / 2 + q[..., 0], self.size / 2 - q[..., 1]], axis=-1)
-
-
-def draw_slope(pygame, surface, scene, view, color=BLUE):
-    if scene.n is None:
-        return
-    tangent = np.array([scene.n[1], -scene.n[0]])
-    reach = 2.0 * view.size / view.scale
-    foot = scene.o + np.dot(view.center - scene.o, tangent) * tangent
-    a, b = view(foot - reach * tangent), view(foot + reach * tangent)
-    pygame.draw.aaline(surface, color, a.tolist(), b.tolist())
-
-
-def draw_square(pygame, surface, scene, x, view, color=BLUE, nodes=True):
-    """Springs as the mesh's polylines (one pygame call per row, column or diagonal), and the nodes
-    as dots of a tenth of the spacing, when that is at least a pixel."""
-    px = view(x)
-    for line in square_mesh.polylines(scene.n_seg):
-        pygame.draw.aalines(surface, color, False, px[line].tolist())
-    radius = int(0.1 * scene.side_len / scene.n_seg * view.scale)
-    if nodes and radius >= 1:
-        for q in px.tolist():
-            pygame.draw.circle(surface, color, q, radius)
-
-
-def draw_frame(pygame, scene, x, t, view, font):
-    """One frame as in the lecture: white, the slope as a line, springs and nodes in blue."""
-    surface = pygame.Surface((view.size, view.size))
-    surface.fill((255, 255, 255))
-    draw_slope(pygame, surface, scene, view)
-    draw_square(pygame, surface, scene, x, view)
-    surface.blit(font.render(f"t = {t:.2f} s   mu = {scene.mu:g}", True, (0, 0, 0)), (12, 10))
-    return surface
-
-
-def save_png(pygame, surface, path):
-    """Save a surface as PNG, atomically."""
-    buffer = io.BytesIO()
-    pygame.image.save(surface, buffer, "png")
-    square_mesh.write_atomic(path, buffer.getvalue())
-
-
-def draw_summary(pygame, scene, snapshots, com_path, lines, font):
-    """Every stored snapshot overlaid (older ones lighter), the centre-of-mass path, the parameters."""
-    pts = np.concatenate([com_path] + [s for s in snapshots])
-    lo, hi = pts.min(axis=0), pts.max(axis=0)
-    size = RESOLUTION
-    scale = min(SCALE, 0.8 * size / max(float((hi - lo).max()), 1e-9))
-    view = View(scale, size)
-    view.center = 0.5 * (lo + hi)
-    surface = pygame.Surface((size, size))
-    surface.fill((255, 255, 255))
-    draw_slope(pygame, surface, scene, view, (0, 0, 0))
-    count = len(snapshots)
-    for i, x in enumerate(snapshots):
-        shade = int(200 * (1 - (i + 1) / count))
-        draw_square(pygame, surface, scene, x, view, (shade, shade, 255), nodes=False)
-    if len(com_path) > 1:
-        pygame.draw.lines(surface, (220, 0, 0), False, view(com_path).tolist(), 2)
-    for row, text in enumerate(lines):
-        surface.blit(font.render(text, True, (0, 0, 0)), (12, 10 + 22 * row))
-    return surface
-
-
-# ------------------------------------------------------------------------------------------------
 # Command line
 # ------------------------------------------------------------------------------------------------
-
-CSV_COLUMNS = ["step", "t", "wall_s", "com_x", "com_y", "v_tangential", "newton_iterations",
-               "residual", "alpha_min", "line_search_steps", "min_distance",
-               "friction_iterations", "friction_converged", "E_kinetic", "E_gravity", "E_spring",
-               "E_barrier", "E_total", "W_friction"]
-
-
-CSV_EVERY = 2.0    # seconds of wall time between rewrites of log.csv during a run (always at the end)
-
 
 class CommandLineError(Exception):
     """A bad command line: reported in one line, exit code 2."""
@@ -631,7 +518,8 @@ def make_parser():
     length.add_argument("--duration", type=float, default=3.0, help="simulated seconds (default %(default)s)")
     length.add_argument("--steps", type=float, help="number of time steps, instead of --duration")
     r.add_argument("--out", help="output folder (default output; with --window, files only when given)")
-    r.add_argument("--frame-stride", type=float, default=1, help="write a frame every N steps (default %(default)s)")
+    r.add_argument("--frame-stride", type=float, help="write a frame every N steps (default: 30 or more a simulated second)")
+    r.add_argument("--no-forces", action="store_true", help="draw no force arrows in the frames")
     r.add_argument("--no-frames", action="store_true", help="write only the CSV log and summary picture")
     r.add_argument("--window", action="store_true", help="show the run live in a pygame window (see README, Live demo)")
     r.add_argument("--size", type=float, help="--window: its side in pixels (default: fit the display)")
@@ -685,101 +573,136 @@ def prepare_output(folder):
                          f"({err.strerror or err})") from None
 
 
-def csv_row(scene, record, friction_work):
-    """One log.csv row; `friction_work` is the friction work summed over the run so far (J, <= 0)."""
-    rep, x, v = record.report, record.x, record.v
-    com = np.average(x, axis=0, weights=scene.m)
-    vcom = np.average(v, axis=0, weights=scene.m)
-    tangent = np.array([scene.n[1], -scene.n[0]]) if scene.n is not None else np.array([1.0, 0.0])
-    E = energies(scene, x, v)
-    return [record.index + 1, f"{record.t:.6f}", f"{record.wall:.6f}", f"{com[0]:.9f}", f"{com[1]:.9f}",
-            f"{float(vcom @ tangent):.9f}", rep.newton_iterations, f"{rep.residual:.3e}",
-            f"{min(rep.alphas, default=1.0):.6g}", len(rep.alphas), f"{rep.min_distance:.9g}",
-            rep.friction_iterations, int(rep.friction_converged), f"{E['kinetic']:.9g}",
-            f"{E['gravity']:.9g}", f"{E['spring']:.9g}", f"{E['barrier']:.9g}", f"{E['total']:.9g}",
-            f"{friction_work:.9g}"]
+DEFAULT_OUT = "output"      # the output folder without --out
+FRAMES_PER_SECOND = 30      # at least this many frames per simulated second by default
+COMPARISON_DURATION = 6.0   # s: a comparison's default, long enough to see mu = 0.11 stop (about 5.5 s)
 
 
-def write_csv(path, rows):
-    buffer = io.StringIO()
-    writer = csv.writer(buffer, lineterminator="\n")
-    writer.writerow(CSV_COLUMNS)
-    writer.writerows(rows)
-    square_mesh.write_atomic(path, buffer.getvalue())
+def parse_command_line(parser, argv):
+    """One argparse Namespace per run. Any one scalar scene flag may take a comma-separated list
+    (`--mu 0.1,0.11,0.2`), a pair flag a ';'-separated list of pairs (`--v0 "1,0;2,0"`): the
+    command line is then parsed once per value, each Namespace carrying its run's `label` and file
+    `tag`, and without --duration or --steps a comparison runs COMPARISON_DURATION seconds."""
+    scene = next(group for group in parser._action_groups if group.title == "scene")
+    options = {name: action for action in scene._group_actions for name in action.option_strings}
+    lists = []                      # (token index, flag, values, whether written --flag=value)
+    for i, token in enumerate(argv):
+        flag, joined, value = token.partition("=")
+        action = options.get(flag)
+        if action is None or action.nargs == 0 or (not joined and i + 1 == len(argv)):
+            continue                # not a scene flag, a switch, or a flag without its value
+        value = value if joined else argv[i + 1]
+        separator = ";" if "," in (action.metavar or "") else ","       # a pair flag's metavar is 'X,Y'
+        if separator in value:
+            lists.append((i, flag, [v.strip().replace(" ", "") for v in value.split(separator)], bool(joined)))
+    if not lists:
+        args = parser.parse_args(argv)
+        args.label, args.tag = "", ""
+        return [args]
+    if len(lists) > 1:
+        raise CommandLineError(f"only one scene flag may take a list of values, got {lists[0][1]} and {lists[1][1]}")
+    i, flag, values, joined = lists[0]
+    if len(set(values)) < len(values):
+        raise CommandLineError(f"{flag}: the list {','.join(values)} repeats a value")
+    runs = []
+    for value in values:
+        one = argv[:i] + ([f"{flag}={value}"] if joined else [flag, value]) + argv[i + (1 if joined else 2):]
+        if not {"--duration", "--steps"} & {t.partition("=")[0] for t in argv}:
+            one += ["--duration", str(COMPARISON_DURATION)]
+        args = parser.parse_args(one)
+        args.label, args.tag = f"{flag.lstrip('-')} = {value}", f"{flag.lstrip('-')}={value.replace(',', '_')}"
+        runs.append(args)
+    return runs
 
 
-def run(args, log=sys.stderr):
-    """Run the command line's scene, writing frames, OBJs, log.csv and summary.png. Returns the exit code."""
-    scene = scene_from_args(args)
-    steps = steps_from_args(args, scene)
-    stride = _whole("frame-stride", args.frame_stride, 1)
-    out = args.out
+def frame_stride(args, scenes):
+    """--frame-stride, or by default the largest stride giving FRAMES_PER_SECOND frames per
+    simulated second at the smallest h (3 at h = 0.01: 33 frames per second)."""
+    if args.frame_stride is not None:
+        return _whole("frame-stride", args.frame_stride, 1)
+    return max(1, math.floor(1.0 / (FRAMES_PER_SECOND * min(s.h for s in scenes)) + 1e-9))
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, handled as Ctrl+C is: the run stops, says so, and keeps what it wrote."""
+
+
+def _raise_terminated(signum, frame):
+    raise Terminated()
+
+
+def _main_thread():
+    """Signal handlers can only be set from the main thread (run() may be called from another)."""
+    return threading.current_thread() is threading.main_thread()
+
+
+def run(runs, log=None):
+    """Run the command line's scene (or, for a comparison, its scenes side by side), writing frames,
+    OBJs, log.csv, summary.png, plots.png and index.html; messages go to `log` (default stderr).
+    Returns the exit code."""
+    log = sys.stderr if log is None else log
+    runs = runs if isinstance(runs, list) else [runs]
+    for args_k in runs:                                 # a Namespace from make_parser alone is one run
+        args_k.label, args_k.tag = getattr(args_k, "label", ""), getattr(args_k, "tag", "")
+    scenes = [scene_from_args(args) for args in runs]
+    steps = [steps_from_args(args, scene) for args, scene in zip(runs, scenes)]
+    args = runs[0]
+    out = DEFAULT_OUT if args.out is None else args.out     # --window writes files only when --out is given
+    stride = frame_stride(args, scenes)
     prepare_output(out)
-    for warning in scene.warnings:
-        print(f"simulator.py: warning: {warning}", file=log)
-    pygame = _pygame(window=args.window)
-    font = pygame.font.Font(None, 26)
-    screen = pygame.display.set_mode((RESOLUTION, RESOLUTION)) if args.window else None
-    view = View()
-    frames = not args.no_frames
-    csv_path = os.path.join(out, "log.csv")
-    rows, snapshots, last_x, friction_work = [], [scene.x0.copy()], scene.x0, 0.0
-    com_path = [np.average(scene.x0, axis=0, weights=scene.m)]
-
-    def emit_frame(index, x, t):
-        view.follow(np.average(x, axis=0, weights=scene.m))
-        surface = draw_frame(pygame, scene, x, t, view, font)
-        if frames:
-            save_png(pygame, surface, os.path.join(out, f"frame_{index:05d}.png"))
-            square_mesh.write_obj(os.path.join(out, f"frame_{index:05d}.obj"), x, scene.n_seg)
-        if screen is not None:
-            screen.blit(surface, (0, 0))
-            pygame.display.flip()
-            pygame.event.pump()
-
-    emit_frame(0, scene.x0, 0.0)
-    start, failure = time.perf_counter(), None
-    csv_written = start
-    report_every = max(1, steps // 10)
+    for args_k, scene in zip(runs, scenes):
+        for warning in scene.warnings:
+            print(f"simulator.py: warning: {args_k.label + ': ' if args_k.label else ''}{warning}", file=log)
+    frames, tracks, frame_log, failure = not args.no_frames, [], [], None
+    start = time.perf_counter()
+    previous = signal.signal(signal.SIGTERM, _raise_terminated) if _main_thread() else None
     try:
-        for record in simulate(scene, steps):
-            friction_work += record.report.friction_work
-            rows.append(csv_row(scene, record, friction_work))
-            last_x = record.x
-            com_path.append(np.average(record.x, axis=0, weights=scene.m))
-            if (record.index + 1) % stride == 0 or record.index + 1 == steps:
-                emit_frame(record.index + 1, record.x, record.t)
-            if time.perf_counter() - csv_written > CSV_EVERY:     # not every step: that is O(steps^2)
-                write_csv(csv_path, rows)
-                csv_written = time.perf_counter()
-            if (record.index + 1) % max(1, steps // 10) == 0:
-                snapshots.append(record.x.copy())
-            if (record.index + 1) % report_every == 0:
-                print(f"step {record.index + 1}/{steps}  t={record.t:.2f}s  newton={record.report.newton_iterations}"
-                      f"  residual={record.report.residual:.1e}  min_d={record.report.min_distance:.2e}",
-                      file=log, flush=True)
+        files.remove_earlier_run(out)
+        for k, (args_k, scene, n) in enumerate(zip(runs, scenes, steps)):
+            tracks.append(recording.Track(scene, n, simulate(scene, n), args_k.label or f"mu = {scene.mu:g}",
+                                          args_k.tag, draw.run_color(k), os.path.join(out, files.log_csv(args_k.tag))))
+        recording.record(tracks, out, stride, frames, not args.no_forces, log, frame_log)
     except time_integrator.SimulationError as err:
-        failure = err
-    except KeyboardInterrupt:
-        failure = "interrupted"
+        failure = (1, f"stopped: simulation failed: {err}")
+    except KeyboardInterrupt as err:
+        failure = (143, "stopped: terminated (SIGTERM)") if isinstance(err, Terminated) else (130, "stopped: interrupted")
+    except OSError as err:
+        failure = (1, _write_error(err, out))
     finally:
-        write_csv(csv_path, rows)
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+        for track in tracks:
+            track.csv.close()
     wall = time.perf_counter() - start
-    p = scene.params
+    if tracks and (failure is None or not failure[1].startswith("error")):     # not on a full disk
+        try:
+            recording.finish(tracks, out, stride, frames, frame_log, _summary_header(tracks, runs))
+        except OSError as err:
+            failure = (1, _write_error(err, out))
+    if failure is not None:
+        print(f"simulator.py: {failure[1]}; {tracks[0].step if tracks else 0} steps kept in {out}/", file=log)
+        return failure[0]
+    written = ("frames, OBJs, log.csv, plots.png, summary.png and index.html" if frames
+               else "log.csv, plots.png and summary.png")
+    print(f"simulated {steps[0]} steps ({steps[0] * scenes[0].h:.2f} s){f' x {len(runs)} runs' if len(runs) > 1 else ''}"
+          f" in {wall:.2f} s wall; {written} in {out}/", file=log)
+    return 0
+
+
+def _write_error(err, out):
+    """A failed write (a full disk, a folder gone) as the one line's text."""
+    return f"error: cannot write {err.filename or out}: {err.strerror or err}"
+
+
+def _summary_header(tracks, runs):
+    """The parameters, written on summary.png."""
+    scene, p = tracks[0].scene, tracks[0].scene.params
     lines = [f"mu = {scene.mu:g}   h = {scene.h:g} s   k = {p['k']:g}   n_seg = {scene.n_seg}",
              f"slope normal = {None if scene.n is None else np.round(scene.n, 4).tolist()}   "
-             f"dhat = {scene.dhat:g}   kappa = {scene.kappa:g}   eps_v = {scene.epsv:g}",
-             f"{len(rows)} steps, t = {len(rows) * scene.h:.2f} s, red: centre-of-mass path"]
-    save_png(pygame, draw_summary(pygame, scene, snapshots + [last_x], np.array(com_path),
-                                  lines, font), os.path.join(out, "summary.png"))
-    if screen is not None:
-        pygame.display.quit()
-    if failure is not None:
-        print(f"simulator.py: simulation failed: {failure}; {len(rows)} steps kept in {out}/", file=log)
-        return 130 if failure == "interrupted" else 1
-    written = "frames, OBJs, log.csv and summary.png" if frames else "log.csv and summary.png"
-    print(f"simulated {steps} steps ({steps * scene.h:.2f} s) in {wall:.2f} s wall; {written} in {out}/", file=log)
-    return 0
+             f"dhat = {scene.dhat:g}   kappa = {scene.kappa:g}   eps_v = {scene.epsv:g}"]
+    if len(runs) > 1:
+        lines.insert(0, "comparison: " + ", ".join(tr.label for tr in tracks) + "; otherwise as the first:")
+    return lines
 
 
 # scene parameter -> the flag that sets it, so a command-line error names what the user typed
@@ -813,13 +736,14 @@ def _attach_negative_values(argv):
 
 def main(argv=None):
     try:
-        args = make_parser().parse_args(_attach_negative_values(sys.argv[1:] if argv is None else argv))
-        if args.window:
+        runs = parse_command_line(make_parser(), _attach_negative_values(sys.argv[1:] if argv is None else argv))
+        if runs[0].window:
+            if len(runs) > 1:
+                raise CommandLineError(f"--window shows one run; --{runs[0].label.split(' = ')[0]} was given "
+                                       f"{len(runs)} values (compare them without --window)")
             from viewer.window import run_window
-            return run_window(args)
-        if args.out is None:
-            args.out = "output"
-        return run(args)
+            return run_window(runs[0])
+        return run(runs)
     except CommandLineError as err:
         print(f"simulator.py: error: {err}", file=sys.stderr)
         return 2

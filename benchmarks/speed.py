@@ -19,6 +19,7 @@ has them can be compared. REV may also be a folder holding a tree.
     python -m benchmarks.speed                       # the table, n_seg 4 ... 64 (1-2 minutes)
     python -m benchmarks.speed --against c6bcae2     # and the comparison (3 min CPU, 5-7 min on a busy machine)
     python -m benchmarks.speed --quick [--against REV]   # a smoke run, a few seconds
+    python -m benchmarks.speed --frames              # the default run with and without frames (frames_overhead)
 
 Timing on a shared machine: other processes take the CPU at times, which stretches wall time but
 not the process's own CPU time, so the figures to read are the CPU medians; a line is marked noisy
@@ -326,6 +327,49 @@ def window_table(sizes=WINDOW_N_SEGS):
     return "\n".join(lines)
 
 
+# ------------------------------------------------------------------------------------------------
+# The cost of the frames: the default `python simulator.py` against the same run with --no-frames
+# ------------------------------------------------------------------------------------------------
+
+FRAMES_TARGET = 3.0         # the default run at most 3x the wall time of --no-frames (issue 16)
+
+
+def frames_overhead(repeats=5, extra=()):
+    """Whole-process wall time of `python simulator.py` and of `python simulator.py --no-frames`,
+    run alternately (so both meet the machine in the same state), `repeats` times each: the medians,
+    their ratio, and the frames written per simulated second."""
+    import tempfile
+    times = {"frames": [], "no-frames": []}
+    with tempfile.TemporaryDirectory() as folder:
+        for _ in range(repeats):
+            for kind in times:
+                out = os.path.join(folder, kind)
+                command = [sys.executable, os.path.join(ROOT, "simulator.py"), "--out", out, *extra]
+                start = time.perf_counter()
+                done = subprocess.run(command + (["--no-frames"] if kind == "no-frames" else []), cwd=ROOT,
+                                      capture_output=True, text=True, env={**os.environ, "SDL_VIDEODRIVER": "dummy"})
+                times[kind].append(time.perf_counter() - start)
+                if done.returncode != 0:
+                    raise RuntimeError(f"simulator.py failed:\n{done.stderr}")
+        frames = len([f for f in os.listdir(os.path.join(folder, "frames")) if f.endswith(".png") and f.startswith("frame_")])
+        with open(os.path.join(folder, "frames", "log.csv")) as f:
+            simulated = float(list(csv.DictReader(f))[-1]["t"])
+    with_frames, without = statistics.median(times["frames"]), statistics.median(times["no-frames"])
+    return {"frames_s": with_frames, "no_frames_s": without, "ratio": with_frames / without,
+            "frames_per_simulated_s": (frames - 1) / simulated, "frames": frames,
+            "spread": max(spread(times["frames"]), spread(times["no-frames"]))}
+
+
+def print_frames_overhead(repeats):
+    r = frames_overhead(repeats)
+    verdict = "met" if r["ratio"] <= FRAMES_TARGET else "NOT met"
+    print(f"python simulator.py: {r['frames_s']:.2f} s with {r['frames']} frames ({r['frames_per_simulated_s']:.1f} "
+          f"per simulated second), {r['no_frames_s']:.2f} s with --no-frames (whole processes, medians of "
+          f"{repeats}, run alternately): {r['ratio']:.2f}x (target <= {FRAMES_TARGET:g}x: {verdict}; "
+          f"repeats spread {100 * r['spread']:.0f}%)")
+    return 0
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="python -m benchmarks.speed", description=__doc__.split("\n\n")[0])
     ap.add_argument("--quick", action="store_true", help="smoke run: n_seg 4 and 8, few steps (comparison: n_seg 4)")
@@ -335,10 +379,13 @@ def main(argv=None):
                                   "the comparison's goes beside it, '-against' added to the name")
     ap.add_argument("--worker", help=argparse.SUPPRESS)
     ap.add_argument("--window", action="store_true", help="only the live window's real-time figures (n_seg 4, 8)")
+    ap.add_argument("--frames", action="store_true", help="only the default run with frames against --no-frames")
     args = ap.parse_args(argv)
     if args.window:
         print(window_table())
         return 0
+    if args.frames:
+        return print_frames_overhead(3 if args.quick else 5)
     if args.worker:
         job = json.loads(args.worker)
         print(json.dumps(run_default_scene(job["tree"], job["n_seg"], job["steps"])))

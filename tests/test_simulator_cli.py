@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import simulator
+import viewer.log
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -20,7 +21,7 @@ def run_cli(*args, cwd=None):
 
 def test_twenty_steps_write_frames_objs_csv_and_summary(tmp_path):
     out = tmp_path / "run"
-    result = run_cli("--steps", "20", "--out", str(out))
+    result = run_cli("--steps", "20", "--frame-stride", "1", "--out", str(out))
     assert result.returncode == 0, result.stderr
     files = sorted(os.listdir(out))
     assert [f for f in files if f.endswith(".png") and f.startswith("frame")] == \
@@ -30,10 +31,10 @@ def test_twenty_steps_write_frames_objs_csv_and_summary(tmp_path):
     assert not [f for f in files if f.startswith(".")]                     # no temporaries left
     with open(out / "log.csv") as f:
         rows = list(csv.DictReader(f))
-    assert len(rows) == 20 and set(simulator.CSV_COLUMNS) <= set(rows[0])
+    assert len(rows) == 21 and set(viewer.log.COLUMNS) <= set(rows[0])           # t = 0 and 20 steps
     com_y = [float(r["com_y"]) for r in rows]
     assert all(b < a for a, b in zip(com_y, com_y[1:]))                  # falling
-    assert all(int(r["newton_iterations"]) >= 1 for r in rows)
+    assert all(int(r["newton_iterations"]) >= 1 for r in rows[1:])
     assert "simulated 20 steps" in result.stderr.splitlines()[-1]
     obj = (out / "frame_00020.obj").read_text().splitlines()
     last = np.array([[float(t) for t in line.split()[1:3]] for line in obj if line.startswith("v ")])
@@ -114,7 +115,7 @@ def test_runs_without_any_display_settings(tmp_path):
     result = subprocess.run([sys.executable, os.path.join(ROOT, "simulator.py"), "--steps", "2", "--out", str(tmp_path)],
                             env=env, capture_output=True, text=True, timeout=120)
     assert result.returncode == 0, result.stderr
-    assert (tmp_path / "frame_00002.png").exists() and (tmp_path / "summary.png").exists()
+    assert (tmp_path / "frame_00001.png").exists() and (tmp_path / "summary.png").exists()   # steps 0 and 2
 
 
 def test_output_files_have_the_usual_permissions(tmp_path):

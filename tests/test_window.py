@@ -2,7 +2,11 @@
 button posted as events into the running loop, under SDL's dummy video driver (conftest), with a fake
 wall clock so that nothing waits on real time and the pacing is exact."""
 import csv
+import errno
+import io
+import json
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -12,6 +16,7 @@ import numpy as np
 import pytest
 
 import simulator
+import square_mesh
 import time_integrator
 from viewer import window
 
@@ -94,7 +99,8 @@ def read_log(folder):
 @pytest.mark.parametrize("how", ["close button", "K_ESCAPE", "K_q"])
 def test_close_button_esc_and_q_end_the_run_with_exit_0_and_files_intact(tmp_path, how):
     """Ended mid-run (about 0.25 s into a 1 s run): exit code 0, and every step computed is in
-    log.csv, with its frame and OBJ, the summary written, nothing half written."""
+    log.csv, with a frame and OBJ every stride steps (3 at h = 0.01, as without the window), the
+    pictures and the page written, nothing half written."""
     def script():
         while clock.t < 0.25:
             yield
@@ -105,16 +111,53 @@ def test_close_button_esc_and_q_end_the_run_with_exit_0_and_files_intact(tmp_pat
     code = window.run_window(parse(["--window", "--steps", "100", "--out", str(tmp_path)]), clock=clock)
     assert code == 0
     rows = read_log(tmp_path)
-    assert 10 <= len(rows) < 100                     # ended mid-run, as asked
-    assert [int(r["step"]) for r in rows] == list(range(1, len(rows) + 1))
+    steps = int(rows[-1]["step"])
+    assert 10 <= steps < 100                         # ended mid-run, as asked
+    assert [int(r["step"]) for r in rows] == list(range(steps + 1))
+    stride = simulator.frame_stride(parse([]), [simulator.build_scene()])
     frames = sorted(p.name for p in tmp_path.glob("frame_*.png"))
-    assert frames == [f"frame_{i:05d}.png" for i in range(len(rows) + 1)]
-    assert len(list(tmp_path.glob("frame_*.obj"))) == len(rows) + 1
+    assert stride == 3 and frames == [f"frame_{j:05d}.png" for j in range(steps // stride + 1)]
+    assert len(list(tmp_path.glob("frame_*.obj"))) == len(frames)
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]   # no temporaries left
-    last = np.loadtxt(tmp_path / f"frame_{len(rows):05d}.obj", usecols=(1, 2), comments=("#", "l", "f"))
-    assert last[:, 1].mean() == pytest.approx(float(rows[-1]["com_y"]), abs=1e-6)  # equal masses: the mean
-    summary = pygame().image.load(str(tmp_path / "summary.png"))
-    assert summary.get_size() == (simulator.RESOLUTION, simulator.RESOLUTION)
+    last = np.loadtxt(tmp_path / f"frame_{len(frames) - 1:05d}.obj", usecols=(1, 2), comments=("#", "l", "f"))
+    at = rows[(len(frames) - 1) * stride]                           # the step of the last frame
+    assert last[:, 1].mean() == pytest.approx(float(at["com_y"]), abs=1e-6)  # equal masses: the mean
+    for name in ("summary.png", "plots.png"):
+        assert pygame().image.load(str(tmp_path / name)).get_width() > 0
+    page = json.loads(re.search(r"const run = (\{.*\});", (tmp_path / "index.html").read_text()).group(1))
+    assert [figures[0][0] for _, figures in page["frames"]] == [stride * j for j in range(len(frames))]  # steps
+
+
+def test_the_window_writes_the_files_a_run_without_it_writes(tmp_path):
+    """--window --out played to the end writes what `simulator.py --out` writes, by the same code:
+    the same file names, log.csv the same but the wall times, the frames and OBJs byte for byte
+    (one computation: the same steps, drawn the same way)."""
+    def script():
+        yield from frames_until(lambda: w_run.finished)
+
+    clock = ScriptClock()
+    windowed, plain = tmp_path / "window", tmp_path / "plain"
+    real_loop = window.LiveWindow.loop
+    w_run = None
+
+    def loop(self):
+        nonlocal w_run
+        w_run = self.run
+        clock.script = script()
+        return real_loop(self)
+
+    flags = ["--steps", "20", "--mu", "0.2"]
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(window.LiveWindow, "loop", loop)
+        assert window.run_window(parse(["--window", *flags, "--out", str(windowed)]), clock=clock) == 0
+    assert simulator.main([*flags, "--out", str(plain)]) == 0
+    names = sorted(p.name for p in plain.iterdir())
+    assert sorted(p.name for p in windowed.iterdir()) == names and len(names) == 2 * 8 + 4
+    drop_wall = [{k: v for k, v in r.items() if k != "wall_s"} for r in read_log(plain)]
+    assert [{k: v for k, v in r.items() if k != "wall_s"} for r in read_log(windowed)] == drop_wall
+    for name in names:
+        if name != "log.csv":
+            assert (windowed / name).read_bytes() == (plain / name).read_bytes(), name
 
 
 def test_without_out_nothing_is_written(tmp_path, monkeypatch):
@@ -130,18 +173,35 @@ def test_without_out_nothing_is_written(tmp_path, monkeypatch):
 
 def test_main_hands_window_runs_to_the_window(monkeypatch):
     """--window goes to viewer.window.run_window, with no output folder unless --out is given; other
-    runs keep the default folder."""
+    runs to run(), as a list of runs."""
     seen = []
     monkeypatch.setattr(window, "run_window", lambda args: seen.append(args) or 0)
-    monkeypatch.setattr(simulator, "run", lambda args: seen.append(args) or 0)
+    monkeypatch.setattr(simulator, "run", lambda runs: seen.append(runs) or 0)
     assert simulator.main(["--window", "--speed", "0.25", "--size", "500"]) == 0
-    assert simulator.main(["--steps", "3"]) == 0
+    assert simulator.main(["--steps", "3", "--mu", "0.1,0.2"]) == 0
     assert seen[0].window and seen[0].out is None and seen[0].speed == 0.25 and seen[0].size == 500
-    assert not seen[1].window and seen[1].out == "output"
+    assert [args.mu for args in seen[1]] == [0.1, 0.2] and not seen[1][0].window
 
 
-def test_sigterm_ends_the_window_like_the_close_button(tmp_path):
-    """SDL turns SIGTERM into the close button's event: the run ends with exit code 0 and its files."""
+def test_a_comparison_in_the_window_is_refused_in_one_line(capsys):
+    assert simulator.main(["--window", "--mu", "0.1,0.2,0.3"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == ["simulator.py: error: --window shows one run; --mu was given 3 values (compare them without "
+                   "--window)"]
+
+
+def test_without_out_a_run_writes_to_the_default_folder(tmp_path, monkeypatch):
+    """--out has no default in the parser (the window writes nothing without it); run() writes to
+    output/ then."""
+    monkeypatch.chdir(tmp_path)
+    assert simulator.run(parse(["--steps", "1", "--no-frames"]), log=open(os.devnull, "w")) == 0
+    assert len(read_log(tmp_path / simulator.DEFAULT_OUT)) == 2
+
+
+def test_sigterm_ends_the_window_as_it_ends_a_run_without_it(tmp_path):
+    """SIGTERM (which SDL would turn into the close button) stops the run as without the window: exit
+    code 143, one line saying so, the files kept (log.csv whole, a frame every stride of its steps,
+    the pictures written)."""
     process = subprocess.Popen([sys.executable, os.path.join(ROOT, "simulator.py"), "--window", "--steps", "100000",
                                 "--out", str(tmp_path)], env={**os.environ, "SDL_VIDEODRIVER": "dummy"},
                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
@@ -154,9 +214,50 @@ def test_sigterm_ends_the_window_like_the_close_button(tmp_path):
         _, err = process.communicate(timeout=60)
     finally:
         process.kill()
-    assert process.returncode == 0, err
-    rows = read_log(tmp_path)
-    assert len(rows) >= 5 and len(list(tmp_path.glob("frame_*.obj"))) == len(rows) + 1
+    assert process.returncode == 143, err
+    assert err.strip().splitlines()[-1].startswith("simulator.py: stopped: terminated (SIGTERM); "), err
+    steps = int(read_log(tmp_path)[-1]["step"])
+    frames = len(list(tmp_path.glob("frame_*.obj")))
+    # a row is written before its frame: the log holds every frame's step (3 * (frames - 1)), and up
+    # to a stride more (the next frame's row written, its OBJ not yet)
+    assert frames >= 6 and 3 * (frames - 1) <= steps <= 3 * frames
+    assert (tmp_path / "summary.png").stat().st_size > 0 and (tmp_path / "index.html").exists()
+
+
+def test_a_full_disk_stops_the_files_not_the_demo(tmp_path, monkeypatch):
+    """A write failing (ENOSPC) at frame 3 (after frames 0-2 as PNG and OBJ): the window plays on to the end, the files stop where they
+    were (log.csv whole, no pictures, as without the window), and closing says so in one line, exit 1."""
+    real, calls = square_mesh.write_atomic, []
+
+    def fill_up(path, data):
+        calls.append(path)
+        if len(calls) > 6:
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), path)
+        real(path, data)
+
+    monkeypatch.setattr(square_mesh, "write_atomic", fill_up)
+
+    def script():
+        yield from frames_until(lambda: live[0].run.finished)
+        assert any("files stopped: No space left on device" in text for text, _ in live[0].status_lines())
+
+    live, real_init = [], window.LiveWindow.__init__
+
+    def init(self, *args, **kw):
+        real_init(self, *args, **kw)
+        live.append(self)
+    monkeypatch.setattr(window.LiveWindow, "__init__", init)
+    log = io.StringIO()
+    code = window.run_window(parse(["--window", "--steps", "30", "--out", str(tmp_path)]),
+                             clock=ScriptClock(script()), log=log)
+    assert code == 1 and live[0].run.index == 30
+    lines = log.getvalue().strip().splitlines()
+    assert lines[-1].startswith("simulator.py: error: cannot write") and "No space left on device" in lines[-1]
+    assert lines[-1].endswith(f"steps kept in {tmp_path}/")
+    steps = [int(r["step"]) for r in read_log(tmp_path)]
+    assert steps == list(range(10))                     # frame 3 is step 9's: its row was written first
+    assert sorted(p.name for p in tmp_path.glob("frame_*.png")) == [f"frame_{j:05d}.png" for j in range(3)]
+    assert not (tmp_path / "summary.png").exists()
 
 
 # ------------------------------------------------------------------------------------------------
@@ -209,8 +310,8 @@ def test_r_restarts_from_the_initial_state_and_replays_the_same_run(tmp_path):
     scene = simulator.build_scene()
     pg = window.open_display()
     clock = ScriptClock()
-    recorder = window.Recorder(pg, scene, 300, str(tmp_path), 1, False, pg.font.Font(None, 26), clock)
-    w = window.LiveWindow(pg, pg.display.set_mode((400, 400)), scene, 300, 1.0, recorder, clock)
+    output = window.Files(scene, 300, str(tmp_path), 1, False, True, "mu = 0.11", io.StringIO())
+    w = window.LiveWindow(pg, pg.display.set_mode((400, 400)), scene, 300, 1.0, output, clock)
     seen = {}
 
     def script():
@@ -229,8 +330,9 @@ def test_r_restarts_from_the_initial_state_and_replays_the_same_run(tmp_path):
 
     clock.script = script()
     assert w.loop() == 0
-    recorder.close()
-    assert len(read_log(tmp_path)) == max(seen) >= 60
+    output.close()
+    steps = [int(r["step"]) for r in read_log(tmp_path)]
+    assert steps == list(range(max(seen) + 1)) and max(seen) >= 60       # each step once
 
 
 def test_the_window_stays_open_on_the_last_frame_until_closed():

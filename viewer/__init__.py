@@ -1,0 +1,16 @@
+"""What a run of simulator.py writes and shows, apart from the physics (which stays in the flat files).
+
+    diagnostics.py  what a state says beyond the solver's report: contact speeds, sticking and
+                    sliding nodes, the contact forces (from the energies' public functions), inverted cells
+    log.py          log.csv: one row per step, appended and flushed as the step ends
+    draw.py         one frame: the slope with distance marks, the squares, the forces, a legend; PNG files
+    plots.py        plots.png: energy budget, contact speeds, Newton iterations (or a comparison of runs)
+    summary.py      summary.png: spaced, time-labelled snapshots at a fixed scale
+    page.py         index.html: plays the frames from the file system, with the plots and a time cursor
+    files.py        the output folder: the names this program writes, removing an earlier run's files
+    recording.py    steps one or more scenes side by side and writes all of the above
+    window.py       the live window (--window): the run paced to the wall clock, driven by keys down
+                    to one Newton iteration, drawn by draw.py, its files (--out) by recording.py
+
+pygame is imported only inside the functions that draw (see draw.load_pygame).
+"""

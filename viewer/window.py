@@ -7,22 +7,24 @@ accepted alpha after halving, ||p||_inf / h against tol: Algorithm 4 happening);
 initial state; Esc, q or the window's close button end the run. At the end of the run the window
 stays open on the last frame until closed.
 
-Files are written only when --out is given (then as `run()` writes them). The run is deterministic,
-so after a restart the same steps rewrite the same files.
+The frames are drawn by viewer.draw, as in the files (the slope's marks, the contact forces). Files
+are written only when --out is given: then those of a run without the window, by viewer.recording,
+each step once (the run is deterministic: after a restart the steps computed again are the same).
 """
 import contextlib
 import math
 import os
+import signal
 import sys
 import time
 from collections import deque
 
 import numpy as np
 
-import square_mesh
 import time_integrator
-from simulator import (CSV_EVERY, StepRecord, View, csv_row, draw_frame, draw_square, draw_summary, prepare_output,
-                       save_png, scene_from_args, steps_from_args, write_csv, RESOLUTION, SCALE, _whole)
+from simulator import (StepRecord, Terminated, frame_stride, prepare_output, scene_from_args, steps_from_args,
+                       _main_thread, _raise_terminated, _summary_header, _whole, _write_error)
+from viewer import draw, files, recording
 
 FPS = 60                  # frames drawn per second at most
 MIN_FPS = 20              # ... and at least, when the steps fall behind (the other frames are dropped)
@@ -34,6 +36,7 @@ DUE_SLACK = 1e-9          # of a step: t + h and the time due may differ by roun
 CATCH_UP = 0.1            # s of wall time the steps may fall behind and catch up (a slow step, a busy CPU)
 SLOW = 0.9                # "slower than real time" below this fraction of the asked speed
 ARROW = 0.12              # the longest drawn p is this fraction of the window
+LEGEND_BOTTOM = 36 + 4 + 3 * 22   # px: below draw.draw_frame's legend of the force arrows (3 rows of 22 px)
 # SDL's drivers that draw into memory only: it falls back to one of them when it finds no display
 MEMORY_DRIVERS = ("dummy", "offscreen")
 
@@ -62,6 +65,7 @@ class LiveRun:
 
     def restart(self):
         self.index, self.x, self.v = 0, self.scene.x0.copy(), self.scene.v0.copy()
+        self.x_prev = self.x         # x^{n-1}, for the friction force of the last step
         self.iterates = None        # the generator of the step in progress, after n
         self.iterate = None         # its last NewtonIterate
         self.iteration = 0          # how many it has yielded
@@ -110,7 +114,7 @@ class LiveRun:
         of its iterations too, when n took them one at a time)."""
         record = StepRecord(self.index, (self.index + 1) * self.scene.h, x, v, report, wall + self.iterates_wall)
         self.index += 1
-        self.x, self.v = x, v
+        self.x_prev, self.x, self.v = self.x, x, v
         self.iterates, self.iterate, self.iteration, self.iterates_wall = None, None, 0, 0.0
         return record
 
@@ -171,71 +175,44 @@ class Pacer:
 # Files, only with --out
 # ------------------------------------------------------------------------------------------------
 
-def _put(items, i, value):
-    """items[i] = value, appending when i == len(items)."""
-    if i < len(items):
-        items[i] = value
-    else:
-        items.append(value)
+class Files:
+    """What a run without the window writes, written by the same code (viewer.recording): log.csv a
+    row as each step ends, a frame and OBJ every `stride` steps (unless --no-frames), and at the end
+    summary.png, plots.png and index.html. Each step is written once: the steps computed again after
+    a restart (r) are the same numbers and are not written again, so the files hold the furthest the
+    run got."""
 
+    def __init__(self, scene, steps, out, stride, frames, forces, label, log):
+        self.out, self.stride, self.frames, self.frame_log = out, stride, frames, []
+        files.remove_earlier_run(out)
+        self.track = recording.Track(scene, steps, None, label, "", draw.run_color(0),
+                                     os.path.join(out, files.log_csv()))
+        self.progress = recording.Progress([self.track], log)
+        self.writer = recording.FrameWriter([self.track], out, forces, self.frame_log) if frames else None
+        if self.writer is not None:
+            self.writer.write(0)
 
-class Recorder:
-    """The files `run()` writes (frames and OBJs every stride-th step unless --no-frames, log.csv,
-    summary.png at the end), for the steps the window computes. Kept by step index: after a restart
-    the same steps rewrite the same rows and frames."""
-
-    def __init__(self, pygame, scene, steps, out, stride, write_frames, font, clock):
-        self.pygame, self.scene, self.steps, self.out = pygame, scene, steps, out
-        self.stride, self.write_frames, self.font, self.clock = stride, write_frames, font, clock
-        self.view = View()
-        self.rows, self.work = [], [0.0]        # log.csv rows; friction work summed to each step
-        self.com = [self._com(scene.x0)]        # centre of mass after each step
-        self.snapshots = {0: scene.x0}          # x every tenth of the run, for summary.png
-        self.last_x = scene.x0
-        self.csv_written = clock.now()
-        self.frame(0, scene.x0, 0.0)
-
-    def _com(self, x):
-        return np.average(x, axis=0, weights=self.scene.m)
-
-    def frame(self, index, x, t):
-        if not self.write_frames:
-            return
-        self.view.follow(self._com(x))
-        name = os.path.join(self.out, f"frame_{index:05d}")
-        save_png(self.pygame, draw_frame(self.pygame, self.scene, x, t, self.view, self.font), name + ".png")
-        square_mesh.write_obj(name + ".obj", x, self.scene.n_seg)
+    @property
+    def steps_written(self):
+        return self.track.step
 
     def record(self, record):
-        """Keep a completed step (step `index`, ending at step index + 1); a step computed again after
-        a restart replaces its row (the same numbers but the wall time)."""
-        i = record.index
-        work = self.work[i] + record.report.friction_work
-        _put(self.work, i + 1, work)
-        _put(self.rows, i, csv_row(self.scene, record, work))
-        _put(self.com, i + 1, self._com(record.x))
-        if (i + 1) % max(1, self.steps // 10) == 0:
-            self.snapshots[i + 1] = record.x.copy()
-        if i + 1 == len(self.rows):             # the furthest step computed
-            self.last_x = record.x
-        if (i + 1) % self.stride == 0 or i + 1 == self.steps:
-            self.frame(i + 1, record.x, record.t)
-        if self.clock.now() - self.csv_written > CSV_EVERY:
-            self.write_log()
-
-    def write_log(self):
-        write_csv(os.path.join(self.out, "log.csv"), self.rows)
-        self.csv_written = self.clock.now()
+        """Write a completed step: its log.csv row, and its frame when one is due (frame j at step
+        j stride, the last at the run's last step, as recording.frame_steps numbers them)."""
+        track = self.track
+        if record.index != track.step:          # computed before a restart: written then
+            return
+        track.take(record, self.progress)
+        if self.writer is not None and (track.step % self.stride == 0 or track.step == track.steps):
+            self.writer.write(-(-track.step // self.stride))
 
     def close(self):
-        """log.csv and summary.png for the steps computed (the furthest the run got)."""
-        self.write_log()
-        scene, n = self.scene, len(self.rows)
-        lines = [f"mu = {scene.mu:g}   h = {scene.h:g} s   n_seg = {scene.n_seg}   (live window)",
-                 f"{n} steps, t = {n * scene.h:.2f} s, red: centre-of-mass path"]
-        snapshots = [x for i, x in sorted(self.snapshots.items()) if i <= n] + [self.last_x]
-        save_png(self.pygame, draw_summary(self.pygame, scene, snapshots, np.array(self.com), lines, self.font),
-                 os.path.join(self.out, "summary.png"))
+        self.track.csv.close()
+
+    def finish(self, header):
+        """summary.png, plots.png and (with frames) index.html, for the steps written."""
+        self.track.last_snapshot()
+        recording.finish([self.track], self.out, self.stride, self.frames, self.frame_log, header)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -245,15 +222,19 @@ class Recorder:
 class LiveWindow:
     """The demo loop: read the keys, take the steps that are due, draw, wait for the next frame."""
 
-    def __init__(self, pygame, screen, scene, steps, speed=1.0, recorder=None, clock=None, log=None):
+    def __init__(self, pygame, screen, scene, steps, speed=1.0, output=None, clock=None, log=None,
+                 label=None, forces=True):
         self.pygame, self.screen, self.scene, self.log = pygame, screen, scene, log or sys.stderr
         self.size = screen.get_width()
         self.clock = clock or WallClock()
         self.run = LiveRun(scene, steps)
-        self.speed, self.recorder = speed, recorder
+        self.speed, self.output = speed, output     # output: the Files written, or None
+        self.label = label or f"mu = {scene.mu:g}"
+        self.newton_per_metre = draw.newton_per_metre(scene) if forces else None
         self.pacer = Pacer(self.clock, speed, scene.h)
-        self.view = View(SCALE * self.size / RESOLUTION, self.size)   # the lecture's 4.5 m across
+        self.view = draw.View(draw.SCALE * self.size / draw.RESOLUTION, self.size)   # the lecture's 4.5 m across
         self.font = pygame.font.Font(None, font_size(self.size))
+        self.fonts = (self.font, pygame.font.Font(None, font_size(self.size, small=True)))
         self.playing, self.done = True, False
         self.failure = None         # the SimulationError that stopped the run, if one did
         self.write_error = None     # the OSError that stopped the files, if one did
@@ -359,11 +340,11 @@ class LiveWindow:
 
     def _keep(self, record):
         """Hand a completed step to the files, if any; False for no step."""
-        if record is not None and self.recorder is not None:
+        if record is not None and self.output is not None and self.write_error is None:
             try:
-                self.recorder.record(record)
+                self.output.record(record)
             except OSError as err:      # e.g. a full disk: the window goes on, the files stop
-                self.write_error, self.recorder = err, None
+                self.write_error = err
                 print(f"simulator.py: writing the files failed, none written after step {record.index}: "
                       f"{err.strerror or err}", file=self.log)
         return record is not None
@@ -371,16 +352,22 @@ class LiveWindow:
     # -- drawing --------------------------------------------------------------------------------
 
     def draw(self):
+        """The frame a run without the window writes (viewer.draw: the slope with its marks, the
+        square, the contact forces), or the Newton iterate in progress instead of the forces; the
+        window's status under the title and legend, the keys at the bottom."""
         run, pg = self.run, self.pygame
         x = run.shown_x
-        self.view.follow(np.average(x, axis=0, weights=self.scene.m))
-        surface = draw_frame(pg, self.scene, x, run.t, self.view, self.font)
+        self.view.follow(np.average(x, axis=0, weights=self.scene.m)[None])
+        forces = self.newton_per_metre is not None and run.iterate is None
+        runs = [recording.frame_run(self.scene, run.x_prev, x, self.label, draw.BLUE, forces)]
+        surface = draw.draw_frame(pg, runs, run.t, self.view, self.fonts, self.newton_per_metre if forces else None)
         if run.iterate is not None:
             self.draw_iterate(surface, run.iterate)
         line, width = self.font.get_linesize(), self.size - 24
-        top = [(row, color) for text, color in self.status_lines() for row in wrap(self.font, text, width)]
-        for row, (text, color) in enumerate(top, start=1):
-            surface.blit(self.font.render(text, True, color), (12, 10 + row * line))
+        top = LEGEND_BOTTOM if forces else 10 + line
+        rows = [(row, color) for text, color in self.status_lines() for row in wrap(self.font, text, width)]
+        for row, (text, color) in enumerate(rows):
+            surface.blit(self.font.render(text, True, color), (12, top + row * line))
         bottom = [row for text in self.help_lines() for row in wrap(self.font, text, width)]
         for row, text in enumerate(reversed(bottom), start=1):
             surface.blit(self.font.render(text, True, GREY), (12, self.size - 6 - row * line))
@@ -428,8 +415,8 @@ class LiveWindow:
         """x^i in grey under the iterate x^{i+1} = x^i + alpha p in blue; p at each node as a red
         arrow, with a ring where alpha_CCD p ends and a dot where alpha p ends (on the drawn scale)."""
         pg, view = self.pygame, self.view
-        draw_square(pg, surface, self.scene, it.x, view, GREY, nodes=False)
-        draw_square(pg, surface, self.scene, it.x_next, view)
+        draw.draw_square(pg, surface, self.scene, it.x, view, GREY, nodes=False)
+        draw.draw_square(pg, surface, self.scene, it.x_next, view)
         k = self.arrow_scale(it)
         tail, tip = view(it.x), view(it.x + k * it.p)
         ccd, accepted = view(it.x + k * it.alpha_ccd * it.p), view(it.x + k * it.alpha * it.p)
@@ -483,9 +470,10 @@ def nice_below(value):
     return max(m * power for m in (1, 2, 5) if m * power <= value * (1 + 1e-12))
 
 
-def font_size(size):
-    """The lecture's 26 px font at 900 px, in proportion, and at least 14 px to stay readable."""
-    return max(14, round(26 * size / RESOLUTION))
+def font_size(size, small=False):
+    """The frames' fonts (draw.fonts: 26 px, and 20 px for the small one) at 900 px, in proportion,
+    and at least 14 (small: 12) px to stay readable."""
+    return max(12, round(20 * size / draw.RESOLUTION)) if small else max(14, round(26 * size / draw.RESOLUTION))
 
 
 # ------------------------------------------------------------------------------------------------
@@ -546,7 +534,7 @@ def window_size(args, pygame):
     info = pygame.display.Info()
     if info.current_w > 0 and info.current_h > 0:
         return max(MIN_SIZE, int(FIT * min(info.current_w, info.current_h)))
-    return RESOLUTION
+    return draw.RESOLUTION
 
 
 def _size(value):
@@ -568,47 +556,77 @@ def _speed(value):
 
 
 def run_window(args, clock=None, log=None):
-    """`python simulator.py --window`: check the flags, open the window, run the demo until closed.
-    Returns the exit code: 0; 1 after a failed step or write; 130 after Ctrl+C."""
+    """`python simulator.py --window`: check the flags, open the window, run the demo until closed;
+    with --out, write what a run without the window writes, as it does (Ctrl+C and SIGTERM end the
+    demo keeping the files; a failed write stops the files, not the demo). Returns the exit code:
+    0; 1 after a failed step or write; 130 after Ctrl+C; 143 after SIGTERM."""
     scene = scene_from_args(args)
     steps = steps_from_args(args, scene)
     speed = _speed(args.speed)
-    stride = _whole("frame-stride", args.frame_stride, 1)
+    stride = frame_stride(args, [scene])
     if args.size is not None:
         _size(args.size)
     log = log or sys.stderr
-    pygame = open_display()                 # before anything is written
+    # set before SDL starts, which would otherwise make SIGTERM the close button
+    previous = signal.signal(signal.SIGTERM, _raise_terminated) if _main_thread() else None
     try:
-        if args.out is not None:
-            prepare_output(args.out)
-        for warning in scene.warnings:
-            print(f"simulator.py: warning: {warning}", file=log)
-        screen = pygame.display.set_mode((window_size(args, pygame),) * 2)
-        pygame.display.set_caption(f"simulator.py: mu = {scene.mu:g}, n_seg = {scene.n_seg}")
-        clock = clock or WallClock()
-        recorder = None
-        if args.out is not None:
-            recorder = Recorder(pygame, scene, steps, args.out, stride, not args.no_frames,
-                                pygame.font.Font(None, 26), clock)
-        window = LiveWindow(pygame, screen, scene, steps, speed, recorder, clock, log)
+        pygame = open_display()                 # before anything is written
         try:
-            code = window.loop()
-        except KeyboardInterrupt:
-            print("simulator.py: interrupted", file=log)
-            code = 130
-        if window.recorder is not None:
-            return _close(window.recorder, args.out, code, log)
-        return code
+            return _demo(pygame, args, scene, steps, speed, stride, clock or WallClock(), log)
+        finally:
+            pygame.display.quit()
     finally:
-        pygame.display.quit()
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
 
 
-def _close(recorder, out, code, log):
+def _demo(pygame, args, scene, steps, speed, stride, clock, log):
+    """The window on the display, with the files when --out is given, until it is closed."""
+    if args.out is not None:
+        prepare_output(args.out)
+    for warning in scene.warnings:
+        print(f"simulator.py: warning: {warning}", file=log)
+    screen = pygame.display.set_mode((window_size(args, pygame),) * 2)
+    pygame.display.set_caption(f"simulator.py: mu = {scene.mu:g}, n_seg = {scene.n_seg}")
+    label = getattr(args, "label", "") or f"mu = {scene.mu:g}"
+    output, window, stopped = None, None, None
     try:
-        recorder.close()
-    except OSError as err:
-        print(f"simulator.py: writing the files failed: {err.strerror or err}; what was written before "
-              f"is in {out}/", file=log)
+        if args.out is not None:
+            output = Files(scene, steps, args.out, stride, not args.no_frames, not args.no_forces, label, log)
+        window = LiveWindow(pygame, screen, scene, steps, speed, output, clock, log, label, not args.no_forces)
+        code = window.loop()
+    except KeyboardInterrupt as err:
+        code, stopped = (143, "terminated (SIGTERM)") if isinstance(err, Terminated) else (130, "interrupted")
+    except OSError as err:                      # starting the files: the folder's earlier files, frame 0
+        print(f"simulator.py: {_write_error(err, args.out)}", file=log)
         return 1
-    print(f"simulator.py: {len(recorder.rows)} steps written to {out}/", file=log)
+    finally:
+        if output is not None:
+            output.close()
+    if output is None:
+        if stopped:
+            print(f"simulator.py: stopped: {stopped}", file=log)
+        return code
+    return _finish(output, args, code, stopped, window.write_error if window else None, log)
+
+
+def _finish(output, args, code, stopped, write_error, log):
+    """The run's pictures and page (not after a failed write, as a run without the window), and
+    its one line on `log`; returns the exit code."""
+    kept = f"{output.steps_written} steps kept in {args.out}/"
+    if write_error is None:
+        try:
+            output.finish(_summary_header([output.track], [args]))
+        except OSError as err:
+            write_error = err
+    if write_error is not None:
+        print(f"simulator.py: {_write_error(write_error, args.out)}; {kept}", file=log)
+        return 1
+    if stopped:
+        print(f"simulator.py: stopped: {stopped}; {kept}", file=log)
+        return code
+    written = ("frames, OBJs, log.csv, plots.png, summary.png and index.html" if output.frames
+               else "log.csv, plots.png and summary.png")
+    print(f"simulator.py: {output.steps_written} steps ({output.track.t:.2f} s) in the window; {written} "
+          f"in {args.out}/", file=log)
     return code

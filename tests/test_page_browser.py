@@ -1,0 +1,70 @@
+"""index.html in a real browser: headless Chromium opens a short run's page from the file system
+and the page's own script is driven as a user would: a frame is shown, frames change while it
+plays, and the step button moves exactly one frame. Skips, saying why, where no browser is found
+(.ci/run installs Debian's `chromium`)."""
+import json
+import re
+import shutil
+import subprocess
+
+import pytest
+
+import simulator
+
+BROWSERS = ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable", "chrome")
+
+# Appended to a copy of the page: watches it play for a while, then pauses it and presses the
+# step buttons, and writes what it saw into the DOM, which Chromium prints (--dump-dom).
+PROBE = """
+<script>
+window.addEventListener("load", () => {
+  const img = document.getElementById("frame"), seen = new Set(), out = {};
+  out.loaded = img.complete ? img.naturalWidth : 0;
+  out.src = img.getAttribute("src");
+  const watch = setInterval(() => seen.add(img.dataset.frame), 20);
+  setTimeout(() => {
+    clearInterval(watch);
+    out.seen = Array.from(seen);
+    document.getElementById("play").click();                 // pause
+    const slider = document.getElementById("slider");
+    slider.value = 5;                                         // drag the time slider to frame 5
+    slider.dispatchEvent(new Event("input"));
+    out.slider = Number(img.dataset.frame);
+    const before = Number(img.dataset.frame);
+    document.getElementById("forward").click();
+    out.forward = [before, Number(img.dataset.frame), img.getAttribute("src")];
+    document.getElementById("back").click();
+    out.back = Number(img.dataset.frame);
+    setTimeout(() => { out.steppedLoaded = img.naturalWidth;
+      const pre = document.createElement("pre"); pre.id = "probe"; pre.textContent = JSON.stringify(out);
+      document.body.appendChild(pre); }, 200);
+  }, 600);
+});
+</script>
+"""
+
+
+def find_browser():
+    return next((path for path in map(shutil.which, BROWSERS) if path), None)
+
+
+def test_index_html_plays_in_headless_chromium(tmp_path):
+    browser = find_browser()
+    if browser is None:
+        pytest.skip(f"no browser found (looked for {', '.join(BROWSERS)}); .ci/run installs Debian's chromium")
+    out = tmp_path / "run"
+    assert simulator.main(["--steps", "60", "--out", str(out)]) == 0          # 21 frames
+    page = (out / "index.html").read_text()
+    (out / "probe.html").write_text(page.replace("</body>", PROBE + "</body>"))
+    result = subprocess.run([browser, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
+                             f"--user-data-dir={tmp_path / 'profile'}", "--virtual-time-budget=5000",
+                             "--dump-dom", (out / "probe.html").as_uri()],
+                            capture_output=True, text=True, timeout=120)
+    found = re.search(r'<pre id="probe">(.*?)</pre>', result.stdout)
+    assert found, f"the page did not report (exit {result.returncode}): {result.stderr[-2000:]}"
+    seen = json.loads(found.group(1).replace("&quot;", '"'))
+    assert seen["loaded"] == 900 and seen["src"].startswith("frame_")       # a frame PNG shown, decoded
+    assert len(seen["seen"]) >= 3                                            # it changes while playing
+    before, after, src = seen["forward"]
+    assert after == before + 1 and src == f"frame_{after:05d}.png"           # step: exactly one frame
+    assert seen["slider"] == before == 5 and seen["back"] == 5 and seen["steppedLoaded"] == 900

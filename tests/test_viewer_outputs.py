@@ -1,0 +1,416 @@
+"""What a run writes besides the physics: log.csv's new columns, frames, plots.png, summary.png,
+index.html, comparisons, and what is kept when a run is stopped (Ctrl+C, SIGTERM, SIGKILL, full disk)."""
+import csv
+import errno
+import io
+import json
+import os
+import re
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+import simulator
+import square_mesh
+import viewer.log
+from viewer import diagnostics, draw, plots, recording, summary
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def run_main(*args):
+    """simulator.main in this process; returns (exit code, stderr lines)."""
+    err = io.StringIO()
+    old = sys.stderr
+    sys.stderr = err
+    try:
+        code = simulator.main(list(args))
+    finally:
+        sys.stderr = old
+    return code, err.getvalue().splitlines()
+
+
+def read_csv(path):
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def frame_indices(folder):
+    return sorted(int(m.group(1)) for m in (re.match(r"frame_(\d+)\.png$", f) for f in os.listdir(folder)) if m)
+
+
+@pytest.fixture(scope="module")
+def default_run(tmp_path_factory):
+    """The lecture's scene for 1.5 s (the impact, sticking and sliding), frames every 3rd step."""
+    out = tmp_path_factory.mktemp("run")
+    code, lines = run_main("--duration", "1.5", "--out", str(out))
+    assert code == 0, lines
+    return out, lines
+
+
+# ------------------------------------------------------------------------------------------------
+# log.csv
+# ------------------------------------------------------------------------------------------------
+
+def test_log_has_a_t0_row_and_the_energy_budget_adds_up(default_run):
+    out, _ = default_run
+    rows = read_csv(out / "log.csv")
+    assert list(rows[0]) == viewer.log.COLUMNS and len(rows) == 151
+    assert rows[0]["step"] == "0" and float(rows[0]["t"]) == 0.0 and float(rows[0]["E_kinetic"]) == 0.0
+    E = {k: np.array([float(r[k]) for r in rows]) for k in ("E_kinetic", "E_gravity", "E_spring", "E_barrier",
+                                                             "E_total", "W_friction", "D_numerical")}
+    # each value is printed to 9 significant digits: sums agree to a few units of the 9th digit of
+    # the largest term (about 1e4 J here)
+    tol = 5e-9 * 1e4 * 5
+    parts = E["E_kinetic"] + E["E_gravity"] + E["E_spring"] + E["E_barrier"]
+    assert np.abs(parts - E["E_total"]).max() < tol
+    assert np.abs(E["E_total"][0] + E["W_friction"] - E["D_numerical"] - E["E_total"]).max() < tol
+    # friction only takes energy out; implicit Euler's dissipation is most of the loss (the issue's
+    # 4.7 of 5.8 kJ over 3 s), positive from the first step of free fall on: 1/2 m (g h)^2 per step
+    assert np.all(np.diff(E["W_friction"]) <= 0.0) and E["W_friction"][-1] < 0.0
+    assert E["D_numerical"][-1] > -E["W_friction"][-1] > 0.0
+    m, g, h = 1000.0, 9.81, 0.01
+    assert E["D_numerical"][1] == pytest.approx(0.5 * m * (g * h) ** 2, rel=1e-6)
+
+
+def test_friction_work_column_sums_the_step_reports(default_run):
+    out, _ = default_run
+    rows = read_csv(out / "log.csv")
+    scene = simulator.build_scene()
+    work = np.cumsum([rec.report.friction_work for rec in simulator.simulate(scene, 150)])
+    assert np.allclose([float(r["W_friction"]) for r in rows[1:]], work, rtol=1e-8, atol=1e-9)
+
+
+def test_sticking_count_agrees_with_contact_speeds_and_eps_v(default_run):
+    """Recomputed here from the states: contact = d < dhat, tangential speed |v - (v.n) n|."""
+    out, _ = default_run
+    rows = read_csv(out / "log.csv")
+    scene = simulator.build_scene()
+    states = [(scene.x0, scene.v0)] + [(r.x, r.v) for r in simulator.simulate(scene, 150)]
+    expected = []
+    for x, v in states:
+        contact = (x - scene.o) @ scene.n < scene.dhat
+        u = v[contact] - np.outer(v[contact] @ scene.n, scene.n)
+        speed = np.hypot(u[:, 0], u[:, 1])
+        expected.append((int((speed < scene.epsv).sum()), int((speed >= scene.epsv).sum())))
+    got = [(int(r["contacts_sticking"]), int(r["contacts_sliding"])) for r in rows]
+    assert got == expected
+    assert max(s for s, _ in got) > 0 and max(s for _, s in got) > 0      # both happen in this run
+
+
+def test_inverted_triangles_are_counted():
+    x, _ = square_mesh.generate(1.0, 2)
+    triangles = square_mesh.triangles(2)
+    assert diagnostics.inverted_triangles(x, triangles) == 0
+    folded = x.copy()
+    folded[0] = [0.2, 0.2]            # the corner node pushed through its cell's diagonal
+    areas = diagnostics.signed_areas(folded, triangles)
+    touching = np.isin(triangles, [0]).any(axis=1)
+    assert diagnostics.inverted_triangles(folded, triangles) == int((areas < 0).sum()) == 2 == touching.sum()
+
+
+def test_a_folding_mesh_warns_once_and_logs_the_count(tmp_path):
+    """The issue's soft fine mesh: n_seg 8 at k = 2e4 folds at the impact; a stiffer k does not."""
+    code, lines = run_main("--n-seg", "8", "--steps", "60", "--no-frames", "--out", str(tmp_path / "soft"))
+    assert code == 0
+    warnings = [line for line in lines if "inverted" in line]
+    assert len(warnings) == 1 and "--k" in warnings[0] and "--h" in warnings[0]
+    step = int(re.search(r"at step (\d+)", warnings[0]).group(1))
+    counts = [int(r["inverted_triangles"]) for r in read_csv(tmp_path / "soft" / "log.csv")]
+    assert counts[step] > 0 and not any(counts[:step])
+    code, lines = run_main("--n-seg", "8", "--k", "2e5", "--steps", "60", "--no-frames", "--out", str(tmp_path / "stiff"))
+    assert code == 0 and not [line for line in lines if "inverted" in line]
+    assert not any(int(r["inverted_triangles"]) for r in read_csv(tmp_path / "stiff" / "log.csv"))
+
+
+# ------------------------------------------------------------------------------------------------
+# Frames
+# ------------------------------------------------------------------------------------------------
+
+def colour_count(path, color):
+    import pygame
+    image = pygame.surfarray.array3d(pygame.image.load(str(path)))
+    return int(np.all(image == color, axis=2).sum())
+
+
+def test_default_frames_are_30_a_second_numbered_from_0(default_run):
+    out, _ = default_run
+    assert frame_indices(out) == list(range(51))             # 150 steps, every 3rd: 33 per simulated second
+    assert len(list(out.glob("frame_*.obj"))) == 51
+
+
+def test_frames_with_any_stride_are_numbered_0_1_2(tmp_path):
+    code, _ = run_main("--steps", "10", "--frame-stride", "4", "--out", str(tmp_path))
+    assert code == 0 and frame_indices(tmp_path) == [0, 1, 2, 3]          # steps 0, 4, 8 and the last, 10
+    obj = (tmp_path / "frame_00003.obj").read_text().splitlines()
+    last = np.array([[float(t) for t in line.split()[1:3]] for line in obj if line.startswith("v ")])
+    com_y = float(read_csv(tmp_path / "log.csv")[10]["com_y"])
+    assert last[:, 1].mean() == pytest.approx(com_y, abs=1e-6)
+
+
+def test_frames_draw_the_forces_unless_asked_not_to(default_run, tmp_path):
+    """In contact (t = 0.9 s) the frame has normal-force and friction arrows; --no-forces has none."""
+    out, _ = default_run
+    swatch = 18 * 8                                         # the legend's colour swatch, in pixels
+    assert colour_count(out / "frame_00000.png", draw.NORMAL_COLOR) == swatch       # in the air: no force
+    assert colour_count(out / "frame_00030.png", draw.NORMAL_COLOR) > swatch + 50
+    assert colour_count(out / "frame_00030.png", draw.FRICTION_COLOR) > swatch + 20
+    code, _ = run_main("--steps", "90", "--frame-stride", "90", "--no-forces", "--out", str(tmp_path))
+    assert code == 0 and colour_count(tmp_path / "frame_00001.png", draw.NORMAL_COLOR) == 0
+
+
+def test_forces_are_the_energies_forces_at_rest():
+    """A square resting on a flat floor (start at rest on it, a few steps to settle): the normal
+    forces carry its weight, sum lambda_k = M g, and friction is zero without tangential motion."""
+    scene = simulator.build_scene(slope=(0.0, 1.0), slope_point=(0.0, -0.505), k=1e7)
+    records = list(simulator.simulate(scene, 200))
+    x_n, x = records[-2].x, records[-1].x
+    normal = diagnostics.normal_forces(scene, x)
+    weight = scene.m.sum() * 9.81
+    assert normal[:, 1].sum() == pytest.approx(weight, rel=0.02)      # at rest within Newton's tolerance
+    assert np.allclose(normal[:, 0], 0.0)
+    assert np.abs(diagnostics.friction_forces(scene, x_n, x)).max() < 1e-6 * weight
+
+
+def test_a_rerun_removes_only_the_files_of_an_earlier_run(tmp_path):
+    assert run_main("--steps", "30", "--frame-stride", "1", "--out", str(tmp_path))[0] == 0
+    (tmp_path / "notes.txt").write_text("mine")
+    (tmp_path / "frame_notes.png").write_bytes(b"mine too")
+    assert run_main("--steps", "3", "--out", str(tmp_path))[0] == 0
+    names = set(os.listdir(tmp_path))
+    assert frame_indices(tmp_path) == [0, 1] and "frame_00005.obj" not in names
+    assert {"notes.txt", "frame_notes.png", "log.csv", "index.html", "plots.png", "summary.png"} <= names
+    assert len(read_csv(tmp_path / "log.csv")) == 4
+
+
+# ------------------------------------------------------------------------------------------------
+# plots.png, summary.png, index.html
+# ------------------------------------------------------------------------------------------------
+
+def test_plots_show_the_energy_budget_contact_speeds_and_eps_v(default_run):
+    import pygame
+    out, _ = default_run
+    image = pygame.surfarray.array3d(pygame.image.load(str(out / "plots.png")))       # [x, y, rgb]
+    assert image.shape[:2] == (plots.WIDTH, plots.TOP + 3 * plots.PANEL_HEIGHT)
+    energy = image[plots.LEFT + 2:plots.RIGHT - 1, plots.TOP + 25:plots.TOP + plots.PANEL_HEIGHT - 31]
+    for name, color in plots.ENERGY_COLORS.items():
+        assert np.all(energy == color, axis=2).sum() > 100, name                   # every curve drawn
+    speed_panel = image[plots.LEFT + 1:plots.RIGHT, plots.TOP + plots.PANEL_HEIGHT:plots.TOP + 2 * plots.PANEL_HEIGHT]
+    red_rows = np.all(speed_panel == (200, 0, 0), axis=2).sum(axis=0)
+    assert red_rows.max() >= plots.RIGHT - plots.LEFT - 2                             # eps_v: a full line
+    assert np.all(speed_panel == draw.BLUE, axis=2).sum() > 500                      # the contact nodes
+
+
+def test_summary_snapshots_never_overlap_and_end_with_the_last_state():
+    scene = simulator.build_scene(slope=None)          # free fall: 20 m in 2 s
+    snapshots = [(0.0, scene.x0)] + [(r.t, r.x) for r in simulator.simulate(scene, 200) if r.index % 10 == 9]
+    kept = summary.spaced(snapshots)
+    assert kept[0][0] == 0.0 and kept[-1][0] == snapshots[-1][0] and len(kept) >= 3
+    for (_, a), (_, b) in zip(kept, kept[1:]):
+        assert np.any(b.min(0) > a.max(0)) or np.any(a.min(0) > b.max(0))           # bounding boxes clear
+
+
+def test_summary_has_a_fixed_scale(tmp_path):
+    """Two runs of different lengths, drawn at the same pixels per metre: the 1 m scale bar (a black
+    line, 3 pixels thick, from x = 12 to 12 + SCALE) is there in both, and no longer."""
+    import pygame
+    for steps in ("20", "150"):
+        out = tmp_path / steps
+        assert run_main("--steps", steps, "--no-frames", "--out", str(out))[0] == 0
+        image = pygame.surfarray.array3d(pygame.image.load(str(out / "summary.png")))
+        black = np.all(image == 0, axis=2)
+        bar_rows = [y for y in range(image.shape[1]) if black[12:12 + int(summary.SCALE) + 1, y].all()]
+        assert len(bar_rows) == 3 and not black[12 + int(summary.SCALE) + 2, bar_rows].any()
+
+
+def page_data(folder):
+    text = (folder / "index.html").read_text()
+    return json.loads(re.search(r"const run = (\{.*\});", text).group(1))
+
+
+def test_page_lists_every_frame_with_its_figures(default_run):
+    out, _ = default_run
+    data = page_data(out)
+    rows = read_csv(out / "log.csv")
+    assert len(data["frames"]) == len(frame_indices(out)) == 51 and data["fps"] == pytest.approx(100 / 3)
+    for j, (t, runs) in enumerate(data["frames"]):
+        step, t_step, newton, residual, min_d, sticking, sliding = runs[0]
+        row = rows[step]
+        assert step == min(3 * j, 150) and t == pytest.approx(float(row["t"]))
+        assert newton == int(row["newton_iterations"])
+        assert (sticking, sliding) == (int(row["contacts_sticking"]), int(row["contacts_sliding"]))
+    assert data["axis"][0] == plots.LEFT and data["axis"][1] == plots.RIGHT and data["axis"][2] == pytest.approx(1.5)
+
+
+# ------------------------------------------------------------------------------------------------
+# Comparisons
+# ------------------------------------------------------------------------------------------------
+
+def test_a_comma_list_runs_one_scene_per_value(tmp_path):
+    code, lines = run_main("--mu", "0.1,0.2", "--steps", "40", "--frame-stride", "20", "--out", str(tmp_path))
+    assert code == 0, lines
+    for tag in ("mu=0.1", "mu=0.2"):
+        assert len(read_csv(tmp_path / f"log_{tag}.csv")) == 41
+        assert (tmp_path / f"frame_00002_{tag}.obj").exists()
+    assert frame_indices(tmp_path) == [0, 1, 2] and not (tmp_path / "log.csv").exists()
+    assert page_data(tmp_path)["labels"] == ["mu = 0.1", "mu = 0.2"]
+    for color in draw.RUN_COLORS[:2]:                        # both squares in each frame
+        assert colour_count(tmp_path / "frame_00002.png", color) > 100
+
+
+def test_list_syntax():
+    parser = simulator.make_parser()
+    runs = simulator.parse_command_line(parser, ["--k", "2e4,1e5"])
+    assert [r.k for r in runs] == [2e4, 1e5] and [r.duration for r in runs] == [simulator.COMPARISON_DURATION] * 2
+    runs = simulator.parse_command_line(parser, ["--v0=1,0;2,-1", "--steps", "5"])
+    assert [r.v0 for r in runs] == [(1.0, 0.0), (2.0, -1.0)] and [r.steps for r in runs] == [5, 5]
+    assert [r.tag for r in runs] == ["v0=1_0", "v0=2_-1"]
+    single = simulator.parse_command_line(parser, ["--v0", "1,0"])
+    assert len(single) == 1 and single[0].v0 == (1.0, 0.0) and single[0].duration == 3.0
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--mu", "0.1,0.2", "--k", "1e4,2e4"], "only one scene flag may take a list"),
+    (["--mu", "0.1,0.1"], "--mu: the list 0.1,0.1 repeats a value"),
+    (["--mu", "0.1,x"], "invalid float value"),
+])
+def test_bad_lists_are_one_line_and_exit_2(args, message, tmp_path):
+    code, lines = run_main(*args, "--out", str(tmp_path / "o"))
+    assert code == 2 and len(lines) == 1 and message in lines[0] and lines[0].startswith("simulator.py: error:")
+
+
+@pytest.mark.slow
+def test_the_lectures_comparison_in_one_command(tmp_path):
+    """mu = 0.1 keeps sliding, 0.11 slides then stops (about 5.5 s), 0.2 stops earlier: within the
+    comparison's default duration."""
+    code, lines = run_main("--mu", "0.1,0.11,0.2", "--no-frames", "--out", str(tmp_path))
+    assert code == 0, lines
+    last_sliding = {}
+    for mu in ("0.1", "0.11", "0.2"):
+        rows = read_csv(tmp_path / f"log_mu={mu}.csv")
+        assert float(rows[-1]["t"]) == simulator.COMPARISON_DURATION
+        last_sliding[mu] = max(float(r["t"]) for r in rows if int(r["contacts_sliding"]) > 0)
+    assert last_sliding["0.1"] == simulator.COMPARISON_DURATION
+    assert 3.0 < last_sliding["0.11"] < simulator.COMPARISON_DURATION - 0.2
+    assert last_sliding["0.2"] < last_sliding["0.11"]
+
+
+# ------------------------------------------------------------------------------------------------
+# Stopping: SIGTERM, SIGKILL, a full disk, progress
+# ------------------------------------------------------------------------------------------------
+
+def start(out, *args):
+    env = {**os.environ, "SDL_VIDEODRIVER": "dummy"}
+    return subprocess.Popen([sys.executable, os.path.join(ROOT, "simulator.py"), "--out", str(out), *args],
+                            env=env, stderr=subprocess.PIPE, text=True)
+
+
+def wait_for(path, proc, timeout=120):
+    deadline = time.monotonic() + timeout
+    while not path.exists():
+        assert proc.poll() is None and time.monotonic() < deadline, "the run ended or stalled"
+        time.sleep(0.05)
+
+
+def assert_whole_rows(path):
+    text = path.read_text()
+    assert text.endswith("\n")
+    rows = list(csv.reader(io.StringIO(text)))
+    assert rows[0] == viewer.log.COLUMNS and all(len(r) == len(viewer.log.COLUMNS) for r in rows)
+    return [int(r[0]) for r in rows[1:]]
+
+
+def test_sigterm_on_a_very_long_run_prints_progress_then_stops_like_ctrl_c(tmp_path):
+    """--steps 1e308: a progress line within a few seconds of wall time; SIGTERM then ends the run
+    with a message and exit code 143 (128 + 15), keeping log.csv and writing the pictures."""
+    proc = start(tmp_path, "--steps", "1e308", "--no-frames")
+    began = time.monotonic()
+    line = proc.stderr.readline()
+    assert line.startswith("step ") and time.monotonic() - began < 30
+    proc.send_signal(signal.SIGTERM)
+    rest = proc.stderr.read()
+    assert proc.wait(timeout=60) == 143
+    assert rest.strip().splitlines()[-1].startswith("simulator.py: stopped: terminated (SIGTERM)")
+    steps = assert_whole_rows(tmp_path / "log.csv")
+    assert steps == list(range(len(steps))) and len(steps) > 100
+    assert (tmp_path / "summary.png").stat().st_size > 0 and (tmp_path / "plots.png").stat().st_size > 0
+
+
+def test_sigkill_leaves_the_log_within_a_stride_of_the_frames(tmp_path):
+    proc = start(tmp_path, "--steps", "100000", "--frame-stride", "2")
+    wait_for(tmp_path / "frame_00020.png", proc)
+    proc.kill()
+    proc.wait(timeout=60)
+    steps = assert_whole_rows(tmp_path / "log.csv")
+    last_frame = max(frame_indices(tmp_path))
+    # a row is written before the frame of its step: the log holds every frame's step, and at most
+    # one stride (plus the frame being written) more
+    assert 2 * last_frame <= steps[-1] <= 2 * last_frame + 2
+
+
+def test_a_full_disk_is_one_line_exit_1_and_keeps_what_was_written(tmp_path, monkeypatch):
+    calls = []
+    real = square_mesh.write_atomic
+
+    def fill_up(path, data):
+        calls.append(path)
+        if len(calls) > 12:
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), path)
+        real(path, data)
+    monkeypatch.setattr(square_mesh, "write_atomic", fill_up)
+    code, lines = run_main("--steps", "100", "--out", str(tmp_path))
+    assert code == 1 and len(lines) >= 1
+    assert lines[-1].startswith("simulator.py: error: cannot write") and "No space left on device" in lines[-1]
+    assert not any(line.startswith("Traceback") for line in lines)
+    steps = assert_whole_rows(tmp_path / "log.csv")
+    assert frame_indices(tmp_path) == [0, 1, 2, 3, 4, 5] and steps[-1] >= 15       # 6 frames + 6 OBJs written
+
+
+def test_a_log_row_that_cannot_be_written_whole_is_cut_back(tmp_path, monkeypatch):
+    log = viewer.log.CsvLog(str(tmp_path / "log.csv"))
+    size = os.path.getsize(tmp_path / "log.csv")
+    real = os.write
+
+    def half_then_full(fd, data):
+        if len(data) > 4:
+            real(fd, data[:len(data) // 2])
+            raise OSError(errno.ENOSPC, "No space left on device")
+        return real(fd, data)
+    monkeypatch.setattr(os, "write", half_then_full)
+    with pytest.raises(OSError):
+        log._write("1,2,3,4,5,6,7,8\n")
+    log.close()
+    assert os.path.getsize(tmp_path / "log.csv") == size
+
+
+def test_a_run_of_any_length_keeps_bounded_history():
+    """A run of 1e308 steps keeps at most `cap` samples for its pictures: evenly spaced, from the
+    first, with the newest always at hand."""
+    history = recording.History(cap=10)
+    for i in range(1000):
+        history.add(i)
+    assert len(history.items) <= 10 and history.items[0] == 0 and history.last == 999
+    gaps = np.diff(history.items)
+    assert (gaps == gaps[0]).all() and history.all()[-1] == 999
+
+
+def test_frame_png_keeps_every_drawn_colour_exactly(tmp_path):
+    """encode_png's 3-3-2 palette: the colours frames are drawn in come back exactly, any other
+    colour within one palette step (36 of 255 in red and green, 85 in blue): a channel's top bits
+    pick the level, so 192..223 of red all become level 6, 219."""
+    import pygame
+    colors = [(255, 255, 255), (0, 0, 0), draw.NORMAL_COLOR, draw.FRICTION_COLOR] + draw.RUN_COLORS
+    surface = pygame.Surface((len(colors) + 1, 3))
+    for i, color in enumerate(colors):
+        surface.fill(color, (i, 0, 1, 3))
+    surface.fill((200, 100, 50), (len(colors), 0, 1, 3))
+    draw.save_png(pygame, surface, str(tmp_path / "f.png"))
+    back = pygame.surfarray.array3d(pygame.image.load(str(tmp_path / "f.png"))).astype(int)
+    assert back.shape == (len(colors) + 1, 3, 3)
+    assert [tuple(back[i, 1]) for i in range(len(colors))] == colors
+    error = np.array([200, 100, 50]) - back[-1, 1]
+    assert (np.abs(error) < [37, 37, 86]).all()

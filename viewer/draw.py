@@ -1,0 +1,197 @@
+"""One frame, drawn by pygame on an off-screen surface, in the lecture's style (white, the slope as
+a line, springs and nodes in blue), with what explains the motion: marks every 0.5 m along the slope,
+the contact forces as arrows, and one colour per run when runs are compared.
+
+PNG files are saved with 8-bit colour and zlib at its fastest level (encode_png): about 5 ms a
+frame instead of 20-25 ms with pygame.image.save, which is what lets a default run write 33 frames per
+simulated second at under 3x the time of the same run without frames (benchmarks/speed.py --frames).
+"""
+import io
+import os
+import struct
+import zlib
+
+import numpy as np
+
+import square_mesh
+
+RESOLUTION = 900            # pixels, square frames
+SCALE = 200.0               # pixels per metre, the lecture's
+BLUE = (0, 0, 255)
+# colours of PALETTE (below), so that frames show them exactly
+RUN_COLORS = [BLUE, (255, 146, 0), (0, 146, 0), (219, 0, 170), (146, 73, 0), (0, 182, 255), (109, 109, 85)]
+NORMAL_COLOR, FRICTION_COLOR = (219, 0, 0), (0, 109, 0)
+MARK_SPACING = 0.5          # m between marks along the slope
+ARROW_PER_WEIGHT = 1.0      # m of arrow for a force equal to the weight of the (first) square, M |g|
+FRICTION_ZOOM = 5.0         # friction arrows drawn this much longer (|F| <= mu lambda, mu ~ 0.1)
+ARROW_MAX = 1.5             # m; longer arrows (the impact) are cut here
+
+
+def load_pygame():
+    """pygame, with the dummy video driver unless one is set (no display needed), and its fonts."""
+    os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
+    os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
+    import pygame
+    pygame.font.init()
+    return pygame
+
+
+def run_color(i):
+    return RUN_COLORS[i % len(RUN_COLORS)]
+
+
+class View:
+    """Maps world coordinates to pixels. Pans only once the followed point is `margin` m from the
+    view's centre, and zooms out (never in) when the points followed no longer fit."""
+
+    def __init__(self, scale=SCALE, size=RESOLUTION, height=None):
+        self.scale, self.size, self.center = scale, size, np.zeros(2)
+        self.height = size if height is None else height
+
+    def follow(self, points, margin=1.2, room=1.5):
+        """Keep the points (k, 2), e.g. the runs' centres of mass, in view, `room` m from the border:
+        pan once their middle is `margin` m from the centre, and zoom out if they spread too far."""
+        lo, hi = points.min(axis=0), points.max(axis=0)
+        self.scale = min(self.scale, self.size / (float((hi - lo).max()) + 2 * room))
+        offset = 0.5 * (lo + hi) - self.center
+        half = self.size / (2 * self.scale) - room / 2
+        self.center = np.clip(self.center + offset - np.clip(offset, -margin, margin), hi - half, lo + half)
+
+    def __call__(self, p):
+        q = (np.asarray(p) - self.center) * self.scale
+        return np.stack([self.size / 2 + q[..., 0], self.height / 2 - q[..., 1]], axis=-1)
+
+
+def draw_slope(pygame, surface, scene, view, color=BLUE, font=None):
+    """The slope as a line through the view, with a tick every MARK_SPACING m of arc length from o
+    (a number every metre when a font is given), so motion stays visible when the view follows."""
+    if scene.n is None:
+        return
+    tangent = np.array([scene.n[1], -scene.n[0]])
+    reach = view.size / view.scale
+    s_center = float(np.dot(view.center - scene.o, tangent))
+    a, b = view(scene.o + (s_center - reach) * tangent), view(scene.o + (s_center + reach) * tangent)
+    pygame.draw.aaline(surface, color, a.tolist(), b.tolist())
+    first = np.ceil((s_center - reach) / MARK_SPACING)
+    s = MARK_SPACING * np.arange(first, first + 2 * reach / MARK_SPACING + 1)
+    feet = scene.o + s[:, None] * tangent
+    whole = np.remainder(s, 1.0) == 0.0         # s are multiples of 0.5, exact in binary
+    tick = np.where(whole, 0.08, 0.04)[:, None]  # m, longer at whole metres
+    for foot, end, metres in zip(view(feet).tolist(), view(feet - tick * scene.n).tolist(), s.tolist()):
+        pygame.draw.line(surface, color, foot, end, 2)
+        if font is not None and float(metres).is_integer():
+            label = font.render(f"{metres:g} m", True, color)
+            surface.blit(label, (end[0] - label.get_width() / 2, end[1] + 2))
+
+
+def draw_square(pygame, surface, scene, x, view, color=BLUE, nodes=True):
+    """Springs as the mesh's polylines (one pygame call per row, column or diagonal), and the nodes
+    as dots of a tenth of the spacing, when that is at least a pixel."""
+    px = view(x)
+    for line in square_mesh.polylines(scene.n_seg):
+        pygame.draw.aalines(surface, color, False, px[line].tolist())
+    radius = int(0.1 * scene.side_len / scene.n_seg * view.scale)
+    if nodes and radius >= 1:
+        for q in px.tolist():
+            pygame.draw.circle(surface, color, q, radius)
+
+
+def newton_per_metre(scene):
+    """The arrows' scale: the weight M |g| of the square per ARROW_PER_WEIGHT m (|g| = 9.81 m/s^2 without gravity)."""
+    weight = float(scene.m.sum() * np.hypot(*scene.g)) or float(scene.m.sum() * 9.81)
+    return weight / ARROW_PER_WEIGHT
+
+
+def draw_arrows(pygame, surface, view, x, forces, newton_per_metre, color):
+    """An arrow from each node whose force is not zero, ARROW_PER_WEIGHT m per weight, cut at ARROW_MAX."""
+    size = np.hypot(forces[:, 0], forces[:, 1])
+    on = size > 0.0
+    length = np.minimum(size[on] / newton_per_metre, ARROW_MAX)
+    direction = forces[on] / size[on, None]
+    tail, head = view(x[on]), view(x[on] + length[:, None] * direction)
+    back = (tail - head) / np.maximum(np.hypot(*(tail - head).T), 1e-9)[:, None]      # unit, pixels
+    side = np.stack([-back[:, 1], back[:, 0]], axis=1)
+    for t, h, b, s in zip(tail.tolist(), head.tolist(), (8 * back).tolist(), (4 * side).tolist()):
+        pygame.draw.line(surface, color, t, h, 2)
+        pygame.draw.polygon(surface, color, [h, [h[0] + b[0] + s[0], h[1] + b[1] + s[1]],
+                                             [h[0] + b[0] - s[0], h[1] + b[1] - s[1]]])
+
+
+def draw_legend(pygame, surface, font, entries, top):
+    """Colour swatches with their text, one per line, from `top` down; returns the next free row."""
+    for color, text in entries:
+        pygame.draw.rect(surface, color, (12, top + 5, 18, 8))
+        surface.blit(font.render(text, True, (0, 0, 0)), (38, top))
+        top += 22
+    return top
+
+
+def fonts(pygame):
+    """The frame's two fonts (large: title and runs; small: marks and the arrows' legend), made once."""
+    return pygame.font.Font(None, 26), pygame.font.Font(None, 20)
+
+
+def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None):
+    """One frame: the slope, every run's square in its colour, the forces of each (when given), the
+    time, a legend for the runs (when there are several) and for the arrows.
+
+    `runs`: list of dicts with keys scene, x, label, color and optionally normal, friction ((N, 2) forces).
+    """
+    surface = pygame.Surface((view.size, view.size))
+    surface.fill((255, 255, 255))
+    font, small = fonts
+    draw_slope(pygame, surface, runs[0]["scene"], view, BLUE, small)
+    for run in runs:
+        draw_square(pygame, surface, run["scene"], run["x"], view, run["color"])
+    if newton_per_metre is not None:
+        for run in runs:
+            draw_arrows(pygame, surface, view, run["x"], run["normal"], newton_per_metre, NORMAL_COLOR)
+            draw_arrows(pygame, surface, view, run["x"], FRICTION_ZOOM * run["friction"], newton_per_metre,
+                        FRICTION_COLOR)
+    title = f"t = {t:.2f} s" + (f"   {runs[0]['label']}" if len(runs) == 1 else "")
+    surface.blit(font.render(title, True, (0, 0, 0)), (12, 10))
+    top = 36
+    if len(runs) > 1:
+        top = draw_legend(pygame, surface, font, [(r["color"], r["label"]) for r in runs], top)
+    if newton_per_metre is not None:
+        weight = newton_per_metre * ARROW_PER_WEIGHT
+        draw_legend(pygame, surface, small, [
+            (NORMAL_COLOR, "normal force lambda_k n"), (FRICTION_COLOR, f"friction force, drawn {FRICTION_ZOOM:g}x longer"),
+            ((255, 255, 255), f"{ARROW_PER_WEIGHT:g} m of arrow = {weight:.4g} N (the weight M|g|)")], top + 4)
+    return surface
+
+
+# 3-3-2 bits of colour, index r << 5 | g << 2 | b (each channel's top bits): 8 levels of red and
+# green, 4 of blue; every colour drawn here (white, black, BLUE, RUN_COLORS, ...) is one of them
+PALETTE = np.array([(round(r * 255 / 7), round(g * 255 / 7), round(b * 255 / 3))
+                    for r in range(8) for g in range(8) for b in range(4)], np.uint8)
+
+
+def encode_png(pygame, surface):
+    """The surface as an 8-bit palette PNG: each pixel to its PALETTE index, the top 3, 3 and 2 bits
+    of red, green and blue (a third of RGB's data; anti-aliased edges and text keep a few shades),
+    the rows each after a 0 byte (no filter) in one zlib stream at level 1, the fastest; the IHDR,
+    PLTE, IDAT and IEND chunks as the PNG specification (section 11.2) lays them out."""
+    rgb = pygame.surfarray.pixels3d(surface)            # a view, [x, y, channel]
+    width, height = rgb.shape[:2]
+    rows = np.zeros((height, 1 + width), np.uint8)
+    rows[:, 1:] = ((rgb[:, :, 0] & 0xE0) | ((rgb[:, :, 1] & 0xE0) >> 3) | (rgb[:, :, 2] >> 6)).T
+    del rgb                                             # unlocks the surface
+
+    def chunk(kind, body):
+        return struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body))
+    header = struct.pack(">IIBBBBB", width, height, 8, 3, 0, 0, 0)     # 8 bits, palette, no interlace
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"PLTE", PALETTE.tobytes())
+            + chunk(b"IDAT", zlib.compress(rows.tobytes(), 1)) + chunk(b"IEND", b""))
+
+
+def save_png(pygame, surface, path, exact=False):
+    """Save a surface as PNG, atomically (never half a file): a frame by encode_png, a picture whose
+    colours must stay exact (plots, summary) by pygame, in 24-bit colour."""
+    if exact:
+        buffer = io.BytesIO()
+        pygame.image.save(surface, buffer, "png")
+        data = buffer.getvalue()
+    else:
+        data = encode_png(pygame, surface)
+    square_mesh.write_atomic(path, data)

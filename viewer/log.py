@@ -1,0 +1,55 @@
+"""log.csv: one row per step (and one for t = 0), appended and flushed as each step ends.
+
+Each row goes to the file in one write and is flushed before that step's frame is saved, so the
+file is never more than one row (or one frame stride) ahead of the frames on disk and never holds
+half a row: a write that fails part way (a full disk) is cut back to the last whole row.
+"""
+import os
+
+COLUMNS = ["step", "t", "wall_s", "com_x", "com_y", "v_tangential", "newton_iterations", "residual",
+           "alpha_min", "line_search_steps", "min_distance", "friction_iterations", "friction_converged",
+           "contacts_sticking", "contacts_sliding", "inverted_triangles", "E_kinetic", "E_gravity", "E_spring",
+           "E_barrier", "E_total", "W_friction", "D_numerical"]
+
+
+def row(sample):
+    """The CSV fields of one Sample (see recording.Sample); the solver's figures are empty at t = 0."""
+    s, rep, E = sample, sample.report, sample.energies
+    if rep is None:
+        solver = ["0", "", "", "0", f"{s.min_distance:.9g}", "0", "1"]
+    else:
+        solver = [str(rep.newton_iterations), f"{rep.residual:.3e}", f"{min(rep.alphas, default=1.0):.6g}",
+                  str(len(rep.alphas)), f"{rep.min_distance:.9g}", str(rep.friction_iterations),
+                  str(int(rep.friction_converged))]
+    return ([str(s.step), f"{s.t:.6f}", f"{s.wall:.6f}", f"{s.com[0]:.9f}", f"{s.com[1]:.9f}",
+             f"{s.v_tangential:.9f}"] + solver + [str(s.sticking), str(s.sliding), str(s.inverted)]
+            + [f"{E[k]:.9g}" for k in ("kinetic", "gravity", "spring", "barrier", "total")]
+            + [f"{s.friction_work:.9g}", f"{s.numerical_dissipation:.9g}"])
+
+
+class CsvLog:
+    """log.csv opened for appending: the header at once, then `append(sample)` per step."""
+
+    def __init__(self, path):
+        self.path = path
+        self.fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o666)
+        self.size = 0
+        self._write(",".join(COLUMNS) + "\n")
+
+    def append(self, sample):
+        self._write(",".join(row(sample)) + "\n")
+
+    def _write(self, line):
+        """One line, whole or not at all: a failed write (ENOSPC) truncates the file back."""
+        data = line.encode()
+        try:
+            written = 0
+            while written < len(data):
+                written += os.write(self.fd, data[written:])
+        except BaseException:
+            os.ftruncate(self.fd, self.size)
+            raise
+        self.size += len(data)
+
+    def close(self):
+        os.close(self.fd)

@@ -1,0 +1,173 @@
+"""plots.png, drawn with pygame: what explains a run, over time, on one shared time axis.
+
+One run: (1) the energy budget: kinetic, gravity, spring and barrier energy, their total E, the
+work friction has done W (cumulative, <= 0) and D = E(0) + W - E, what is left: the energy implicit
+Euler's numerical dissipation took out (mostly at the impact), so that E = E(0) + W - D;
+(2) the tangential speed of every contact node, on a log axis with eps_v marked: below it a node
+sticks, above it slides; (3) Newton iterations per step.
+Several runs (a comparison): (1) displacement of the centre of mass along the slope, (2) the
+largest tangential speed of a contact node, (3) Newton iterations per step, one colour per run.
+The panels share their time axis, so the page (page.py) draws one cursor across all of them.
+"""
+import math
+
+import numpy as np
+
+WIDTH, PANEL_HEIGHT, TOP = 900, 250, 10
+LEFT, RIGHT = 80, 700           # the time axis's pixel columns; the legends sit right of it
+ENERGY_COLORS = {"kinetic": (230, 120, 0), "gravity": (120, 80, 40), "spring": (0, 150, 60),
+                 "barrier": (200, 0, 160), "total": (0, 0, 0), "W_friction": (0, 0, 255),
+                 "-D_numerical": (200, 0, 0)}
+
+
+def nice_ticks(lo, hi, count=5):
+    """Round tick values (1, 2 or 5 times a power of ten apart) covering [lo, hi]."""
+    span = hi - lo if hi > lo else 1.0
+    raw = span / count
+    power = 10.0 ** math.floor(math.log10(raw))
+    step = min((m * power for m in (1, 2, 5, 10) if m * power >= raw), default=10 * power)
+    return step * np.arange(math.ceil(lo / step), math.floor(hi / step) + 1)
+
+
+class Axes:
+    """One panel: maps (t, y) to pixels, linear or log10 in y, and draws its box, ticks and lines."""
+
+    def __init__(self, pygame, surface, font, top, t_max, y_lo, y_hi, title, log=False):
+        self.pygame, self.surface, self.font, self.log = pygame, surface, font, log
+        self.top, self.bottom = top + 24, top + PANEL_HEIGHT - 30
+        self.t_max = t_max if t_max > 0 else 1.0
+        if log:
+            y_lo, y_hi = math.log10(y_lo), math.log10(y_hi)
+        if not y_hi > y_lo:
+            y_lo, y_hi = y_lo - 1.0, y_hi + 1.0
+        pad = 0.05 * (y_hi - y_lo)
+        self.y_lo, self.y_hi = y_lo - pad, y_hi + pad
+        self.legend_row = self.top
+        surface.blit(font.render(title, True, (0, 0, 0)), (LEFT, top + 4))
+        pygame.draw.rect(surface, (0, 0, 0), (LEFT, self.top, RIGHT - LEFT + 1, self.bottom - self.top + 1), 1)
+        self._ticks()
+
+    def px(self, t, y):
+        """Pixel columns and rows (float arrays) of times t and values y."""
+        y = np.asarray(y, dtype=float)
+        if self.log:
+            y = np.log10(np.maximum(y, 10.0 ** self.y_lo))
+        col = LEFT + (RIGHT - LEFT) * np.asarray(t, dtype=float) / self.t_max
+        row = self.bottom - (self.bottom - self.top) * (y - self.y_lo) / (self.y_hi - self.y_lo)
+        return col, row
+
+    def _ticks(self):
+        grey, black = (225, 225, 225), (0, 0, 0)
+        for t in nice_ticks(0.0, self.t_max, 6):
+            col = self.px(t, 0.0)[0]
+            self.pygame.draw.line(self.surface, grey, (col, self.top + 1), (col, self.bottom - 1))
+            label = self.font.render(f"{t:g}", True, black)
+            self.surface.blit(label, (col - label.get_width() / 2, self.bottom + 3))
+        if self.log:
+            values = 10.0 ** np.arange(math.ceil(self.y_lo), math.floor(self.y_hi) + 1)
+            texts = [f"1e{int(round(math.log10(v)))}" for v in values]
+        else:
+            values = nice_ticks(self.y_lo, self.y_hi, 4)
+            texts = [f"{v:g}" for v in values]
+        for value, text in zip(values, texts):
+            row = self.px(0.0, value)[1]
+            self.pygame.draw.line(self.surface, grey, (LEFT + 1, row), (RIGHT - 1, row))
+            label = self.font.render(text, True, black)
+            self.surface.blit(label, (LEFT - 6 - label.get_width(), row - label.get_height() / 2))
+
+    def line(self, t, y, color, width=2):
+        if len(t) > 1:
+            col, row = self.px(t, y)
+            self.pygame.draw.lines(self.surface, color, False, np.stack([col, row], 1).tolist(), width)
+
+    def dots(self, t, y, color):
+        """A 2x2-pixel dot at each (t, y), written into the surface's pixels at once."""
+        col, row = self.px(t, y)
+        col, row = col.astype(int), row.astype(int)
+        pixels = self.pygame.surfarray.pixels3d(self.surface)
+        for dc in (0, 1):
+            for dr in (0, 1):
+                pixels[col + dc, row + dr] = color
+        del pixels
+
+    def hline(self, y, color, text):
+        row = self.px(0.0, y)[1]
+        self.pygame.draw.line(self.surface, color, (LEFT + 1, row), (RIGHT - 1, row), 1)
+        self.legend(color, text)
+
+    def legend(self, color, text):
+        self.pygame.draw.rect(self.surface, color, (RIGHT + 12, self.legend_row + 5, 16, 6))
+        self.surface.blit(self.font.render(text, True, (0, 0, 0)), (RIGHT + 34, self.legend_row))
+        self.legend_row += 18
+
+
+def series(track):
+    """The arrays the plots need from a track's samples."""
+    s = track.samples.all()
+    return {"t": np.array([x.t for x in s]),
+            "E": {k: np.array([x.energies[k] for x in s]) for k in ("kinetic", "gravity", "spring", "barrier", "total")},
+            "W": np.array([x.friction_work for x in s]), "D": np.array([x.numerical_dissipation for x in s]),
+            "newton": np.array([x.report.newton_iterations if x.report else 0 for x in s]),
+            "along": np.array([(x.com - s[0].com) @ track.tangent for x in s]),
+            "speed_t": np.concatenate([np.full(len(x.speeds), x.t) for x in s]),
+            "speed": np.concatenate([x.speeds for x in s]),
+            "max_speed": np.array([x.speeds.max() if len(x.speeds) else np.nan for x in s])}
+
+
+def speed_range(speeds, epsv):
+    """A log axis from a decade below min(eps_v, the smallest speed > 0) up to the largest speed."""
+    positive = speeds[speeds > 0]
+    lo = min(epsv, positive.min()) if positive.size else epsv
+    hi = max(epsv, positive.max()) if positive.size else epsv
+    return 10.0 ** math.floor(math.log10(lo) - 1), 10.0 ** math.ceil(math.log10(hi))
+
+
+def draw_plots(pygame, tracks):
+    """plots.png's surface, and the time axis as the page needs it: (left px, right px, t_max)."""
+    font = pygame.font.Font(None, 18)
+    surface = pygame.Surface((WIDTH, TOP + 3 * PANEL_HEIGHT))
+    surface.fill((255, 255, 255))
+    data = [series(tr) for tr in tracks]
+    t_max = max(float(d["t"][-1]) for d in data)
+    epsv = tracks[0].scene.epsv
+    if len(tracks) == 1:
+        _energy_panel(pygame, surface, font, TOP, t_max, data[0])
+        d = data[0]
+        ax = Axes(pygame, surface, font, TOP + PANEL_HEIGHT, t_max, *speed_range(d["speed"], epsv),
+                  "tangential speed of each contact node (m/s, log): below eps_v it sticks", log=True)
+        ax.dots(d["speed_t"], d["speed"], tracks[0].color)
+        ax.legend(tracks[0].color, "a contact node")
+    else:
+        ax = Axes(pygame, surface, font, TOP, t_max, min(d["along"].min() for d in data),
+                  max(d["along"].max() for d in data), "displacement of the centre of mass along the slope (m)")
+        for tr, d in zip(tracks, data):
+            ax.line(d["t"], d["along"], tr.color)
+            ax.legend(tr.color, tr.label)
+        speeds = np.concatenate([d["speed"] for d in data])
+        ax = Axes(pygame, surface, font, TOP + PANEL_HEIGHT, t_max, *speed_range(speeds, epsv),
+                  "largest tangential speed of a contact node (m/s, log)", log=True)
+        for tr, d in zip(tracks, data):
+            has = ~np.isnan(d["max_speed"])
+            ax.dots(d["t"][has], d["max_speed"][has], tr.color)
+            ax.legend(tr.color, tr.label)
+    ax.hline(epsv, (200, 0, 0), f"eps_v = {epsv:g} m/s")
+    ax = Axes(pygame, surface, font, TOP + 2 * PANEL_HEIGHT, t_max, 0.0,
+              max(float(d["newton"].max()) for d in data), "Newton iterations per step")
+    for tr, d in zip(tracks, data):
+        ax.line(d["t"][1:], d["newton"][1:], tr.color, 1)
+        if len(tracks) > 1:
+            ax.legend(tr.color, tr.label)
+    return surface, (LEFT, RIGHT, t_max)
+
+
+def _energy_panel(pygame, surface, font, top, t_max, d):
+    curves = dict(d["E"], W_friction=d["W"], **{"-D_numerical": -d["D"]})
+    lo = min(float(c.min()) for c in curves.values())
+    hi = max(float(c.max()) for c in curves.values())
+    ax = Axes(pygame, surface, font, top, t_max, lo, hi,
+              "energy budget (J): E = E(0) + W_friction - D, D = implicit Euler's numerical dissipation")
+    names = {"kinetic": "kinetic", "gravity": "gravity", "spring": "spring", "barrier": "barrier",
+             "total": "total E", "W_friction": "friction work W", "-D_numerical": "-D, numerical dissip."}
+    for key, values in curves.items():
+        ax.line(d["t"], values, ENERGY_COLORS[key], 3 if key == "total" else 2)
+        ax.legend(ENERGY_COLORS[key], names[key])

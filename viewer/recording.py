@@ -1,0 +1,245 @@
+"""Step one or more scenes side by side and write what a run shows: log.csv rows, frames and OBJs.
+
+A Track is one scene being run: it pulls StepRecords from simulator.simulate, turns each into a
+Sample (one log.csv row, appended at once) and keeps what the plots, the summary and the page need.
+`record` advances every track to each frame's time, then draws the frame with all of them, so a
+comparison (`--mu 0.1,0.11,0.2`) shows every run in each frame. Frames come every `stride` steps
+of the smallest h, numbered 0, 1, 2, ...
+"""
+import math
+import os
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from viewer import diagnostics, draw, files, page, plots, summary
+from viewer.log import CsvLog
+
+import square_mesh
+
+PROGRESS_EVERY = 2.0        # s of wall time: a progress line at least this often, whatever the run's length
+SNAPSHOT_EVERY = 0.1        # s of simulated time between the states kept for summary.png
+MAX_SAMPLES, MAX_SNAPSHOTS = 100_000, 2_000     # kept for the pictures, however long the run
+
+
+class History:
+    """What a run keeps for its pictures, in bounded memory whatever its length: every item until
+    `cap`, then every other one (the first kept) and from then on every 2nd, 4th, ... new one.
+    `last` is always the newest item; `all()` the kept ones and the newest."""
+
+    def __init__(self, cap):
+        self.items, self.cap, self.every, self.seen, self.last = [], cap, 1, 0, None
+
+    def add(self, item):
+        self.last = item
+        if self.seen % self.every == 0:
+            self.items.append(item)
+            if len(self.items) > self.cap:
+                self.items, self.every = self.items[::2], 2 * self.every
+        self.seen += 1
+
+    def all(self):
+        return self.items if self.items[-1] is self.last else self.items + [self.last]
+
+
+@dataclass
+class Sample:
+    """The figures of one state of a run: one log.csv row (report is None for t = 0)."""
+    step: int
+    t: float
+    wall: float
+    com: np.ndarray
+    v_tangential: float         # centre-of-mass velocity along the slope's tangent, m/s
+    report: object
+    min_distance: float
+    energies: dict
+    friction_work: float        # W_friction, summed over the steps so far (J, <= 0)
+    numerical_dissipation: float  # D = E(0) + W_friction - E: what implicit Euler has taken out (J)
+    speeds: np.ndarray          # tangential speeds of the contact nodes (m/s)
+    sticking: int
+    sliding: int
+    inverted: int               # mesh triangles with negative signed area
+
+
+class Track:
+    """One scene being run: its records, its log.csv, its samples and snapshots so far."""
+
+    def __init__(self, scene, steps, records, label, tag, color, csv_path):
+        self.scene, self.steps, self.records = scene, steps, records
+        self.label, self.tag, self.color = label, tag, color
+        self.triangles = diagnostics.mesh_triangles(scene)
+        self.tangent = diagnostics.tangent(scene)
+        self.x_prev = self.x = scene.x0
+        self.v = scene.v0
+        self.step, self.friction_work, self.inverted_at = 0, 0.0, None
+        self.csv = CsvLog(csv_path)
+        self.samples = History(MAX_SAMPLES)
+        self.snapshots = History(MAX_SNAPSHOTS)     # (t, x) every SNAPSHOT_EVERY s of simulated time
+        self._add(None, 0.0, 0.0)
+
+    @property
+    def t(self):
+        return self.step * self.scene.h
+
+    def _add(self, report, t, wall):
+        """The Sample of the current state (after a step with `report`, or t = 0 without), logged at once."""
+        scene, x, v = self.scene, self.x, self.v
+        E = diagnostics.energies(scene, x, v)
+        E0 = self.samples.items[0].energies["total"] if self.samples.items else E["total"]
+        speeds = diagnostics.contact_speeds(scene, x, v)
+        sticking, sliding = diagnostics.sticking_sliding(speeds, scene.epsv)
+        sample = Sample(step=self.step, t=t, wall=wall, com=np.average(x, axis=0, weights=scene.m),
+                        v_tangential=float(np.average(v, axis=0, weights=scene.m) @ self.tangent), report=report,
+                        min_distance=report.min_distance if report else diagnostics.min_distance(scene, x),
+                        energies=E, friction_work=self.friction_work,
+                        numerical_dissipation=E0 + self.friction_work - E["total"], speeds=speeds,
+                        sticking=sticking, sliding=sliding,
+                        inverted=diagnostics.inverted_triangles(x, self.triangles))
+        self.csv.append(sample)
+        self.samples.add(sample)
+        if self.snapshots.last is None or t >= self.snapshots.last[0] + SNAPSHOT_EVERY - 1e-9:
+            self.snapshots.add((t, x.copy()))
+        return sample
+
+    def advance(self, target, progress):
+        """Step until `target` steps are done (or the scene's last step), logging each step."""
+        while self.step < min(target, self.steps):
+            self.take(next(self.records), progress)
+
+    def take(self, record, progress):
+        """Log the StepRecord of the step from the current state (the live window hands them in)."""
+        self.x_prev, self.x, self.v, self.step = self.x, record.x, record.v, record.index + 1
+        self.friction_work += record.report.friction_work
+        sample = self._add(record.report, record.t, record.wall)
+        if sample.inverted and self.inverted_at is None:
+            self.inverted_at = sample
+            progress.warn_inverted(self, sample)
+        progress.tick(self)
+
+    def last_snapshot(self):
+        """Keep the final state for summary.png, whenever it fell between two snapshots."""
+        if self.snapshots.last[0] < self.t:
+            self.snapshots.add((self.t, self.x.copy()))
+
+
+class Progress:
+    """Progress lines on `log`: every tenth of the first run and at least every PROGRESS_EVERY s of
+    wall time, whatever the run's length (a run of 1e308 steps says how far it got)."""
+
+    def __init__(self, tracks, log):
+        self.log, self.tracks = log, tracks
+        self.last = time.perf_counter()
+        self.tenth = max(1, tracks[0].steps // 10)
+
+    def tick(self, track):
+        now = time.perf_counter()
+        if (track is self.tracks[0] and track.step % self.tenth == 0) or now - self.last > PROGRESS_EVERY:
+            self.last = now
+            parts = [f"{tr.label + ': ' if len(self.tracks) > 1 else ''}newton={tr.samples.last.report.newton_iterations}"
+                     f"  residual={tr.samples.last.report.residual:.1e}  min_d={tr.samples.last.min_distance:.2e}"
+                     for tr in self.tracks if tr.samples.last.report is not None]
+            print(f"step {track.step}/{track.steps}  t={track.t:.2f}s  " + "  ".join(parts), file=self.log, flush=True)
+
+    def warn_inverted(self, track, sample):
+        who = f"{track.label}: " if len(self.tracks) > 1 else ""
+        print(f"simulator.py: warning: {who}at step {sample.step} (t = {sample.t:.2f} s) {sample.inverted} of "
+              f"{len(track.triangles)} mesh triangles are inverted (the square folded over; the mass-spring "
+              f"model has no inversion barrier): use a stiffer --k or a smaller --h", file=self.log, flush=True)
+
+
+def frame_steps(tracks, stride):
+    """Frame j's target step for each track: every `stride` steps of the smallest h, up to the end."""
+    h_min = min(tr.scene.h for tr in tracks)
+    duration = max(tr.steps * tr.scene.h for tr in tracks)
+    n_frames = math.ceil(duration / (stride * h_min) - 1e-9) + 1
+    for j in range(n_frames):
+        t = min(j * stride * h_min, duration)
+        targets = []
+        for tr in tracks:
+            q = t / tr.scene.h
+            targets.append(round(q) if abs(q - round(q)) < 1e-6 else math.floor(q))
+        yield j, targets
+
+
+@dataclass
+class FrameInfo:
+    """What the page shows beside frame j: per track, (step, t, newton, residual, min_d, sticking, sliding)."""
+    index: int
+    t: float
+    runs: list
+
+
+class FrameWriter:
+    """Frame j of the tracks' current states: one PNG with all of them, each one's OBJ, and the
+    FrameInfo the page shows beside it (appended to `frame_log`)."""
+
+    def __init__(self, tracks, out, forces, frame_log):
+        self.tracks, self.out, self.frame_log = tracks, out, frame_log
+        self.pygame = draw.load_pygame()
+        self.fonts = draw.fonts(self.pygame)
+        self.view = draw.View()
+        self.newton_per_metre = draw.newton_per_metre(tracks[0].scene) if forces else None
+
+    def write(self, j):
+        tracks = self.tracks
+        self.frame_log.append(FrameInfo(j, max(tr.t for tr in tracks), [_figures(tr) for tr in tracks]))
+        _write_frame(self.pygame, self.fonts, self.view, tracks, j, self.out, self.newton_per_metre)
+
+
+def record(tracks, out, stride, frames, forces, log, frame_log):
+    """Run every track to its end, writing log rows as steps end and a frame (and OBJs) every
+    `stride` steps when `frames`; appends a FrameInfo per frame to `frame_log`."""
+    writer = FrameWriter(tracks, out, forces, frame_log) if frames else None
+    progress = Progress(tracks, log)
+    for j, targets in frame_steps(tracks, stride):
+        for tr, target in zip(tracks, targets):
+            tr.advance(target, progress)
+        if writer is not None:
+            writer.write(j)
+    for tr in tracks:
+        tr.last_snapshot()
+
+
+def _figures(track):
+    """The figures the page shows for a track's latest state (page.FIGURES; None where there is none)."""
+    s = track.samples.last
+    residual = s.report.residual if s.report else math.nan
+    return [s.step, round(s.t, 6), s.report.newton_iterations if s.report else 0,
+            float(f"{residual:.3e}") if math.isfinite(residual) else None,
+            float(f"{s.min_distance:.4e}") if math.isfinite(s.min_distance) else None, s.sticking, s.sliding]
+
+
+def frame_run(scene, x_prev, x, label, color, forces):
+    """One run as draw.draw_frame takes it; with `forces`, the contact forces at x and the friction
+    force of the step x_prev -> x."""
+    run = {"scene": scene, "x": x, "label": label, "color": color}
+    if forces:
+        run["normal"] = diagnostics.normal_forces(scene, x)
+        run["friction"] = diagnostics.friction_forces(scene, x_prev, x)
+    return run
+
+
+def _write_frame(pygame, fonts, view, tracks, j, out, newton_per_metre):
+    """Frame j with every track, then each track's OBJ (after its log rows: the CSV is never behind)."""
+    view.follow(np.array([tr.samples.last.com for tr in tracks]))
+    runs = [frame_run(tr.scene, tr.x_prev, tr.x, tr.label, tr.color, newton_per_metre is not None) for tr in tracks]
+    surface = draw.draw_frame(pygame, runs, max(tr.t for tr in tracks), view, fonts, newton_per_metre)
+    draw.save_png(pygame, surface, os.path.join(out, files.frame_png(j)))
+    for tr in tracks:
+        square_mesh.write_obj(os.path.join(out, files.frame_obj(j, tr.tag)), tr.x, tr.scene.n_seg)
+
+
+def finish(tracks, out, stride, frames, frame_log, header):
+    """The pictures of the whole run, from what the tracks kept: summary.png, plots.png and, when
+    frames were written, index.html to play them."""
+    pygame = draw.load_pygame()
+    draw.save_png(pygame, summary.draw_summary(pygame, tracks, header), os.path.join(out, "summary.png"), exact=True)
+    surface, axis = plots.draw_plots(pygame, tracks)
+    draw.save_png(pygame, surface, os.path.join(out, "plots.png"), exact=True)
+    if frames:
+        fps = 1.0 / (stride * min(tr.scene.h for tr in tracks))
+        title = "Square on a slope: " + ", ".join(tr.label for tr in tracks)
+        text = page.page_html(title, [tr.label for tr in tracks], frame_log, fps, axis, surface.get_width(),
+                              note=header[0])
+        square_mesh.write_atomic(os.path.join(out, "index.html"), text)
