@@ -517,11 +517,14 @@ def make_parser():
     length = r.add_mutually_exclusive_group()
     length.add_argument("--duration", type=float, default=3.0, help="simulated seconds (default %(default)s)")
     length.add_argument("--steps", type=float, help="number of time steps, instead of --duration")
-    r.add_argument("--out", default="output", help="output folder (default %(default)s)")
+    r.add_argument("--out", help="output folder (default output; with --window, files only when given)")
     r.add_argument("--frame-stride", type=float, help="write a frame every N steps (default: 30 or more a simulated second)")
     r.add_argument("--no-forces", action="store_true", help="draw no force arrows in the frames")
     r.add_argument("--no-frames", action="store_true", help="write only the CSV log and summary picture")
-    r.add_argument("--window", action="store_true", help="show the frames live in a pygame window")
+    r.add_argument("--window", action="store_true", help="show the run live in a pygame window (see README, Live demo)")
+    r.add_argument("--size", type=float, help="--window: its side in pixels (default: fit the display)")
+    r.add_argument("--speed", type=float, default=1.0,
+                   help="--window: simulated seconds per wall-clock second (default %(default)s; 0.25: slow motion)")
     return ap
 
 
@@ -570,6 +573,7 @@ def prepare_output(folder):
                          f"({err.strerror or err})") from None
 
 
+DEFAULT_OUT = "output"      # the output folder without --out
 FRAMES_PER_SECOND = 30      # at least this many frames per simulated second by default
 COMPARISON_DURATION = 6.0   # s: a comparison's default, long enough to see mu = 0.11 stop (about 5.5 s)
 
@@ -642,7 +646,8 @@ def run(runs, log=None):
         args_k.label, args_k.tag = getattr(args_k, "label", ""), getattr(args_k, "tag", "")
     scenes = [scene_from_args(args) for args in runs]
     steps = [steps_from_args(args, scene) for args, scene in zip(runs, scenes)]
-    args, out = runs[0], runs[0].out
+    args = runs[0]
+    out = DEFAULT_OUT if args.out is None else args.out     # --window writes files only when --out is given
     stride = frame_stride(args, scenes)
     prepare_output(out)
     for args_k, scene in zip(runs, scenes):
@@ -731,8 +736,14 @@ def _attach_negative_values(argv):
 
 def main(argv=None):
     try:
-        parser = make_parser()
-        return run(parse_command_line(parser, _attach_negative_values(sys.argv[1:] if argv is None else argv)))
+        runs = parse_command_line(make_parser(), _attach_negative_values(sys.argv[1:] if argv is None else argv))
+        if runs[0].window:
+            if len(runs) > 1:
+                raise CommandLineError(f"--window shows one run; --{runs[0].label.split(' = ')[0]} was given "
+                                       f"{len(runs)} values (compare them without --window)")
+            from viewer.window import run_window
+            return run_window(runs[0])
+        return run(runs)
     except CommandLineError as err:
         print(f"simulator.py: error: {err}", file=sys.stderr)
         return 2

@@ -126,11 +126,3 @@ def test_output_files_have_the_usual_permissions(tmp_path):
     assert result.returncode == 0, result.stderr
     for name in ("frame_00001.png", "frame_00001.obj", "log.csv", "summary.png"):
         assert (tmp_path / name).stat().st_mode & 0o777 == 0o644, name
-
-
-def test_window_mode_shows_frames(tmp_path):
-    """--window opens a pygame display and flips every frame to it; SDL's dummy video driver stands
-    in for a screen here, so the whole interactive path runs."""
-    result = run_cli("--window", "--steps", "3", "--no-frames", "--out", str(tmp_path))
-    assert result.returncode == 0, result.stderr
-    assert (tmp_path / "summary.png").exists() and not list(tmp_path.glob("frame_*"))

@@ -9,6 +9,8 @@
     page.py         index.html: plays the frames from the file system, with the plots and a time cursor
     files.py        the output folder: the names this program writes, removing an earlier run's files
     recording.py    steps one or more scenes side by side and writes all of the above
+    window.py       the live window (--window): the run paced to the wall clock, driven by keys down
+                    to one Newton iteration, drawn by draw.py, its files (--out) by recording.py
 
 pygame is imported only inside the functions that draw (see draw.load_pygame).
 """

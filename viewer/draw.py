@@ -96,6 +96,12 @@ def draw_square(pygame, surface, scene, x, view, color=BLUE, nodes=True):
             pygame.draw.circle(surface, color, q, radius)
 
 
+def newton_per_metre(scene):
+    """The arrows' scale: the weight M |g| of the square per ARROW_PER_WEIGHT m (|g| = 9.81 m/s^2 without gravity)."""
+    weight = float(scene.m.sum() * np.hypot(*scene.g)) or float(scene.m.sum() * 9.81)
+    return weight / ARROW_PER_WEIGHT
+
+
 def draw_arrows(pygame, surface, view, x, forces, newton_per_metre, color):
     """An arrow from each node whose force is not zero, ARROW_PER_WEIGHT m per weight, cut at ARROW_MAX."""
     size = np.hypot(forces[:, 0], forces[:, 1])

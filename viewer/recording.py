@@ -105,14 +105,17 @@ class Track:
     def advance(self, target, progress):
         """Step until `target` steps are done (or the scene's last step), logging each step."""
         while self.step < min(target, self.steps):
-            record = next(self.records)
-            self.x_prev, self.x, self.v, self.step = self.x, record.x, record.v, record.index + 1
-            self.friction_work += record.report.friction_work
-            sample = self._add(record.report, record.t, record.wall)
-            if sample.inverted and self.inverted_at is None:
-                self.inverted_at = sample
-                progress.warn_inverted(self, sample)
-            progress.tick(self)
+            self.take(next(self.records), progress)
+
+    def take(self, record, progress):
+        """Log the StepRecord of the step from the current state (the live window hands them in)."""
+        self.x_prev, self.x, self.v, self.step = self.x, record.x, record.v, record.index + 1
+        self.friction_work += record.report.friction_work
+        sample = self._add(record.report, record.t, record.wall)
+        if sample.inverted and self.inverted_at is None:
+            self.inverted_at = sample
+            progress.warn_inverted(self, sample)
+        progress.tick(self)
 
     def last_snapshot(self):
         """Keep the final state for summary.png, whenever it fell between two snapshots."""
@@ -167,22 +170,33 @@ class FrameInfo:
     runs: list
 
 
+class FrameWriter:
+    """Frame j of the tracks' current states: one PNG with all of them, each one's OBJ, and the
+    FrameInfo the page shows beside it (appended to `frame_log`)."""
+
+    def __init__(self, tracks, out, forces, frame_log):
+        self.tracks, self.out, self.frame_log = tracks, out, frame_log
+        self.pygame = draw.load_pygame()
+        self.fonts = draw.fonts(self.pygame)
+        self.view = draw.View()
+        self.newton_per_metre = draw.newton_per_metre(tracks[0].scene) if forces else None
+
+    def write(self, j):
+        tracks = self.tracks
+        self.frame_log.append(FrameInfo(j, max(tr.t for tr in tracks), [_figures(tr) for tr in tracks]))
+        _write_frame(self.pygame, self.fonts, self.view, tracks, j, self.out, self.newton_per_metre)
+
+
 def record(tracks, out, stride, frames, forces, log, frame_log):
     """Run every track to its end, writing log rows as steps end and a frame (and OBJs) every
     `stride` steps when `frames`; appends a FrameInfo per frame to `frame_log`."""
-    pygame = draw.load_pygame() if frames else None
-    fonts = draw.fonts(pygame) if frames else None
-    view = draw.View()
+    writer = FrameWriter(tracks, out, forces, frame_log) if frames else None
     progress = Progress(tracks, log)
-    first = tracks[0].scene
-    weight = float(first.m.sum() * np.hypot(*first.g)) or float(first.m.sum() * 9.81)
-    newton_per_metre = weight / draw.ARROW_PER_WEIGHT if forces else None
     for j, targets in frame_steps(tracks, stride):
         for tr, target in zip(tracks, targets):
             tr.advance(target, progress)
-        if frames:
-            frame_log.append(FrameInfo(j, max(tr.t for tr in tracks), [_figures(tr) for tr in tracks]))
-            _write_frame(pygame, fonts, view, tracks, j, out, newton_per_metre)
+        if writer is not None:
+            writer.write(j)
     for tr in tracks:
         tr.last_snapshot()
 
@@ -196,16 +210,20 @@ def _figures(track):
             float(f"{s.min_distance:.4e}") if math.isfinite(s.min_distance) else None, s.sticking, s.sliding]
 
 
+def frame_run(scene, x_prev, x, label, color, forces):
+    """One run as draw.draw_frame takes it; with `forces`, the contact forces at x and the friction
+    force of the step x_prev -> x."""
+    run = {"scene": scene, "x": x, "label": label, "color": color}
+    if forces:
+        run["normal"] = diagnostics.normal_forces(scene, x)
+        run["friction"] = diagnostics.friction_forces(scene, x_prev, x)
+    return run
+
+
 def _write_frame(pygame, fonts, view, tracks, j, out, newton_per_metre):
     """Frame j with every track, then each track's OBJ (after its log rows: the CSV is never behind)."""
     view.follow(np.array([tr.samples.last.com for tr in tracks]))
-    runs = []
-    for tr in tracks:
-        run = {"scene": tr.scene, "x": tr.x, "label": tr.label, "color": tr.color}
-        if newton_per_metre is not None:
-            run["normal"] = diagnostics.normal_forces(tr.scene, tr.x)
-            run["friction"] = diagnostics.friction_forces(tr.scene, tr.x_prev, tr.x)
-        runs.append(run)
+    runs = [frame_run(tr.scene, tr.x_prev, tr.x, tr.label, tr.color, newton_per_metre is not None) for tr in tracks]
     surface = draw.draw_frame(pygame, runs, max(tr.t for tr in tracks), view, fonts, newton_per_metre)
     draw.save_png(pygame, surface, os.path.join(out, files.frame_png(j)))
     for tr in tracks:
