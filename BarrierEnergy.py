@@ -46,18 +46,18 @@ def hess(x, n, o, contact_area, dhat=DHAT, kappa=KAPPA):
 
 def distances(x, n, o):
     """d_i = n . (x_i - o) for every node."""
-    return x @ n - o @ n
+    return x.dot(n) - o.dot(n)
 
 
 def _active(x, n, o, dhat):
     """The nodes with d < dhat and their distances; NotAboveHalfSpace if any node has d <= 0."""
     d = distances(x, n, o)
-    i = (d < dhat).nonzero()[0]
-    if len(i) and d[i].min() <= 0.0:
-        worst = i[np.argmin(d[i])]
+    if d.min() <= 0.0:
+        worst = int(np.argmin(d))
         raise NotAboveHalfSpace(f"x: node {worst} is at distance {d[worst]:.6g} <= 0 from the half-space; "
                                 "the barrier is only defined for d > 0")
-    return i, d[i]
+    i = (d < dhat).nonzero()[0]
+    return i, d.take(i)                         # (take: d[i], faster on small arrays)
 
 
 def check_above(x, n, o):
@@ -69,7 +69,7 @@ def val_kernel(x, n, o, contact_area, dhat, kappa):
     """P_b = sum_{d_i < dhat} w_i dhat kappa/2 (s - 1) ln s, s = d_i / dhat."""
     i, d = _active(x, n, o, dhat)
     s = d / dhat
-    return float(contact_area[i] @ ((s - 1.0) * np.log(s))) * dhat * kappa / 2.0
+    return float(contact_area.take(i) @ ((s - 1.0) * np.log(s))) * dhat * kappa / 2.0
 
 
 def dP_dd(d, w, dhat, kappa):
@@ -82,7 +82,7 @@ def grad_kernel(x, n, o, contact_area, dhat, kappa):
     """grad_i P_b = w_i dhat b'(d_i) n for the nodes with d_i < dhat, zero elsewhere."""
     i, d = _active(x, n, o, dhat)
     g = np.zeros(x.shape)
-    g[i] = dP_dd(d, contact_area[i], dhat, kappa)[:, None] * n
+    g[i] = dP_dd(d, contact_area.take(i), dhat, kappa)[:, None] * n
     return g
 
 
@@ -90,7 +90,7 @@ def hess_kernel(x, n, o, contact_area, dhat, kappa):
     """hess_i P_b = w_i dhat b''(d_i) n n^T, b''(d) = kappa (d + dhat) / (2 d^2 dhat) > 0 (PSD as it is),
     for the nodes with d_i < dhat; written (d + dhat) / d / d, since d^2 underflows first."""
     i, d = _active(x, n, o, dhat)
-    curvature = contact_area[i] * kappa / 2.0 * (d + dhat) / d / d
+    curvature = contact_area.take(i) * kappa / 2.0 * (d + dhat) / d / d
     return i[:, None], curvature[:, None, None] * np.outer(n, n)
 
 
@@ -126,5 +126,5 @@ def compute_mu_lambda_kernel(x, n, o, contact_area, mu, dhat, kappa):
     zero elsewhere. The friction term uses it lagged, from x^n."""
     i, d = _active(x, n, o, dhat)
     mu_lambda = np.zeros(len(x))
-    mu_lambda[i] = -mu * dP_dd(d, contact_area[i], dhat, kappa)
+    mu_lambda[i] = -mu * dP_dd(d, contact_area.take(i), dhat, kappa)
     return mu_lambda

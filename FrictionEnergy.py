@@ -80,7 +80,7 @@ def _contacts(v, mu_lambda, n):
     """The nodes in contact (mu_lambda > 0), their mu lambda, t, and u = t . v (vbar = u t, ||vbar|| = |u|)."""
     k = (mu_lambda > 0.0).nonzero()[0]
     t = tangent(n)
-    return k, mu_lambda[k], t, v[k] @ t
+    return k, mu_lambda.take(k), t, v.take(k, axis=0).dot(t)        # (take: [k], faster on small arrays)
 
 
 def val_kernel(v, mu_lambda, hhat, n, epsv):
@@ -109,5 +109,4 @@ def hess_kernel(v, mu_lambda, hhat, n, epsv, project_psd=True):
     along_t = f_hess_term(vbarnorm, epsv) * vbarnorm + f1_div_vbarnorm(vbarnorm, epsv)
     if project_psd:
         along_t = np.maximum(along_t, 0.0)
-    blocks = (mu_lambda * along_t / hhat)[:, None, None] * np.outer(t, t)
-    return k[:, None], blocks
+    return k[:, None], (mu_lambda * along_t / hhat)[:, None, None] * np.outer(t, t)

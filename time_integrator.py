@@ -47,7 +47,6 @@ class NonFiniteState(SimulationError):
 @dataclass
 class StepReport:
     """The figures of one time step."""
-    newton_iterations: int = 0      # Newton iterations, summed over the solves of the step
     residual: float = math.inf      # ||p||_inf / h (m/s) at the step's end
     stalled: bool = False           # Newton stopped at float64's round-off floor, residual above tol
     alphas: list = field(default_factory=list)  # accepted line-search step sizes, in order
@@ -55,6 +54,11 @@ class StepReport:
     friction_iterations: int = 0    # Newton solves with friction (1: lagged only; more: Algorithm 5)
     friction_converged: bool = True  # Algorithm 5 reached its fixed point (always True when lagged)
     friction_work: float = 0.0      # work of the friction forces over the step (J, <= 0)
+
+    @property
+    def newton_iterations(self):
+        """Newton iterations, summed over the solves of the step: one accepted alpha each."""
+        return len(self.alphas)
 
 
 @dataclass(frozen=True)
@@ -92,16 +96,11 @@ def friction_update(scene, lagged, x):
 
 def potential_terms(scene, lagged, x):
     """The scene's potential terms at x: (energy module, its arguments in the lecture's order)."""
-    s, terms = scene, []
-    if "spring" in s.terms:
-        terms.append((MassSpringEnergy, (x, s.e, s.l2, s.k)))
-    if "gravity" in s.terms:
-        terms.append((GravityEnergy, (x, s.m, s.g)))
-    if "barrier" in s.terms:
-        terms.append((BarrierEnergy, (x, s.n, s.o, s.contact_area, s.dhat, s.kappa)))
-    if "friction" in s.terms:
-        terms.append((FrictionEnergy, ((x - lagged.x_n) / s.h, lagged.mu_lambda, s.h, s.n, s.epsv)))
-    return terms
+    s, v = scene, (x - lagged.x_n) / scene.h            # friction's argument: the velocity the step implies
+    every = {"spring": (MassSpringEnergy, (x, s.e, s.l2, s.k)), "gravity": (GravityEnergy, (x, s.m, s.g)),
+             "barrier": (BarrierEnergy, (x, s.n, s.o, s.contact_area, s.dhat, s.kappa)),
+             "friction": (FrictionEnergy, (v, lagged.mu_lambda, s.h, s.n, s.epsv))}
+    return [every[term] for term in s.terms if term != "inertia"]
 
 
 def IP_val(scene, lagged, x):
@@ -123,12 +122,9 @@ def IP_grad(scene, lagged, x):
 def IP_hess(scene, lagged, x):
     """H(x) = M + h^2 sum hess P(x), each term PSD-projected, so H >= M is SPD; as the element blocks
     (nodes, blocks) of its terms, summed when the matrix is built."""
-    h2 = scene.h ** 2
-    H = [InertiaEnergy.hess_kernel(x, lagged.x_tilde, scene.m)]
-    for term, args in potential_terms(scene, lagged, x):
-        nodes, blocks = term.hess_kernel(*args)
-        H.append((nodes, h2 * blocks))
-    return H
+    hess_P = [term.hess_kernel(*args) for term, args in potential_terms(scene, lagged, x)]
+    M = InertiaEnergy.hess_kernel(x, lagged.x_tilde, scene.m)
+    return [M] + [(nodes, scene.h ** 2 * blocks) for nodes, blocks in hess_P]
 
 
 def search_dir(scene, lagged, x, grad_E):
@@ -150,8 +146,7 @@ def newton(scene, lagged, x, report, step_index, friction_update=0):
     yielding a NewtonIterate per iteration; returns the minimizer. Stops when ||p||_inf / h <= tol after at
     least one iteration (a body at rest under h |grad E| < tol would otherwise never start to move), or
     when E can no longer resolve the decrease p promises (float64's floor: report.stalled)."""
-    E, p = IP_val(scene, lagged, x), search_dir(scene, lagged, x, IP_grad(scene, lagged, x))
-    residual = _residual(scene, p, step_index)
+    E, (p, residual) = IP_val(scene, lagged, x), _direction(scene, lagged, x, step_index, False)
     for iteration in range(scene.max_newton_iterations):
         alpha = alpha_ccd = init_step_size(scene, x, p)                 # Algorithm 4, line 1
         halvings, E_next = 0, IP_val(scene, lagged, x + alpha * p)
@@ -166,7 +161,6 @@ def newton(scene, lagged, x, report, step_index, friction_update=0):
             break
         x, E = x_next, E_next
         report.alphas.append(alpha)
-        report.newton_iterations += 1
         p, residual = _direction(scene, lagged, x, step_index)
         if residual <= scene.tol:
             break
@@ -177,23 +171,19 @@ def newton(scene, lagged, x, report, step_index, friction_update=0):
     return x
 
 
-def _direction(scene, lagged, x, step_index):
-    """(p, ||p||_inf / h) at x; p is None where ||g||_2 / min m <= tol h shows convergence without it:
-    H >= M, so ||p||_inf <= ||H^-1 g||_2 <= ||g||_2 / min m (the returned residual is then that bound)."""
+def _direction(scene, lagged, x, step_index, bound_shows_convergence=True):
+    """(p, ||p||_inf / h) at x, the lecture's convergence measure (a velocity, m/s). H >= M, so
+    ||p||_inf <= ||H^-1 grad E||_2 <= ||grad E||_2 / min m: where that bound is already <= tol, p is not
+    needed and (None, bound) is returned."""
     g = IP_grad(scene, lagged, x)
-    bound = float(np.linalg.norm(g)) / scene.m.min() / scene.h
-    if bound <= scene.tol:
+    bound = math.sqrt(np.vdot(g, g)) / scene.m.min() / scene.h
+    if bound_shows_convergence and bound <= scene.tol:
         return None, bound
     p = search_dir(scene, lagged, x, g)
-    return p, _residual(scene, p, step_index)
-
-
-def _residual(scene, p, step_index):
-    """The lecture's convergence measure ||p||_inf / h (a velocity, m/s)."""
     residual = float(np.abs(p).max()) / scene.h
     if not math.isfinite(residual):
         raise NonFiniteState("the Newton direction is not finite", step_index)
-    return residual
+    return p, residual
 
 
 def _check_round_off_floor(scene, lagged, x, p, E, E_next, residual, step_index):
@@ -209,9 +199,7 @@ def _check_round_off_floor(scene, lagged, x, p, E, E_next, residual, step_index)
 def newton_iterates(scene, x, v, *, step_index=0):
     """The time step of `step`, one Newton iteration at a time: yields a NewtonIterate after each line
     search, returns (x^{n+1}, v^{n+1}, StepReport)."""
-    x_n, v_n = utils.check_points("x", x), utils.check_points("v", v)
-    if x_n.shape != scene.x0.shape or v_n.shape != scene.x0.shape:
-        raise ValueError(f"x and v must have shape {scene.x0.shape}, got {x_n.shape} and {v_n.shape}")
+    x_n, v_n = utils.check_points("x", x, scene.x0.shape), utils.check_points("v", v, scene.x0.shape)
     if "barrier" in scene.terms:
         BarrierEnergy.check_above(x_n, scene.n, scene.o)
     report = StepReport()
@@ -241,8 +229,8 @@ def newton_iterates(scene, x, v, *, step_index=0):
 def step(scene, x, v, *, step_index=0):
     """Advance (x^n, v^n) by one implicit Euler step of scene.h: returns (x^{n+1}, v^{n+1}, StepReport)."""
     iterates = newton_iterates(scene, x, v, step_index=step_index)
-    while True:
-        try:
+    try:
+        while True:
             next(iterates)
-        except StopIteration as done:
-            return done.value
+    except StopIteration as done:       # the generator's return value
+        return done.value

@@ -16,11 +16,12 @@ from scipy.linalg import lapack
 # Input checks: one line each in the energies, a ValueError that names the argument.
 # ----------------------------------------------------------------------------------------------
 
-def check_points(name, x):
-    """Return `x` as a float64 (N, 2) array; ValueError if the shape is wrong or a value is not finite."""
+def check_points(name, x, shape=None):
+    """Return `x` as a float64 (N, 2) array, of `shape` if given; ValueError if the shape is wrong or a value
+    is not finite."""
     x = np.asarray(x, dtype=np.float64)
-    if x.ndim != 2 or x.shape[1] != 2:
-        raise ValueError(f"{name} must have shape (N, 2), got shape {x.shape}")
+    if x.ndim != 2 or x.shape[1] != 2 or shape not in (None, x.shape):
+        raise ValueError(f"{name} must have shape {shape or '(N, 2)'}, got shape {x.shape}")
     if not np.isfinite(x).all():
         bad = np.argwhere(~np.isfinite(x))[0]
         raise ValueError(f"{name} has a non-finite value {x[tuple(bad)]} at node {bad[0]}")
@@ -193,16 +194,20 @@ class SPDSolver:
         """p = H^-1 b, H given as element blocks: a list of (nodes (B, m), blocks (B, 2m, 2m)) whose sum it
         is (see blocks_to_ijv). np.linalg.LinAlgError when H is not positive definite."""
         if self.kind == "superlu":
-            rows, cols, vals = concat_ijv(blocks_to_ijv(nodes, blocks) for nodes, blocks in H)
-            A = scipy.sparse.csc_matrix((vals, (rows, cols)), shape=(self.n_dofs, self.n_dofs))
-            try:
-                return scipy.sparse.linalg.splu(A).solve(b)
-            except RuntimeError as err:         # SuperLU: the matrix is singular
-                raise np.linalg.LinAlgError(str(err)) from None
+            return self._superlu_solve(H, b)
         factor, info = lapack.dpbtrf(self.upper_band(H), lower=0, overwrite_ab=1)
         if info != 0:
             raise np.linalg.LinAlgError(f"banded Cholesky failed (dpbtrf info {info}): H is not positive definite")
         return lapack.dpbtrs(factor, b, lower=0)[0]
+
+    def _superlu_solve(self, H, b):
+        """p = H^-1 b by SuperLU on H in CSC form (a mesh numbered with a wide band)."""
+        rows, cols, vals = concat_ijv(blocks_to_ijv(nodes, blocks) for nodes, blocks in H)
+        A = scipy.sparse.csc_matrix((vals, (rows, cols)), shape=(self.n_dofs, self.n_dofs))
+        try:
+            return scipy.sparse.linalg.splu(A).solve(b)
+        except RuntimeError as err:         # SuperLU: the matrix is singular
+            raise np.linalg.LinAlgError(str(err)) from None
 
     def upper_band(self, H):
         """H's upper band in LAPACK's storage, ab[bandwidth + r - c, c] = H[r, c] for r <= c, from each
@@ -219,7 +224,7 @@ class SPDSolver:
     def _slots(self, nodes, i, j):
         """_band_slots(nodes, i, j), looked up where the elements are nodes or the mesh's edges."""
         if nodes.shape[1] == 1:
-            return self.node_slots[nodes[:, 0]]
+            return self.node_slots.take(nodes[:, 0], axis=0)
         if nodes.shape == self.edges.shape and np.array_equal(nodes, self.edges):
             return self.edge_slots
         return _band_slots(self.bandwidth, nodes, i, j)
