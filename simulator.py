@@ -208,6 +208,12 @@ def resolution_warnings(p, x0=None, n=None, o=None):
        and should slide gains a h = g (sin theta - mu cos theta) h of speed per step. Newton stops once
        its step is below tol (m/s); where a h < tol it can stop before the square ever leaves static
        friction (the static branch's curvature keeps each Newton step small), so the square stays put.
+    3. The line search compares values of E, which float64 holds to about eps |E|. A Newton step of
+       ||p||_inf = h r moves a node of mass m by h r and lowers E by at least about m (h r)^2 (H >= M);
+       below r_floor = sqrt(eps E_scale / m) / h that decrease drowns in E's rounding, and Newton stops
+       there (the step is flagged stalled) whatever tol asks. E_scale is gravity's term, the largest:
+       h^2 M |g| (max |x0| + side_len). (On the lecture's scene this gives 2.9e-7 m/s; stalls were
+       measured from 1e-7 to 2.1e-7 m/s, none at tol = 3e-7.)
     """
     warnings = []
     travel = math.hypot(*p["v0"]) * p["h"] + math.hypot(*p["gravity"]) * p["h"] * p["h"]
@@ -226,7 +232,20 @@ def resolution_warnings(p, x0=None, n=None, o=None):
                             f"gaining {slide * p['h']:.3g} m/s per step, less than tol = {p['tol']:g} m/s: "
                             f"Newton may stop before it leaves static friction (use tol <= "
                             f"{slide * p['h'] / 10:.2g})")
+    if x0 is not None and p["tol"] < (floor := _round_off_floor(p, x0)):
+        warnings.append(f"tol = {p['tol']:g} m/s is below the residual float64 can resolve in this scene (about "
+                        f"{floor:.2g} m/s: E's rounding hides smaller Newton steps): Newton stops at that floor where "
+                        f"it must, and log.csv flags those steps newton_stalled")
     return tuple(warnings)
+
+
+def _round_off_floor(p, x0):
+    """r_floor = sqrt(eps E_scale / m) / h, at least eps max|x| / h (see resolution_warnings, 3)."""
+    total_mass = p["mass"] if p["mass"] is not None else p["rho"] * p["side_len"] ** 2
+    reach = float(np.abs(x0).max()) + p["side_len"]
+    E_scale = p["h"] ** 2 * total_mass * math.hypot(*p["gravity"]) * reach
+    eps = np.finfo(float).eps
+    return max(math.sqrt(eps * E_scale / (total_mass / len(x0))), eps * reach) / p["h"]
 
 
 def _largest_resolving_h(p):

@@ -126,3 +126,22 @@ def test_output_files_have_the_usual_permissions(tmp_path):
     assert result.returncode == 0, result.stderr
     for name in ("frame_00001.png", "frame_00001.obj", "log.csv", "summary.png"):
         assert (tmp_path / name).stat().st_mode & 0o777 == 0o644, name
+
+
+def test_tolerance_below_round_off_warns_and_finishes(tmp_path):
+    """Issue 13: --tol 1e-8 used to fail at step 32 after 1000 Newton iterations. It is warned about when
+    the scene is built (below the floor resolution_warnings estimates), the run finishes with exit 0,
+    the steps that stopped at the floor are flagged in log.csv (residual above tol, few iterations),
+    and stderr says so once."""
+    scene = simulator.build_scene(tol=1e-8)
+    assert any("below the residual float64 can resolve" in w for w in scene.warnings)
+    assert not simulator.build_scene().warnings                 # the lecture's tol is far above the floor
+    result = run_cli("--tol", "1e-8", "--no-frames", "--duration", "0.6", "--out", str(tmp_path))
+    assert result.returncode == 0, result.stderr
+    with open(tmp_path / "log.csv") as f:
+        rows = list(csv.DictReader(f))[1:]
+    stalled = [r for r in rows if r["newton_stalled"] == "1"]
+    assert stalled and all(float(r["residual"]) > 1e-8 for r in stalled)
+    assert all(float(r["residual"]) <= 1e-8 for r in rows if r["newton_stalled"] == "0")
+    assert max(int(r["newton_iterations"]) for r in rows) < 50
+    assert result.stderr.count("round-off floor") == 1

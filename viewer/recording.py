@@ -72,7 +72,7 @@ class Track:
         self.tangent = diagnostics.tangent(scene)
         self.x_prev = self.x = scene.x0
         self.v = scene.v0
-        self.step, self.friction_work, self.inverted_at = 0, 0.0, None
+        self.step, self.friction_work, self.inverted_at, self.stalled_at = 0, 0.0, None, None
         self.csv = CsvLog(csv_path)
         self.samples = History(MAX_SAMPLES)
         self.snapshots = History(MAX_SNAPSHOTS)     # (t, x) every SNAPSHOT_EVERY s of simulated time
@@ -115,6 +115,9 @@ class Track:
         if sample.inverted and self.inverted_at is None:
             self.inverted_at = sample
             progress.warn_inverted(self, sample)
+        if record.report.stalled and self.stalled_at is None:
+            self.stalled_at = sample
+            progress.warn_stalled(self, sample)
         progress.tick(self)
 
     def last_snapshot(self):
@@ -140,6 +143,13 @@ class Progress:
                      f"  residual={tr.samples.last.report.residual:.1e}  min_d={tr.samples.last.min_distance:.2e}"
                      for tr in self.tracks if tr.samples.last.report is not None]
             print(f"step {track.step}/{track.steps}  t={track.t:.2f}s  " + "  ".join(parts), file=self.log, flush=True)
+
+    def warn_stalled(self, track, sample):
+        who = f"{track.label}: " if len(self.tracks) > 1 else ""
+        print(f"simulator.py: warning: {who}at step {sample.step} (t = {sample.t:.2f} s) Newton stopped at "
+              f"float64's round-off floor, residual {sample.report.residual:.2g} m/s above tol = {track.scene.tol:g} "
+              f"m/s (E can no longer resolve a smaller step); the run goes on, such steps are flagged "
+              f"newton_stalled in log.csv", file=self.log, flush=True)
 
     def warn_inverted(self, track, sample):
         who = f"{track.label}: " if len(self.tracks) > 1 else ""
