@@ -33,8 +33,7 @@ def f0(vbarnorm, epsv, hhat):
 def f1_div_vbarnorm(vbarnorm, epsv):
     """f1(||vbar||) / ||vbar||: (-||vbar|| + 2 eps_v) / eps_v^2 for ||vbar|| < eps_v, else 1 / ||vbar||.
     Finite (2 / eps_v) at ||vbar|| = 0."""
-    sliding = vbarnorm >= epsv
-    return np.where(sliding, 1.0 / np.where(sliding, vbarnorm, 1.0), (2.0 - vbarnorm / epsv) / epsv)
+    return np.where(vbarnorm < epsv, (2.0 - vbarnorm / epsv) / epsv, 1.0 / np.maximum(vbarnorm, epsv))
 
 
 def f_hess_term(vbarnorm, epsv):

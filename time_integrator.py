@@ -141,20 +141,21 @@ def init_step_size(scene, x, p):
 
 # --- the time step -----------------------------------------------------------------------------------
 
-def newton(scene, lagged, x, report, step_index, friction_update=0):
+def newton(scene, lagged, x, report, step_index, update=0):
     """Minimize E from x by projected Newton with the filtered backtracking line search (Algorithm 4),
-    yielding a NewtonIterate per iteration; returns the minimizer. Stops when ||p||_inf / h <= tol after at
+    yielding a NewtonIterate per iteration (`update`: which solve of Algorithm 5 this is, 0 the lagged
+    one); returns the minimizer. Stops when ||p||_inf / h <= tol after at
     least one iteration (a body at rest under h |grad E| < tol would otherwise never start to move), or
     when E can no longer resolve the decrease p promises (float64's floor: report.stalled)."""
     E, (p, residual) = IP_val(scene, lagged, x), _direction(scene, lagged, x, step_index, False)
-    for iteration in range(scene.max_newton_iterations):
+    for _ in range(scene.max_newton_iterations):
         alpha = alpha_ccd = init_step_size(scene, x, p)                 # Algorithm 4, line 1
         halvings, E_next = 0, IP_val(scene, lagged, x + alpha * p)
         while not E_next <= E and halvings < scene.max_halvings:      # line 2 (a NaN E is no decrease)
             alpha, halvings = alpha / 2, halvings + 1                   # line 3
             E_next = IP_val(scene, lagged, x + alpha * p)
         x_next = x + alpha * p
-        yield NewtonIterate(x, p, residual, alpha_ccd, alpha, halvings, x_next, friction_update)
+        yield NewtonIterate(x, p, residual, alpha_ccd, alpha, halvings, x_next, update)
         if not E_next < E:                  # no decrease: E cannot tell x_next from x
             _check_round_off_floor(scene, lagged, x, p, E, E_next, residual, step_index)
             report.stalled = residual > scene.tol
