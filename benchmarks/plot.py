@@ -10,10 +10,10 @@ decades).
 """
 import io
 import math
-import os
 from dataclasses import dataclass, field
 
 import square_mesh
+from viewer.draw import load_pygame
 
 PANEL_W, PANEL_H = 620, 430         # pixels per panel, axes and labels included
 MARGIN_L, MARGIN_R, MARGIN_T, MARGIN_B = 88, 20, 40, 62
@@ -35,14 +35,6 @@ class Panel:
     xlabel: str
     ylabel: str
     series: list = field(default_factory=list)     # (Style, [(x, y), ...]); points with x or y <= 0 are left out
-
-
-def _pygame():
-    os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
-    os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
-    import pygame
-    pygame.font.init()
-    return pygame
 
 
 def _decades(values):
@@ -148,7 +140,7 @@ def _draw_panel(pygame, surface, panel, left, top, fonts):
 
 def save_loglog_panels(path, title, panels, legend, notes=()):
     """Draw the panels in a grid of COLUMNS, the legend and notes below, and save as PNG (atomically)."""
-    pygame = _pygame()
+    pygame = load_pygame()
     small, normal, big = (pygame.font.Font(None, s) for s in (22, 26, 32))
     rows = math.ceil(len(panels) / COLUMNS)
     legend_rows = math.ceil(len(legend) / 3)
