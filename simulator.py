@@ -12,7 +12,7 @@ window and needs no display.
 import os
 
 if __name__ == "__main__":
-    # The command line runs on one BLAS thread, set before numpy loads (see README, Performance).
+    # The command line runs on one BLAS thread, set before numpy loads (see benchmarks/README.md, Time per step).
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     os.environ.setdefault("OMP_NUM_THREADS", "1")
 

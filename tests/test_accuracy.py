@@ -18,7 +18,7 @@ from benchmarks import cases
 # x^n, where the friction is in its static regime (a stiff viscous law of slope 2 mu lambda / eps_v),
 # so a loose tolerance stops it before the square has picked up speed. At the lecture's 1e-2 the
 # stiff square on the lecture's slope with mu = 0.05 never starts to slide (acceleration error
-# -100 %, see README "Accuracy and cost").
+# -100 %, see benchmarks/README.md, "Accuracy and cost").
 TOL = 1e-6
 H = 0.01
 
