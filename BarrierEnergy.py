@@ -7,7 +7,7 @@ hess d = 0. Per node, weighted by its contact area w_i (the lecture's choice):
 
 Only the nodes with d < dhat enter. `val`, `grad`, `hess`, `init_step_size` and `compute_mu_lambda`
 check their input and call the `*_kernel` of the same name, which holds the formula and trusts its
-input. Every kernel refuses a node at d <= 0, where the barrier is not defined.
+input. The kernels of P_b and of mu*lambda refuse a node at d <= 0, where the barrier is not defined.
 """
 import numpy as np
 
@@ -105,9 +105,9 @@ def init_step_size(x, n, o, p):
 
 
 def init_step_size_kernel(x, n, o, p):
-    """Algorithm 4, line 1: the largest alpha <= 1 that keeps every node above the half-space along
-    x + alpha p, times 0.9. A node approaching it (n . p_i < 0) reaches it at alpha_i = d_i / (-n . p_i),
-    so alpha = 0.9 / max_i (-n . p_i / d_i) when that max exceeds 0.9."""
+    """Algorithm 4, line 1: alpha = min(1, 0.9 alpha_max), alpha_max the largest step along p that keeps
+    every node above the half-space: a node approaching it (n . p_i < 0) reaches it at
+    alpha_i = d_i / (-n . p_i), so alpha = 0.9 / max_i (-n . p_i / d_i) when that max exceeds 0.9."""
     fastest = float((p @ -n / distances(x, n, o)).max(initial=0.0))
     return 1.0 if fastest <= 0.9 else 0.9 / fastest
 

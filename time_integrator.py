@@ -47,8 +47,8 @@ class NonFiniteState(SimulationError):
 @dataclass
 class StepReport:
     """The figures of one time step."""
-    residual: float = math.inf      # ||p||_inf / h (m/s) at the step's end
-    stalled: bool = False           # Newton stopped at float64's round-off floor, residual above tol
+    residual: float = math.inf      # ||p||_inf / h (m/s) at the step's end, or its bound ||grad E||_2 / (min m h)
+    stalled: bool = False           # the last Newton solve stopped at float64's round-off floor, residual > tol
     alphas: list = field(default_factory=list)  # accepted line-search step sizes, in order
     min_distance: float = math.inf  # smallest node distance to the slope after the step
     friction_iterations: int = 0    # Newton solves with friction (1: lagged only; more: Algorithm 5)
@@ -70,7 +70,7 @@ class NewtonIterate:
     alpha_ccd: float        # Algorithm 4, line 1
     alpha: float            # accepted: alpha_ccd / 2^halvings
     halvings: int
-    x_next: np.ndarray      # x^i + alpha p
+    x_next: np.ndarray      # x^i + alpha p (not taken where E did not decrease: Newton stops at x^i)
     friction_update: int    # 0: the lagged solve; j >= 1: the j-th re-solve of Algorithm 5
 
 
@@ -87,9 +87,8 @@ def friction_update(scene, lagged, x):
     """FrictionUpdate(x) of Algorithm 5: mu*lambda from the barrier at x (None without friction)."""
     if "friction" not in scene.terms:
         return lagged
-    mu_lambda = BarrierEnergy.compute_mu_lambda_kernel(x, scene.n, scene.o, scene.contact_area, scene.mu,
-                                                      scene.dhat, scene.kappa)
-    return Lagged(lagged.x_n, lagged.x_tilde, mu_lambda)
+    return Lagged(lagged.x_n, lagged.x_tilde, BarrierEnergy.compute_mu_lambda_kernel(
+        x, scene.n, scene.o, scene.contact_area, scene.mu, scene.dhat, scene.kappa))
 
 
 # --- the Incremental Potential ----------------------------------------------------------------------
@@ -141,13 +140,14 @@ def init_step_size(scene, x, p):
 
 # --- the time step -----------------------------------------------------------------------------------
 
-def newton(scene, lagged, x, report, step_index, update=0):
+def newton(scene, lagged, x, report, step_index, update=0, start=None):
     """Minimize E from x by projected Newton with the filtered backtracking line search (Algorithm 4),
     yielding a NewtonIterate per iteration (`update`: which solve of Algorithm 5 this is, 0 the lagged
-    one); returns the minimizer. Stops when ||p||_inf / h <= tol after at
+    one; `start`: (p, residual) at x when the caller has them); returns the minimizer. Stops when ||p||_inf / h <= tol after at
     least one iteration (a body at rest under h |grad E| < tol would otherwise never start to move), or
     when E can no longer resolve the decrease p promises (float64's floor: report.stalled)."""
-    E, (p, residual) = IP_val(scene, lagged, x), _direction(scene, lagged, x, step_index, False)
+    E, (p, residual) = IP_val(scene, lagged, x), start or _direction(scene, lagged, x, step_index, False)
+    report.stalled = False
     for _ in range(scene.max_newton_iterations):
         alpha = alpha_ccd = init_step_size(scene, x, p)                 # Algorithm 4, line 1
         halvings, E_next = 0, IP_val(scene, lagged, x + alpha * p)
@@ -157,8 +157,9 @@ def newton(scene, lagged, x, report, step_index, update=0):
         x_next = x + alpha * p
         yield NewtonIterate(x, p, residual, alpha_ccd, alpha, halvings, x_next, update)
         if not E_next < E:                  # no decrease: E cannot tell x_next from x
-            _check_round_off_floor(scene, lagged, x, p, E, E_next, residual, step_index)
-            report.stalled = residual > scene.tol
+            if residual > scene.tol:        # (else x is converged already, e.g. at rest with p = 0)
+                _check_round_off_floor(scene, lagged, x, p, E, E_next, residual, step_index)
+                report.stalled = True
             break
         x, E = x_next, E_next
         report.alphas.append(alpha)
@@ -188,9 +189,9 @@ def _direction(scene, lagged, x, step_index, bound_shows_convergence=True):
 
 
 def _check_round_off_floor(scene, lagged, x, p, E, E_next, residual, step_index):
-    """A line search that ends without decreasing E along a descent direction (grad E . p < 0) has met
-    the round-off of E: in exact arithmetic a small enough alpha always decreases E. Any other failure
-    (an ascent direction, a NaN) is a LineSearchFailed."""
+    """A line search that ends with E(x + alpha p) = E(x) along a descent direction (grad E . p < 0) has
+    met the round-off of E: in exact arithmetic a small enough alpha always decreases E. Any other
+    ending without a decrease (an ascent direction, E still above E(x), a NaN) is a LineSearchFailed."""
     slope = float(np.vdot(IP_grad(scene, lagged, x), p))
     if not (slope < 0.0 and E_next == E):
         raise LineSearchFailed("line search could not decrease the Incremental Potential", step_index,
@@ -203,19 +204,19 @@ def newton_iterates(scene, x, v, *, step_index=0):
     x_n, v_n = utils.check_points("x", x, scene.x0.shape), utils.check_points("v", v, scene.x0.shape)
     if "barrier" in scene.terms:
         BarrierEnergy.check_above(x_n, scene.n, scene.o)
-    report = StepReport()
+    report = StepReport(friction_iterations=int("friction" in scene.terms))               # the lagged solve
     try:
         lagged = friction_update(scene, Lagged(x_n, x_n + scene.h * v_n, None), x_n)      # mu*lambda^n, T^n
         x = yield from newton(scene, lagged, x_n, report, step_index)
-        report.friction_iterations = int("friction" in scene.terms)
         if "friction" in scene.terms and scene.friction_updates > 0:                       # Algorithm 5
             for j in range(1, scene.friction_updates + 2):
                 lagged = friction_update(scene, lagged, x)                                 # lines 2, 5
-                report.residual = _direction(scene, lagged, x, step_index)[1]             # line 3
+                start = _direction(scene, lagged, x, step_index)                          # line 3: (p, residual)
+                report.residual = start[1]
                 report.friction_converged = report.residual <= scene.tol
                 if report.friction_converged or j > scene.friction_updates:
                     break
-                x = yield from newton(scene, lagged, x, report, step_index, j)            # line 4
+                x = yield from newton(scene, lagged, x, report, step_index, j, start)     # line 4
                 report.friction_iterations += 1
     except (ValueError, np.linalg.LinAlgError) as err:      # an energy overflowed, or H could not be factored
         raise NonFiniteState(f"the step's numbers broke down ({err})", step_index) from err

@@ -392,3 +392,12 @@ def test_incremental_potential_is_its_terms(mu):
     expected = dense(InertiaEnergy.hess(y, lagged.x_tilde, s.m), y.size) + h2 * sum(dense(t, y.size) for t in terms)
     H = dense(utils.concat_ijv(utils.blocks_to_ijv(*h) for h in time_integrator.IP_hess(scene, lagged, y)), y.size)
     assert_close(H, expected, 1e-13, "IP_hess", atol=1e-13 * np.abs(expected).max())
+
+
+def test_a_body_at_rest_in_equilibrium_stays_put():
+    """No gravity, no slope, at rest: grad E = 0 and p = 0, so the first trial cannot decrease E; that is
+    convergence, not a failed line search (and not the round-off floor)."""
+    scene = simulator.build_scene(gravity=(0.0, 0.0), slope=None)
+    x, v, report = time_integrator.step(scene, scene.x0, scene.v0)
+    assert np.array_equal(x, scene.x0) and not v.any()
+    assert report.residual == 0.0 and not report.stalled
