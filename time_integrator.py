@@ -142,10 +142,11 @@ def init_step_size(scene, x, p):
 
 def newton(scene, lagged, x, report, step_index, update=0, start=None):
     """Minimize E from x by projected Newton with the filtered backtracking line search (Algorithm 4),
-    yielding a NewtonIterate per iteration (`update`: which solve of Algorithm 5 this is, 0 the lagged
-    one; `start`: (p, residual) at x when the caller has them); returns the minimizer. Stops when ||p||_inf / h <= tol after at
-    least one iteration (a body at rest under h |grad E| < tol would otherwise never start to move), or
-    when E can no longer resolve the decrease p promises (float64's floor: report.stalled)."""
+    yielding a NewtonIterate per iteration; returns the minimizer. Stops when ||p||_inf / h <= tol after
+    at least one iteration (a body at rest under h |grad E| < tol would otherwise never start to move),
+    or when E can no longer resolve the decrease p promises (float64's floor: report.stalled).
+    `update`: which solve of Algorithm 5 this is (0: the lagged one); `start`: (p, residual) at x, when
+    the caller has them."""
     E, (p, residual) = IP_val(scene, lagged, x), start or _direction(scene, lagged, x, step_index, False)
     report.stalled = False
     for _ in range(scene.max_newton_iterations):
