@@ -19,6 +19,7 @@ import numpy as np
 import scipy.optimize
 
 import BarrierEnergy
+import FrictionEnergy
 import simulator
 
 # Spring stiffness of the closed-form cases. The lecture's k = 2e4 holding 1000 kg is very soft: under
@@ -39,7 +40,7 @@ def slope_normal(tan_theta):
 
 def downhill(scene):
     """Unit tangent of the slope pointing downhill, (n_y, -n_x)."""
-    return np.array([scene.n[1], -scene.n[0]])
+    return FrictionEnergy.tangent(scene.n)
 
 
 def com(scene, x):

@@ -66,10 +66,11 @@ def slide_scene(simulator, n_seg, d0=0.008, speed=0.43):
     row at d0 < dhat), sliding down at `speed` m/s, as the dropped square does after its impact."""
     import numpy as np
     import BarrierEnergy
+    import FrictionEnergy
     theta = math.atan(0.1)
     probe = simulator.build_scene(n_seg=n_seg, angle=-theta, center=(0.0, 1.0))
     d = BarrierEnergy.distances(probe.x0, probe.n, probe.o)
-    tangent = np.array([probe.n[1], -probe.n[0]])
+    tangent = FrictionEnergy.tangent(probe.n)
     return simulator.build_scene(n_seg=n_seg, angle=-theta, center=(0.0, 1.0 - (d.min() - d0) / probe.n[1]),
                                  v0=tuple(speed * tangent))
 

@@ -32,7 +32,7 @@ def tangent(scene):
     """The unit tangent of the slope, pointing down it to the right: (n_y, -n_x); (1, 0) without one."""
     if scene.n is None:
         return np.array([1.0, 0.0])
-    return np.array([scene.n[1], -scene.n[0]])
+    return FrictionEnergy.tangent(scene.n)
 
 
 def min_distance(scene, x):

@@ -13,6 +13,7 @@ import zlib
 
 import numpy as np
 
+import FrictionEnergy
 import square_mesh
 
 RESOLUTION = 900            # pixels, square frames
@@ -67,7 +68,7 @@ def draw_slope(pygame, surface, scene, view, color=BLUE, font=None):
     (a number every metre when a font is given), so motion stays visible when the view follows."""
     if scene.n is None:
         return
-    tangent = np.array([scene.n[1], -scene.n[0]])
+    tangent = FrictionEnergy.tangent(scene.n)
     reach = view.size / view.scale
     s_center = float(np.dot(view.center - scene.o, tangent))
     a, b = view(scene.o + (s_center - reach) * tangent), view(scene.o + (s_center + reach) * tangent)
