@@ -16,6 +16,7 @@ import pytest
 
 import simulator
 import square_mesh
+from fakes import fill_disk_after
 import viewer.log
 from viewer import diagnostics, draw, plots, recording, summary
 
@@ -353,15 +354,7 @@ def test_sigkill_leaves_the_log_within_a_stride_of_the_frames(tmp_path):
 
 
 def test_a_full_disk_is_one_line_exit_1_and_keeps_what_was_written(tmp_path, monkeypatch):
-    calls = []
-    real = square_mesh.write_atomic
-
-    def fill_up(path, data):
-        calls.append(path)
-        if len(calls) > 12:
-            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), path)
-        real(path, data)
-    monkeypatch.setattr(square_mesh, "write_atomic", fill_up)
+    fill_disk_after(monkeypatch, 12)
     code, lines = run_main("--steps", "100", "--out", str(tmp_path))
     assert code == 1 and len(lines) >= 1
     assert lines[-1].startswith("simulator.py: error: cannot write") and "No space left on device" in lines[-1]

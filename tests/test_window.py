@@ -2,7 +2,6 @@
 button posted as events into the running loop, under SDL's dummy video driver (conftest), with a fake
 wall clock so that nothing waits on real time and the pacing is exact."""
 import csv
-import errno
 import io
 import json
 import os
@@ -16,7 +15,7 @@ import numpy as np
 import pytest
 
 import simulator
-import square_mesh
+from fakes import fill_disk_after
 import time_integrator
 from viewer import window
 
@@ -227,15 +226,7 @@ def test_sigterm_ends_the_window_as_it_ends_a_run_without_it(tmp_path):
 def test_a_full_disk_stops_the_files_not_the_demo(tmp_path, monkeypatch):
     """A write failing (ENOSPC) at frame 3 (after frames 0-2 as PNG and OBJ): the window plays on to the end, the files stop where they
     were (log.csv whole, no pictures, as without the window), and closing says so in one line, exit 1."""
-    real, calls = square_mesh.write_atomic, []
-
-    def fill_up(path, data):
-        calls.append(path)
-        if len(calls) > 6:
-            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), path)
-        real(path, data)
-
-    monkeypatch.setattr(square_mesh, "write_atomic", fill_up)
+    fill_disk_after(monkeypatch, 6)
 
     def script():
         yield from frames_until(lambda: live[0].run.finished)
