@@ -150,6 +150,8 @@ def newton(scene, lagged, x, report, step_index, update=0, start=None):
     E, (p, residual) = IP_val(scene, lagged, x), start or _direction(scene, lagged, x, step_index, False)
     report.stalled = False
     for _ in range(scene.max_newton_iterations):
+        if not math.isfinite(E):            # x^n, or an accepted iterate, beyond float64's range
+            raise NonFiniteState("the Incremental Potential is not finite", step_index, E=E)
         alpha = alpha_ccd = init_step_size(scene, x, p)                 # Algorithm 4, line 1
         halvings, E_next = 0, IP_val(scene, lagged, x + alpha * p)
         while not E_next <= E and halvings < scene.max_halvings:      # line 2 (a NaN E is no decrease)

@@ -11,6 +11,7 @@ import simulator
 import time_integrator
 import utils
 from fd import assert_close, dense, fd_gradient
+from viewer import diagnostics
 
 DATA = os.path.join(os.path.dirname(__file__), "data")
 
@@ -305,14 +306,14 @@ def test_energy_budget_friction_work(kwargs):
     Compressed springs are not convex, so for this scene the bound is an empirical one that the
     argument makes plausible; allowed slack: one step's Newton error, M tol (|v| + |dv| + tol)."""
     scene = simulator.build_scene(**kwargs)
-    E_prev = simulator.energies(scene, scene.x0, scene.v0)["total"]
+    E_prev = diagnostics.energies(scene, scene.x0, scene.v0)["total"]
     v_prev = scene.v0
     total_work = 0.0
     for rec in simulator.simulate(scene, 150):
         work = rec.report.friction_work
         assert work <= 0.0
         total_work += work
-        E = simulator.energies(scene, rec.x, rec.v)["total"]
+        E = diagnostics.energies(scene, rec.x, rec.v)["total"]
         slack = scene.m.sum() * scene.tol * (np.abs(rec.v).max() + np.abs(rec.v - v_prev).max() + scene.tol)
         assert E - E_prev <= work + slack, f"step {rec.index}"
         E_prev, v_prev = E, rec.v

@@ -9,7 +9,7 @@ import subprocess
 
 import pytest
 
-import simulator
+from viewer import cli
 
 BROWSERS = ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable", "chrome")
 
@@ -53,7 +53,7 @@ def test_index_html_plays_in_headless_chromium(tmp_path):
     if browser is None:
         pytest.skip(f"no browser found (looked for {', '.join(BROWSERS)}); .ci/run installs Debian's chromium")
     out = tmp_path / "run"
-    assert simulator.main(["--steps", "60", "--out", str(out)]) == 0          # 21 frames
+    assert cli.main(["--steps", "60", "--out", str(out)]) == 0          # 21 frames
     page = (out / "index.html").read_text()
     (out / "probe.html").write_text(page.replace("</body>", PROBE + "</body>"))
     result = subprocess.run([browser, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",

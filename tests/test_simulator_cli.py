@@ -8,7 +8,9 @@ import numpy as np
 import pytest
 
 import simulator
+import viewer.files
 import viewer.log
+from viewer import cli
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -28,7 +30,7 @@ def test_twenty_steps_write_frames_objs_csv_and_summary(tmp_path):
         [f"frame_{i:05d}.png" for i in range(21)]
     assert len([f for f in files if f.endswith(".obj")]) == 21
     assert "summary.png" in files and "log.csv" in files
-    assert not [f for f in files if f.startswith(".")]                     # no temporaries left
+    assert not [f for f in files if f.startswith(".") and f != viewer.files.MANIFEST]     # no temporaries left
     with open(out / "log.csv") as f:
         rows = list(csv.DictReader(f))
     assert len(rows) == 21 and set(viewer.log.COLUMNS) <= set(rows[0])           # t = 0 and 20 steps
@@ -65,19 +67,19 @@ def test_frame_looks_like_the_lecture(tmp_path):
 
 
 def test_flags_reach_the_scene():
-    args = simulator.make_parser().parse_args(
+    (args,) = cli.parse_command_line(
         ["--mu", "0.2", "--h", "0.005", "--n-seg", "3", "--k", "3e4", "--density", "500", "--slope-angle", "10",
          "--v0", "1,-2", "--dhat", "0.02", "--kappa", "1e6", "--epsv", "1e-4", "--tol", "1e-3",
          "--friction-iterations", "3"])
-    scene = simulator.scene_from_args(args)
+    scene = cli.scene_from_args(args)
     # == where the value is the parsed flag itself, passed through unchanged (exact by construction)
     assert scene.mu == 0.2 and scene.h == 0.005 and scene.n_seg == 3 and scene.k[0] == 3e4
     assert scene.m.sum() == pytest.approx(500.0) and scene.dhat == 0.02 and scene.kappa == 1e6
     assert scene.epsv == 1e-4 and scene.tol == 1e-3 and scene.friction_updates == 3
     assert np.allclose(scene.n, [np.sin(np.radians(10)), np.cos(np.radians(10))])
     assert np.allclose(scene.v0, [1.0, -2.0])
-    assert simulator.steps_from_args(args, scene) == 600                  # 3 s default duration
-    no_slope = simulator.scene_from_args(simulator.make_parser().parse_args(["--no-slope"]))
+    assert cli.steps_from_args(args, scene) == 600                  # 3 s default duration
+    no_slope = cli.scene_from_args(cli.parse_command_line(["--no-slope"])[0])
     assert no_slope.n is None and "barrier" not in no_slope.terms
 
 

@@ -22,6 +22,7 @@ import BarrierEnergy
 import simulator
 from benchmarks.cases import downhill, resting_scene
 from scenes import clear_scene
+from viewer import diagnostics
 
 
 def energy_slack(scene, E0, v_max, dv_max):
@@ -33,7 +34,7 @@ def energy_slack(scene, E0, v_max, dv_max):
 
 def run_checked(scene, steps):
     """Run `steps` steps asserting the invariants at every step; returns the records."""
-    E0 = simulator.energies(scene, scene.x0, scene.v0)["total"]
+    E0 = diagnostics.energies(scene, scene.x0, scene.v0)["total"]
     records, v_prev, v_max, dv_max, E_max = [], scene.v0, np.abs(scene.v0).max(), 0.0, E0
     for rec in simulator.simulate(scene, steps):
         assert np.isfinite(rec.x).all() and np.isfinite(rec.v).all(), f"step {rec.index}: non-finite state"
@@ -45,7 +46,7 @@ def run_checked(scene, steps):
         v_max = max(v_max, np.abs(rec.v).max())
         dv_max = max(dv_max, np.abs(rec.v - v_prev).max())
         v_prev = rec.v
-        E_max = max(E_max, simulator.energies(scene, rec.x, rec.v)["total"])
+        E_max = max(E_max, diagnostics.energies(scene, rec.x, rec.v)["total"])
         records.append(rec)
     slack = energy_slack(scene, E0, v_max, dv_max)
     assert E_max <= E0 + slack, f"energy rose by {E_max - E0:.4g} J, allowed {slack:.4g} J"

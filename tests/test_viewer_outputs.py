@@ -16,6 +16,7 @@ import pytest
 
 import simulator
 import square_mesh
+from viewer import cli
 from fakes import fill_disk_after
 import viewer.log
 from viewer import diagnostics, draw, plots, recording, summary
@@ -24,12 +25,12 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
 def run_main(*args):
-    """simulator.main in this process; returns (exit code, stderr lines)."""
+    """The command line (viewer.cli.main) in this process; returns (exit code, stderr lines)."""
     err = io.StringIO()
     old = sys.stderr
     sys.stderr = err
     try:
-        code = simulator.main(list(args))
+        code = cli.main(list(args))
     finally:
         sys.stderr = old
     return code, err.getvalue().splitlines()
@@ -254,7 +255,7 @@ def test_page_lists_every_frame_with_its_figures(default_run):
 def test_a_comma_list_runs_one_scene_per_value(tmp_path):
     code, lines = run_main("--mu", "0.1,0.2", "--steps", "40", "--frame-stride", "20", "--out", str(tmp_path))
     assert code == 0, lines
-    for tag in ("mu=0.1", "mu=0.2"):
+    for tag in ("mu0.1", "mu0.2"):
         assert len(read_csv(tmp_path / f"log_{tag}.csv")) == 41
         assert (tmp_path / f"frame_00002_{tag}.obj").exists()
     assert frame_indices(tmp_path) == [0, 1, 2] and not (tmp_path / "log.csv").exists()
@@ -264,14 +265,15 @@ def test_a_comma_list_runs_one_scene_per_value(tmp_path):
 
 
 def test_list_syntax():
-    parser = simulator.make_parser()
-    runs = simulator.parse_command_line(parser, ["--k", "2e4,1e5"])
-    assert [r.k for r in runs] == [2e4, 1e5] and [r.duration for r in runs] == [simulator.COMPARISON_DURATION] * 2
-    runs = simulator.parse_command_line(parser, ["--v0=1,0;2,-1", "--steps", "5"])
+    runs = cli.parse_command_line(["--k", "2e4,1e5"])
+    assert [r.k for r in runs] == [2e4, 1e5] and [r.tag for r in runs] == ["k2e4", "k1e5"]
+    plan = cli.plan_from_args(runs)
+    assert plan.steps == [round(cli.COMPARISON_DURATION / 0.01)] * 2 and plan.labels == ["k = 2e4", "k = 1e5"]
+    runs = cli.parse_command_line(["--v0=1,0;2,-1", "--steps", "5"])
     assert [r.v0 for r in runs] == [(1.0, 0.0), (2.0, -1.0)] and [r.steps for r in runs] == [5, 5]
-    assert [r.tag for r in runs] == ["v0=1_0", "v0=2_-1"]
-    single = simulator.parse_command_line(parser, ["--v0", "1,0"])
-    assert len(single) == 1 and single[0].v0 == (1.0, 0.0) and single[0].duration == 3.0
+    assert [r.tag for r in runs] == ["v0_1_0", "v0_2_-1"]
+    single = cli.parse_command_line(["--v0", "1,0"])
+    assert len(single) == 1 and single[0].v0 == (1.0, 0.0) and cli.plan_from_args(single).steps == [300]
 
 
 @pytest.mark.parametrize("args, message", [
@@ -292,11 +294,11 @@ def test_the_lectures_comparison_in_one_command(tmp_path):
     assert code == 0, lines
     last_sliding = {}
     for mu in ("0.1", "0.11", "0.2"):
-        rows = read_csv(tmp_path / f"log_mu={mu}.csv")
-        assert float(rows[-1]["t"]) == simulator.COMPARISON_DURATION
+        rows = read_csv(tmp_path / f"log_mu{mu}.csv")
+        assert float(rows[-1]["t"]) == cli.COMPARISON_DURATION
         last_sliding[mu] = max(float(r["t"]) for r in rows if int(r["contacts_sliding"]) > 0)
-    assert last_sliding["0.1"] == simulator.COMPARISON_DURATION
-    assert 3.0 < last_sliding["0.11"] < simulator.COMPARISON_DURATION - 0.2
+    assert last_sliding["0.1"] == cli.COMPARISON_DURATION
+    assert 3.0 < last_sliding["0.11"] < cli.COMPARISON_DURATION - 0.2
     assert last_sliding["0.2"] < last_sliding["0.11"]
 
 
@@ -364,7 +366,7 @@ def test_a_full_disk_is_one_line_exit_1_and_keeps_what_was_written(tmp_path, mon
 
 
 def test_a_log_row_that_cannot_be_written_whole_is_cut_back(tmp_path, monkeypatch):
-    log = viewer.log.CsvLog(str(tmp_path / "log.csv"))
+    log = viewer.log.LineFile(str(tmp_path / "log.csv"), ",".join(viewer.log.COLUMNS))
     size = os.path.getsize(tmp_path / "log.csv")
     real = os.write
 
@@ -375,7 +377,7 @@ def test_a_log_row_that_cannot_be_written_whole_is_cut_back(tmp_path, monkeypatc
         return real(fd, data)
     monkeypatch.setattr(os, "write", half_then_full)
     with pytest.raises(OSError):
-        log._write("1,2,3,4,5,6,7,8\n")
+        log.append("1,2,3,4,5,6,7,8")
     log.close()
     assert os.path.getsize(tmp_path / "log.csv") == size
 
@@ -401,7 +403,7 @@ def test_frame_png_keeps_every_drawn_colour_exactly(tmp_path):
     for i, color in enumerate(colors):
         surface.fill(color, (i, 0, 1, 3))
     surface.fill((200, 100, 50), (len(colors), 0, 1, 3))
-    draw.save_png(pygame, surface, str(tmp_path / "f.png"))
+    (tmp_path / "f.png").write_bytes(draw.png_data(pygame, surface))
     back = pygame.surfarray.array3d(pygame.image.load(str(tmp_path / "f.png"))).astype(int)
     assert back.shape == (len(colors) + 1, 3, 3)
     assert [tuple(back[i, 1]) for i in range(len(colors))] == colors

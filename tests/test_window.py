@@ -17,7 +17,7 @@ import pytest
 import simulator
 from fakes import fill_disk_after
 import time_integrator
-from viewer import window
+from viewer import cli, files, run, window
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 H = simulator.DEFAULTS["h"]
@@ -82,8 +82,16 @@ def frames_until(condition, limit=5000):
     raise AssertionError("condition never reached")
 
 
-def parse(argv):
-    return simulator.make_parser().parse_args(argv)
+def run_window(argv, **kw):
+    """viewer.window.run_window as the command line calls it, for `argv`."""
+    (args,) = cli.parse_command_line(argv)
+    with run.Signals() as signals:
+        return window.run_window(cli.plan_from_args([args]), args.speed, args.size, signals, **kw)
+
+
+def hidden(folder):
+    """The folder's names starting with '.' but the manifest: temporary files left over."""
+    return [p.name for p in folder.iterdir() if p.name.startswith(".") and p.name != files.MANIFEST]
 
 
 def read_log(folder):
@@ -107,17 +115,17 @@ def test_close_button_esc_and_q_end_the_run_with_exit_0_and_files_intact(tmp_pat
         yield
 
     clock = ScriptClock(script())
-    code = window.run_window(parse(["--window", "--steps", "100", "--out", str(tmp_path)]), clock=clock)
+    code = run_window(["--window", "--steps", "100", "--out", str(tmp_path)], clock=clock)
     assert code == 0
     rows = read_log(tmp_path)
     steps = int(rows[-1]["step"])
     assert 10 <= steps < 100                         # ended mid-run, as asked
     assert [int(r["step"]) for r in rows] == list(range(steps + 1))
-    stride = simulator.frame_stride(parse([]), [simulator.build_scene()])
+    stride = cli.frame_stride(cli.parse_command_line([])[0], [simulator.build_scene()])
     frames = sorted(p.name for p in tmp_path.glob("frame_*.png"))
     assert stride == 3 and frames == [f"frame_{j:05d}.png" for j in range(steps // stride + 1)]
     assert len(list(tmp_path.glob("frame_*.obj"))) == len(frames)
-    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]   # no temporaries left
+    assert not hidden(tmp_path)                                             # no temporaries left
     last = np.loadtxt(tmp_path / f"frame_{len(frames) - 1:05d}.obj", usecols=(1, 2), comments=("#", "l", "f"))
     at = rows[(len(frames) - 1) * stride]                           # the step of the last frame
     assert last[:, 1].mean() == pytest.approx(float(at["com_y"]), abs=1e-6)  # equal masses: the mean
@@ -148,10 +156,10 @@ def test_the_window_writes_the_files_a_run_without_it_writes(tmp_path):
     flags = ["--steps", "20", "--mu", "0.2"]
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr(window.LiveWindow, "loop", loop)
-        assert window.run_window(parse(["--window", *flags, "--out", str(windowed)]), clock=clock) == 0
-    assert simulator.main([*flags, "--out", str(plain)]) == 0
-    names = sorted(p.name for p in plain.iterdir())
-    assert sorted(p.name for p in windowed.iterdir()) == names and len(names) == 2 * 8 + 4
+        assert run_window(["--window", *flags, "--out", str(windowed)], clock=clock) == 0
+    assert cli.main([*flags, "--out", str(plain)]) == 0
+    names = sorted(p.name for p in plain.iterdir() if p.name != files.MANIFEST)
+    assert sorted(p.name for p in windowed.iterdir() if p.name != files.MANIFEST) == names and len(names) == 2 * 8 + 4
     drop_wall = [{k: v for k, v in r.items() if k != "wall_s"} for r in read_log(plain)]
     assert [{k: v for k, v in r.items() if k != "wall_s"} for r in read_log(windowed)] == drop_wall
     for name in names:
@@ -166,35 +174,35 @@ def test_without_out_nothing_is_written(tmp_path, monkeypatch):
         yield from frames_until(lambda: clock.t > 0.5)     # the run (20 steps) is over by then
 
     clock = ScriptClock(script())
-    assert window.run_window(parse(["--window", "--steps", "20"]), clock=clock) == 0
+    assert run_window(["--window", "--steps", "20"], clock=clock) == 0
     assert os.listdir(tmp_path) == []
 
 
 def test_main_hands_window_runs_to_the_window(monkeypatch):
     """--window goes to viewer.window.run_window, with no output folder unless --out is given; other
-    runs to run(), as a list of runs."""
+    runs to viewer.run.to_files, a comparison as one plan."""
     seen = []
-    monkeypatch.setattr(window, "run_window", lambda args: seen.append(args) or 0)
-    monkeypatch.setattr(simulator, "run", lambda runs: seen.append(runs) or 0)
-    assert simulator.main(["--window", "--speed", "0.25", "--size", "500"]) == 0
-    assert simulator.main(["--steps", "3", "--mu", "0.1,0.2"]) == 0
-    assert seen[0].window and seen[0].out is None and seen[0].speed == 0.25 and seen[0].size == 500
-    assert [args.mu for args in seen[1]] == [0.1, 0.2] and not seen[1][0].window
+    monkeypatch.setattr(window, "run_window", lambda plan, speed, size, signals: seen.append((plan, speed, size)) or 0)
+    monkeypatch.setattr(run, "to_files", lambda plan, signals: seen.append(plan) or 0)
+    assert cli.main(["--window", "--speed", "0.25", "--size", "500"]) == 0
+    assert cli.main(["--steps", "3", "--mu", "0.1,0.2"]) == 0
+    assert seen[0][0].out is None and seen[0][1:] == (0.25, 500)
+    assert [scene.mu for scene in seen[1].scenes] == [0.1, 0.2] and seen[1].out == cli.DEFAULT_OUT
 
 
 def test_a_comparison_in_the_window_is_refused_in_one_line(capsys):
-    assert simulator.main(["--window", "--mu", "0.1,0.2,0.3"]) == 2
+    assert cli.main(["--window", "--mu", "0.1,0.2,0.3"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert err == ["simulator.py: error: --window shows one run; --mu was given 3 values (compare them without "
                    "--window)"]
 
 
 def test_without_out_a_run_writes_to_the_default_folder(tmp_path, monkeypatch):
-    """--out has no default in the parser (the window writes nothing without it); run() writes to
-    output/ then."""
+    """--out has no default in the parser (the window writes nothing without it); a run to files
+    writes to output/ then."""
     monkeypatch.chdir(tmp_path)
-    assert simulator.run(parse(["--steps", "1", "--no-frames"]), log=open(os.devnull, "w")) == 0
-    assert len(read_log(tmp_path / simulator.DEFAULT_OUT)) == 2
+    assert cli.main(["--steps", "1", "--no-frames"]) == 0
+    assert len(read_log(tmp_path / cli.DEFAULT_OUT)) == 2
 
 
 def test_sigterm_ends_the_window_as_it_ends_a_run_without_it(tmp_path):
@@ -239,12 +247,11 @@ def test_a_full_disk_stops_the_files_not_the_demo(tmp_path, monkeypatch):
         live.append(self)
     monkeypatch.setattr(window.LiveWindow, "__init__", init)
     log = io.StringIO()
-    code = window.run_window(parse(["--window", "--steps", "30", "--out", str(tmp_path)]),
-                             clock=ScriptClock(script()), log=log)
+    code = run_window(["--window", "--steps", "30", "--out", str(tmp_path)], clock=ScriptClock(script()), log=log)
     assert code == 1 and live[0].run.index == 30
     lines = log.getvalue().strip().splitlines()
     assert lines[-1].startswith("simulator.py: error: cannot write") and "No space left on device" in lines[-1]
-    assert lines[-1].endswith(f"steps kept in {tmp_path}/")
+    assert f"steps kept in {tmp_path}/; left out: summary.png, plots.png, index.html" in lines[-1]
     steps = [int(r["step"]) for r in read_log(tmp_path)]
     assert steps == list(range(10))                     # frame 3 is step 9's: its row was written first
     assert sorted(p.name for p in tmp_path.glob("frame_*.png")) == [f"frame_{j:05d}.png" for j in range(3)]
@@ -301,7 +308,10 @@ def test_r_restarts_from_the_initial_state_and_replays_the_same_run(tmp_path):
     scene = simulator.build_scene()
     pg = window.open_display()
     clock = ScriptClock()
-    output = window.Files(scene, 300, str(tmp_path), 1, False, True, "mu = 0.11", io.StringIO())
+    plan = run.Plan([scene], ["mu = 0.11"], [""], [300], str(tmp_path), stride=1, frames=False, forces=True)
+    signals = run.Signals()
+    folder = files.OutputFolder.claim(plan.out, plan.names(), signals)
+    output = window.Files(plan, folder, io.StringIO())
     w = window.LiveWindow(pg, pg.display.set_mode((400, 400)), scene, 300, 1.0, output, clock)
     seen = {}
 
@@ -321,7 +331,8 @@ def test_r_restarts_from_the_initial_state_and_replays_the_same_run(tmp_path):
 
     clock.script = script()
     assert w.loop() == 0
-    output.close()
+    output.track.csv.close()
+    folder.close()
     steps = [int(r["step"]) for r in read_log(tmp_path)]
     assert steps == list(range(max(seen) + 1)) and max(seen) >= 60       # each step once
 
@@ -433,9 +444,9 @@ def test_window_fits_the_display_or_takes_size():
     """The dummy driver reports a 1024x768 desktop, as the projector: the window takes FIT of 768."""
     pg = window.open_display()
     info = pg.display.Info()
-    assert window.window_size(parse(["--window"]), pg) == int(window.FIT * min(info.current_w, info.current_h))
-    assert window.window_size(parse(["--window"]), pg) <= 768 - 100    # room for a title bar and a panel
-    assert window.window_size(parse(["--window", "--size", "500"]), pg) == 500
+    assert window.window_size(None, pg) == int(window.FIT * min(info.current_w, info.current_h))
+    assert window.window_size(None, pg) <= 768 - 100    # room for a title bar and a panel
+    assert window.window_size(500, pg) == 500
 
 
 @pytest.mark.parametrize("size", [window.MIN_SIZE, 652, 900])
@@ -492,7 +503,7 @@ def test_a_shell_with_no_display_gets_the_error():
     (["--size", "10"], "--size: "), (["--size", "1e9"], "--size: "), (["--size", "650.5"], "--size: "),
     (["--speed", "0"], "--speed: "), (["--speed", "-1"], "--speed: "), (["--speed", "nan"], "--speed: ")])
 def test_bad_window_flags_are_one_line_and_exit_code_2(capsys, flags, message):
-    assert simulator.main(["--window", *flags]) == 2
+    assert cli.main(["--window", *flags]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith(f"simulator.py: error: {message}"), err
 

@@ -186,13 +186,11 @@ def encode_png(pygame, surface):
             + chunk(b"IDAT", zlib.compress(rows.tobytes(), 1)) + chunk(b"IEND", b""))
 
 
-def save_png(pygame, surface, path, exact=False):
-    """Save a surface as PNG, atomically (never half a file): a frame by encode_png, a picture whose
-    colours must stay exact (plots, summary) by pygame, in 24-bit colour."""
-    if exact:
-        buffer = io.BytesIO()
-        pygame.image.save(surface, buffer, "png")
-        data = buffer.getvalue()
-    else:
-        data = encode_png(pygame, surface)
-    square_mesh.write_atomic(path, data)
+def png_data(pygame, surface, exact=False):
+    """The surface as PNG bytes: a frame by encode_png, a picture whose colours must stay exact (plots,
+    summary) by pygame, in 24-bit colour."""
+    if not exact:
+        return encode_png(pygame, surface)
+    buffer = io.BytesIO()
+    pygame.image.save(surface, buffer, "png")
+    return buffer.getvalue()

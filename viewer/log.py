@@ -1,8 +1,8 @@
 """log.csv: one row per step (and one for t = 0), appended and flushed as each step ends.
 
-Each row goes to the file in one write and is flushed before that step's frame is saved, so the
-file is never more than one row (or one frame stride) ahead of the frames on disk and never holds
-half a row: a write that fails part way (a full disk) is cut back to the last whole row.
+Each row goes to the file in one write before that step's frame is saved, so the file is never more
+than one row (or one frame stride) ahead of the frames on disk and never holds half a row: a write
+that fails part way (a full disk) is cut back to the last whole row (LineFile).
 """
 import os
 
@@ -13,7 +13,7 @@ COLUMNS = ["step", "t", "wall_s", "com_x", "com_y", "v_tangential", "newton_iter
 
 
 def row(sample):
-    """The CSV fields of one Sample (see recording.Sample); the solver's figures are empty at t = 0."""
+    """The CSV line of one Sample (see recording.Sample); the solver's figures are empty at t = 0."""
     s, rep, E = sample, sample.report, sample.energies
     if rep is None:
         solver = ["0", "", "0", "", "0", f"{s.min_distance:.9g}", "0", "1"]
@@ -22,27 +22,25 @@ def row(sample):
                   f"{min(rep.alphas, default=1.0):.6g}",
                   str(len(rep.alphas)), f"{rep.min_distance:.9g}", str(rep.friction_iterations),
                   str(int(rep.friction_converged))]
-    return ([str(s.step), f"{s.t:.6f}", f"{s.wall:.6f}", f"{s.com[0]:.9f}", f"{s.com[1]:.9f}",
-             f"{s.v_tangential:.9f}"] + solver + [str(s.sticking), str(s.sliding), str(s.inverted)]
-            + [f"{E[k]:.9g}" for k in ("kinetic", "gravity", "spring", "barrier", "total")]
-            + [f"{s.friction_work:.9g}", f"{s.numerical_dissipation:.9g}"])
+    return ",".join([str(s.step), f"{s.t:.6f}", f"{s.wall:.6f}", f"{s.com[0]:.9f}", f"{s.com[1]:.9f}",
+                     f"{s.v_tangential:.9f}"] + solver + [str(s.sticking), str(s.sliding), str(s.inverted)]
+                    + [f"{E[k]:.9g}" for k in ("kinetic", "gravity", "spring", "barrier", "total")]
+                    + [f"{s.friction_work:.9g}", f"{s.numerical_dissipation:.9g}"])
 
 
-class CsvLog:
-    """log.csv opened for appending: the header at once, then `append(sample)` per step."""
+class LineFile:
+    """A text file created new (never over another file, never through a symbolic link), then written
+    one whole line at a time, each at once: a write that fails part way (a full disk, a signal) is cut
+    back to the last whole line."""
 
-    def __init__(self, path):
+    def __init__(self, path, header):
         self.path = path
-        self.fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o666)
+        self.fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o666)
         self.size = 0
-        self._write(",".join(COLUMNS) + "\n")
+        self.append(header)
 
-    def append(self, sample):
-        self._write(",".join(row(sample)) + "\n")
-
-    def _write(self, line):
-        """One line, whole or not at all: a failed write (ENOSPC) truncates the file back."""
-        data = line.encode()
+    def append(self, line):
+        data = (line + "\n").encode()
         try:
             written = 0
             while written < len(data):

@@ -7,16 +7,13 @@ comparison (`--mu 0.1,0.11,0.2`) shows every run in each frame. Frames come ever
 of the smallest h, numbered 0, 1, 2, ...
 """
 import math
-import os
 import time
 from dataclasses import dataclass
 
 import numpy as np
 
-from viewer import diagnostics, draw, files, page, plots, summary
-from viewer.log import CsvLog
-
 import square_mesh
+from viewer import diagnostics, draw, files, log, page, plots, summary
 
 PROGRESS_EVERY = 2.0        # s of wall time: a progress line at least this often, whatever the run's length
 SNAPSHOT_EVERY = 0.1        # s of simulated time between the states kept for summary.png
@@ -63,17 +60,18 @@ class Sample:
 
 
 class Track:
-    """One scene being run: its records, its log.csv, its samples and snapshots so far."""
+    """One scene being run: its records, its log.csv in `folder` (files.OutputFolder), its samples and
+    snapshots so far. `logged` is the last step whose row log.csv holds."""
 
-    def __init__(self, scene, steps, records, label, tag, color, csv_path):
+    def __init__(self, scene, steps, records, label, tag, color, folder):
         self.scene, self.steps, self.records = scene, steps, records
-        self.label, self.tag, self.color = label, tag, color
+        self.label, self.tag, self.color, self.folder = label, tag, color, folder
         self.triangles = diagnostics.mesh_triangles(scene)
         self.tangent = diagnostics.tangent(scene)
         self.x_prev = self.x = scene.x0
         self.v = scene.v0
         self.step, self.friction_work, self.inverted_at, self.stalled_at = 0, 0.0, None, None
-        self.csv = CsvLog(csv_path)
+        self.csv, self.logged = folder.open_log(files.log_csv(tag), ",".join(log.COLUMNS)), None
         self.samples = History(MAX_SAMPLES)
         self.snapshots = History(MAX_SNAPSHOTS)     # (t, x) every SNAPSHOT_EVERY s of simulated time
         self._add(None, 0.0, 0.0)
@@ -96,7 +94,9 @@ class Track:
                         numerical_dissipation=E0 + self.friction_work - E["total"], speeds=speeds,
                         sticking=sticking, sliding=sliding,
                         inverted=diagnostics.inverted_triangles(x, self.triangles))
-        self.csv.append(sample)
+        with self.folder.signals.held():        # the row and its count: both or neither
+            self.csv.append(log.row(sample))
+            self.logged = sample.step
         self.samples.add(sample)
         if self.snapshots.last is None or t >= self.snapshots.last[0] + SNAPSHOT_EVERY - 1e-9:
             self.snapshots.add((t, x.copy()))
@@ -162,8 +162,7 @@ def frame_steps(tracks, stride):
     """Frame j's target step for each track: every `stride` steps of the smallest h, up to the end."""
     h_min = min(tr.scene.h for tr in tracks)
     duration = max(tr.steps * tr.scene.h for tr in tracks)
-    n_frames = math.ceil(duration / (stride * h_min) - 1e-9) + 1
-    for j in range(n_frames):
+    for j in range(frame_count([tr.scene for tr in tracks], [tr.steps for tr in tracks], stride)):
         t = min(j * stride * h_min, duration)
         targets = []
         for tr in tracks:
@@ -182,26 +181,41 @@ class FrameInfo:
 
 class FrameWriter:
     """Frame j of the tracks' current states: one PNG with all of them, each one's OBJ, and the
-    FrameInfo the page shows beside it (appended to `frame_log`)."""
+    FrameInfo the page shows beside it (appended to `frame_log`), all written into `folder` or none."""
 
-    def __init__(self, tracks, out, forces, frame_log):
-        self.tracks, self.out, self.frame_log = tracks, out, frame_log
+    def __init__(self, tracks, folder, forces, frame_log):
+        self.tracks, self.folder, self.frame_log = tracks, folder, frame_log
         self.pygame = draw.load_pygame()
         self.fonts = draw.fonts(self.pygame)
         self.view = draw.View()
         self.newton_per_metre = draw.newton_per_metre(tracks[0].scene) if forces else None
 
     def write(self, j):
-        tracks = self.tracks
-        self.frame_log.append(FrameInfo(j, max(tr.t for tr in tracks), [_figures(tr) for tr in tracks]))
-        _write_frame(self.pygame, self.fonts, self.view, tracks, j, self.out, self.newton_per_metre)
+        """Frame j with every track, then each track's OBJ (after its log rows: the CSV is never behind)."""
+        tracks, forces = self.tracks, self.newton_per_metre is not None
+        self.view.follow(np.array([tr.samples.last.com for tr in tracks]))
+        runs = [frame_run(tr.scene, tr.x_prev, tr.x, tr.label, tr.color, forces) for tr in tracks]
+        surface = draw.draw_frame(self.pygame, runs, max(tr.t for tr in tracks), self.view, self.fonts,
+                                  self.newton_per_metre)
+        with self.folder.signals.held():
+            self.folder.write(files.frame_png(j), draw.png_data(self.pygame, surface))
+            for tr in tracks:
+                self.folder.write(files.frame_obj(j, tr.tag), square_mesh.obj_text(tr.x, tr.scene.n_seg))
+            self.frame_log.append(FrameInfo(j, max(tr.t for tr in tracks), [_figures(tr) for tr in tracks]))
 
 
-def record(tracks, out, stride, frames, forces, log, frame_log):
+def frame_count(scenes, steps, stride):
+    """How many frames frame_steps gives for runs of `steps` steps: every `stride` steps of the smallest
+    h, and the last state."""
+    h_min = min(scene.h for scene in scenes)
+    return math.ceil(max(n * scene.h for scene, n in zip(scenes, steps)) / (stride * h_min) - 1e-9) + 1
+
+
+def record(tracks, folder, stride, frames, forces, messages, frame_log):
     """Run every track to its end, writing log rows as steps end and a frame (and OBJs) every
     `stride` steps when `frames`; appends a FrameInfo per frame to `frame_log`."""
-    writer = FrameWriter(tracks, out, forces, frame_log) if frames else None
-    progress = Progress(tracks, log)
+    writer = FrameWriter(tracks, folder, forces, frame_log) if frames else None
+    progress = Progress(tracks, messages)
     for j, targets in frame_steps(tracks, stride):
         for tr, target in zip(tracks, targets):
             tr.advance(target, progress)
@@ -230,26 +244,15 @@ def frame_run(scene, x_prev, x, label, color, forces):
     return run
 
 
-def _write_frame(pygame, fonts, view, tracks, j, out, newton_per_metre):
-    """Frame j with every track, then each track's OBJ (after its log rows: the CSV is never behind)."""
-    view.follow(np.array([tr.samples.last.com for tr in tracks]))
-    runs = [frame_run(tr.scene, tr.x_prev, tr.x, tr.label, tr.color, newton_per_metre is not None) for tr in tracks]
-    surface = draw.draw_frame(pygame, runs, max(tr.t for tr in tracks), view, fonts, newton_per_metre)
-    draw.save_png(pygame, surface, os.path.join(out, files.frame_png(j)))
-    for tr in tracks:
-        square_mesh.write_obj(os.path.join(out, files.frame_obj(j, tr.tag)), tr.x, tr.scene.n_seg)
-
-
-def finish(tracks, out, stride, frames, frame_log, header):
-    """The pictures of the whole run, from what the tracks kept: summary.png, plots.png and, when
-    frames were written, index.html to play them."""
+def finish(tracks, folder, stride, frames, frame_log, header):
+    """The pictures of the whole run, from what the tracks kept, each written whole as it is done:
+    summary.png, plots.png and, when frames were written, index.html to play them."""
     pygame = draw.load_pygame()
-    draw.save_png(pygame, summary.draw_summary(pygame, tracks, header), os.path.join(out, "summary.png"), exact=True)
+    folder.write("summary.png", draw.png_data(pygame, summary.draw_summary(pygame, tracks, header), exact=True))
     surface, axis = plots.draw_plots(pygame, tracks)
-    draw.save_png(pygame, surface, os.path.join(out, "plots.png"), exact=True)
+    folder.write("plots.png", draw.png_data(pygame, surface, exact=True))
     if frames:
         fps = 1.0 / (stride * min(tr.scene.h for tr in tracks))
         title = "Square on a slope: " + ", ".join(tr.label for tr in tracks)
-        text = page.page_html(title, [tr.label for tr in tracks], frame_log, fps, axis, surface.get_width(),
-                              note=header[0])
-        square_mesh.write_atomic(os.path.join(out, "index.html"), text)
+        folder.write("index.html", page.page_html(title, [tr.label for tr in tracks], frame_log, fps, axis,
+                                                  surface.get_width(), note=" ".join(header)))

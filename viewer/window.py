@@ -22,9 +22,9 @@ from collections import deque
 import numpy as np
 
 import time_integrator
-from simulator import (StepRecord, Terminated, frame_stride, prepare_output, scene_from_args, steps_from_args,
-                       _main_thread, _raise_terminated, _summary_header, _whole, _write_error)
-from viewer import draw, files, recording
+import utils
+from simulator import StepRecord
+from viewer import draw, files, recording, run as runs
 
 FPS = 60                  # frames drawn per second at most
 MIN_FPS = 20              # ... and at least, when the steps fall behind (the other frames are dropped)
@@ -176,43 +176,29 @@ class Pacer:
 # ------------------------------------------------------------------------------------------------
 
 class Files:
-    """What a run without the window writes, written by the same code (viewer.recording): log.csv a
-    row as each step ends, a frame and OBJ every `stride` steps (unless --no-frames), and at the end
-    summary.png, plots.png and index.html. Each step is written once: the steps computed again after
-    a restart (r) are the same numbers and are not written again, so the files hold the furthest the
-    run got."""
+    """What a run without the window writes, written by the same code (viewer.recording) into `folder`
+    (files.OutputFolder): log.csv a row as each step ends, a frame and OBJ every `stride` steps (unless
+    --no-frames), and at the end summary.png, plots.png and index.html. Each step is written once: the
+    steps computed again after a restart (r) are the same numbers and are not written again, so the
+    files hold the furthest the run got."""
 
-    def __init__(self, scene, steps, out, stride, frames, forces, label, log):
-        self.out, self.stride, self.frames, self.frame_log = out, stride, frames, []
-        files.remove_earlier_run(out)
-        self.track = recording.Track(scene, steps, None, label, "", draw.run_color(0),
-                                     os.path.join(out, files.log_csv()))
+    def __init__(self, plan, folder, log):
+        self.plan, self.frame_log = plan, []
+        self.track = recording.Track(plan.scenes[0], plan.steps[0], None, plan.labels[0], "", draw.run_color(0), folder)
         self.progress = recording.Progress([self.track], log)
-        self.writer = recording.FrameWriter([self.track], out, forces, self.frame_log) if frames else None
+        self.writer = recording.FrameWriter([self.track], folder, plan.forces, self.frame_log) if plan.frames else None
         if self.writer is not None:
             self.writer.write(0)
-
-    @property
-    def steps_written(self):
-        return self.track.step
 
     def record(self, record):
         """Write a completed step: its log.csv row, and its frame when one is due (frame j at step
         j stride, the last at the run's last step, as recording.frame_steps numbers them)."""
-        track = self.track
+        track, stride = self.track, self.plan.stride
         if record.index != track.step:          # computed before a restart: written then
             return
         track.take(record, self.progress)
-        if self.writer is not None and (track.step % self.stride == 0 or track.step == track.steps):
-            self.writer.write(-(-track.step // self.stride))
-
-    def close(self):
-        self.track.csv.close()
-
-    def finish(self, header):
-        """summary.png, plots.png and (with frames) index.html, for the steps written."""
-        self.track.last_snapshot()
-        recording.finish([self.track], self.out, self.stride, self.frames, self.frame_log, header)
+        if self.writer is not None and (track.step % stride == 0 or track.step == track.steps):
+            self.writer.write(-(-track.step // stride))
 
 
 # ------------------------------------------------------------------------------------------------
@@ -527,106 +513,86 @@ def open_display():
     return pygame
 
 
-def window_size(args, pygame):
+def window_size(size, pygame):
     """--size, or the largest square that fits the display: FIT of its smaller side."""
-    if args.size is not None:
-        return _size(args.size)
+    if size is not None:
+        return check_size(size)
     info = pygame.display.Info()
     if info.current_w > 0 and info.current_h > 0:
         return max(MIN_SIZE, int(FIT * min(info.current_w, info.current_h)))
     return draw.RESOLUTION
 
 
-def _size(value):
-    try:
-        size = _whole("size", value, MIN_SIZE)
-    except ValueError:
-        raise ValueError(f"--size: the window's side must be a whole number of pixels in [{MIN_SIZE}, "
-                         f"{MAX_SIZE}], got {value:g}") from None
-    if size > MAX_SIZE:
-        raise ValueError(f"--size: the window's side must be a whole number of pixels in [{MIN_SIZE}, "
-                         f"{MAX_SIZE}], got {value:g}")
-    return size
+def check_size(value):
+    """--size as a whole number of pixels in [MIN_SIZE, MAX_SIZE]; ValueError otherwise."""
+    if not (math.isfinite(value) and float(value).is_integer() and MIN_SIZE <= value <= MAX_SIZE):
+        raise ValueError(f"size must be a whole number of pixels in [{MIN_SIZE}, {MAX_SIZE}] (the window's "
+                         f"side), got {value:g}")
+    return int(value)
 
 
-def _speed(value):
+def check_speed(value):
+    """--speed (default 1): simulated seconds per wall-clock second, finite and > 0; ValueError otherwise."""
+    if value is None:
+        return 1.0
     if not (math.isfinite(value) and value > 0.0):
-        raise ValueError(f"--speed: speed must be a finite number > 0 (simulated seconds per second), got {value:g}")
+        raise ValueError(f"speed must be a finite number > 0 (simulated seconds per second), got {value:g}")
     return value
 
 
-def run_window(args, clock=None, log=None):
+def run_window(plan, speed, size, signals, clock=None, log=None):
     """`python simulator.py --window`: check the flags, open the window, run the demo until closed;
-    with --out, write what a run without the window writes, as it does (Ctrl+C and SIGTERM end the
-    demo keeping the files; a failed write stops the files, not the demo). Returns the exit code:
-    0; 1 after a failed step or write; 130 after Ctrl+C; 143 after SIGTERM."""
-    scene = scene_from_args(args)
-    steps = steps_from_args(args, scene)
-    speed = _speed(args.speed)
-    stride = frame_stride(args, [scene])
-    if args.size is not None:
-        _size(args.size)
-    log = log or sys.stderr
-    # set before SDL starts, which would otherwise make SIGTERM the close button
-    previous = signal.signal(signal.SIGTERM, _raise_terminated) if _main_thread() else None
-    try:
+    with --out (plan.out), write what a run without the window writes, as it does. Returns the exit
+    code: 0; 1 after a failed step or write; 130 after Ctrl+C; 143 after SIGTERM."""
+    speed, log = check_speed(speed), log or sys.stderr
+    if size is not None:
+        check_size(size)
+    with signals.held():                        # SDL starts after the run's signal handlers: they stay ours
         pygame = open_display()                 # before anything is written
-        try:
-            return _demo(pygame, args, scene, steps, speed, stride, clock or WallClock(), log)
-        finally:
-            pygame.display.quit()
-    finally:
-        if previous is not None:
-            signal.signal(signal.SIGTERM, previous)
-
-
-def _demo(pygame, args, scene, steps, speed, stride, clock, log):
-    """The window on the display, with the files when --out is given, until it is closed."""
-    if args.out is not None:
-        prepare_output(args.out)
-    for warning in scene.warnings:
-        print(f"simulator.py: warning: {warning}", file=log)
-    screen = pygame.display.set_mode((window_size(args, pygame),) * 2)
-    pygame.display.set_caption(f"simulator.py: mu = {scene.mu:g}, n_seg = {scene.n_seg}")
-    label = getattr(args, "label", "") or f"mu = {scene.mu:g}"
-    output, window, stopped = None, None, None
     try:
-        if args.out is not None:
-            output = Files(scene, steps, args.out, stride, not args.no_frames, not args.no_forces, label, log)
-        window = LiveWindow(pygame, screen, scene, steps, speed, output, clock, log, label, not args.no_forces)
-        code = window.loop()
-    except KeyboardInterrupt as err:
-        code, stopped = (143, "terminated (SIGTERM)") if isinstance(err, Terminated) else (130, "interrupted")
-    except OSError as err:                      # starting the files: the folder's earlier files, frame 0
-        print(f"simulator.py: {_write_error(err, args.out)}", file=log)
-        return 1
+        return _demo(pygame, plan, speed, size, signals, clock or WallClock(), log)
     finally:
-        if output is not None:
-            output.close()
-    if output is None:
-        if stopped:
-            print(f"simulator.py: stopped: {stopped}", file=log)
-        return code
-    return _finish(output, args, code, stopped, window.write_error if window else None, log)
+        pygame.display.quit()
 
 
-def _finish(output, args, code, stopped, write_error, log):
-    """The run's pictures and page (not after a failed write, as a run without the window), and
-    its one line on `log`; returns the exit code."""
-    kept = f"{output.steps_written} steps kept in {args.out}/"
-    if write_error is None:
+def _demo(pygame, plan, speed, size, signals, clock, log):
+    """The window on the display, with the files when --out is given, until it is closed; the run's
+    one closing line and exit code as a run without the window (viewer.run)."""
+    scene = plan.scenes[0]
+    folder = files.OutputFolder.claim(plan.out, plan.names(), signals) if plan.out is not None else None
+    output, window, failure = None, None, None
+    try:
         try:
-            output.finish(_summary_header([output.track], [args]))
-        except OSError as err:
-            write_error = err
-    if write_error is not None:
-        print(f"simulator.py: {_write_error(write_error, args.out)}; {kept}", file=log)
-        return 1
-    if stopped:
-        print(f"simulator.py: stopped: {stopped}; {kept}", file=log)
-        return code
-    written = ("frames, OBJs, log.csv, plots.png, summary.png and index.html" if output.frames
-               else "log.csv, plots.png and summary.png")
-    print(f"simulator.py: {output.steps_written} steps ({output.track.t:.2f} s) in the window; {written} "
-          f"in {args.out}/", file=log)
-    return code
+            runs.warn(plan, log)
+            screen = pygame.display.set_mode((window_size(size, pygame),) * 2)
+            pygame.display.set_caption(f"simulator.py: mu = {scene.mu:g}, n_seg = {scene.n_seg}")
+            if folder is not None:
+                output = Files(plan, folder, log)
+            window = LiveWindow(pygame, screen, scene, plan.steps[0], speed, output, clock, log, plan.labels[0],
+                                plan.forces)
+            code = window.loop()
+            if window.write_error is not None:
+                failure = (1, runs.write_error(window.write_error, plan.out))
+            elif window.failure is not None:
+                failure = (code, f"stopped: simulation failed: {window.failure}")
+        except runs.Stopped as stopped:
+            failure = (stopped.code, f"stopped: {stopped.reason}")
+        except OSError as err:                  # starting the files: frame 0
+            failure = (1, runs.write_error(err, plan.out))
+        if output is not None:
+            failure = runs.last_pictures([output.track], folder, plan, output.frame_log, failure)
+    except runs.Stopped as stopped:
+        failure = failure or (stopped.code, f"stopped: {stopped.reason}")
+    signals.close()
+    if output is not None:
+        output.track.csv.close()
+    if folder is not None:
+        folder.close()
+    steps = window.run.index if window else 0
+    if failure is not None:
+        where = runs.kept([output.track], folder, plan) if output else f"{steps} steps in the window"
+        print(f"simulator.py: {failure[1]}; {where}", file=log)
+        return failure[0]
+    written = f"; {runs.written(plan)} in {plan.out}/" if output else ""
+    print(f"simulator.py: {steps} steps ({steps * scene.h:.2f} s) in the window{written}", file=log)
+    return 0

@@ -1,0 +1,245 @@
+"""The command line, `python simulator.py [flags]`: its flags, comparisons by lists, and its errors.
+
+Every scene flag sets one of simulator.DEFAULTS (SCENE_FLAGS), and only the flags given reach
+`simulator.build_scene`. Any one scalar scene flag may take a comma-separated list (`--mu 0.1,0.11,0.2`)
+and a pair flag a ';'-separated list of pairs (`--v0 "1,0;-2,0"`): one run per value, compared side by
+side. A bad command line is one line on stderr naming the flag, and exit code 2, before anything is
+written; the run itself (viewer/run.py, viewer/window.py) ends in one line too.
+"""
+import argparse
+import math
+import re
+import sys
+
+import simulator
+import utils
+from viewer import run
+
+DEFAULT_OUT = "output"      # the output folder without --out
+DEFAULT_DURATION = 3.0      # s
+COMPARISON_DURATION = 6.0   # s: a comparison's default, long enough to see mu = 0.11 stop (about 5.5 s)
+FRAMES_PER_SECOND = 30      # at least this many frames per simulated second by default
+
+# (flags, scene parameter, what it is, metavar): every flag that sets a scene parameter
+SCENE_FLAGS = [
+    (("--mu",), "mu", "friction coefficient", "MU"),
+    (("--h", "--dt"), "h", "time step in s", "SECONDS"),
+    (("--n-seg",), "n_seg", "segments per side of the square", "N"),
+    (("--side",), "side_len", "side length of the square in m", "METRES"),
+    (("--k",), "k", "spring stiffness in N/m", "N_PER_M"),
+    (("--density",), "rho", "density in kg/m^2", "KG_PER_M2"),
+    (("--mass",), "mass", "total mass in kg, instead of --density", "KG"),
+    (("--slope-normal",), "slope", "the slope's normal, normalized for you", "NX,NY"),
+    (("--slope-point",), "slope_point", "a point on the slope in m", "OX,OY"),
+    (("--center",), "center", "initial centre of the square in m", "X,Y"),
+    (("--v0",), "v0", "initial velocity in m/s", "VX,VY"),
+    (("--gravity",), "gravity", "gravity in m/s^2", "GX,GY"),
+    (("--dhat",), "dhat", "barrier activation distance in m", "METRES"),
+    (("--kappa",), "kappa", "barrier stiffness", "KAPPA"),
+    (("--epsv",), "epsv", "friction's eps_v in m/s", "M_PER_S"),
+    (("--tol",), "tol", "Newton tolerance on ||p||_inf / h in m/s", "M_PER_S"),
+    (("--friction-iterations",), "friction_updates",
+     "fixed-point friction updates per step, fully implicit friction (Algorithm 5); 0: lagged", "N"),
+    (("--max-newton",), "max_newton_iterations", "Newton iteration cap per solve", "N"),
+]
+WINDOW_FLAGS = ("--size", "--speed")
+# the words an error message starts with -> the flag it is about
+FLAG_OF = {**{param: flags[0] for flags, param, _, _ in SCENE_FLAGS}, "slope normal": "--slope-normal",
+           "slope-angle": "--slope-angle", "the square starts": "--center", "steps": "--steps",
+           "duration": "--duration", "frame-stride": "--frame-stride", "out folder": "--out",
+           "size": "--size", "speed": "--speed"}
+
+
+class CommandLineError(Exception):
+    """A bad command line: reported in one line, exit code 2."""
+
+
+class Parser(argparse.ArgumentParser):
+    def error(self, message):
+        raise CommandLineError(message)
+
+
+def pair(text):
+    """'X,Y' as two floats."""
+    try:
+        values = [float(s) for s in text.replace(",", " ").split()]
+    except ValueError:
+        values = []
+    if len(values) != 2:
+        raise argparse.ArgumentTypeError(f"expected two numbers 'X,Y', got {text!r}")
+    return tuple(values)
+
+
+def is_pair(metavar):
+    return "," in metavar
+
+
+def make_parser():
+    d = simulator.DEFAULTS
+    ap = Parser(prog="simulator.py", allow_abbrev=False, description=(
+        "Simulate the lecture's elastic square on a slope (implicit Euler as optimization, log-barrier "
+        "contact, semi-implicit friction) and write into a folder: index.html, a page that plays the run; "
+        "PNG frames and OBJ meshes; log.csv; plots.png and summary.png. Compare runs by giving one scene "
+        "flag a list: comma-separated values, or ';'-separated pairs, e.g. --mu 0.1,0.11,0.2 (the lecture's "
+        f"comparison; {COMPARISON_DURATION:g} s unless --duration or --steps says otherwise)."))
+    g = ap.add_argument_group("scene (the lecture's numbers by default)")
+    for flags, param, what, metavar in SCENE_FLAGS:
+        shown = ",".join(f"{v:g}" for v in d[param]) if isinstance(d[param], tuple) else d[param]
+        g.add_argument(*flags, dest=param, type=pair if is_pair(metavar) else float, metavar=metavar,
+                       default=argparse.SUPPRESS, help=f"{what} (default {shown})")
+    g.add_argument("--slope-angle", type=float, metavar="DEGREES",
+                   help="slope angle in degrees, descending to the right, instead of --slope-normal")
+    g.add_argument("--no-slope", action="store_true", help="free fall: no slope, no contact")
+    r = ap.add_argument_group("run and output")
+    r.add_argument("--duration", type=float, metavar="SECONDS",
+                   help=f"simulated seconds (default {DEFAULT_DURATION:g}; a comparison {COMPARISON_DURATION:g})")
+    r.add_argument("--steps", type=float, metavar="N", help="number of time steps, instead of --duration")
+    r.add_argument("--out", metavar="FOLDER", help=f"output folder (default {DEFAULT_OUT}; with --window, "
+                   f"files only when given)")
+    r.add_argument("--frame-stride", type=float, metavar="N",
+                   help=f"write a frame every N steps (default: {FRAMES_PER_SECOND} or more a simulated second)")
+    r.add_argument("--no-forces", action="store_true", help="draw no force arrows in the frames")
+    r.add_argument("--no-frames", action="store_true",
+                   help="write only log.csv, plots.png and summary.png (no frames, OBJs or index.html)")
+    r.add_argument("--window", action="store_true", help="show the run live in a pygame window (docs/live-demo.md)")
+    r.add_argument("--size", type=float, metavar="PIXELS", help="--window: its side in pixels (default: fit the display)")
+    r.add_argument("--speed", type=float, metavar="FACTOR",
+                   help="--window: simulated seconds per wall-clock second (default 1; 0.25: slow motion)")
+    return ap
+
+
+def attach_negative_values(argv):
+    """['--k', '-2e4'] -> ['--k=-2e4']: argparse takes '-2e4', '-1,2' or '-inf' for an option, but no
+    flag starts with a digit, a dot, 'inf' or 'nan', so such a token is always the previous option's value."""
+    out = []
+    for token in argv:
+        if out and out[-1].startswith("--") and "=" not in out[-1] and re.match(r"^-([0-9.]|inf|nan)", token, re.I):
+            out[-1] = f"{out[-1]}={token}"
+        else:
+            out.append(token)
+    return out
+
+
+def scene_flag_uses(argv):
+    """(token index, flag, parameter, value, pair?) for each scene flag given with its value."""
+    params = {flag: (param, is_pair(metavar)) for flags, param, _, metavar in SCENE_FLAGS for flag in flags}
+    uses = []
+    for i, token in enumerate(argv):
+        flag, joined, value = token.partition("=")
+        if flag in params and (joined or i + 1 < len(argv)):
+            uses.append((i, flag, *params[flag][:1], value if joined else argv[i + 1], params[flag][1]))
+    return uses
+
+
+def parse_command_line(argv):
+    """One argparse Namespace per run, each with its `label` and file `tag` ('' for a single run)."""
+    argv = attach_negative_values(list(argv))
+    parser = make_parser()
+    uses = scene_flag_uses(argv)
+    lists = [u for u in uses if (";" if u[4] else ",") in u[3]]
+    if not lists:
+        args = parser.parse_args(argv)
+        args.label, args.tag = "", ""
+        return [args]
+    if len(lists) > 1:
+        raise CommandLineError(f"only one scene flag may take a list of values, got {lists[0][1]} and {lists[1][1]}")
+    i, flag, param, text, pair_flag = lists[0]
+    again = [u[1] for u in uses if u[2] == param and u[0] != i]
+    if again:
+        raise CommandLineError(f"{flag}: given a list ({text}) and again as {again[0]}; give it once")
+    values = [v.strip() for v in text.split(";" if pair_flag else ",")]
+    if len(set(values)) < len(values):
+        raise CommandLineError(f"{flag}: the list {text} repeats a value")
+    runs, skip = [], i + (1 if "=" in argv[i] else 2)
+    for value in values:
+        args = parser.parse_args(argv[:i] + [f"{flag}={value}"] + argv[skip:])
+        name = flag.lstrip("-")
+        args.label = f"{name} = {value}"
+        args.tag = f"{name}_{value.replace(',', '_')}" if pair_flag else f"{name}{value}"
+        runs.append(args)
+    return runs
+
+
+def scene_from_args(args):
+    """simulator.build_scene with the scene flags given (the rest keep DEFAULTS)."""
+    overrides = {param: getattr(args, param) for _, param, _, _ in SCENE_FLAGS if hasattr(args, param)}
+    given = [flag for flag, on in (("--slope-normal", "slope" in overrides), ("--slope-angle", args.slope_angle is not None),
+                                   ("--no-slope", args.no_slope)) if on]
+    if len(given) > 1:
+        raise CommandLineError(f"{given[0]} and {given[1]} both set the slope; give one")
+    if args.no_slope:
+        overrides["slope"] = None
+    elif args.slope_angle is not None:
+        if not -90.0 < args.slope_angle < 90.0:
+            raise ValueError(f"slope-angle must be in (-90, 90) degrees, got {args.slope_angle}")
+        theta = math.radians(args.slope_angle)
+        overrides["slope"] = (math.sin(theta), math.cos(theta))
+    return simulator.build_scene(**overrides)
+
+
+def steps_from_args(args, scene, comparison=False):
+    """--steps, or --duration (default DEFAULT_DURATION, COMPARISON_DURATION for a comparison) in steps of h."""
+    if args.steps is not None:
+        if args.duration is not None:
+            raise CommandLineError("--duration and --steps both set the run's length; give one")
+        return utils.check_whole("steps", args.steps, 1)
+    duration = args.duration if args.duration is not None else COMPARISON_DURATION if comparison else DEFAULT_DURATION
+    duration = utils.check_positive("duration", duration)
+    if duration < scene.h:
+        raise ValueError(f"duration {duration:g} s is shorter than one time step h = {scene.h:g} s")
+    if not math.isfinite(duration / scene.h):
+        raise ValueError(f"duration {duration:g} s is more time steps of h = {scene.h:g} s than float64 "
+                         f"can count (use --steps, or a larger h)")
+    return int(round(duration / scene.h))
+
+
+def frame_stride(args, scenes):
+    """--frame-stride, or the largest stride giving FRAMES_PER_SECOND frames per simulated second at
+    the smallest h (3 at h = 0.01: 33 frames per second)."""
+    if args.frame_stride is not None:
+        return utils.check_whole("frame-stride", args.frame_stride, 1)
+    return max(1, math.floor(1.0 / (FRAMES_PER_SECOND * min(s.h for s in scenes)) + 1e-9))
+
+
+def plan_from_args(runs):
+    """The run.Plan the command line's runs ask for (ValueError or CommandLineError for a bad one)."""
+    args = runs[0]
+    for flag in WINDOW_FLAGS:
+        if getattr(args, flag.lstrip("-")) is not None and not args.window:
+            raise CommandLineError(f"{flag} applies only to the window; add --window, or leave {flag} out")
+    if args.window and len(runs) > 1:
+        raise CommandLineError(f"--window shows one run; --{runs[0].label.split(' = ')[0]} was given {len(runs)} "
+                               f"values (compare them without --window)")
+    scenes = [scene_from_args(a) for a in runs]
+    out = args.out if args.out is not None or args.window else DEFAULT_OUT
+    return run.Plan(scenes=scenes, labels=[a.label or f"mu = {s.mu:g}" for a, s in zip(runs, scenes)],
+                    tags=[a.tag for a in runs], steps=[steps_from_args(a, s, len(runs) > 1) for a, s in zip(runs, scenes)],
+                    out=out, stride=frame_stride(args, scenes), frames=not args.no_frames, forces=not args.no_forces)
+
+
+def flag_of(message):
+    """'--flag: ' for the flag an error message is about (it starts with the parameter's name), or ''."""
+    for words in sorted(FLAG_OF, key=len, reverse=True):
+        if message.startswith(words + " "):
+            return f"{FLAG_OF[words]}: "
+    return ""
+
+
+def main(argv=None):
+    """Run the command line; returns the exit code (messages on stderr)."""
+    with run.Signals() as signals:
+        try:
+            runs = parse_command_line(sys.argv[1:] if argv is None else argv)
+            plan = plan_from_args(runs)
+            if runs[0].window:
+                from viewer import window          # the window's module loads only for --window
+                return window.run_window(plan, runs[0].speed, runs[0].size, signals)
+            return run.to_files(plan, signals)
+        except CommandLineError as err:
+            print(f"simulator.py: error: {err}", file=sys.stderr)
+        except ValueError as err:
+            print(f"simulator.py: error: {flag_of(str(err))}{err}", file=sys.stderr)
+        except run.Stopped as stopped:
+            print(f"simulator.py: stopped: {stopped.reason}; nothing written", file=sys.stderr)
+            return stopped.code
+        return 2

@@ -1,0 +1,187 @@
+"""A run of the command line, to files or in the window: the folder it owns, its signals, its ending.
+
+Whatever ends a run, it ends in one line on stderr and an exit code: 0 when done; 1 after a failed
+step or a failed write (a full disk); 130 after Ctrl+C and 143 after SIGTERM. Ctrl+C and SIGTERM
+raise `Stopped` wherever the run is, except while a file is being written or pygame loads
+(`Signals.held`), which they let finish first: every file stays whole and no temporary is left.
+After a failed step or a signal the run still writes its last pictures for the steps it kept; a
+second signal leaves out those not yet written, and the line says which.
+"""
+import contextlib
+import signal
+import sys
+import threading
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+import simulator
+import time_integrator
+from viewer import draw, files, recording
+
+PICTURES = ("summary.png", "plots.png", "index.html")      # the last pictures, written after the steps
+
+
+class Stopped(BaseException):
+    """SIGINT (Ctrl+C) or SIGTERM: the run stops, says so in one line and keeps what it wrote."""
+
+    def __init__(self, signum):
+        super().__init__(signum)
+        self.signum = signum
+        self.code = 128 + signum
+        self.reason = "interrupted" if signum == signal.SIGINT else "terminated (SIGTERM)"
+
+
+class Signals:
+    """While a run is on (`with Signals() as signals:`), SIGINT and SIGTERM raise Stopped, at once or,
+    inside `held()`, as it ends. Handlers can only be set from the main thread: from another (a
+    notebook's), signals are left as they are."""
+
+    def __init__(self):
+        self.depth, self.pending, self.previous = 0, None, {}
+
+    def __enter__(self):
+        if threading.current_thread() is threading.main_thread():
+            self.previous = {signum: signal.signal(signum, self._handle) for signum in (signal.SIGINT, signal.SIGTERM)}
+        return self
+
+    def __exit__(self, *exc):
+        for signum, handler in self.previous.items():
+            signal.signal(signum, handler)
+
+    def _handle(self, signum, frame):
+        if self.depth:
+            self.pending = self.pending or signum
+        else:
+            raise Stopped(signum)
+
+    @contextlib.contextmanager
+    def held(self):
+        """Signals wait until the block ends (a file written whole, pygame loaded), then stop the run."""
+        self.depth += 1
+        try:
+            yield
+        finally:
+            self.depth -= 1
+        if self.depth == 0 and self.pending is not None:
+            signum, self.pending = self.pending, None
+            raise Stopped(signum)
+
+    def close(self):
+        """The run is ending: from here on a signal only waits (until the handlers are restored)."""
+        self.depth += 1
+
+
+@dataclass
+class Plan:
+    """What the command line asks for: one scene or a comparison's, each with its label, file tag and
+    number of steps; where to write, a frame every `stride` steps (of the smallest h), what to draw."""
+    scenes: list
+    labels: list
+    tags: list
+    steps: list
+    out: str
+    stride: int
+    frames: bool
+    forces: bool
+
+    def names(self):
+        """The names this run writes into `out` (files.RunNames)."""
+        return files.RunNames(self.tags, recording.frame_count(self.scenes, self.steps, self.stride), self.frames)
+
+
+def warn(plan, messages):
+    """Each scene's warnings (what its results cannot be trusted for), one line each."""
+    for label, scene in zip(plan.labels, plan.scenes):
+        for warning in scene.warnings:
+            who = f"{label}: " if len(plan.scenes) > 1 else ""
+            print(f"simulator.py: warning: {who}{warning}", file=messages, flush=True)
+
+
+def load_pygame(signals):
+    """pygame, loaded whole: a signal while it loads waits until it has."""
+    with signals.held():
+        return draw.load_pygame()
+
+
+def write_error(err, out):
+    """A failed write (a full disk, a folder gone) as the one line's text."""
+    return f"error: cannot write {err.filename or out}: {err.strerror or err}"
+
+
+def summary_header(plan):
+    """The parameters the runs share, and for a comparison what differs: summary.png's and the page's text."""
+    scene, p = plan.scenes[0], plan.scenes[0].params
+    lines = [f"mu = {scene.mu:g}   h = {scene.h:g} s   k = {p['k']:g} N/m   n_seg = {scene.n_seg}",
+             f"slope normal = {None if scene.n is None else np.round(scene.n, 4).tolist()}   "
+             f"dhat = {scene.dhat:g} m   kappa = {scene.kappa:g}   eps_v = {scene.epsv:g} m/s"]
+    if len(plan.scenes) > 1:
+        lines.insert(0, "comparison: " + ", ".join(plan.labels) + "; otherwise as the first:")
+    return lines
+
+
+def last_pictures(tracks, folder, plan, frame_log, failure):
+    """summary.png, plots.png and index.html for the steps kept, unless a write failed (a full disk);
+    the run's failure (exit code, text) after them: a signal now cuts them short."""
+    if not tracks or (failure and failure[1].startswith("error")):
+        return failure
+    try:
+        for track in tracks:
+            track.last_snapshot()
+        recording.finish(tracks, folder, plan.stride, plan.frames, frame_log, summary_header(plan))
+    except Stopped as stopped:
+        return failure or (stopped.code, f"stopped: {stopped.reason} while writing the last pictures")
+    except OSError as err:
+        return (1, write_error(err, plan.out))
+    return failure
+
+
+def kept(tracks, folder, plan):
+    """'N steps kept in out/', and which of the last pictures were left out, if any."""
+    steps = min((track.logged or 0 for track in tracks), default=0)
+    left_out = [name for name in PICTURES if name in plan.names().fixed and name not in folder.written]
+    return f"{steps} steps kept in {plan.out}/" + (f"; left out: {', '.join(left_out)}" if left_out else "")
+
+
+def to_files(plan, signals, messages=None):
+    """Run the plan's scenes side by side to their ends, writing frames, OBJs and log rows as they go,
+    then the last pictures; one closing line on `messages` (stderr). Returns the exit code."""
+    messages = messages or sys.stderr
+    folder = files.OutputFolder.claim(plan.out, plan.names(), signals)       # ValueError: refused, nothing written
+    tracks, frame_log, failure, start = [], [], None, time.perf_counter()
+    try:
+        try:
+            warn(plan, messages)
+            load_pygame(signals)
+            for k, (scene, steps, label, tag) in enumerate(zip(plan.scenes, plan.steps, plan.labels, plan.tags)):
+                tracks.append(recording.Track(scene, steps, simulator.simulate(scene, steps), label, tag,
+                                              draw.run_color(k), folder))
+            recording.record(tracks, folder, plan.stride, plan.frames, plan.forces, messages, frame_log)
+        except time_integrator.SimulationError as err:
+            failure = (1, f"stopped: simulation failed: {err}")
+        except OSError as err:
+            failure = (1, write_error(err, plan.out))
+        except Stopped as stopped:
+            failure = (stopped.code, f"stopped: {stopped.reason}")
+        wall = time.perf_counter() - start
+        failure = last_pictures(tracks, folder, plan, frame_log, failure)
+    except Stopped as stopped:              # between the steps and the pictures
+        failure, wall = failure or (stopped.code, f"stopped: {stopped.reason}"), time.perf_counter() - start
+    signals.close()
+    for track in tracks:
+        track.csv.close()
+    folder.close()
+    if failure is not None:
+        print(f"simulator.py: {failure[1]}; {kept(tracks, folder, plan)}", file=messages)
+        return failure[0]
+    runs = f" x {len(plan.scenes)} runs" if len(plan.scenes) > 1 else ""
+    print(f"simulated {plan.steps[0]} steps ({plan.steps[0] * plan.scenes[0].h:.2f} s){runs} in {wall:.2f} s wall; "
+          f"{written(plan)} in {plan.out}/", file=messages)
+    return 0
+
+
+def written(plan):
+    """What a run that ends well has written, in words."""
+    return ("frames, OBJs, log.csv, plots.png, summary.png and index.html" if plan.frames
+            else "log.csv, plots.png and summary.png")
