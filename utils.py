@@ -252,10 +252,11 @@ def check_start(p, defaults, x, n, o, d):
             raise ValueError(f"{name} = {_shown(p[name])} is beyond float64's range in this scene: {what} would "
                              f"be {value:.3g}, above the {FLOAT64_SCALE_LIMIT:g} whose squares still sum to a finite number")
     m = M / len(x)
-    if not h * h * k / m <= NEWTON_RATIO_LIMIT:
+    ratio = h * h * k / m if m > 0.0 else math.inf         # a mass that underflowed to 0 resolves nothing
+    if not ratio <= NEWTON_RATIO_LIMIT:
         name = _culprit(p, defaults, {"k": 1, "h": 2, "n_seg": 2, **{a: -b for a, b in Mp.items()}})
         raise ValueError(f"{name} = {_shown(p[name])}: float64 cannot resolve the Newton matrix M + h^2 K, as "
-                         f"h^2 k / m = {h * h * k / m:.3g} (h = {h:g} s, k = {k:g}, node mass m = {m:.3g} kg) is "
+                         f"h^2 k / m = {ratio:.3g} (h = {h:g} s, k = {k:g}, node mass m = {m:.3g} kg) is "
                          f"above 0.1/eps = {NEWTON_RATIO_LIMIT:.2g}, where m is lost in the round-off of h^2 k "
                          f"(lower k or h, or raise the mass)")
     scale = X + (0.0 if o is None else float(np.abs(o).max())) + D

@@ -25,3 +25,59 @@ def test_importing_every_module_needs_no_display_and_no_pygame():
     env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "SDL_VIDEODRIVER")}
     out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, env=env, capture_output=True, text=True, timeout=60)
     assert out.returncode == 0 and out.stdout.strip() == "False", out.stderr
+
+
+# the layers, lowest first: a module imports only from layers below its own (viewer/ within itself too)
+LAYERS = [{"utils"}, {"InertiaEnergy", "MassSpringEnergy", "GravityEnergy", "BarrierEnergy", "FrictionEnergy",
+                      "square_mesh"}, {"time_integrator"}, {"simulator"}, {"viewer"}, {"benchmarks", "figures"}]
+
+
+def layer(module):
+    top = module.split(".")[0]
+    return next((i for i, names in enumerate(LAYERS) if top in names), None)
+
+
+def project_imports(path):
+    """(module imported, names taken from it, line) for each import of a project module in the file,
+    leaving out those under `if __name__ == "__main__":` (the command line's entry, not a dependency)."""
+    import ast
+    tree = ast.parse(open(path).read())
+    main_blocks = [node for node in tree.body if isinstance(node, ast.If) and "__main__" in ast.unparse(node.test)]
+    skip = {id(n) for block in main_blocks for n in ast.walk(block)}
+    found = []
+    for node in ast.walk(tree):
+        if id(node) in skip:
+            continue
+        if isinstance(node, ast.Import):
+            found += [(alias.name, [], node.lineno) for alias in node.names if layer(alias.name) is not None]
+        elif isinstance(node, ast.ImportFrom) and node.module and layer(node.module) is not None:
+            found.append((node.module, [alias.name for alias in node.names], node.lineno))
+    return found
+
+
+def test_imports_run_one_way_and_take_no_private_names():
+    """viewer and benchmarks -> simulator -> time_integrator -> energies -> utils: never upward, never a
+    module's private `_name`."""
+    import glob
+    sources = glob.glob(os.path.join(ROOT, "*.py")) + glob.glob(os.path.join(ROOT, "viewer", "*.py"))
+    assert len(sources) > 15
+    for path in sources:
+        module = os.path.relpath(path, ROOT)[:-3].replace(os.sep, ".")
+        for imported, names, line in project_imports(path):
+            assert layer(imported) < layer(module) or (layer(imported) == layer(module) == 4), \
+                f"{module}:{line} imports {imported} (upward)"
+            assert not [n for n in names if n.startswith("_")], f"{module}:{line} imports private {names}"
+        text = open(path).read()
+        for other in ("simulator", "time_integrator", "utils", "BarrierEnergy", "FrictionEnergy", "recording", "run",
+                      "files", "cli", "draw", "window"):
+            assert not re.search(rf"\b{other}\._[a-z]", text), f"{module} reads a private name of {other}"
+
+
+def test_the_readme_notebook_code_runs_as_written():
+    """README's Python blocks, run from the repository's folder as it says."""
+    blocks = re.findall(r"```python\n(.*?)```", open(os.path.join(ROOT, "README.md")).read(), re.S)
+    assert len(blocks) >= 2
+    for code in blocks:
+        out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, timeout=120,
+                             env={**os.environ, "OPENBLAS_NUM_THREADS": "1"})
+        assert out.returncode == 0, out.stderr

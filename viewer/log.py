@@ -37,7 +37,12 @@ class LineFile:
         self.path = path
         self.fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o666)
         self.size = 0
-        self.append(header)
+        try:
+            self.append(header)
+        except BaseException:           # (a full disk) the file it created, empty: gone again
+            self.close()
+            os.remove(path)
+            raise
 
     def append(self, line):
         data = (line + "\n").encode()

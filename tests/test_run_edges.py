@@ -1,0 +1,291 @@
+"""A run's edges, tried as a careful user would: their own files in the output folder, symbolic links,
+a signal in each phase of the run, repeated flags, negative values in lists, flags that do not apply,
+a full disk, and a state beyond float64 handed to the library."""
+import errno
+import io
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+import simulator
+import square_mesh
+import time_integrator
+import viewer.log
+from viewer import cli, draw, files, plots
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def main(*args):
+    """The command line in this process: (exit code, stderr lines)."""
+    err, old = io.StringIO(), sys.stderr
+    sys.stderr = err
+    try:
+        code = cli.main(list(args))
+    finally:
+        sys.stderr = old
+    return code, err.getvalue().splitlines()
+
+
+def log_steps(path):
+    """The steps log.csv holds, after checking every row is whole."""
+    rows = path.read_text().splitlines()
+    assert rows[0] == ",".join(viewer.log.COLUMNS)
+    assert all(len(r.split(",")) == len(viewer.log.COLUMNS) for r in rows)
+    return [int(r.split(",")[0]) for r in rows[1:]]
+
+
+def leftovers(folder):
+    """Temporary files left in the folder (names starting with '.', but the manifest)."""
+    return [name for name in os.listdir(folder) if name.startswith(".") and name != files.MANIFEST]
+
+
+# ---- a run owns its files ---------------------------------------------------------------------------
+
+USERS = ["log.csv", "index.html", "plots.png", "summary.png", "frame_00003.png", "frame_00001.obj"]
+
+
+@pytest.mark.parametrize("name", USERS)
+def test_a_users_file_with_an_outputs_name_is_never_touched(tmp_path, name):
+    """The user's own file named like an output: refused before anything is written, in one line that
+    names the file and says how to go on; the folder is as it was."""
+    (tmp_path / name).write_text("the user's own")
+    code, lines = main("--steps", "3", "--frame-stride", "1", "--out", str(tmp_path))
+    assert code == 2 and len(lines) == 1, lines
+    assert lines[0].startswith("simulator.py: error: --out: ") and name in lines[0] and "move it away" in lines[0]
+    assert os.listdir(tmp_path) == [name] and (tmp_path / name).read_text() == "the user's own"
+
+
+def test_files_a_run_does_not_write_are_left_alone(tmp_path):
+    """A frame number beyond this run's frames, another file: kept, and not refused."""
+    (tmp_path / "frame_00099.png").write_text("mine")
+    (tmp_path / "notes.txt").write_text("mine too")
+    assert main("--steps", "3", "--out", str(tmp_path))[0] == 0
+    assert (tmp_path / "frame_00099.png").read_text() == "mine" and (tmp_path / "notes.txt").read_text() == "mine too"
+    assert main("--steps", "3", "--out", str(tmp_path))[0] == 0           # a re-run: still theirs
+    assert (tmp_path / "frame_00099.png").read_text() == "mine"
+
+
+@pytest.mark.parametrize("name", ["log.csv", "frame_00001.png", "summary.png"])
+def test_a_symbolic_link_is_never_written_through(tmp_path, name):
+    """A dangling link, and one to a file elsewhere, with an output's name: refused, nothing written
+    where they point."""
+    out, target = tmp_path / "out", tmp_path / "elsewhere"
+    out.mkdir()
+    (out / name).symlink_to(target)
+    code, lines = main("--steps", "3", "--frame-stride", "1", "--out", str(out))
+    assert code == 2 and "a symbolic link" in lines[0] and not target.exists()
+    target.write_text("kept")
+    assert main("--steps", "3", "--frame-stride", "1", "--out", str(out))[0] == 2
+    assert target.read_text() == "kept" and os.listdir(out) == [name]
+
+
+def test_a_rerun_replaces_its_own_earlier_run_and_nothing_else(tmp_path):
+    """The second run removes the first's frames (no stale frame 5), except one the user has since
+    replaced by a link of their own, which is refused instead of deleted."""
+    assert main("--steps", "30", "--frame-stride", "1", "--out", str(tmp_path))[0] == 0
+    assert main("--steps", "3", "--frame-stride", "1", "--out", str(tmp_path))[0] == 0
+    names = set(os.listdir(tmp_path))
+    assert "frame_00003.png" in names and "frame_00004.png" not in names and "frame_00030.obj" not in names
+    (tmp_path / "frame_00002.png").unlink()
+    (tmp_path / "frame_00002.png").symlink_to(tmp_path / "frame_00001.png")
+    code, lines = main("--steps", "3", "--frame-stride", "1", "--out", str(tmp_path))
+    assert code == 2 and "frame_00002.png, a symbolic link" in lines[0]
+    assert (tmp_path / "frame_00002.png").is_symlink() and (tmp_path / "frame_00001.png").exists()
+
+
+def test_a_manifest_it_did_not_write_is_refused(tmp_path):
+    (tmp_path / files.MANIFEST).write_text("log.csv\nnotes.txt\n")
+    (tmp_path / "notes.txt").write_text("mine")
+    code, lines = main("--steps", "3", "--out", str(tmp_path))
+    assert code == 2 and files.MANIFEST in lines[0] and (tmp_path / "notes.txt").read_text() == "mine"
+
+
+# ---- a signal in each phase ---------------------------------------------------------------------
+
+def signal_during(monkeypatch, module, name, signum=signal.SIGINT):
+    """Send this process `signum` the first time module.name is called (as a user's Ctrl+C would arrive
+    at that moment), then run it."""
+    real, sent = getattr(module, name), []
+
+    def with_signal(*args, **kw):
+        if not sent:
+            sent.append(signum)
+            os.kill(os.getpid(), signum)
+        return real(*args, **kw)
+    monkeypatch.setattr(module, name, with_signal)
+
+
+def test_a_signal_while_pygame_loads_ends_the_run_in_one_line(tmp_path, monkeypatch):
+    """pygame loads whole (no half-initialized module), then the run stops: exit 130, one line."""
+    signal_during(monkeypatch, draw, "load_pygame")
+    code, lines = main("--steps", "3", "--out", str(tmp_path))
+    assert code == 130 and len(lines) == 1, lines
+    assert lines[0].startswith("simulator.py: stopped: interrupted; 0 steps kept")
+    import pygame
+    assert pygame.font.get_init() and hasattr(pygame, "Surface")
+
+
+@pytest.mark.parametrize("signum, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
+def test_a_signal_while_a_frame_is_written_keeps_every_file_whole(tmp_path, monkeypatch, signum, code):
+    """The frame being written is finished, whole; no temporary is left; the steps kept are the last
+    step in log.csv, and the last pictures are written for them."""
+    real = square_mesh.write_atomic
+    calls = []
+
+    def write(path, data):
+        calls.append(path)
+        if len(calls) == 7:                     # frame 3's PNG: the signal arrives as it is written
+            os.kill(os.getpid(), signum)
+        real(path, data)
+    monkeypatch.setattr(square_mesh, "write_atomic", write)
+    status, lines = main("--steps", "300", "--frame-stride", "1", "--out", str(tmp_path))
+    assert status == code and lines[-1].startswith("simulator.py: stopped: "), lines
+    steps = log_steps(tmp_path / "log.csv")
+    assert lines[-1].endswith(f"; {steps[-1]} steps kept in {tmp_path}/") and steps == list(range(steps[-1] + 1))
+    assert (tmp_path / "frame_00003.png").stat().st_size > 0 and not leftovers(tmp_path)
+    assert all((tmp_path / name).exists() for name in ("summary.png", "plots.png", "index.html"))
+
+
+@pytest.mark.parametrize("signum, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
+def test_a_signal_during_the_last_pictures_leaves_out_the_rest_and_says_which(tmp_path, monkeypatch, signum, code):
+    """summary.png is written before the signal; plots.png and index.html are left out, and the line
+    says so; the frames and log are kept whole."""
+    signal_during(monkeypatch, plots, "draw_plots", signum)
+    status, lines = main("--steps", "20", "--out", str(tmp_path))
+    said = [line for line in lines if line.startswith("simulator.py:")]    # the others: progress
+    assert status == code and said == lines[-1:], lines
+    assert lines[-1].startswith("simulator.py: stopped: ") and "while writing the last pictures" in lines[-1]
+    assert lines[-1].endswith("20 steps kept in " + str(tmp_path) + "/; left out: plots.png, index.html")
+    names = os.listdir(tmp_path)
+    assert "summary.png" in names and "plots.png" not in names and "index.html" not in names
+    assert log_steps(tmp_path / "log.csv") == list(range(21)) and not leftovers(tmp_path)
+
+
+def test_ctrl_c_at_any_moment_of_a_real_run_is_one_line(tmp_path):
+    """A real process, Ctrl+C at a few moments from loading numpy on: exit 130, its last line says it
+    stopped, no traceback, no temporary file."""
+    for delay in (0.5, 1.0, 2.0):       # (before 0.1 s Python itself is still starting: not yet ours)
+        out = tmp_path / f"after{delay}"
+        process = subprocess.Popen([sys.executable, os.path.join(ROOT, "simulator.py"), "--steps", "100000",
+                                    "--out", str(out)], env={**os.environ, "SDL_VIDEODRIVER": "dummy"},
+                                   stderr=subprocess.PIPE, text=True)
+        time.sleep(delay)
+        process.send_signal(signal.SIGINT)
+        _, err = process.communicate(timeout=60)
+        assert process.returncode == 130, err
+        assert "Traceback" not in err and err.strip().splitlines()[-1].startswith("simulator.py: stopped: interrupted")
+        assert not out.exists() or not leftovers(out)
+
+
+# ---- the command line -------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("args, flag", [(["--mu", "0,1", "--mu", "0.5"], "--mu"),
+                                        (["--h", "0.01,0.02", "--dt", "0.005"], "--h"),
+                                        (["--mu", "0.5", "--mu=0.1,0.2"], "--mu")])
+def test_a_list_flag_given_twice_is_refused(tmp_path, args, flag):
+    code, lines = main(*args, "--out", str(tmp_path / "o"))
+    assert code == 2 and len(lines) == 1 and lines[0].startswith(f"simulator.py: error: {flag}: "), lines
+    assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("flag, values, parsed", [
+    ("--v0", "1,0;-2,0", [(1.0, 0.0), (-2.0, 0.0)]), ("--center", "0,0;-1,1", [(0.0, 0.0), (-1.0, 1.0)]),
+    ("--gravity", "0,-9.81;-1,-9.81", [(0.0, -9.81), (-1.0, -9.81)])])
+def test_lists_of_pairs_take_negative_numbers(flag, values, parsed):
+    for argv in ([flag, values], [f"{flag}={values}"]):
+        runs = cli.parse_command_line(argv)
+        assert [getattr(r, flag.lstrip("-")) for r in runs] == parsed
+        assert [r.label for r in runs] == [f"{flag.lstrip('-')} = {v}" for v in values.split(";")]
+
+
+def test_lists_of_numbers_take_negative_numbers():
+    """Parsed as numbers; the scene then refuses mu < 0, naming the flag."""
+    assert [r.k for r in cli.parse_command_line(["--k", "-1,2e4"])] == [-1.0, 2e4]
+    assert [r.mu for r in cli.parse_command_line(["--mu", "0.2,-0.5"])] == [0.2, -0.5]
+    code, lines = main("--mu", "0.2,-0.5", "--steps", "2")
+    assert code == 2 and lines == ["simulator.py: error: --mu: mu must be >= 0, got -0.5"]
+
+
+def test_a_comparison_with_negative_values_runs_and_names_its_files(tmp_path):
+    code, lines = main("--v0", "1,0;-2,0", "--steps", "2", "--no-frames", "--out", str(tmp_path))
+    assert code == 0, lines
+    assert {"log_v0_1_0.csv", "log_v0_-2_0.csv"} <= set(os.listdir(tmp_path))
+    assert not [name for name in os.listdir(tmp_path) if "=" in name]
+
+
+@pytest.mark.parametrize("args, flag", [(["--speed", "-5"], "--speed"), (["--size", "nan"], "--size"),
+                                        (["--speed", "2"], "--speed"), (["--density", "500", "--mass", "10"], "--mass"),
+                                        (["--steps", "3", "--duration", "1"], "--duration"),
+                                        (["--no-slope", "--slope-angle", "10"], "--slope-angle")])
+def test_flags_that_do_not_apply_or_contradict_are_refused(tmp_path, args, flag):
+    code, lines = main(*args, "--out", str(tmp_path / "o"))
+    assert code == 2 and len(lines) == 1 and lines[0].startswith("simulator.py: error: ") and flag in lines[0], lines
+    assert not (tmp_path / "o").exists()
+
+
+def test_the_library_refuses_density_and_mass_together():
+    with pytest.raises(ValueError, match=r"^mass = 10.0 and rho = 500.0 are both given"):
+        simulator.build_scene(rho=500.0, mass=10.0)
+    assert simulator.build_scene(mass=10.0).m.sum() == pytest.approx(10.0)
+
+
+# ---- the library -------------------------------------------------------------------------------------
+
+def test_a_step_from_a_state_beyond_float64_raises():
+    """E(x^n) = inf (x_tilde = x^n + h v^n overflows the inertia term): NonFiniteState, never a
+    'stalled' step that returns v = 0."""
+    scene = simulator.build_scene()
+    with pytest.raises(time_integrator.NonFiniteState, match="not finite"):
+        time_integrator.step(scene, scene.x0, scene.v0 + [0.0, -1e200])
+    x, v, report = time_integrator.step(scene, scene.x0, scene.v0 + [0.0, -1e3])   # large, but finite
+    assert np.isfinite(x).all() and not report.stalled
+
+
+# ---- a full disk ---------------------------------------------------------------------------------------
+
+@pytest.fixture
+def small_disk(tmp_path):
+    """A 256 KiB tmpfs, where this machine lets the test mount one (root on Linux); skipped elsewhere."""
+    mount = tmp_path / "disk"
+    mount.mkdir()
+    if shutil.which("mount") is None or subprocess.run(["mount", "-t", "tmpfs", "-o", "size=256k", "tmpfs", str(mount)],
+                                                       capture_output=True).returncode != 0:
+        pytest.skip("cannot mount a tmpfs here (needs root on Linux) to fill a disk for real")
+    yield mount
+    subprocess.run(["umount", str(mount)], check=True)
+
+
+def fill(folder):
+    """Fill the disk `folder` is on with a file of the user's, to the last byte."""
+    fd = os.open(folder / "users-file", os.O_WRONLY | os.O_CREAT)
+    try:
+        while True:
+            os.write(fd, b"\0" * 4096)
+    except OSError as err:
+        assert err.errno == errno.ENOSPC
+    finally:
+        os.close(fd)
+
+
+def test_a_run_refused_on_a_full_disk_leaves_nothing_behind(small_disk):
+    fill(small_disk)
+    before = sorted(os.listdir(small_disk))
+    code, lines = main("--steps", "3", "--out", str(small_disk / "new" / "out"))
+    assert code == 2 and len(lines) == 1 and "cannot be written" in lines[0] and "No space left" in lines[0], lines
+    assert sorted(os.listdir(small_disk)) == before
+
+
+def test_a_disk_filling_mid_run_keeps_a_true_count(small_disk):
+    """--no-frames: log.csv fills the disk; the line's 'steps kept' is the last step log.csv holds."""
+    code, lines = main("--steps", "100000", "--no-frames", "--out", str(small_disk))
+    assert code == 1 and "No space left on device" in lines[-1], lines
+    steps = log_steps(small_disk / "log.csv")
+    assert f"; {steps[-1]} steps kept in {small_disk}/" in lines[-1] and steps == list(range(steps[-1] + 1))
+    assert not leftovers(small_disk)
