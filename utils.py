@@ -219,7 +219,9 @@ def _culprit(p, defaults, powers):
         if name == "mass":
             return of["mass"] if of["mass"] is not None else of["rho"] * of["side_len"] ** 2
         return float(np.hypot(*of[name])) if np.ndim(of[name]) else abs(of[name])
-    return max(powers, key=lambda name: powers[name] * math.log10(max(size(name, p), 1e-300) / (size(name, defaults) or 1.0)))
+    def push(name):
+        return powers[name] * math.log10(max(size(name, p), 1e-300) / (size(name, defaults) or 1.0))
+    return max(powers, key=push)
 
 
 def check_start(p, defaults, x, n, o, d):
@@ -233,7 +235,8 @@ def check_start(p, defaults, x, n, o, d):
     M = p["mass"] if p["mass"] is not None else p["rho"] * p["side_len"] * p["side_len"]
     l, D, X = p["side_len"] / p["n_seg"], v * h + g * h * h, float(np.abs(x).max())
     scales = [("the total mass M", M, Mp), ("the kinetic energy 1/2 M |v0|^2", 0.5 * M * v * v, {**Mp, "v0": 2}),
-              ("the first step's inertia term 1/2 M (|v0| h + |g| h^2)^2", 0.5 * M * D * D, {**Mp, "v0": 2, "h": 2, "gravity": 2}),
+              ("the first step's inertia term 1/2 M (|v0| h + |g| h^2)^2", 0.5 * M * D * D,
+               {**Mp, "v0": 2, "h": 2, "gravity": 2}),
               ("gravity's term h^2 M |g| (max |x| + |v0| h + |g| h^2)", h * h * M * g * (X + D),
                {**Mp, "h": 2, "gravity": 1, "center": 1, "side_len": 1}),
               ("the springs' stiffness h^2 k", h * h * k, {"h": 2, "k": 1}),
@@ -250,7 +253,8 @@ def check_start(p, defaults, x, n, o, d):
         if not value <= FLOAT64_SCALE_LIMIT:
             name = _culprit(p, defaults, powers)
             raise ValueError(f"{name} = {_shown(p[name])} is beyond float64's range in this scene: {what} would "
-                             f"be {value:.3g}, above the {FLOAT64_SCALE_LIMIT:g} whose squares still sum to a finite number")
+                             f"be {value:.3g}, above the {FLOAT64_SCALE_LIMIT:g} whose squares still sum to a "
+                             f"finite number")
     m = M / len(x)
     ratio = h * h * k / m if m > 0.0 else math.inf         # a mass that underflowed to 0 resolves nothing
     if not ratio <= NEWTON_RATIO_LIMIT:

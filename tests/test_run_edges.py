@@ -2,7 +2,6 @@
 a signal in each phase of the run, repeated flags, negative values in lists, flags that do not apply,
 a full disk, and a state beyond float64 handed to the library."""
 import errno
-import io
 import os
 import shutil
 import signal
@@ -17,20 +16,10 @@ import simulator
 import square_mesh
 import time_integrator
 import viewer.log
+from command import run_main as main
 from viewer import cli, draw, files, plots
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-
-
-def main(*args):
-    """The command line in this process: (exit code, stderr lines)."""
-    err, old = io.StringIO(), sys.stderr
-    sys.stderr = err
-    try:
-        code = cli.main(list(args))
-    finally:
-        sys.stderr = old
-    return code, err.getvalue().splitlines()
 
 
 def log_steps(path):

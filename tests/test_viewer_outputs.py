@@ -17,23 +17,12 @@ import pytest
 import simulator
 import square_mesh
 from viewer import cli
+from command import run_main
 from fakes import fill_disk_after
 import viewer.log
 from viewer import diagnostics, draw, plots, recording, summary
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-
-
-def run_main(*args):
-    """The command line (viewer.cli.main) in this process; returns (exit code, stderr lines)."""
-    err = io.StringIO()
-    old = sys.stderr
-    sys.stderr = err
-    try:
-        code = cli.main(list(args))
-    finally:
-        sys.stderr = old
-    return code, err.getvalue().splitlines()
 
 
 def read_csv(path):

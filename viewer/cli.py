@@ -102,7 +102,8 @@ def make_parser():
     r.add_argument("--no-frames", action="store_true",
                    help="write only log.csv, plots.png and summary.png (no frames, OBJs or index.html)")
     r.add_argument("--window", action="store_true", help="show the run live in a pygame window (docs/live-demo.md)")
-    r.add_argument("--size", type=float, metavar="PIXELS", help="--window: its side in pixels (default: fit the display)")
+    r.add_argument("--size", type=float, metavar="PIXELS",
+                   help="--window: its side in pixels (default: fit the display)")
     r.add_argument("--speed", type=float, metavar="FACTOR",
                    help="--window: simulated seconds per wall-clock second (default 1; 0.25: slow motion)")
     return ap
@@ -163,8 +164,8 @@ def parse_command_line(argv):
 def scene_from_args(args):
     """simulator.build_scene with the scene flags given (the rest keep DEFAULTS)."""
     overrides = {param: getattr(args, param) for _, param, _, _ in SCENE_FLAGS if hasattr(args, param)}
-    given = [flag for flag, on in (("--slope-normal", "slope" in overrides), ("--slope-angle", args.slope_angle is not None),
-                                   ("--no-slope", args.no_slope)) if on]
+    given = [flag for flag, on in (("--slope-normal", "slope" in overrides),
+                                   ("--slope-angle", args.slope_angle is not None), ("--no-slope", args.no_slope)) if on]
     if len(given) > 1:
         raise CommandLineError(f"{given[0]} and {given[1]} both set the slope; give one")
     if args.no_slope:
@@ -213,7 +214,8 @@ def plan_from_args(runs):
     scenes = [scene_from_args(a) for a in runs]
     out = args.out if args.out is not None or args.window else DEFAULT_OUT
     return run.Plan(scenes=scenes, labels=[a.label or f"mu = {s.mu:g}" for a, s in zip(runs, scenes)],
-                    tags=[a.tag for a in runs], steps=[steps_from_args(a, s, len(runs) > 1) for a, s in zip(runs, scenes)],
+                    tags=[a.tag for a in runs],
+                    steps=[steps_from_args(a, s, comparison=len(runs) > 1) for a, s in zip(runs, scenes)],
                     out=out, stride=frame_stride(args, scenes), frames=not args.no_frames, forces=not args.no_forces)
 
 
