@@ -5,6 +5,10 @@ import sys
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 
-from figures import cli     # noqa: E402  (after the environment is set)
-
-sys.exit(cli.main())
+try:
+    from figures import cli
+    code = cli.main()
+except KeyboardInterrupt:       # Ctrl+C while numpy and scipy load, before cli.main handles it
+    print("figures: stopped: interrupted", file=sys.stderr)
+    code = 130
+sys.exit(code)

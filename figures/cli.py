@@ -6,6 +6,7 @@ before anything is computed. Bad input is one line on stderr, `figures: error: .
 Ctrl+C one line, exit code 130 (SIGTERM: 143); a failed write or step one line, exit code 1.
 """
 import argparse
+import contextlib
 import importlib
 import os
 import signal
@@ -14,6 +15,7 @@ import tempfile
 import time
 
 import figures
+import time_integrator
 
 DEFAULT_OUT = os.path.join("output", "figures")
 
@@ -48,9 +50,10 @@ def prepare(folder):
     """Create `folder` and prove a file can be created in it; UsageError otherwise."""
     try:
         os.makedirs(folder, exist_ok=True)
-        fd, probe = tempfile.mkstemp(dir=folder, prefix=".tmp-probe-")
-        os.close(fd)
-        os.remove(probe)
+        with signals_held():
+            fd, probe = tempfile.mkstemp(dir=folder, prefix=".tmp-probe-")
+            os.close(fd)
+            os.remove(probe)
     except OSError as err:
         raise UsageError(f"--out {folder!r} cannot be written: {err.strerror or err}") from None
 
@@ -64,12 +67,13 @@ def target(folder, name):
     return path
 
 
-def save(page, path):
-    """page.save(path) with SIGINT and SIGTERM held until the rename is done, so that an interrupt lands
-    before the temporary file exists or after it is renamed: never a temporary file left behind."""
+@contextlib.contextmanager
+def signals_held():
+    """SIGINT and SIGTERM held (pending, not lost) while a temporary file exists: an interrupt lands
+    before it is created or after it is renamed or removed, so none is ever left behind."""
     held = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
     try:
-        page.save(path)
+        yield
     finally:
         signal.pthread_sigmask(signal.SIG_SETMASK, held)
 
@@ -90,8 +94,10 @@ def main(argv=None):
             start = time.perf_counter()
             module = importlib.import_module(f"figures.{name}")
             page = module.draw(module.compute())
-            save(page, target(out, name))
-            print(f"figures: wrote {os.path.join(out, name)}.png ({time.perf_counter() - start:.1f} s)")
+            path = target(out, name)
+            with signals_held():
+                page.save(path)
+            print(f"figures: wrote {path} ({time.perf_counter() - start:.1f} s)")
         return 0
     except UsageError as err:
         print(f"figures: error: {err}", file=sys.stderr)
@@ -100,7 +106,7 @@ def main(argv=None):
         print("figures: stopped: " + ("terminated (SIGTERM)" if isinstance(err, Terminated) else "interrupted")
               + "; the figures written so far are whole", file=sys.stderr)
         return 143 if isinstance(err, Terminated) else 130
-    except (OSError, RuntimeError) as err:      # a full disk; a step that failed (time_integrator.SimulationError)
+    except (OSError, time_integrator.SimulationError) as err:     # a failed write (a full disk), a failed step
         print(f"figures: error: {err}", file=sys.stderr)
         return 1
     finally:
