@@ -38,7 +38,7 @@ def parse(argv):
     parser = Parser(prog="python -m figures", description="Write the lecture's claims as pictures.")
     parser.add_argument("names", nargs="*", metavar="NAME",
                         help=f"a figure: {', '.join(figures.FIGURES)} (default: all of them)")
-    parser.add_argument("--out", default=DEFAULT_OUT, help=f"the folder to write NAME.png into (default: {DEFAULT_OUT})")
+    parser.add_argument("--out", default=DEFAULT_OUT, help=f"the folder to write NAME.png into (default {DEFAULT_OUT})")
     args = parser.parse_args(argv)
     unknown = [name for name in args.names if name not in figures.FIGURES]
     if unknown:

@@ -19,9 +19,10 @@ HARD_SCENE = {"mu": 1.0, "h": 0.05, "v0": (5.0, -5.0)}     # where lagged and Al
 def test_f0_derivative_is_f1():
     r = mollifier.compute(points=201)
     assert r.max_error < 1e-8                     # the central difference's error bound is 3e-11 + round-off
-    assert r.f1[r.vbarnorm >= r.epsv] == pytest.approx(1.0)     # f1 is Coulomb's f from eps_v on
+    assert r.f1[r.checked >= r.epsv] == pytest.approx(1.0)      # f1 is Coulomb's f from eps_v on
     assert np.all(np.diff(r.f1) >= -4 * np.finfo(float).eps)           # rising (to round-off) ...
-    assert r.f1[0] < 2 * r.vbarnorm[0] / r.epsv                        # ... from f1(0) = 0, slope 2 / eps_v
+    assert all(values[0] == 0.0 for values in r.f1s)                   # ... from f1(0) = 0 ...
+    assert r.f1[0] < 2 * r.checked[0] / r.epsv                         # ... with slope 2 / eps_v there
 
 
 def test_friction_power_is_never_above_round_off():
