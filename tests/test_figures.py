@@ -1,0 +1,117 @@
+"""figures/: each figure's numbers on a small case (the lecture's claims), and `python -m figures` as a
+user runs it: whole PNGs, one-line errors with exit code 2, no symlink followed, Ctrl+C ends in 130."""
+import os
+import signal
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import figures.page
+from figures import cli, dissipation, fixed_point, mollifier, semi_implicit
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+PNG_SIGNATURE, PNG_END = b"\x89PNG\r\n\x1a\n", b"IEND\xaeB`\x82"
+HARD_SCENE = {"mu": 1.0, "h": 0.05, "v0": (5.0, -5.0)}     # where lagged and Algorithm 5 differ visibly
+
+
+def test_f0_derivative_is_f1():
+    r = mollifier.compute(points=201)
+    assert r.max_error < 1e-8                     # the central difference's error bound is 3e-11 + round-off
+    assert r.f1[r.checked >= r.epsv] == pytest.approx(1.0)      # f1 is Coulomb's f from eps_v on
+    assert np.all(np.diff(r.f1) >= -4 * np.finfo(float).eps)           # rising (to round-off) ...
+    assert all(values[0] == 0.0 for values in r.f1s)                   # ... from f1(0) = 0 ...
+    assert r.f1[0] < 2 * r.checked[0] / r.epsv                         # ... with slope 2 / eps_v there
+
+
+def test_friction_power_is_never_above_round_off():
+    r = dissipation.compute(mus=(0.11,), duration=0.45)     # the landing (step 30) and 15 steps of sliding
+    run = r.runs[0]
+    assert len(run.P) == 45 and len(run.beyond) == 0
+    assert np.all(run.P <= run.bound)
+    assert run.P.min() < 0.0 and run.bound.max() < 1e-10 * -run.P.min()   # friction worked; the bound is round-off
+
+
+def test_fixed_point_reports_a_step_that_does_not_converge():
+    r = fixed_point.compute(steps=9)              # step 8 of the hard scene does not converge in 20 updates
+    tol, updates = r.scene.tol, r.scene.friction_updates
+    i, report, measures = r.failing
+    assert report.friction_converged is False
+    assert len(measures) == report.friction_iterations == updates + 1 and np.all(measures > tol)
+    i, report, measures = r.converging
+    assert report.friction_converged is True and measures[-1] <= tol < measures[0]
+    assert len(measures) == report.friction_iterations > 1
+
+
+def test_lagged_and_implicit_friction_end_apart():
+    r = semi_implicit.compute({"default": {}, "hard": HARD_SCENE}, duration=0.4)
+    for s in r.scenes:
+        assert np.isfinite(s.gap).all() and s.gap[-1] > 0.0
+        assert s.gap[0] == 0.0                     # same start
+    default, hard = r.scenes
+    assert hard.gap[-1] > 10 * default.gap[-1]
+
+
+def run_cli(*args):
+    env = {**os.environ, "SDL_VIDEODRIVER": "dummy"}
+    return subprocess.run([sys.executable, "-m", "figures", *args], cwd=ROOT, env=env,
+                          capture_output=True, text=True, timeout=120)
+
+
+def one_error_line(result, code=2):
+    lines = result.stderr.splitlines()
+    return result.returncode == code and len(lines) == 1 and lines[0].startswith("figures: error: ")
+
+
+def test_one_figure_is_written_whole(tmp_path):
+    result = run_cli("mollifier", "--out", str(tmp_path / "figs"))
+    assert result.returncode == 0, result.stderr
+    assert os.listdir(tmp_path / "figs") == ["mollifier.png"]         # that one, no temporary left
+    data = (tmp_path / "figs" / "mollifier.png").read_bytes()
+    assert data.startswith(PNG_SIGNATURE) and data.endswith(PNG_END)
+
+
+def test_no_name_means_every_figure_into_the_default_folder():
+    assert cli.parse([]) == (list(figures.FIGURES), cli.DEFAULT_OUT)
+    assert cli.parse(["fixed_point", "mollifier", "mollifier"])[0] == ["mollifier", "fixed_point"]
+
+
+def test_bad_input_is_one_line_and_exit_code_2(tmp_path):
+    assert one_error_line(run_cli("no_such_figure", "--out", str(tmp_path)))
+    (tmp_path / "a_file").write_text("x")
+    assert one_error_line(run_cli("mollifier", "--out", str(tmp_path / "a_file" / "figs")))
+    assert os.listdir(tmp_path) == ["a_file"]
+
+
+def test_a_symlink_or_folder_in_the_way_is_refused(tmp_path, capsys):
+    (tmp_path / "precious.png").write_bytes(b"not ours")
+    os.symlink(tmp_path / "precious.png", tmp_path / "mollifier.png")
+    os.mkdir(tmp_path / "fixed_point.png")
+    for name in ("mollifier", "fixed_point"):
+        assert cli.main([name, "--out", str(tmp_path)]) == 2
+        assert capsys.readouterr().err.startswith(f"figures: error: {tmp_path / name}.png exists")
+    assert (tmp_path / "precious.png").read_bytes() == b"not ours"
+
+
+def test_ctrl_c_ends_in_one_line_with_130(tmp_path, capsys, monkeypatch):
+    def interrupted():
+        raise KeyboardInterrupt
+    monkeypatch.setattr(mollifier, "compute", interrupted)
+    assert cli.main(["mollifier", "--out", str(tmp_path)]) == 130
+    assert capsys.readouterr().err.count("\n") == 1 and os.listdir(tmp_path) == []
+
+
+def test_ctrl_c_while_writing_lands_after_the_file_is_whole(tmp_path, capsys, monkeypatch):
+    """A real SIGINT sent while the PNG is being written is held until the rename: the file is whole,
+    no temporary file is left, and the run then ends with 130."""
+    save = figures.page.Page.save
+
+    def save_interrupted(page, path):
+        os.kill(os.getpid(), signal.SIGINT)
+        save(page, path)
+    monkeypatch.setattr(figures.page.Page, "save", save_interrupted)
+    assert cli.main(["mollifier", "--out", str(tmp_path)]) == 130
+    assert capsys.readouterr().err.count("\n") == 1 and os.listdir(tmp_path) == ["mollifier.png"]
+    data = (tmp_path / "mollifier.png").read_bytes()
+    assert data.startswith(PNG_SIGNATURE) and data.endswith(PNG_END)
