@@ -1,14 +1,7 @@
-"""python -m figures: one BLAS thread (set before numpy loads, as simulator.py does), then figures.cli."""
-import os
+"""python -m figures: one BLAS thread, and Ctrl+C while numpy loads in one line (viewer/startup.py, as
+`python simulator.py`), then figures.cli."""
 import sys
 
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-os.environ.setdefault("OMP_NUM_THREADS", "1")
+from viewer import startup
 
-try:
-    from figures import cli
-    code = cli.main()
-except KeyboardInterrupt:       # Ctrl+C while numpy and scipy load, before cli.main handles it
-    print("figures: stopped: interrupted", file=sys.stderr)
-    code = 130
-sys.exit(code)
+sys.exit(startup.run_command_line(program="figures", main="figures.cli"))

@@ -1,5 +1,5 @@
 """What every figure shares: a white page with a title, panels of viewer/plots.py stacked on one axis
-width, and a caption of measured numbers under them; saved as a whole PNG by viewer/draw.py."""
+width, and a caption of measured numbers under them, as PNG bytes (viewer/draw.py)."""
 from viewer import draw, plots
 
 TITLE_HEIGHT, LINE_HEIGHT = 34, 19      # pixels
@@ -30,6 +30,6 @@ class Page:
         for col, row in zip(*(a.tolist() for a in ax.px(x, y))):
             self.pygame.draw.circle(self.surface, color, (col, row), radius)
 
-    def save(self, path):
-        """The page as a 24-bit PNG at `path`, whole (a temporary file beside it, then renamed)."""
-        draw.save_png(self.pygame, self.surface, path, exact=True)
+    def png(self):
+        """The page as 24-bit PNG bytes."""
+        return draw.png_data(self.pygame, self.surface, exact=True)

@@ -9,7 +9,9 @@ import numpy as np
 import pytest
 
 import figures.page
+import square_mesh
 from figures import cli, dissipation, fixed_point, mollifier, semi_implicit
+from viewer import files
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 PNG_SIGNATURE, PNG_END = b"\x89PNG\r\n\x1a\n", b"IEND\xaeB`\x82"
@@ -67,7 +69,7 @@ def one_error_line(result, code=2):
 def test_one_figure_is_written_whole(tmp_path):
     result = run_cli("mollifier", "--out", str(tmp_path / "figs"))
     assert result.returncode == 0, result.stderr
-    assert os.listdir(tmp_path / "figs") == ["mollifier.png"]         # that one, no temporary left
+    assert sorted(os.listdir(tmp_path / "figs")) == [files.MANIFEST, "mollifier.png"]   # no temporary left
     data = (tmp_path / "figs" / "mollifier.png").read_bytes()
     assert data.startswith(PNG_SIGNATURE) and data.endswith(PNG_END)
 
@@ -84,34 +86,57 @@ def test_bad_input_is_one_line_and_exit_code_2(tmp_path):
     assert os.listdir(tmp_path) == ["a_file"]
 
 
-def test_a_symlink_or_folder_in_the_way_is_refused(tmp_path, capsys):
+def test_a_users_file_symlink_or_folder_in_the_way_is_refused(tmp_path, capsys):
     (tmp_path / "precious.png").write_bytes(b"not ours")
     os.symlink(tmp_path / "precious.png", tmp_path / "mollifier.png")
     os.mkdir(tmp_path / "fixed_point.png")
-    for name in ("mollifier", "fixed_point"):
+    (tmp_path / "dissipation.png").write_bytes(b"the user's own")
+    for name in ("mollifier", "fixed_point", "dissipation"):
         assert cli.main([name, "--out", str(tmp_path)]) == 2
-        assert capsys.readouterr().err.startswith(f"figures: error: {tmp_path / name}.png exists")
+        assert capsys.readouterr().err.startswith(f"figures: error: out folder {str(tmp_path)!r} already holds {name}.png")
     assert (tmp_path / "precious.png").read_bytes() == b"not ours"
+    assert (tmp_path / "dissipation.png").read_bytes() == b"the user's own"
 
 
 def test_ctrl_c_ends_in_one_line_with_130(tmp_path, capsys, monkeypatch):
     def interrupted():
-        raise KeyboardInterrupt
+        os.kill(os.getpid(), signal.SIGINT)
     monkeypatch.setattr(mollifier, "compute", interrupted)
     assert cli.main(["mollifier", "--out", str(tmp_path)]) == 130
-    assert capsys.readouterr().err.count("\n") == 1 and os.listdir(tmp_path) == []
+    assert capsys.readouterr().err.count("\n") == 1 and os.listdir(tmp_path) == [files.MANIFEST]
 
 
 def test_ctrl_c_while_writing_lands_after_the_file_is_whole(tmp_path, capsys, monkeypatch):
     """A real SIGINT sent while the PNG is being written is held until the rename: the file is whole,
     no temporary file is left, and the run then ends with 130."""
-    save = figures.page.Page.save
+    real = square_mesh.write_atomic
 
-    def save_interrupted(page, path):
+    def write_interrupted(path, data):
         os.kill(os.getpid(), signal.SIGINT)
-        save(page, path)
-    monkeypatch.setattr(figures.page.Page, "save", save_interrupted)
+        real(path, data)
+    monkeypatch.setattr(square_mesh, "write_atomic", write_interrupted)
     assert cli.main(["mollifier", "--out", str(tmp_path)]) == 130
-    assert capsys.readouterr().err.count("\n") == 1 and os.listdir(tmp_path) == ["mollifier.png"]
+    assert capsys.readouterr().err.count("\n") == 1
+    assert sorted(os.listdir(tmp_path)) == [files.MANIFEST, "mollifier.png"]
     data = (tmp_path / "mollifier.png").read_bytes()
     assert data.startswith(PNG_SIGNATURE) and data.endswith(PNG_END)
+
+
+
+def test_writing_one_figure_keeps_the_others(tmp_path, monkeypatch):
+    """The figures written earlier stay, still owned (a later run may replace them); the one asked for
+    is replaced. fixed_point's numbers are stubbed here: only the files are under test."""
+    class Stub:
+        def png(self):
+            return b"a stub page"
+    monkeypatch.setattr(fixed_point, "compute", lambda: None)
+    monkeypatch.setattr(fixed_point, "draw", lambda result: Stub())
+    assert cli.main(["mollifier", "--out", str(tmp_path)]) == 0
+    first = (tmp_path / "mollifier.png").read_bytes()
+    assert cli.main(["fixed_point", "--out", str(tmp_path)]) == 0
+    assert (tmp_path / "mollifier.png").read_bytes() == first
+    assert (tmp_path / "fixed_point.png").read_bytes() == b"a stub page"
+    manifest = (tmp_path / files.MANIFEST).read_text().splitlines()[1:]
+    assert sorted(manifest) == ["fixed_point.png", "mollifier.png"]
+    (tmp_path / "fixed_point.png").unlink()
+    assert cli.main(["fixed_point", "--out", str(tmp_path)]) == 0          # still its own name to write

@@ -16,7 +16,7 @@ import square_mesh
 from viewer.log import LineFile
 
 MANIFEST = ".simulator-files"
-HEADER = "# written by simulator.py: a run into this folder removes or replaces these files and no others"
+HEADER = "# written by this simulator's runs: a run into this folder removes or replaces these files and no others"
 TEMPORARY = re.compile(r"^\.tmp-.{8}(.+)$")      # square_mesh.write_atomic's temporary file of a name
 
 
@@ -71,7 +71,7 @@ def _read_manifest(folder):
     except (OSError, UnicodeDecodeError):
         lines = []
     if not lines or lines[0] != HEADER:
-        raise ValueError(f"out folder {folder!r} holds {MANIFEST}, which simulator.py did not write; move it "
+        raise ValueError(f"out folder {folder!r} holds {MANIFEST}, which this simulator did not write; move it "
                          f"away or choose another --out")
     return set(lines[1:])
 
@@ -81,12 +81,13 @@ class OutputFolder:
 
     def __init__(self, folder, names, signals):
         self.folder, self.names, self.signals = folder, names, signals
-        self.written, self.manifest = set(), None
+        self.written, self.kept, self.manifest = set(), set(), None
 
     @classmethod
-    def claim(cls, folder, names, signals):
-        """The folder, made ready for a run that writes `names` (RunNames); ValueError, before anything
-        is written, where it cannot be."""
+    def claim(cls, folder, names, signals, keep=False):
+        """The folder, made ready for a run that writes `names` (RunNames, or a set); ValueError, before
+        anything is written, where it cannot be. `keep`: the earlier runs' files stay (and stay owned),
+        replaced only where this run writes the same name (python -m figures writing one figure)."""
         self = cls(folder, names, signals)
         with signals.held():
             created = self._make_folder()
@@ -94,17 +95,20 @@ class OutputFolder:
             entries = os.listdir(folder)
             for name in sorted(entries):
                 if name in names and not (name in owned and _regular_file(self.path(name))):
-                    what = "a symbolic link" if os.path.islink(self.path(name)) else "not written by simulator.py"
+                    what = "a symbolic link" if os.path.islink(self.path(name)) else "not written by this simulator"
                     raise ValueError(f"out folder {folder!r} already holds {name}, {what}: move it away or "
                                      f"choose another --out")
             for name in entries:
                 temporary = TEMPORARY.match(name)
                 if (name in owned or (temporary and temporary[1] in owned)) and _regular_file(self.path(name)):
-                    os.remove(self.path(name))
+                    if keep and not temporary:
+                        self.kept.add(name)
+                    else:
+                        os.remove(self.path(name))
             try:
                 if os.path.lexists(self.path(MANIFEST)):
                     os.remove(self.path(MANIFEST))
-                self.manifest = LineFile(self.path(MANIFEST), HEADER)
+                self.manifest = LineFile(self.path(MANIFEST), "\n".join([HEADER, *sorted(self.kept)]))
             except OSError as err:
                 for path in reversed(created):
                     os.rmdir(path)
@@ -133,9 +137,10 @@ class OutputFolder:
         if name not in self.names:
             raise ValueError(f"{name} is not one of this run's names")
         if name not in self.written:
-            if os.path.lexists(self.path(name)):
+            if os.path.lexists(self.path(name)) and name not in self.kept:
                 raise OSError(errno.EEXIST, "a file of that name appeared, not written by this run", self.path(name))
-            self.manifest.append(name)
+            if name not in self.kept:
+                self.manifest.append(name)
             self.written.add(name)
 
     def write(self, name, data):
