@@ -249,6 +249,9 @@ def test_a_comma_list_runs_one_scene_per_value(tmp_path):
         assert (tmp_path / f"frame_00002_{tag}.obj").exists()
     assert frame_indices(tmp_path) == [0, 1, 2] and not (tmp_path / "log.csv").exists()
     assert page_data(tmp_path)["labels"] == ["mu = 0.1", "mu = 0.2"]
+    page = (tmp_path / "index.html").read_text()        # what the runs share, after what differs
+    assert "comparison: mu = 0.1, mu = 0.2; otherwise as the first: mu = 0.1   h = 0.01 s   k = 20000 N/m" in page
+    assert "eps_v = 0.001 m/s" in page and not [name for name in os.listdir(tmp_path) if "=" in name]
     for color in draw.RUN_COLORS[:2]:                        # both squares in each frame
         assert colour_count(tmp_path / "frame_00002.png", color) > 100
 

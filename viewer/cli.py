@@ -22,7 +22,7 @@ FRAMES_PER_SECOND = 30      # at least this many frames per simulated second by 
 
 # (flags, scene parameter, what it is, metavar): every flag that sets a scene parameter
 SCENE_FLAGS = [
-    (("--mu",), "mu", "friction coefficient", "MU"),
+    (("--mu",), "mu", "friction coefficient, no unit", "MU"),
     (("--h", "--dt"), "h", "time step in s", "SECONDS"),
     (("--n-seg",), "n_seg", "segments per side of the square", "N"),
     (("--side",), "side_len", "side length of the square in m", "METRES"),
@@ -35,7 +35,7 @@ SCENE_FLAGS = [
     (("--v0",), "v0", "initial velocity in m/s", "VX,VY"),
     (("--gravity",), "gravity", "gravity in m/s^2", "GX,GY"),
     (("--dhat",), "dhat", "barrier activation distance in m", "METRES"),
-    (("--kappa",), "kappa", "barrier stiffness", "KAPPA"),
+    (("--kappa",), "kappa", "barrier stiffness in N/m (P_b = sum of w dhat b(d), in J)", "KAPPA"),
     (("--epsv",), "epsv", "friction's eps_v in m/s", "M_PER_S"),
     (("--tol",), "tol", "Newton tolerance on ||p||_inf / h in m/s", "M_PER_S"),
     (("--friction-iterations",), "friction_updates",
@@ -84,7 +84,8 @@ def make_parser():
         f"comparison; {COMPARISON_DURATION:g} s unless --duration or --steps says otherwise)."))
     g = ap.add_argument_group("scene (the lecture's numbers by default)")
     for flags, param, what, metavar in SCENE_FLAGS:
-        shown = ",".join(f"{v:g}" for v in d[param]) if isinstance(d[param], tuple) else d[param]
+        shown = (",".join(f"{v:g}" for v in d[param]) if isinstance(d[param], tuple) else
+                 f"{d[param]:g}" if d[param] is not None else "density x side^2")
         g.add_argument(*flags, dest=param, type=pair if is_pair(metavar) else float, metavar=metavar,
                        default=argparse.SUPPRESS, help=f"{what} (default {shown})")
     g.add_argument("--slope-angle", type=float, metavar="DEGREES",
