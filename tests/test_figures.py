@@ -93,7 +93,8 @@ def test_a_users_file_symlink_or_folder_in_the_way_is_refused(tmp_path, capsys):
     (tmp_path / "dissipation.png").write_bytes(b"the user's own")
     for name in ("mollifier", "fixed_point", "dissipation"):
         assert cli.main([name, "--out", str(tmp_path)]) == 2
-        assert capsys.readouterr().err.startswith(f"figures: error: out folder {str(tmp_path)!r} already holds {name}.png")
+        error = capsys.readouterr().err
+        assert error.startswith(f"figures: error: out folder {str(tmp_path)!r} already holds {name}.png"), error
     assert (tmp_path / "precious.png").read_bytes() == b"not ours"
     assert (tmp_path / "dissipation.png").read_bytes() == b"the user's own"
 

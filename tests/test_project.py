@@ -59,7 +59,8 @@ def test_imports_run_one_way_and_take_no_private_names():
     """viewer and benchmarks -> simulator -> time_integrator -> energies -> utils: never upward, never a
     module's private `_name`."""
     import glob
-    sources = [path for folder in ("", "viewer", "figures", "benchmarks") for path in glob.glob(os.path.join(ROOT, folder, "*.py"))]
+    sources = [path for folder in ("", "viewer", "figures", "benchmarks")
+               for path in glob.glob(os.path.join(ROOT, folder, "*.py"))]
     assert len(sources) > 15
     for path in sources:
         module = os.path.relpath(path, ROOT)[:-3].replace(os.sep, ".")
