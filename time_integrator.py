@@ -167,7 +167,7 @@ def newton(scene, lagged, x, report, step_index, update=0, start=None):
         x, E = x_next, E_next
         report.alphas.append(alpha)
         p, residual = _direction(scene, lagged, x, step_index)
-        if residual <= scene.tol:
+        if residual <= scene.tol and math.isfinite(E):     # (-inf: round once more, to the check above)
             break
     else:
         raise NewtonNotConverged("Newton did not converge", step_index, iterations=scene.max_newton_iterations,

@@ -242,11 +242,12 @@ def check_start(p, defaults, x, n, o, d):
               ("the springs' stiffness h^2 k", h * h * k, {"h": 2, "k": 1}),
               ("the springs' energy scale h^2 k l^2", h * h * k * l * l, {"h": 2, "k": 1, "side_len": 2, "n_seg": -2})]
     if d is not None:
-        w, barrier = l, {"h": 2, "kappa": 1, "side_len": 1, "n_seg": -1, "dhat": 1}
-        near = min(max(float(d.min()), roundoff(x, o)), p["dhat"])
-        scales += [("the barrier's energy scale h^2 kappa w dhat", h * h * p["kappa"] * w * p["dhat"], barrier),
+        w, barrier = l, {"h": 2, "kappa": 1, "side_len": 1, "n_seg": -1}
+        near = min(max(float(d.min()), roundoff(x, o)), p["dhat"])     # at most dhat: grows like 1/dhat
+        scales += [("the barrier's energy scale h^2 kappa w dhat", h * h * p["kappa"] * w * p["dhat"],
+                    {**barrier, "dhat": 1}),
                    ("the barrier's curvature h^2 kappa w (1/d + dhat/d^2) / 2",
-                    h * h * p["kappa"] * w * (1 / near + p["dhat"] / near / near) / 2, barrier),
+                    h * h * p["kappa"] * w * (1 / near + p["dhat"] / near / near) / 2, {**barrier, "dhat": -1}),
                    ("friction's stiffness h mu M |g| / eps_v", h * p["mu"] * M * g / p["epsv"],
                     {**Mp, "h": 1, "mu": 1, "gravity": 1, "epsv": -1})]
     for what, value, powers in scales:
@@ -263,6 +264,8 @@ def check_start(p, defaults, x, n, o, d):
                          f"h^2 k / m = {ratio:.3g} (h = {h:g} s, k = {k:g}, node mass m = {m:.3g} kg) is "
                          f"above 0.1/eps = {NEWTON_RATIO_LIMIT:.2g}, where m is lost in the round-off of h^2 k "
                          f"(lower k or h, or raise the mass)")
+    if not h * h >= np.finfo(float).tiny:
+        raise ValueError(f"h = {h:g} s is too small for float64: h^2 = {h * h:.3g} underflows (h >= 1.5e-154 s)")
     scale = X + (0.0 if o is None else float(np.abs(o).max())) + D
     for what, length, powers in (("the mesh spacing side_len / n_seg", l, {"side_len": -1, "n_seg": 1}),
                                  ("dhat", p["dhat"], {"dhat": -1, "side_len": 1})):

@@ -116,7 +116,7 @@ def test_a_signal_while_pygame_loads_ends_the_run_in_one_line(tmp_path, monkeypa
     signal_during(monkeypatch, draw, "load_pygame")
     code, lines = main("--steps", "3", "--out", str(tmp_path))
     assert code == 130 and len(lines) == 1, lines
-    assert lines[0].startswith("simulator.py: stopped: interrupted; 0 steps kept")
+    assert lines[0] == f"simulator.py: stopped: interrupted; nothing written in {tmp_path}/"
     import pygame
     assert pygame.font.get_init() and hasattr(pygame, "Surface")
 
@@ -227,6 +227,26 @@ def test_the_library_refuses_density_and_mass_together():
 
 # ---- the library -------------------------------------------------------------------------------------
 
+def test_an_accepted_iterate_beyond_float64_raises(monkeypatch):
+    """E(x^n) finite, a trial point's E = -inf (overflowed): it would be accepted as a decrease, and the
+    step raises NonFiniteState instead of returning it."""
+    real = time_integrator.IP_val
+
+    def overflowing(scene, lagged, x):
+        return real(scene, lagged, x) if np.array_equal(x, scene.x0) else -np.inf
+    monkeypatch.setattr(time_integrator, "IP_val", overflowing)
+    scene = simulator.build_scene()
+    with pytest.raises(time_integrator.NonFiniteState, match="E=-inf"):
+        time_integrator.step(scene, scene.x0, scene.v0)
+
+
+@pytest.mark.parametrize("overrides, culprit", [(dict(h=1e-320), "h"), (dict(dhat=1e-300), "dhat")])
+def test_tiny_values_are_refused_naming_themselves(overrides, culprit):
+    """h whose square underflows; a dhat so small the barrier's curvature 1/dhat overflows."""
+    with pytest.raises(ValueError, match=f"^{culprit} = "):
+        simulator.build_scene(**overrides)
+
+
 def test_a_step_from_a_state_beyond_float64_raises():
     """E(x^n) = inf (x_tilde = x^n + h v^n overflows the inertia term): NonFiniteState, never a
     'stalled' step that returns v = 0."""
@@ -271,10 +291,23 @@ def test_a_run_refused_on_a_full_disk_leaves_nothing_behind(small_disk):
     assert sorted(os.listdir(small_disk)) == before
 
 
+def test_a_read_only_folder_is_refused_and_its_files_kept(small_disk):
+    """An earlier run's folder that can no longer be written: one line, exit 2, nothing removed."""
+    assert main("--steps", "3", "--frame-stride", "1", "--out", str(small_disk))[0] == 0
+    before = {name: (small_disk / name).read_bytes() for name in os.listdir(small_disk)}
+    subprocess.run(["mount", "-o", "remount,ro", str(small_disk)], check=True)
+    try:
+        code, lines = main("--steps", "2", "--out", str(small_disk))
+    finally:
+        subprocess.run(["mount", "-o", "remount,rw", str(small_disk)], check=True)
+    assert code == 2 and len(lines) == 1 and lines[0].startswith("simulator.py: error: --out: "), lines
+    assert {name: (small_disk / name).read_bytes() for name in os.listdir(small_disk)} == before
+
+
 def test_a_disk_filling_mid_run_keeps_a_true_count(small_disk):
     """--no-frames: log.csv fills the disk; the line's 'steps kept' is the last step log.csv holds."""
     code, lines = main("--steps", "100000", "--no-frames", "--out", str(small_disk))
-    assert code == 1 and "No space left on device" in lines[-1], lines
+    assert code == 1 and f"cannot write {small_disk / 'log.csv'}: No space left on device" in lines[-1], lines
     steps = log_steps(small_disk / "log.csv")
     assert f"; {steps[-1]} steps kept in {small_disk}/" in lines[-1] and steps == list(range(steps[-1] + 1))
     assert not leftovers(small_disk)

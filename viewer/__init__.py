@@ -7,7 +7,7 @@
     plots.py        plots.png: energy budget, contact speeds, Newton iterations (or a comparison of runs)
     summary.py      summary.png: spaced, time-labelled snapshots at a fixed scale
     page.py         index.html: plays the frames from the file system, with the plots and a time cursor
-    files.py        the output folder: the names this program writes, removing an earlier run's files
+    files.py        the output folder a run owns: its names, the manifest of what it wrote, whole writes
     recording.py    steps one or more scenes side by side and writes all of the above
     window.py       the live window (--window): the run paced to the wall clock, driven by keys down
                     to one Newton iteration, drawn by draw.py, its files (--out) by recording.py

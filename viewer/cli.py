@@ -123,13 +123,14 @@ def attach_negative_values(argv):
 
 
 def scene_flag_uses(argv):
-    """(token index, flag, parameter, value, pair?) for each scene flag given with its value."""
-    params = {flag: (param, is_pair(metavar)) for flags, param, _, metavar in SCENE_FLAGS for flag in flags}
+    """(token index, flag, parameter, its value as typed, whether a pair flag) for each scene flag given."""
+    kinds = {flag: (param, is_pair(metavar)) for flags, param, _, metavar in SCENE_FLAGS for flag in flags}
     uses = []
     for i, token in enumerate(argv):
         flag, joined, value = token.partition("=")
-        if flag in params and (joined or i + 1 < len(argv)):
-            uses.append((i, flag, *params[flag][:1], value if joined else argv[i + 1], params[flag][1]))
+        if flag in kinds and (joined or i + 1 < len(argv)):
+            param, pair_flag = kinds[flag]
+            uses.append((i, flag, param, value if joined else argv[i + 1], pair_flag))
     return uses
 
 
@@ -149,7 +150,9 @@ def parse_command_line(argv):
     again = [u[1] for u in uses if u[2] == param and u[0] != i]
     if again:
         raise CommandLineError(f"{flag}: given a list ({text}) and again as {again[0]}; give it once")
-    values = [v.strip() for v in text.split(";" if pair_flag else ",")]
+    values = [v.replace(" ", "") for v in text.split(";" if pair_flag else ",")]
+    if not all(values):
+        raise CommandLineError(f"{flag}: the list {text!r} has an empty value")
     if len(set(values)) < len(values):
         raise CommandLineError(f"{flag}: the list {text} repeats a value")
     runs, skip = [], i + (1 if "=" in argv[i] else 2)
@@ -169,6 +172,8 @@ def scene_from_args(args):
                                    ("--slope-angle", args.slope_angle is not None), ("--no-slope", args.no_slope)) if on]
     if len(given) > 1:
         raise CommandLineError(f"{given[0]} and {given[1]} both set the slope; give one")
+    if "rho" in overrides and "mass" in overrides:
+        raise CommandLineError("--density and --mass both set the mass (it is density x side^2, or --mass); give one")
     if args.no_slope:
         overrides["slope"] = None
     elif args.slope_angle is not None:

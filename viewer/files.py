@@ -91,6 +91,8 @@ class OutputFolder:
         self = cls(folder, names, signals)
         with signals.held():
             created = self._make_folder()
+            if not os.access(folder, os.W_OK | os.X_OK):        # e.g. read-only: refused before removing anything
+                raise ValueError(f"out folder {folder!r} cannot be written: {os.strerror(errno.EACCES)}")
             owned = _read_manifest(folder)
             entries = os.listdir(folder)
             for name in sorted(entries):
@@ -98,14 +100,14 @@ class OutputFolder:
                     what = "a symbolic link" if os.path.islink(self.path(name)) else "not written by this simulator"
                     raise ValueError(f"out folder {folder!r} already holds {name}, {what}: move it away or "
                                      f"choose another --out")
-            for name in entries:
-                temporary = TEMPORARY.match(name)
-                if (name in owned or (temporary and temporary[1] in owned)) and _regular_file(self.path(name)):
-                    if keep and not temporary:
-                        self.kept.add(name)
-                    else:
-                        os.remove(self.path(name))
             try:
+                for name in entries:
+                    temporary = TEMPORARY.match(name)
+                    if (name in owned or (temporary and temporary[1] in owned)) and _regular_file(self.path(name)):
+                        if keep and not temporary:
+                            self.kept.add(name)
+                        else:
+                            os.remove(self.path(name))
                 if os.path.lexists(self.path(MANIFEST)):
                     os.remove(self.path(MANIFEST))
                 self.manifest = LineFile(self.path(MANIFEST), "\n".join([HEADER, *sorted(self.kept)]))
@@ -147,7 +149,10 @@ class OutputFolder:
         """Write the file `name` whole (text or bytes), its signals held until it is."""
         with self.signals.held():
             self._own(name)
-            square_mesh.write_atomic(self.path(name), data)
+            try:
+                square_mesh.write_atomic(self.path(name), data)
+            except OSError as err:          # a failed write (ENOSPC) names no file: this one
+                raise OSError(err.errno, err.strerror, err.filename or self.path(name)) from err
 
     def open_log(self, name, header):
         """A new LineFile `name`, starting with `header`."""

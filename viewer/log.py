@@ -50,8 +50,10 @@ class LineFile:
             written = 0
             while written < len(data):
                 written += os.write(self.fd, data[written:])
-        except BaseException:
+        except BaseException as err:
             os.ftruncate(self.fd, self.size)
+            if isinstance(err, OSError) and not err.filename:       # a failed write names no file: this one
+                raise OSError(err.errno, err.strerror, self.path) from err
             raise
         self.size += len(data)
 

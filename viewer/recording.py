@@ -181,7 +181,8 @@ class FrameInfo:
 
 class FrameWriter:
     """Frame j of the tracks' current states: one PNG with all of them, each one's OBJ, and the
-    FrameInfo the page shows beside it (appended to `frame_log`), all written into `folder` or none."""
+    FrameInfo the page shows beside it (appended to `frame_log` once they are written into `folder`);
+    a signal waits until the frame is done."""
 
     def __init__(self, tracks, folder, forces, frame_log):
         self.tracks, self.folder, self.frame_log = tracks, folder, frame_log

@@ -19,6 +19,7 @@ import numpy as np
 import simulator
 import time_integrator
 from viewer import draw, files, recording
+from viewer.startup import EXIT_CODES, REASONS
 
 PICTURES = ("summary.png", "plots.png", "index.html")      # the last pictures, written after the steps
 
@@ -28,9 +29,7 @@ class Stopped(BaseException):
 
     def __init__(self, signum):
         super().__init__(signum)
-        self.signum = signum
-        self.code = 128 + signum
-        self.reason = "interrupted" if signum == signal.SIGINT else "terminated (SIGTERM)"
+        self.code, self.reason = EXIT_CODES[signum], REASONS[signum]
 
 
 class Signals:
@@ -43,7 +42,7 @@ class Signals:
 
     def __enter__(self):
         if threading.current_thread() is threading.main_thread():
-            self.previous = {signum: signal.signal(signum, self._handle) for signum in (signal.SIGINT, signal.SIGTERM)}
+            self.previous = {signum: signal.signal(signum, self._handle) for signum in EXIT_CODES}
         return self
 
     def __exit__(self, *exc):
@@ -121,25 +120,62 @@ def summary_header(plan):
     return lines
 
 
-def last_pictures(tracks, folder, plan, frame_log, failure):
-    """summary.png, plots.png and index.html for the steps kept, unless a write failed (a full disk);
-    the run's failure (exit code, text) after them: a signal now cuts them short."""
-    if not tracks or (failure and failure[1].startswith("error")):
-        return failure
-    try:
-        for track in tracks:
-            track.last_snapshot()
-        recording.finish(tracks, folder, plan.stride, plan.frames, frame_log, summary_header(plan))
-    except Stopped as stopped:
-        return failure or (stopped.code, f"stopped: {stopped.reason} while writing the last pictures")
-    except OSError as err:
-        return (1, write_error(err, plan.out))
-    return failure
+@dataclass
+class Failure:
+    """How a run ended early: its exit code and its line; `pictures`: whether the last pictures may
+    still be written (not after a failed write: the disk is full, or the folder gone)."""
+    code: int
+    text: str
+    pictures: bool = True
+
+
+ENDINGS = (Stopped, OSError, time_integrator.SimulationError, ValueError)   # what ends a run early
+
+
+def failure_of(err, plan):
+    """The Failure an exception of ENDINGS ends a run with."""
+    if isinstance(err, Stopped):
+        return Failure(err.code, f"stopped: {err.reason}")
+    if isinstance(err, OSError):
+        return Failure(1, write_error(err, plan.out), pictures=False)
+    if isinstance(err, time_integrator.SimulationError):
+        return Failure(1, f"stopped: simulation failed: {err}")
+    return Failure(1, f"stopped: {err}")        # a ValueError: a number the checks did not foresee
+
+
+def end(plan, signals, folder, tracks, frame_log, failure, messages, done):
+    """How every run ends, to files or in the window: the last pictures for the steps kept (a signal
+    now leaves out those not yet written), the files closed, one line on `messages` (`done` after a
+    run that ended well); returns the exit code."""
+    if tracks and (failure is None or failure.pictures):
+        try:
+            for track in tracks:
+                track.last_snapshot()
+            recording.finish(tracks, folder, plan.stride, plan.frames, frame_log, summary_header(plan))
+        except Stopped as stopped:
+            failure = failure or Failure(stopped.code, f"stopped: {stopped.reason} while writing the last pictures")
+        except ENDINGS as err:
+            failure = failure or failure_of(err, plan)
+    signals.close()
+    for track in tracks:
+        track.csv.close()
+    if folder is not None:
+        folder.close()
+    if failure is None and signals.pending is not None:        # arrived as the run was closing
+        failure = Failure(EXIT_CODES[signals.pending], f"stopped: {REASONS[signals.pending]} as the run ended")
+    if failure is None:
+        print(done, file=messages)
+        return 0
+    print(f"simulator.py: {failure.text}; {kept(tracks, folder, plan)}", file=messages)
+    return failure.code
 
 
 def kept(tracks, folder, plan):
-    """'N steps kept in out/', and which of the last pictures were left out, if any."""
-    steps = min((track.logged or 0 for track in tracks), default=0)
+    """'N steps kept in out/' (the last step log.csv holds), and which of the last pictures were left
+    out, if any."""
+    if not tracks:
+        return "nothing written" + (f" in {plan.out}/" if folder is not None else "")
+    steps = min(track.logged or 0 for track in tracks)
     left_out = [name for name in PICTURES if name in plan.names().fixed and name not in folder.written]
     return f"{steps} steps kept in {plan.out}/" + (f"; left out: {', '.join(left_out)}" if left_out else "")
 
@@ -151,37 +187,30 @@ def to_files(plan, signals, messages=None):
     folder = files.OutputFolder.claim(plan.out, plan.names(), signals)       # ValueError: refused, nothing written
     tracks, frame_log, failure, start = [], [], None, time.perf_counter()
     try:
-        try:
-            warn(plan, messages)
-            load_pygame(signals)
-            for k, (scene, steps, label, tag) in enumerate(zip(plan.scenes, plan.steps, plan.labels, plan.tags)):
-                tracks.append(recording.Track(scene, steps, simulator.simulate(scene, steps), label, tag,
-                                              draw.run_color(k), folder))
-            recording.record(tracks, folder, plan.stride, plan.frames, plan.forces, messages, frame_log)
-        except time_integrator.SimulationError as err:
-            failure = (1, f"stopped: simulation failed: {err}")
-        except OSError as err:
-            failure = (1, write_error(err, plan.out))
-        except Stopped as stopped:
-            failure = (stopped.code, f"stopped: {stopped.reason}")
-        wall = time.perf_counter() - start
-        failure = last_pictures(tracks, folder, plan, frame_log, failure)
-    except Stopped as stopped:              # between the steps and the pictures
-        failure, wall = failure or (stopped.code, f"stopped: {stopped.reason}"), time.perf_counter() - start
-    signals.close()
-    for track in tracks:
-        track.csv.close()
-    folder.close()
-    if failure is not None:
-        print(f"simulator.py: {failure[1]}; {kept(tracks, folder, plan)}", file=messages)
-        return failure[0]
-    runs = f" x {len(plan.scenes)} runs" if len(plan.scenes) > 1 else ""
-    print(f"simulated {plan.steps[0]} steps ({plan.steps[0] * plan.scenes[0].h:.2f} s){runs} in {wall:.2f} s wall; "
-          f"{written(plan)} in {plan.out}/", file=messages)
-    return 0
+        warn(plan, messages)
+        load_pygame(signals)
+        for k, (scene, steps, label, tag) in enumerate(zip(plan.scenes, plan.steps, plan.labels, plan.tags)):
+            tracks.append(recording.Track(scene, steps, simulator.simulate(scene, steps), label, tag,
+                                          draw.run_color(k), folder))
+        recording.record(tracks, folder, plan.stride, plan.frames, plan.forces, messages, frame_log)
+    except ENDINGS as err:
+        failure = failure_of(err, plan)
+    wall = time.perf_counter() - start
+    return end(plan, signals, folder, tracks, frame_log, failure, messages,
+               f"simulated {simulated(plan)} in {wall:.2f} s wall; {written(plan)} in {plan.out}/")
+
+
+def simulated(plan):
+    """'300 steps (3.00 s)', and for a comparison its runs'."""
+    runs = [f"{steps} steps ({steps * scene.h:.2f} s)" for steps, scene in zip(plan.steps, plan.scenes)]
+    if len(runs) == 1:
+        return runs[0]
+    return f"{runs[0]} x {len(runs)} runs" if len(set(runs)) == 1 else f"{len(runs)} runs: " + ", ".join(runs)
 
 
 def written(plan):
     """What a run that ends well has written, in words."""
-    return ("frames, OBJs, log.csv, plots.png, summary.png and index.html" if plan.frames
-            else "log.csv, plots.png and summary.png")
+    logs = "log.csv" if len(plan.scenes) == 1 else "a log per run (" + ", ".join(
+        files.log_csv(tag) for tag in plan.tags) + ")"
+    return (f"frames, OBJs, {logs}, plots.png, summary.png and index.html" if plan.frames
+            else f"{logs}, plots.png and summary.png")

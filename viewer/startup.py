@@ -11,11 +11,11 @@ import signal
 import sys
 
 EXIT_CODES = {signal.SIGINT: 130, signal.SIGTERM: 143}      # 128 + the signal's number
+REASONS = {signal.SIGINT: "interrupted", signal.SIGTERM: "terminated (SIGTERM)"}
 
 
 def _stopped_while_starting(program, signum, frame):
-    os.write(2, f"{program}: stopped: {'interrupted' if signum == signal.SIGINT else 'terminated (SIGTERM)'} "
-                f"while starting; nothing written\n".encode())
+    os.write(2, f"{program}: stopped: {REASONS[signum]} while starting; nothing written\n".encode())
     os._exit(EXIT_CODES[signum])
 
 
@@ -26,7 +26,7 @@ def run_command_line(program="simulator.py", main="viewer.cli"):
     os.environ.setdefault("OMP_NUM_THREADS", "1")
     for signum in EXIT_CODES:
         signal.signal(signum, functools.partial(_stopped_while_starting, program))
-    command_line = importlib.import_module(main)
-    for signum in EXIT_CODES:       # until the run takes them over (Signals in main), and after it is done
+    code = importlib.import_module(main).main(sys.argv[1:])      # its run takes the signals over
+    for signum in EXIT_CODES:       # the run has said how it ended: a late signal changes nothing
         signal.signal(signum, signal.SIG_IGN)
-    return command_line.main(sys.argv[1:])
+    return code

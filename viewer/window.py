@@ -14,7 +14,6 @@ each step once (the run is deterministic: after a restart the steps computed aga
 import contextlib
 import math
 import os
-import signal
 import sys
 import time
 from collections import deque
@@ -22,9 +21,8 @@ from collections import deque
 import numpy as np
 
 import time_integrator
-import utils
 from simulator import StepRecord
-from viewer import draw, files, recording, run as runs
+from viewer import draw, files, recording, run as orchestration
 
 FPS = 60                  # frames drawn per second at most
 MIN_FPS = 20              # ... and at least, when the steps fall behind (the other frames are dropped)
@@ -514,9 +512,9 @@ def open_display():
 
 
 def window_size(size, pygame):
-    """--size, or the largest square that fits the display: FIT of its smaller side."""
+    """--size (checked by run_window), or the largest square that fits the display: FIT of its smaller side."""
     if size is not None:
-        return check_size(size)
+        return int(size)
     info = pygame.display.Info()
     if info.current_w > 0 and info.current_h > 0:
         return max(MIN_SIZE, int(FIT * min(info.current_w, info.current_h)))
@@ -556,43 +554,25 @@ def run_window(plan, speed, size, signals, clock=None, log=None):
 
 
 def _demo(pygame, plan, speed, size, signals, clock, log):
-    """The window on the display, with the files when --out is given, until it is closed; the run's
-    one closing line and exit code as a run without the window (viewer.run)."""
+    """The window on the display, with the files when --out is given, until it is closed; the run ends
+    as a run without the window does (viewer.run.end)."""
     scene = plan.scenes[0]
     folder = files.OutputFolder.claim(plan.out, plan.names(), signals) if plan.out is not None else None
     output, window, failure = None, None, None
     try:
-        try:
-            runs.warn(plan, log)
-            screen = pygame.display.set_mode((window_size(size, pygame),) * 2)
-            pygame.display.set_caption(f"simulator.py: mu = {scene.mu:g}, n_seg = {scene.n_seg}")
-            if folder is not None:
-                output = Files(plan, folder, log)
-            window = LiveWindow(pygame, screen, scene, plan.steps[0], speed, output, clock, log, plan.labels[0],
-                                plan.forces)
-            code = window.loop()
-            if window.write_error is not None:
-                failure = (1, runs.write_error(window.write_error, plan.out))
-            elif window.failure is not None:
-                failure = (code, f"stopped: simulation failed: {window.failure}")
-        except runs.Stopped as stopped:
-            failure = (stopped.code, f"stopped: {stopped.reason}")
-        except OSError as err:                  # starting the files: frame 0
-            failure = (1, runs.write_error(err, plan.out))
-        if output is not None:
-            failure = runs.last_pictures([output.track], folder, plan, output.frame_log, failure)
-    except runs.Stopped as stopped:
-        failure = failure or (stopped.code, f"stopped: {stopped.reason}")
-    signals.close()
-    if output is not None:
-        output.track.csv.close()
-    if folder is not None:
-        folder.close()
+        orchestration.warn(plan, log)
+        screen = pygame.display.set_mode((window_size(size, pygame),) * 2)
+        pygame.display.set_caption(f"simulator.py: mu = {scene.mu:g}, n_seg = {scene.n_seg}")
+        if folder is not None:
+            output = Files(plan, folder, log)
+        window = LiveWindow(pygame, screen, scene, plan.steps[0], speed, output, clock, log, plan.labels[0],
+                            plan.forces)
+        window.loop()
+        failure = window.write_error or window.failure
+        failure = failure and orchestration.failure_of(failure, plan)
+    except orchestration.ENDINGS as err:         # Ctrl+C, SIGTERM; starting the files (frame 0)
+        failure = orchestration.failure_of(err, plan)
     steps = window.run.index if window else 0
-    if failure is not None:
-        where = runs.kept([output.track], folder, plan) if output else f"{steps} steps in the window"
-        print(f"simulator.py: {failure[1]}; {where}", file=log)
-        return failure[0]
-    written = f"; {runs.written(plan)} in {plan.out}/" if output else ""
-    print(f"simulator.py: {steps} steps ({steps * scene.h:.2f} s) in the window{written}", file=log)
-    return 0
+    written = f"; {orchestration.written(plan)} in {plan.out}/" if output else ""
+    return orchestration.end(plan, signals, folder, [output.track] if output else [], output and output.frame_log,
+                             failure, log, f"simulator.py: {steps} steps ({steps * scene.h:.2f} s) in the window{written}")
