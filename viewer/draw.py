@@ -82,8 +82,8 @@ def slope_ends(scene, view):
 
 def draw_slope(pygame, surface, scene, view, color=BLUE, font=None, marks=True):
     """The slope as a line through the view, with a tick every MARK_SPACING m of arc length from o
-    (a number every metre when a font is given; no ticks unless `marks`), so motion stays visible
-    when the view follows."""
+    (a number every metre when a font is given, where it fits whole; no ticks unless `marks`), so
+    motion stays visible when the view follows."""
     if scene.n is None:
         return
     a, b = slope_ends(scene, view)
@@ -100,7 +100,9 @@ def draw_slope(pygame, surface, scene, view, color=BLUE, font=None, marks=True):
         pygame.draw.line(surface, color, foot, end, 2)
         if font is not None and float(metres).is_integer():
             label = font.render(f"{metres:g} m", True, color)
-            surface.blit(label, (end[0] - label.get_width() / 2, end[1] + 2))
+            left = end[0] - label.get_width() / 2
+            if 0 <= left <= surface.get_width() - label.get_width():      # whole or not at all
+                surface.blit(label, (left, end[1] + 2))
 
 
 def draw_square(pygame, surface, scene, x, view, color=BLUE, nodes=True):
