@@ -1,14 +1,10 @@
 """index.html's controls stay in place while the page plays: headless Chromium shows frames whose
 counter and time have one, two and more digits, and every control keeps its position. Skips where no
 browser is found, as tests/test_page_browser.py does."""
-import json
-import re
-import subprocess
-
 import pytest
 
 import simulator
-from test_page_browser import BROWSERS, find_browser
+from test_page_browser import BROWSERS, find_browser, probe_page
 
 # Appended to a copy of the page: drags the slider to frames whose counter reads 0, 9, 10 and the last
 # (t from 0.00 s to over 10 s), and writes the controls' left edges at each into the DOM.
@@ -31,20 +27,11 @@ window.addEventListener("load", () => {
 
 
 def test_the_controls_stay_in_place_as_the_counter_grows(tmp_path):
-    browser = find_browser()
-    if browser is None:
+    if find_browser() is None:
         pytest.skip(f"no browser found (looked for {', '.join(BROWSERS)}); .ci/run installs Debian's chromium")
     out = tmp_path / "run"
     # 220 steps of 0.05 s, a frame every 10: frames 0 to 22, t from 0.00 to 11.00 s
     assert simulator.main(["--h", "0.05", "--steps", "220", "--frame-stride", "10", "--no-forces",
                            "--out", str(out)]) == 0
-    page = (out / "index.html").read_text()
-    (out / "probe.html").write_text(page.replace("</body>", PROBE + "</body>"))
-    result = subprocess.run([browser, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
-                             f"--user-data-dir={tmp_path / 'profile'}", "--virtual-time-budget=3000",
-                             "--dump-dom", (out / "probe.html").as_uri()],
-                            capture_output=True, text=True, timeout=120)
-    found = re.search(r'<pre id="probe">(.*?)</pre>', result.stdout)
-    assert found, f"the page did not report (exit {result.returncode}): {result.stderr[-2000:]}"
-    positions = json.loads(found.group(1))
+    positions = probe_page(out, PROBE, tmp_path, budget_ms=3000)
     assert len(positions) == 4 and all(p == positions[0] for p in positions), positions
