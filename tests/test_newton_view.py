@@ -11,12 +11,12 @@ from viewer import window
 SIZE = 652      # the window's default side on a 1024x768 projector
 
 
-def paused_at(overrides, step, iteration):
+def paused_at(overrides, step, iteration, size=SIZE):
     """A LiveWindow paused in `step` (counted from 1, as on screen) after `iteration` presses of n,
     drawn once."""
     scene = simulator.build_scene(**overrides)
     pg = window.open_display()
-    w = window.LiveWindow(pg, pg.display.set_mode((SIZE, SIZE)), scene, 1000)
+    w = window.LiveWindow(pg, pg.display.set_mode((size, size)), scene, 1000)
     w.playing = False
     for _ in range(step - 1):
         w.run.step()
@@ -108,3 +108,11 @@ def test_an_iterate_that_does_not_move_is_drawn_too():
     it, inset = w.run.iterate, w.inset
     assert not it.p.any() and inset.magnification == window.MAX_ZOOM
     assert all(np.array_equal(marker, inset.markers["x^i"]) for marker in inset.markers.values())
+
+
+@pytest.mark.parametrize("size", [window.MIN_SIZE, 900])
+def test_the_inset_fits_the_window_at_any_size(size):
+    """From the smallest window to a large one: the inset lies inside the window, under the text."""
+    w = paused_at({}, 30, 1, size)
+    left, top, width, height = w.inset.rect
+    assert 0 <= left and left + width <= size and 0 < top and top + height <= size

@@ -443,15 +443,17 @@ class LiveWindow:
     def draw_inset(self, surface, it, top, bottom):
         """The inset of a Newton iterate between rows `top` and `bottom`, beside the square on the
         side with more room (over it only where that room is under MIN_INSET of the window), its node
-        circled and labelled in the main view; returns its Inset."""
+        circled and labelled in the main view; returns its Inset (None where the text leaves no room)."""
         px = self.view(it.x)
         room_left, room_right = px[:, 0].min(), self.size - px[:, 0].max()
         width = int(min(INSET * self.size, max(max(room_left, room_right) - 24, MIN_INSET * self.size)))
-        height = int(max(0, min(INSET_TALL * self.size, bottom - top)))
-        rect = (12 if room_left > room_right else self.size - 12 - width, int(top), width, height)
+        height = int(min(INSET_TALL * self.size, bottom - top))
         small = self.fonts[1].get_linesize()
-        inset = newton_inset(self.scene, it, self.view, rect, header=8 + self.font.get_linesize() + 2 * small,
-                             footer=12 + small)
+        header, footer = 8 + self.font.get_linesize() + 2 * small, 12 + small
+        if height < header + footer + small:                   # no room left under the text
+            return None
+        rect = (12 if room_left > room_right else self.size - 12 - width, int(top), width, height)
+        inset = newton_inset(self.scene, it, self.view, rect, header, footer)
         node, label = px[inset.node], self.fonts[1].render(f"node {inset.node}", True, BLACK)
         width_px, height_px = label.get_size()
         out = np.where(node >= px.mean(axis=0), 1, -1)           # the label off the node, away from the square
