@@ -104,12 +104,17 @@ def init_step_size(x, n, o, p):
     return init_step_size_kernel(x, n, o, p)
 
 
+def approach_rates(x, n, o, p):
+    """-n . p_i / d_i for every node: the share of its distance to the half-space node i covers per unit
+    step along p (> 0 where it approaches); it reaches the half-space at alpha_i = 1 / that rate."""
+    return p @ -n / distances(x, n, o)
+
+
 def init_step_size_kernel(x, n, o, p):
     """Algorithm 4, line 1: alpha = min(1, 0.9 alpha_max), alpha_max the largest step along p that keeps
     every node above the half-space: a node approaching it (n . p_i < 0) reaches it at
-    alpha_i = d_i / (-n . p_i), so alpha = 0.9 / max_i (-n . p_i / d_i) when that max exceeds 0.9."""
-    fastest = float((p @ -n / distances(x, n, o)).max(initial=0.0))
-    return 1.0 if fastest <= 0.9 else 0.9 / fastest
+    alpha_i = d_i / (-n . p_i), so alpha = 0.9 / max_i (-n . p_i / d_i) when that max exceeds 0.9, else 1."""
+    return 0.9 / max(float(approach_rates(x, n, o, p).max(initial=0.0)), 0.9)
 
 
 def compute_mu_lambda(x, n, o, contact_area, mu, dhat=DHAT, kappa=KAPPA):

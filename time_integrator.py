@@ -51,7 +51,7 @@ class StepReport:
     stalled: bool = False           # the last Newton solve stopped at float64's round-off floor, residual > tol
     alphas: list = field(default_factory=list)  # accepted line-search step sizes, in order
     min_distance: float = math.inf  # smallest node distance to the slope after the step
-    friction_iterations: int = 0    # Newton solves with friction (1: lagged only; more: Algorithm 5)
+    friction_updates: int = 0       # Algorithm 5's friction updates that re-solved the step (0: lagged friction)
     friction_converged: bool = True  # Algorithm 5 reached its fixed point (always True when lagged)
     friction_work: float = 0.0      # work of the friction forces over the step (J, <= 0)
 
@@ -207,7 +207,7 @@ def newton_iterates(scene, x, v, *, step_index=0):
     x_n, v_n = utils.check_points("x", x, scene.x0.shape), utils.check_points("v", v, scene.x0.shape)
     if "barrier" in scene.terms:
         BarrierEnergy.check_above(x_n, scene.n, scene.o)
-    report = StepReport(friction_iterations=int("friction" in scene.terms))               # the lagged solve
+    report = StepReport()
     try:
         lagged = friction_update(scene, Lagged(x_n, x_n + scene.h * v_n, None), x_n)      # mu*lambda^n, T^n
         x = yield from newton(scene, lagged, x_n, report, step_index)
@@ -220,7 +220,7 @@ def newton_iterates(scene, x, v, *, step_index=0):
                 if report.friction_converged or j > scene.friction_updates:
                     break
                 x = yield from newton(scene, lagged, x, report, step_index, j, start)     # line 4
-                report.friction_iterations += 1
+                report.friction_updates = j
     except (ValueError, np.linalg.LinAlgError) as err:      # an energy overflowed, or H could not be factored
         raise NonFiniteState(f"the step's numbers broke down ({err})", step_index) from err
     if "friction" in scene.terms:       # the friction force -grad P_f at the step's end, times the displacement

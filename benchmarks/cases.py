@@ -169,7 +169,7 @@ class Run:
     v_com: np.ndarray               # (steps+1, 2) velocity of the centre of mass
     slip: np.ndarray                # (steps+1,) fastest downhill speed of a node within dhat (nan: none)
     newton_iterations: np.ndarray   # (steps,)
-    friction_iterations: np.ndarray  # (steps,)
+    friction_updates: np.ndarray    # (steps,) Algorithm 5's updates that re-solved the step (0: lagged)
     friction_converged: np.ndarray  # (steps,) bool, the fixed point reached (always True when lagged)
     wall: float                     # wall-clock seconds spent in the time steps
 
@@ -201,7 +201,7 @@ def run(scene, duration, progress=None):
         vs.append(com(scene, rec.v))
         slips.append(_slip(scene, rec.x, rec.v))
         newton.append(rec.report.newton_iterations)
-        friction.append(rec.report.friction_iterations)
+        friction.append(rec.report.friction_updates)
         converged.append(rec.report.friction_converged)
         wall += rec.wall
         if progress is not None and (rec.index + 1) % every == 0:

@@ -20,6 +20,7 @@ has them can be compared. REV may also be a folder holding a tree.
     python -m benchmarks.speed --against c6bcae2     # and the comparison (3 min CPU, 5-7 min on a busy machine)
     python -m benchmarks.speed --quick [--against REV]   # a smoke run, a few seconds
     python -m benchmarks.speed --frames              # the default run with and without frames (frames_overhead)
+    python -m benchmarks.speed --window              # the live window at n_seg 4, 8, 16 (on $DISPLAY too)
 
 Timing on a shared machine: other processes take the CPU at times, which stretches wall time but
 not the process's own CPU time, so the figures to read are the CPU medians; a line is marked noisy
@@ -253,8 +254,9 @@ def write_csv(path, columns, rows):
 # The live window keeps real time (python -m benchmarks.speed --window)
 # ------------------------------------------------------------------------------------------------
 
-WINDOW_N_SEGS = (4, 8)
+WINDOW_N_SEGS = (4, 8, 16)
 WINDOW_PIXELS = 652         # the window's default side on a 1024x768 projector (viewer.window.FIT)
+MEMORY_DRIVER = "dummy"     # SDL's driver that draws into memory only, no display needed
 
 
 class MeteredClock:
@@ -280,13 +282,14 @@ class MeteredClock:
         self.slept += time.perf_counter() - start
 
 
-def window_real_time(n_seg, speed=1.0, duration=3.0):
-    """The default run (3 s) in the live window at `speed`, drawing included, under SDL's dummy video
-    driver: wall seconds per simulated second (1/speed when it keeps up), CPU seconds per simulated
+def window_real_time(n_seg, speed=1.0, duration=3.0, driver=MEMORY_DRIVER):
+    """The default run (3 s) in the live window at `speed`, drawing included, on SDL video driver
+    `driver` (the dummy one draws into memory; x11 shows it on $DISPLAY, a desktop or Xvfb): wall
+    seconds per simulated second (1/speed when it keeps up), CPU seconds per simulated
     second (what it needs of one core, whatever else the machine runs), the share of the wall time the
     loop was busy (not sleeping), frames drawn and those with the 'slower than real time' note, and
     the lowest rate the window measured (over its one-second spans, as a fraction of speed)."""
-    os.environ["SDL_VIDEODRIVER"] = "dummy"
+    os.environ["SDL_VIDEODRIVER"] = driver
     sys.path.insert(0, ROOT)
     import simulator
     from viewer import window
@@ -303,28 +306,44 @@ def window_real_time(n_seg, speed=1.0, duration=3.0):
     finally:
         pygame.display.quit()
     wall = clock.end - start
-    return {"n_seg": n_seg, "speed": speed, "wall_per_simulated": wall / (steps * scene.h),
+    return {"n_seg": n_seg, "speed": speed, "driver": driver, "wall_per_simulated": wall / (steps * scene.h),
             "cpu_per_simulated": cpu / (steps * scene.h),
             "busy": 1.0 - min(clock.slept, wall) / wall, "frames": live.frames, "slow_frames": live.slow_frames,
             "lowest_rate": clock.lowest_rate}
 
 
+def display_driver():
+    """The SDL driver of the display at $DISPLAY (x11 on a desktop or under Xvfb), or None: the window
+    is then measured on the dummy driver only."""
+    if not os.environ.get("DISPLAY"):
+        return None
+    probe = subprocess.run([sys.executable, "-c", "import pygame; pygame.display.init(); print(pygame.display.get_driver())"],
+                           env={**os.environ, "SDL_VIDEODRIVER": "x11", "PYGAME_HIDE_SUPPORT_PROMPT": "1"},
+                           capture_output=True, text=True, timeout=60)
+    return "x11" if probe.returncode == 0 and probe.stdout.strip() == "x11" else None
+
+
 def window_table(sizes=WINDOW_N_SEGS):
-    """The window's real-time figures at speed 1, and flat out (speed 100: as fast as it can go)."""
-    lines = [f"Live window ({WINDOW_PIXELS} px, SDL dummy driver, drawing included), the default 3 s run:",
-             "  n_seg  speed  wall/simulated s  CPU/simulated s  busy  frames  frames 'slower'  lowest rate  "
-             "-> x real time"]
+    """The window's real-time figures at speed 1, and flat out (speed 100: as fast as it can go), on the
+    dummy driver and, where there is a display, on it."""
+    drivers = [MEMORY_DRIVER] + [d for d in [display_driver()] if d]
+    where = f"DISPLAY={os.environ.get('DISPLAY')}" if len(drivers) > 1 else "no display found: dummy only"
+    lines = [f"Live window ({WINDOW_PIXELS} px, drawing included; {where}), the default 3 s run:",
+             "  n_seg  driver  speed  wall/simulated s  CPU/simulated s  busy  frames  frames 'slower'  "
+             "lowest rate  -> x real time"]
     for n_seg in sizes:
-        for speed in (1.0, 100.0):
-            r = window_real_time(n_seg, speed)
-            lowest = f"{r['lowest_rate']:.2g}" if r["lowest_rate"] < math.inf else "-"
-            lines.append(f"  {n_seg:>5}  {speed:>5g}  {r['wall_per_simulated']:>16.3f}  {r['cpu_per_simulated']:>15.3f}  "
-                         f"{100 * r['busy']:>3.0f}%  {r['frames']:>6}  {r['slow_frames']:>15}  {lowest:>11}  "
-                         f"{1 / r['wall_per_simulated']:>6.2f}")
+        for driver in drivers:
+            for speed in (1.0, 100.0):
+                r = window_real_time(n_seg, speed, driver=driver)
+                lowest = f"{r['lowest_rate']:.2g}" if r["lowest_rate"] < math.inf else "-"
+                lines.append(f"  {n_seg:>5}  {driver:>6}  {speed:>5g}  {r['wall_per_simulated']:>16.3f}  "
+                             f"{r['cpu_per_simulated']:>15.3f}  {100 * r['busy']:>3.0f}%  {r['frames']:>6}  "
+                             f"{r['slow_frames']:>15}  {lowest:>11}  {1 / r['wall_per_simulated']:>6.2f}")
     lines.append("CPU/simulated: CPU seconds per simulated second (below 1: one free core keeps real time);")
     lines.append("busy: share of the wall time not spent sleeping between frames; lowest rate: simulated over wall")
     lines.append("time over the window's one-second spans, / speed ('-': the run was shorter than a span); at speed")
-    lines.append("100 the window steps flat out, so 'x real time' is the fastest it can run")
+    lines.append("100 the window steps flat out, so 'x real time' is the fastest it can run; dummy: SDL draws into")
+    lines.append("memory, x11: the frames shown on the display (the X server's own CPU time not included)")
     return "\n".join(lines)
 
 
@@ -379,7 +398,8 @@ def main(argv=None):
     ap.add_argument("--csv", help="the table's CSV (default benchmarks/results/speed.csv, --quick: benchmarks/out/); "
                                   "the comparison's goes beside it, '-against' added to the name")
     ap.add_argument("--worker", help=argparse.SUPPRESS)
-    ap.add_argument("--window", action="store_true", help="only the live window's real-time figures (n_seg 4, 8)")
+    ap.add_argument("--window", action="store_true",
+                    help="only the live window's real-time figures (n_seg 4, 8, 16; on $DISPLAY too when there is one)")
     ap.add_argument("--frames", action="store_true", help="only the default run with frames against --no-frames")
     args = ap.parse_args(argv)
     if args.window:

@@ -54,7 +54,7 @@ def draw(r):
         f"to {run.P.max():.3g} W; {len(run.beyond)} of {len(run.P)} steps above round-off; W = {run.W[-1]:.4g} J"
         for run in r.runs])
     ax = page.axes(0, t_max, min(run.P.min() for run in r.runs), max(0.0, max(run.P.max() for run in r.runs)),
-                   "friction's power P (W) at every step, against time (s)")
+                   "friction's power P (W) at every step, against time (s)", "t (s)", "P (W)")
     ax.hline(0.0, (0, 0, 0), "P = 0")
     for k, run in enumerate(r.runs):
         ax.line(run.t, run.P, run_color(k), 1)
@@ -62,7 +62,7 @@ def draw(r):
         page.markers(ax, run.t[run.beyond], run.P[run.beyond], RED, 5)
     ax.legend(RED, f"P > round-off: {sum(len(run.beyond) for run in r.runs)} steps")
     ax = page.axes(1, t_max, min(run.W.min() for run in r.runs) / 1e3, 0.0,
-                   "friction's work so far W (kJ), against time (s): it only falls")
+                   "friction's work so far W (kJ), against time (s): it only falls", "t (s)", "W (kJ)")
     for k, run in enumerate(r.runs):
         ax.line(run.t, run.W / 1e3, run_color(k))
         ax.legend(run_color(k), f"mu = {run.mu:g}")

@@ -60,7 +60,7 @@ def draw(r):
         f"{r.farthest[2][0]:.3g} m/s and converges."])
     ax = page.axes(0, updates + 1, min(measures.min(), r.scene.tol) / 2, measures.max() * 2,
                    "line 3's measure ||p||_inf / h (m/s, log) at its j-th test in the step (after j - 1 re-solves)",
-                   log=True)
+                   "j", "||p||/h (m/s)", log=True)
     for k, (i, report, m) in enumerate(shown):
         j = np.arange(1, len(m) + 1)
         ax.line(j, m, run_color(k))

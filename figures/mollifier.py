@@ -44,25 +44,28 @@ def draw(r):
         "continuous slope (C^1).",
         f"Checked on {len(r.checked)} points in (0, {r.checked[-1]:g}] m/s, f0' by a central difference: "
         f"max |f0'(y) - f1(y / hhat)| = {r.max_error:.1e}."])
-    ax = page.axes(0, mm_s[-1], 0.0, 1.0, "f(||vbar||), no unit, against ||vbar|| (mm/s)")
+    ax = page.axes(0, mm_s[-1], 0.0, 1.0, "f(||vbar||), no unit, against ||vbar|| (mm/s)", "mm/s", "f")
     ax.line([0.0, 0.0, mm_s[-1]], [0.0, 1.0, 1.0], BLACK, 3)       # Coulomb's: the interval [0, 1] at 0, then 1
     ax.legend(BLACK, "Coulomb's f")
     for i, (epsv, values) in enumerate(zip(r.epsvs, r.f1s)):
         ax.line(mm_s, values, run_color(i + 1))
         ax.legend(run_color(i + 1), f"f1, eps_v = {1e3 * epsv:g} mm/s" + (" *" if epsv == r.epsv else ""))
     ax.legend((255, 255, 255), "* the default")
-    ax = page.axes(1, mm_s[-1], 0.0, um[-1], "f0(y) (micrometres) against ||vbar|| (mm/s), y = ||vbar|| hhat")
+    ax = page.axes(1, mm_s[-1], 0.0, um[-1], "f0(y) (micrometres) against ||vbar|| (mm/s), y = ||vbar|| hhat",
+                   "mm/s", "f0 (um)")
     ax.line(mm_s, um, GREY, 1)
     ax.legend(GREY, "y (Coulomb's: f0 = y)")
     ax.line(mm_s, 1e6 * r.f0, run_color(2))
     ax.legend(run_color(2), "f0, default eps_v")
-    ax = page.axes(2, mm_s[-1], 0.0, 1.0, "f0'(y) by finite differences, on f1(y / hhat), against ||vbar|| (mm/s)")
+    ax = page.axes(2, mm_s[-1], 0.0, 1.0, "f0'(y) by finite differences, on f1(y / hhat), against ||vbar|| (mm/s)",
+                   "mm/s", "f0', f1")
     ax.line(at, r.f1, run_color(2), 3)
     ax.legend(run_color(2), "f1(y / hhat)")
     page.markers(ax, at[7::16], r.df0_dy[7::16], BLACK)
     ax.legend(BLACK, "f0'(y), every 16th point")
     gap = np.abs(r.df0_dy - r.f1)
-    ax = page.axes(3, mm_s[-1], 1e-16, 1e-6, "|f0'(y) - f1(y / hhat)| (log) against ||vbar|| (mm/s)", log=True)
+    ax = page.axes(3, mm_s[-1], 1e-16, 1e-6, "|f0'(y) - f1(y / hhat)| (log) against ||vbar|| (mm/s)",
+                   "mm/s", "difference", log=True)
     ax.dots(at, np.maximum(gap, 1e-16), BLACK)
     ax.legend(BLACK, "at each point (0: at 1e-16)")
     ax.hline(1e-8, RED, "1e-8, the test's bound")

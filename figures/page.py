@@ -20,10 +20,11 @@ class Page:
         for i, line in enumerate(caption):
             self.surface.blit(pygame.font.Font(None, 20).render(line, True, BLACK), (12, top + i * LINE_HEIGHT))
 
-    def axes(self, panel, x_max, y_lo, y_hi, title, log=False):
-        """Panel number `panel` (0 at the top): x from 0 to x_max, y from y_lo to y_hi (log10 if log)."""
+    def axes(self, panel, x_max, y_lo, y_hi, title, xlabel, ylabel, log=False):
+        """Panel number `panel` (0 at the top): x from 0 to x_max, y from y_lo to y_hi (log10 if log), the
+        axes labelled with their units."""
         return plots.Axes(self.pygame, self.surface, self.font, TITLE_HEIGHT + panel * plots.PANEL_HEIGHT,
-                          x_max, y_lo, y_hi, title, log)
+                          x_max, y_lo, y_hi, title, ylabel, log, xlabel)
 
     def markers(self, ax, x, y, color, radius=3):
         """A filled circle of `radius` pixels at each (x, y) of the panel `ax`: points that stand out on a line."""

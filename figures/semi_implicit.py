@@ -49,11 +49,13 @@ def draw(r):
     for i, s in enumerate(r.scenes):
         lo = min(s.along_lagged.min(), s.along_implicit.min())
         hi = max(s.along_lagged.max(), s.along_implicit.max())
-        ax = page.axes(2 * i, s.t[-1], lo, hi, f"{s.label}: centre of mass along the slope (m) against time (s)")
+        ax = page.axes(2 * i, s.t[-1], lo, hi, f"{s.label}: centre of mass along the slope (m) against time (s)",
+                       "t (s)", "s (m)")
         for k, (name, along) in enumerate((("lagged", s.along_lagged), ("Algorithm 5", s.along_implicit))):
             ax.line(s.t, along, run_color(k))
             ax.legend(run_color(k), name)
-        ax = page.axes(2 * i + 1, s.t[-1], 0.0, 1e3 * s.gap.max(), f"{s.label}: gap (mm) against time (s)")
+        ax = page.axes(2 * i + 1, s.t[-1], 0.0, 1e3 * s.gap.max(), f"{s.label}: gap (mm) against time (s)",
+                       "t (s)", "gap (mm)")
         ax.line(s.t, 1e3 * s.gap, run_color(3))
         ax.legend(run_color(3), "|com_5 - com_lagged|")
     return page

@@ -2,7 +2,8 @@
 import io
 import sys
 
-from viewer import cli
+import simulator
+from viewer import cli, draw, files, recording, run
 
 
 def run_main(*args):
@@ -14,3 +15,20 @@ def run_main(*args):
     finally:
         sys.stderr = old
     return code, err.getvalue().splitlines()
+
+
+def recorded(folder, scenes, steps):
+    """The scenes run side by side for `steps` steps into `folder`, as a run without frames records
+    them (viewer.recording): their Tracks, with what the pictures need, and each one's log."""
+    tags = [f"run{i}" for i in range(len(scenes))] if len(scenes) > 1 else [""]
+    plan = run.Plan(scenes, [f"run {i}" for i in range(len(scenes))], tags, [steps] * len(scenes), str(folder),
+                    stride=3, frames=False, forces=False)
+    signals = run.Signals()
+    out = files.OutputFolder.claim(plan.out, plan.names(), signals)
+    tracks = [recording.Track(scene, steps, simulator.simulate(scene, steps), label, tag, draw.run_color(i), out)
+              for i, (scene, label, tag) in enumerate(zip(scenes, plan.labels, tags))]
+    recording.record(tracks, out, plan.stride, False, False, io.StringIO(), [])
+    for track in tracks:
+        track.csv.close()
+    out.close()
+    return tracks

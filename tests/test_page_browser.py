@@ -48,21 +48,29 @@ def find_browser():
     return next((path for path in map(shutil.which, BROWSERS) if path), None)
 
 
-def test_index_html_plays_in_headless_chromium(tmp_path):
+def probe_page(out, probe, tmp_path, budget_ms=5000):
+    """Open `out`/index.html with `probe` (a script that writes JSON into <pre id="probe">) appended,
+    in headless Chromium, and return what it wrote; skips where no browser is found."""
     browser = find_browser()
     if browser is None:
         pytest.skip(f"no browser found (looked for {', '.join(BROWSERS)}); .ci/run installs Debian's chromium")
-    out = tmp_path / "run"
-    assert cli.main(["--steps", "60", "--out", str(out)]) == 0          # 21 frames
     page = (out / "index.html").read_text()
-    (out / "probe.html").write_text(page.replace("</body>", PROBE + "</body>"))
+    (out / "probe.html").write_text(page.replace("</body>", probe + "</body>"))
     result = subprocess.run([browser, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
-                             f"--user-data-dir={tmp_path / 'profile'}", "--virtual-time-budget=5000",
+                             f"--user-data-dir={tmp_path / 'profile'}", f"--virtual-time-budget={budget_ms}",
                              "--dump-dom", (out / "probe.html").as_uri()],
                             capture_output=True, text=True, timeout=120)
     found = re.search(r'<pre id="probe">(.*?)</pre>', result.stdout)
     assert found, f"the page did not report (exit {result.returncode}): {result.stderr[-2000:]}"
-    seen = json.loads(found.group(1).replace("&quot;", '"'))
+    return json.loads(found.group(1).replace("&quot;", '"'))
+
+
+def test_index_html_plays_in_headless_chromium(tmp_path):
+    if find_browser() is None:
+        pytest.skip(f"no browser found (looked for {', '.join(BROWSERS)}); .ci/run installs Debian's chromium")
+    out = tmp_path / "run"
+    assert cli.main(["--steps", "60", "--out", str(out)]) == 0          # 21 frames
+    seen = probe_page(out, PROBE, tmp_path)
     assert seen["loaded"] == 900 and seen["src"].startswith("frame_")       # a frame PNG shown, decoded
     assert len(seen["seen"]) >= 3                                            # it changes while playing
     before, after, src = seen["forward"]

@@ -199,7 +199,7 @@ def test_plots_show_the_energy_budget_contact_speeds_and_eps_v(default_run):
 def test_summary_snapshots_never_overlap_and_end_with_the_last_state():
     scene = simulator.build_scene(slope=None)          # free fall: 20 m in 2 s
     snapshots = [(0.0, scene.x0)] + [(r.t, r.x) for r in simulator.simulate(scene, 200) if r.index % 10 == 9]
-    kept = summary.spaced(snapshots)
+    kept = [snapshots[i] for i in summary.spaced([np.r_[x.min(0), x.max(0)] for _, x in snapshots], gap=0.0)]
     assert kept[0][0] == 0.0 and kept[-1][0] == snapshots[-1][0] and len(kept) >= 3
     for (_, a), (_, b) in zip(kept, kept[1:]):
         assert np.any(b.min(0) > a.max(0)) or np.any(a.min(0) > b.max(0))           # bounding boxes clear

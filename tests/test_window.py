@@ -606,3 +606,24 @@ def test_the_window_benchmark_runs():
     r = speed.window_real_time(4, speed=100.0, duration=0.05)
     assert r["frames"] >= 1 and 0.0 < r["busy"] <= 1.0 and r["cpu_per_simulated"] > 0.0
     assert r["wall_per_simulated"] > 0.0
+
+
+# ------------------------------------------------------------------------------------------------
+# What a run to files warns about, the window shows under its caption and prints on stderr
+# ------------------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("overrides, steps, words", [
+    ({"n_seg": 8}, 60, "mesh triangles are inverted"),              # folds at the impact (docs/limits.md)
+    ({"tol": 1e-8}, 40, "round-off floor"),                          # stalls within the first 0.4 s
+    ({"h": 1.0, "slope": None}, 1, "impacts are not resolved in time")])
+def test_the_window_says_what_a_run_to_files_warns_about(overrides, steps, words):
+    log = io.StringIO()
+    pg = window.open_display()
+    w = window.LiveWindow(pg, pg.display.set_mode((400, 400)), simulator.build_scene(**overrides), steps, 1.0,
+                          None, ScriptClock(), log)
+    w.clock.script = frames_until(lambda: w.run.finished)
+    assert w.loop() == 0
+    on_screen = [text for text, color in w.status_lines() if words in text]
+    assert len(on_screen) == 1 and on_screen[0].startswith("warning: ")
+    if "impacts" not in words:                       # a scene's warnings are printed when the run starts
+        assert log.getvalue().count(words) == 1 and log.getvalue().startswith("simulator.py: warning: ")

@@ -168,8 +168,9 @@ def parse_command_line(argv):
 def scene_from_args(args):
     """simulator.build_scene with the scene flags given (the rest keep DEFAULTS)."""
     overrides = {param: getattr(args, param) for _, param, _, _ in SCENE_FLAGS if hasattr(args, param)}
-    given = [flag for flag, on in (("--slope-normal", "slope" in overrides),
-                                   ("--slope-angle", args.slope_angle is not None), ("--no-slope", args.no_slope)) if on]
+    slopes = (("--slope-normal", "slope" in overrides), ("--slope-angle", args.slope_angle is not None),
+              ("--no-slope", args.no_slope))
+    given = [flag for flag, on in slopes if on]
     if len(given) > 1:
         raise CommandLineError(f"{given[0]} and {given[1]} both set the slope; give one")
     if "rho" in overrides and "mass" in overrides:

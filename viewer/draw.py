@@ -63,18 +63,36 @@ class View:
         return np.stack([self.size / 2 + q[..., 0], self.height / 2 - q[..., 1]], axis=-1)
 
 
-def draw_slope(pygame, surface, scene, view, color=BLUE, font=None):
-    """The slope as a line through the view, with a tick every MARK_SPACING m of arc length from o
-    (a number every metre when a font is given), so motion stays visible when the view follows."""
-    if scene.n is None:
-        return
+def slope_span(scene, view):
+    """(t, s_lo, s_hi): the slope's unit tangent and the arc lengths from o between which it is drawn,
+    a view's width either side of the point of the slope nearest the view's centre."""
     tangent = FrictionEnergy.tangent(scene.n)
     reach = view.size / view.scale
     s_center = float(np.dot(view.center - scene.o, tangent))
-    a, b = view(scene.o + (s_center - reach) * tangent), view(scene.o + (s_center + reach) * tangent)
+    return tangent, s_center - reach, s_center + reach
+
+
+def slope_ends(scene, view):
+    """The pixels of the two ends of the slope's line as draw_slope draws it (None without a slope)."""
+    if scene.n is None:
+        return None
+    tangent, s_lo, s_hi = slope_span(scene, view)
+    return view(scene.o + s_lo * tangent), view(scene.o + s_hi * tangent)
+
+
+def draw_slope(pygame, surface, scene, view, color=BLUE, font=None, marks=True):
+    """The slope as a line through the view, with a tick every MARK_SPACING m of arc length from o
+    (a number every metre when a font is given, where it fits whole; no ticks unless `marks`), so
+    motion stays visible when the view follows."""
+    if scene.n is None:
+        return
+    a, b = slope_ends(scene, view)
     pygame.draw.aaline(surface, color, a.tolist(), b.tolist())
-    first = np.ceil((s_center - reach) / MARK_SPACING)
-    s = MARK_SPACING * np.arange(first, first + 2 * reach / MARK_SPACING + 1)
+    if not marks:
+        return
+    tangent, s_lo, s_hi = slope_span(scene, view)
+    first = np.ceil(s_lo / MARK_SPACING)
+    s = MARK_SPACING * np.arange(first, first + (s_hi - s_lo) / MARK_SPACING + 1)
     feet = scene.o + s[:, None] * tangent
     whole = np.remainder(s, 1.0) == 0.0         # s are multiples of 0.5, exact in binary
     tick = np.where(whole, 0.08, 0.04)[:, None]  # m, longer at whole metres
@@ -82,7 +100,9 @@ def draw_slope(pygame, surface, scene, view, color=BLUE, font=None):
         pygame.draw.line(surface, color, foot, end, 2)
         if font is not None and float(metres).is_integer():
             label = font.render(f"{metres:g} m", True, color)
-            surface.blit(label, (end[0] - label.get_width() / 2, end[1] + 2))
+            left = end[0] - label.get_width() / 2
+            if 0 <= left <= surface.get_width() - label.get_width():      # whole or not at all
+                surface.blit(label, (left, end[1] + 2))
 
 
 def draw_square(pygame, surface, scene, x, view, color=BLUE, nodes=True):

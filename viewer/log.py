@@ -7,7 +7,7 @@ that fails part way (a full disk) is cut back to the last whole row (LineFile).
 import os
 
 COLUMNS = ["step", "t", "wall_s", "com_x", "com_y", "v_tangential", "newton_iterations", "residual",
-           "newton_stalled", "alpha_min", "line_search_steps", "min_distance", "friction_iterations", "friction_converged",
+           "newton_stalled", "alpha_min", "line_search_steps", "min_distance", "friction_updates", "friction_converged",
            "contacts_sticking", "contacts_sliding", "inverted_triangles", "E_kinetic", "E_gravity", "E_spring",
            "E_barrier", "E_total", "W_friction", "D_numerical"]
 
@@ -20,7 +20,7 @@ def row(sample):
     else:
         solver = [str(rep.newton_iterations), f"{rep.residual:.3e}", str(int(rep.stalled)),
                   f"{min(rep.alphas, default=1.0):.6g}",
-                  str(len(rep.alphas)), f"{rep.min_distance:.9g}", str(rep.friction_iterations),
+                  str(len(rep.alphas)), f"{rep.min_distance:.9g}", str(rep.friction_updates),
                   str(int(rep.friction_converged))]
     return ",".join([str(s.step), f"{s.t:.6f}", f"{s.wall:.6f}", f"{s.com[0]:.9f}", f"{s.com[1]:.9f}",
                      f"{s.v_tangential:.9f}"] + solver + [str(s.sticking), str(s.sliding), str(s.inverted)]

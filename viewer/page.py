@@ -25,6 +25,7 @@ TEMPLATE = """<!DOCTYPE html>
   #frame { width: __SIZE__px; height: __SIZE__px; border: 1px solid #aaa; }
   #controls { margin: 8px 0; display: flex; gap: 8px; align-items: center; }
   #slider { width: 480px; }
+  #clock { display: inline-block; white-space: pre; font-variant-numeric: tabular-nums; text-align: left; }
   table { border-collapse: collapse; }
   td, th { border: 1px solid #ccc; padding: 3px 8px; text-align: right; }
   #plotbox { position: relative; display: inline-block; margin-top: 12px; }
@@ -59,6 +60,20 @@ slider.max = run.frames.length - 1;
 
 function frameName(k) { return "frame_" + String(k).padStart(5, "0") + ".png"; }
 
+// The counter keeps one width whatever the frame (so the controls after it stay in place): its
+// numbers padded with figure spaces (as wide as a digit) to the widest, and its width fixed at
+// that of the widest text.
+const lastFrame = run.frames.length - 1, FIGURE_SPACE = "\\u2007";
+const frameDigits = String(lastFrame).length;
+const timeDigits = Math.max(...run.frames.map(f => f[0].toFixed(2).length));
+function clockText(k) {
+  return "frame " + String(k).padStart(frameDigits, FIGURE_SPACE) + " / " + lastFrame + ", t = " +
+    run.frames[k][0].toFixed(2).padStart(timeDigits, FIGURE_SPACE) + " s";
+}
+const clock = document.getElementById("clock");
+clock.textContent = clockText(lastFrame);
+clock.style.minWidth = Math.ceil(clock.getBoundingClientRect().width) + "px";
+
 function showFigures(frame) {
   let rows = "<tr><th></th>" + run.labels.map(l => "<th>" + l + "</th>").join("") + "</tr>";
   run.figures.forEach((name, f) => {
@@ -74,8 +89,7 @@ function show(k) {
   img.src = frameName(index);
   img.dataset.frame = index;
   slider.value = index;
-  document.getElementById("clock").textContent =
-    "frame " + index + " / " + (run.frames.length - 1) + ", t = " + frame[0].toFixed(2) + " s";
+  clock.textContent = clockText(index);
   showFigures(frame);
   const cursor = document.getElementById("cursor");
   if (cursor) {

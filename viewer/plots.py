@@ -30,9 +30,11 @@ def nice_ticks(lo, hi, count=5):
 
 
 class Axes:
-    """One panel: maps (t, y) to pixels, linear or log10 in y, and draws its box, ticks and lines."""
+    """One panel: maps (t, y) to pixels, linear or log10 in y, and draws its box, ticks, the axes'
+    labels with their units (`xlabel` along the horizontal axis, "t (s)" by default, `ylabel` up the value
+    axis) and lines."""
 
-    def __init__(self, pygame, surface, font, top, t_max, y_lo, y_hi, title, log=False):
+    def __init__(self, pygame, surface, font, top, t_max, y_lo, y_hi, title, ylabel, log=False, xlabel="t (s)"):
         self.pygame, self.surface, self.font, self.log = pygame, surface, font, log
         self.top, self.bottom = top + 24, top + PANEL_HEIGHT - 30
         self.t_max = t_max if t_max > 0 else 1.0
@@ -46,6 +48,9 @@ class Axes:
         surface.blit(font.render(title, True, (0, 0, 0)), (LEFT, top + 4))
         pygame.draw.rect(surface, (0, 0, 0), (LEFT, self.top, RIGHT - LEFT + 1, self.bottom - self.top + 1), 1)
         self._ticks()
+        surface.blit(font.render(xlabel, True, (0, 0, 0)), (RIGHT + 12, self.bottom + 3))
+        label = pygame.transform.rotate(font.render(ylabel, True, (0, 0, 0)), 90)
+        surface.blit(label, (4, (self.top + self.bottom - label.get_height()) / 2))
 
     def px(self, t, y):
         """Pixel columns and rows (float arrays) of times t and values y."""
@@ -134,25 +139,26 @@ def draw_plots(pygame, tracks):
         _energy_panel(pygame, surface, font, TOP, t_max, data[0])
         d = data[0]
         ax = Axes(pygame, surface, font, TOP + PANEL_HEIGHT, t_max, *speed_range(d["speed"], epsv),
-                  "tangential speed of each contact node (m/s, log): below eps_v it sticks", log=True)
+                  "tangential speed of each contact node (m/s, log): below eps_v it sticks", "|v_t| (m/s)", log=True)
         ax.dots(d["speed_t"], d["speed"], tracks[0].color)
         ax.legend(tracks[0].color, "a contact node")
     else:
         ax = Axes(pygame, surface, font, TOP, t_max, min(d["along"].min() for d in data),
-                  max(d["along"].max() for d in data), "displacement of the centre of mass along the slope (m)")
+                  max(d["along"].max() for d in data), "displacement of the centre of mass along the slope (m)",
+                  "s (m)")
         for tr, d in zip(tracks, data):
             ax.line(d["t"], d["along"], tr.color)
             ax.legend(tr.color, tr.label)
         speeds = np.concatenate([d["speed"] for d in data])
         ax = Axes(pygame, surface, font, TOP + PANEL_HEIGHT, t_max, *speed_range(speeds, epsv),
-                  "largest tangential speed of a contact node (m/s, log)", log=True)
+                  "largest tangential speed of a contact node (m/s, log)", "max |v_t| (m/s)", log=True)
         for tr, d in zip(tracks, data):
             has = ~np.isnan(d["max_speed"])
             ax.dots(d["t"][has], d["max_speed"][has], tr.color)
             ax.legend(tr.color, tr.label)
     ax.hline(epsv, (200, 0, 0), f"eps_v = {epsv:g} m/s")
     ax = Axes(pygame, surface, font, TOP + 2 * PANEL_HEIGHT, t_max, 0.0,
-              max(float(d["newton"].max()) for d in data), "Newton iterations per step")
+              max(float(d["newton"].max()) for d in data), "Newton iterations per step", "iterations")
     for tr, d in zip(tracks, data):
         ax.line(d["t"][1:], d["newton"][1:], tr.color, 1)
         if len(tracks) > 1:
@@ -165,7 +171,7 @@ def _energy_panel(pygame, surface, font, top, t_max, d):
     lo = min(float(c.min()) for c in curves.values())
     hi = max(float(c.max()) for c in curves.values())
     ax = Axes(pygame, surface, font, top, t_max, lo, hi,
-              "energy budget (J): E = E(0) + W_friction - D, D = implicit Euler's numerical dissipation")
+              "energy budget (J): E = E(0) + W_friction - D, D = implicit Euler's numerical dissipation", "E (J)")
     names = {"kinetic": "kinetic", "gravity": "gravity", "spring": "spring", "barrier": "barrier",
              "total": "total E", "W_friction": "friction work W", "-D_numerical": "-D, numerical dissip."}
     for key, values in curves.items():

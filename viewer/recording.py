@@ -145,17 +145,27 @@ class Progress:
             print(f"step {track.step}/{track.steps}  t={track.t:.2f}s  " + "  ".join(parts), file=self.log, flush=True)
 
     def warn_stalled(self, track, sample):
-        who = f"{track.label}: " if len(self.tracks) > 1 else ""
-        print(f"simulator.py: warning: {who}at step {sample.step} (t = {sample.t:.2f} s) Newton stopped at "
-              f"float64's round-off floor, residual {sample.report.residual:.2g} m/s above tol = {track.scene.tol:g} "
-              f"m/s (E can no longer resolve a smaller step); the run goes on, such steps are flagged "
-              f"newton_stalled in log.csv", file=self.log, flush=True)
+        self.warn(track, stalled_warning(sample.step, sample.t, sample.report.residual, track.scene.tol))
 
     def warn_inverted(self, track, sample):
+        self.warn(track, inverted_warning(sample.step, sample.t, sample.inverted, len(track.triangles)))
+
+    def warn(self, track, text):
         who = f"{track.label}: " if len(self.tracks) > 1 else ""
-        print(f"simulator.py: warning: {who}at step {sample.step} (t = {sample.t:.2f} s) {sample.inverted} of "
-              f"{len(track.triangles)} mesh triangles are inverted (the square folded over; the mass-spring "
-              f"model has no inversion barrier): use a stiffer --k or a smaller --h", file=self.log, flush=True)
+        print(f"simulator.py: warning: {who}{text}", file=self.log, flush=True)
+
+
+def stalled_warning(step, t, residual, tol):
+    """The first step Newton stopped at float64's round-off floor, in words."""
+    return (f"at step {step} (t = {t:.2f} s) Newton stopped at float64's round-off floor, residual {residual:.2g} "
+            f"m/s above tol = {tol:g} m/s (E can no longer resolve a smaller step); the run goes on, such steps "
+            f"are flagged newton_stalled in log.csv")
+
+
+def inverted_warning(step, t, inverted, triangles):
+    """The first step the mesh folded over, in words."""
+    return (f"at step {step} (t = {t:.2f} s) {inverted} of {triangles} mesh triangles are inverted (the square "
+            f"folded over; the mass-spring model has no inversion barrier): use a stiffer --k or a smaller --h")
 
 
 def frame_steps(tracks, stride):

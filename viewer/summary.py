@@ -1,36 +1,128 @@
 """summary.png: the whole motion at a glance, at a fixed scale so that two summaries compare.
 
-Snapshots are taken from the states kept every 0.1 s (recording.SNAPSHOT_EVERY), each only once it
-has moved clear of the previous one drawn, so they never overlap into a blur, each labelled with
-its time; the last state always ends the row. The centre-of-mass path is drawn in red, and a 1 m
-bar gives the scale: SCALE pixels per metre, unless the motion is too long for MAX_WIDTH pixels.
-A comparison draws one panel per run, one above the other, all at the same scale.
+Snapshots are taken from the states kept every 0.1 s (recording.SNAPSHOT_EVERY), each labelled with
+its time. One is drawn only where it and its label are clear (by GAP pixels) of every one drawn
+before; the last state is always drawn, its label to its right, and the snapshots it is not clear
+of are left out, but the first: so no two drawn snapshots or labels overlap, except the first and
+the last when the body ends within its own size of where it started. The centre-of-mass path is
+drawn in red, and a 1 m bar gives the scale: SCALE pixels per metre, unless the motion is too long
+for MAX_WIDTH pixels (then a round number of pixels, two digits). A comparison draws one panel per
+run, one above the other, all at the same scale. Everything drawn is placed by `plan`.
 """
+import math
+from dataclasses import dataclass
+
 import numpy as np
 
 from viewer import draw
 
 SCALE = 100.0       # pixels per metre
 MAX_WIDTH = 2400    # pixels; beyond, the scale shrinks (the same for every panel)
+MIN_WIDTH = 700     # pixels
 MARGIN = 0.6        # m of room around the motion
 HEADER = 70         # pixels of text above each panel
+GAP = 4             # pixels between the drawn snapshots (with their labels)
 
 
-def spaced(snapshots, gap=0.05):
-    """The snapshots (t, x) to draw: the first, each next one whose bounding box is at least `gap`
-    m clear of the last one kept, and the final state (replacing the last kept if they overlap)."""
-    def clear(a, b):
-        lo_a, hi_a, lo_b, hi_b = a.min(0), a.max(0), b.min(0), b.max(0)
-        return bool(np.any(lo_b > hi_a + gap) or np.any(lo_a > hi_b + gap))
-    kept = [snapshots[0]]
-    for t, x in snapshots[1:-1]:
-        if clear(kept[-1][1], x):
-            kept.append((t, x))
-    if len(snapshots) > 1:
-        if len(kept) > 1 and not clear(kept[-1][1], snapshots[-1][1]):
-            kept.pop()
-        kept.append(snapshots[-1])
+@dataclass
+class Snapshot:
+    """A state drawn in a panel, with its label: `box` (left, top, right, bottom) holds both, in the
+    panel's pixels (below its header)."""
+    t: float
+    x: np.ndarray
+    label: str
+    label_at: tuple
+    box: np.ndarray
+
+
+@dataclass
+class Panel:
+    """One run's panel: its top row in the picture, its height, its view (below the header) and the
+    snapshots drawn, first to last."""
+    track: object
+    top: int
+    height: int
+    view: draw.View
+    snapshots: list
+
+
+@dataclass
+class Plan:
+    """Where everything of summary.png goes: its size, the scale (pixels per metre) and the panels."""
+    width: int
+    height: int
+    top: int            # the first panel's top row, below the header lines and the scale bar
+    scale: float
+    panels: list
+
+
+def round_down(value, digits=2):
+    """`value` (> 0) rounded down to `digits` significant digits: 38.79 -> 38, 0.5432 -> 0.54."""
+    power = 10.0 ** (math.floor(math.log10(value)) - digits + 1)
+    return float(f"{math.floor(value / power * (1 + 1e-12)) * power:.{digits}g}")
+
+
+def spaced(boxes, gap=GAP):
+    """Which snapshots to draw, given each one's box (K, 4): left, top, right, bottom in pixels. The
+    first; each next one clear by `gap` of every one kept; and the last, which drops every kept one
+    it is not clear of but the first. Returns their indices, in order."""
+    boxes = np.asarray(boxes, dtype=float)
+
+    def clear_of(i, kept):
+        a, b = boxes[i], boxes[kept]
+        return (b[:, 0] > a[2] + gap) | (a[0] > b[:, 2] + gap) | (b[:, 1] > a[3] + gap) | (a[1] > b[:, 3] + gap)
+    kept = [0]
+    for i in range(1, len(boxes) - 1):
+        if clear_of(i, kept).all():
+            kept.append(i)
+    last = len(boxes) - 1
+    if last > 0:
+        kept = [0] + [i for i, clear in zip(kept[1:], clear_of(last, kept[1:])) if clear] + [last]
     return kept
+
+
+def time_label(t):
+    return f"t = {t:.1f} s"
+
+
+def labelled(view, font, snapshots):
+    """Each snapshot (t, x) as a Snapshot: its label centred above it, the last one's to its right."""
+    out = []
+    for i, (t, x) in enumerate(snapshots):
+        px, text = view(x), time_label(t)
+        (w, h), (left, top), (right, bottom) = font.size(text), px.min(axis=0), px.max(axis=0)
+        if i == len(snapshots) - 1:
+            at = (right + 6, 0.5 * (top + bottom) - h / 2)
+        else:
+            at = (0.5 * (left + right) - w / 2, top - h - 2)
+        box = np.array([min(left, at[0]), min(top, at[1]), max(right, at[0] + w), max(bottom, at[1] + h)])
+        out.append(Snapshot(t, x, text, at, box))
+    return out
+
+
+def plan(pygame, tracks, header):
+    """The layout of summary.png for `tracks` under `header` (lines of text)."""
+    small = pygame.font.Font(None, 20)
+    boxes = []
+    for tr in tracks:
+        pts = np.concatenate([x for _, x in tr.snapshots.all()] + [np.array([s.com for s in tr.samples.all()])])
+        boxes.append((pts.min(axis=0) - MARGIN, pts.max(axis=0) + MARGIN))
+    label_w, label_h = small.size(time_label(max(tr.t for tr in tracks)))
+    right_room = label_w + 12                   # px right of the motion, for the last state's label
+    width_m = max(float(hi[0] - lo[0]) for lo, hi in boxes)
+    scale = SCALE if width_m * SCALE + right_room <= MAX_WIDTH else round_down((MAX_WIDTH - right_room) / width_m)
+    width = int(max(width_m * scale + right_room, MIN_WIDTH))
+    top = 22 * len(header) + 34
+    panels, row = [], top
+    for tr, (lo, hi) in zip(tracks, boxes):
+        height = int((hi[1] - lo[1]) * scale) + label_h + 4 + HEADER      # room for the labels on top
+        view = draw.View(scale, width, height - HEADER)
+        view.center = np.array([lo[0] + width / scale / 2, 0.5 * (lo[1] + hi[1]) + (label_h + 4) / 2 / scale])
+        candidates = labelled(view, small, tr.snapshots.all())
+        kept = spaced([s.box for s in candidates])
+        panels.append(Panel(tr, row, height, view, [candidates[i] for i in kept]))
+        row += height
+    return Plan(width, row, top, scale, panels)
 
 
 def lighten(color):
@@ -39,52 +131,40 @@ def lighten(color):
 
 
 def draw_summary(pygame, tracks, header):
-    """summary.png's surface: `header` (lines of text) then one panel per track."""
+    """summary.png's surface: `header` (lines of text), the 1 m bar, then one panel per track."""
     font, small = pygame.font.Font(None, 24), pygame.font.Font(None, 20)
-    boxes = []
-    for tr in tracks:
-        pts = np.concatenate([x for _, x in tr.snapshots.all()] + [np.array([s.com for s in tr.samples.all()])])
-        boxes.append((pts.min(axis=0) - MARGIN, pts.max(axis=0) + MARGIN))
-    width_m = max(float(hi[0] - lo[0]) for lo, hi in boxes)
-    scale = min(SCALE, MAX_WIDTH / width_m)
-    width = int(max(width_m * scale, 700))
-    heights = [int((hi[1] - lo[1]) * scale) + HEADER for lo, hi in boxes]
-    top = 22 * len(header) + 34
-    surface = pygame.Surface((width, top + sum(heights)))
+    layout = plan(pygame, tracks, header)
+    surface = pygame.Surface((layout.width, layout.height))
     surface.fill((255, 255, 255))
     for row, text in enumerate(header):
         surface.blit(font.render(text, True, (0, 0, 0)), (12, 8 + 22 * row))
-    _scale_bar(pygame, surface, small, scale, top - 26)
-    for tr, (lo, hi), height in zip(tracks, boxes, heights):
-        _panel(pygame, surface, font, small, tr, lo, hi, scale, top, width, height)
-        top += height
+    _scale_bar(pygame, surface, small, layout.scale, layout.top - 26)
+    for panel in layout.panels:
+        _panel(pygame, surface, font, small, panel, layout.width)
     return surface
 
 
 def _scale_bar(pygame, surface, font, scale, row):
     """A 1 m bar: every summary at SCALE px/m compares with every other."""
     pygame.draw.line(surface, (0, 0, 0), (12, row + 8), (12 + scale, row + 8), 3)
-    surface.blit(font.render(f"1 m ({scale:g} pixels)", True, (0, 0, 0)), (20 + scale, row + 1))
+    surface.blit(font.render(f"1 m ({scale:.3g} pixels)", True, (0, 0, 0)), (20 + scale, row + 1))
 
 
-def _panel(pygame, surface, font, small, track, lo, hi, scale, top, width, height):
-    panel = surface.subsurface((0, top, width, height))
-    view = draw.View(scale, width, height - HEADER)
-    view.center = np.array([lo[0] + width / scale / 2, 0.5 * (lo[1] + hi[1])])
-    sub = panel.subsurface((0, HEADER, width, height - HEADER))
+def _panel(pygame, surface, font, small, panel, width):
+    """One run: its label and figures, the slope, the snapshots (the last in full colour) with their
+    times, the centre-of-mass path."""
+    track, view = panel.track, panel.view
+    area = surface.subsurface((0, panel.top, width, panel.height))
+    sub = area.subsurface((0, HEADER, width, panel.height - HEADER))
     draw.draw_slope(pygame, sub, track.scene, view, (0, 0, 0), small)
     light = lighten(track.color)
-    kept = spaced(track.snapshots.all())
-    for i, (t, x) in enumerate(kept):
-        draw.draw_square(pygame, sub, track.scene, x, view, track.color if i == len(kept) - 1 else light, nodes=False)
-        label, px = small.render(f"t = {t:.1f} s", True, (0, 0, 0)), view(x)
-        if i == len(kept) - 1:          # the last state: its label to the right, clear of any overlap
-            sub.blit(label, (float(px[:, 0].max()) + 6, float(px[:, 1].mean())))
-        else:
-            sub.blit(label, (float(px[:, 0].mean()) - label.get_width() / 2, px[:, 1].min() - label.get_height() - 2))
+    for i, snap in enumerate(panel.snapshots):
+        last = i == len(panel.snapshots) - 1
+        draw.draw_square(pygame, sub, track.scene, snap.x, view, track.color if last else light, nodes=False)
+        sub.blit(small.render(snap.label, True, (0, 0, 0)), snap.label_at)
     com = np.array([s.com for s in track.samples.all()])
     if len(com) > 1:
         pygame.draw.lines(sub, (220, 0, 0), False, view(com).tolist(), 2)
-    panel.blit(font.render(track.label, True, track.color), (12, 8))
-    panel.blit(small.render(f"red: centre-of-mass path; {track.step} steps, t = {track.t:.2f} s",
-                            True, (0, 0, 0)), (12, 32))
+    area.blit(font.render(track.label, True, track.color), (12, 8))
+    area.blit(small.render(f"red: centre-of-mass path; {track.step} steps, t = {track.t:.2f} s",
+                           True, (0, 0, 0)), (12, 32))

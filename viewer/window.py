@@ -12,6 +12,7 @@ are written only when --out is given: then those of a run without the window, by
 each step once (the run is deterministic: after a restart the steps computed again are the same).
 """
 import contextlib
+from dataclasses import dataclass
 import math
 import os
 import sys
@@ -20,9 +21,10 @@ from collections import deque
 
 import numpy as np
 
+import BarrierEnergy
 import time_integrator
 from simulator import StepRecord
-from viewer import draw, files, recording, run as orchestration
+from viewer import diagnostics, draw, files, recording, run as orchestration
 
 FPS = 60                  # frames drawn per second at most
 MIN_FPS = 20              # ... and at least, when the steps fall behind (the other frames are dropped)
@@ -33,7 +35,17 @@ MIN_SIZE, MAX_SIZE = 300, 16384   # px; 16384 is the largest texture common grap
 DUE_SLACK = 1e-9          # of a step: t + h and the time due may differ by round-off
 CATCH_UP = 0.1            # s of wall time the steps may fall behind and catch up (a slow step, a busy CPU)
 SLOW = 0.9                # "slower than real time" below this fraction of the asked speed
-ARROW = 0.12              # the longest drawn p is this fraction of the window
+HINT = 0.035              # the Newton view's arrows (the direction of p) are this fraction of the window long,
+HINT_FLOOR = 0.01         # ... drawn where |p_k| is at least this fraction of the largest
+INSET = 0.4               # the Newton view's inset: its width at most this fraction of the window's,
+MIN_INSET = 0.25          # ... and at least this, over the square where there is no more room beside it,
+INSET_TALL = 0.6          # ... its height at most this fraction of the window's,
+INSET_FILL = 0.75         # ... the node's x^i, x^i + p (and its foot on the slope) filling this much of it,
+SLOPE_REACH = 1.5         # ... the slope framed where the node is within this many |p_k| of it (the CCD
+                          #     bound can only come from a node within |p_k| / 0.9)
+MAX_ZOOM = 1e4            # ... magnified at most this much (p_k = 0 would ask for infinitely much)
+ZOOMS = (1, 2, 3, 5)      # ... by one of these times a power of ten
+GROUND = (219, 219, 255)  # the inset's tint below the slope
 LEGEND_BOTTOM = 36 + 4 + 3 * 22   # px: below draw.draw_frame's legend of the force arrows (3 rows of 22 px)
 # SDL's drivers that draw into memory only: it falls back to one of them when it finds no display
 MEMORY_DRIVERS = ("dummy", "offscreen")
@@ -225,8 +237,11 @@ class LiveWindow:
         self.message = None         # what the last key did, shown until the next key
         self.slow = None            # the rate reached, when below SLOW of the asked speed
         self.slow_frames = 0        # frames drawn with the "slower than real time" note
+        self.warnings = {f"scene {i}": text for i, text in enumerate(scene.warnings)}   # kind -> text
+        self.triangles = diagnostics.mesh_triangles(scene)
         self.frames = 0
         self.drawn_at = -math.inf   # when the last frame was drawn
+        self.inset = None           # the Newton view's Inset, as last drawn
 
     # -- the loop -------------------------------------------------------------------------------
 
@@ -295,6 +310,9 @@ class LiveWindow:
         self.pacer.sample(self.run.t)
         rate = self.pacer.rate()
         self.slow = rate if rate is not None and rate < SLOW else None
+        if self.slow is not None:
+            self.note("slow", f"the window ran slower than real time: {self.slow * self.speed:.2g}x (asked "
+                              f"{self.speed:g}x)")
         if self.stopped():
             self.playing = False
 
@@ -323,7 +341,10 @@ class LiveWindow:
             return None
 
     def _keep(self, record):
-        """Hand a completed step to the files, if any; False for no step."""
+        """Hand a completed step to the files, if any, and note what the run to files warns about; False
+        for no step."""
+        if record is not None:
+            self.check(record)
         if record is not None and self.output is not None and self.write_error is None:
             try:
                 self.output.record(record)
@@ -333,12 +354,32 @@ class LiveWindow:
                       f"{err.strerror or err}", file=self.log)
         return record is not None
 
+    def check(self, record):
+        """What a run to files warns about, noted the first time: Newton at float64's round-off floor, a
+        mesh folded over."""
+        step, t = record.index + 1, record.t
+        if record.report.stalled:
+            self.note("stalled", recording.stalled_warning(step, t, record.report.residual, self.scene.tol))
+        inverted = diagnostics.inverted_triangles(record.x, self.triangles)
+        if inverted:
+            self.note("inverted", recording.inverted_warning(step, t, inverted, len(self.triangles)))
+
+    def note(self, kind, text):
+        """A warning, the first of its kind: shown under the caption from now on, and on stderr (where
+        the files, with --out, have not said it already)."""
+        if kind in self.warnings:
+            return
+        self.warnings[kind] = text
+        if self.output is None or kind == "slow":
+            print(f"simulator.py: warning: {text}", file=self.log, flush=True)
+
     # -- drawing --------------------------------------------------------------------------------
 
     def draw(self):
         """The frame a run without the window writes (viewer.draw: the slope with its marks, the
         square, the contact forces), or the Newton iterate in progress instead of the forces; the
-        window's status under the title and legend, the keys at the bottom."""
+        window's status under the title and legend, the keys at the bottom; within a Newton step, the
+        inset (self.inset) in the room between them."""
         run, pg = self.run, self.pygame
         x = run.shown_x
         self.view.follow(np.average(x, axis=0, weights=self.scene.m)[None])
@@ -355,6 +396,10 @@ class LiveWindow:
         bottom = [row for text in self.help_lines() for row in wrap(self.font, text, width)]
         for row, text in enumerate(reversed(bottom), start=1):
             surface.blit(self.font.render(text, True, GREY), (12, self.size - 6 - row * line))
+        self.inset = None
+        if run.iterate is not None:
+            self.inset = self.draw_inset(surface, run.iterate, top + len(rows) * line + 8,
+                                         self.size - 6 - len(bottom) * line - 8)
         self.screen.blit(surface, (0, 0))
         pg.display.flip()
         self.frames += 1
@@ -378,8 +423,9 @@ class LiveWindow:
             lines.append((f"files stopped: {self.write_error.strerror or self.write_error}", RED))
         if self.message:
             lines.append((self.message, GREEN))
+        lines += [(f"warning: {text}", RED) for kind, text in self.warnings.items() if kind != "slow"]
         if run.iterate is not None:
-            lines += [(text, BLACK) for text in iterate_lines(run, self.scene, self.arrow_scale(run.iterate))]
+            lines += [(text, BLACK) for text in iterate_lines(run, self.scene)]
         return lines
 
     def help_lines(self):
@@ -389,40 +435,169 @@ class LiveWindow:
             return ["space: pause   r: restart   q, Esc: quit"]
         return ["space: play   right arrow: one step   n: one Newton iteration   r: restart   q, Esc: quit"]
 
-    def arrow_scale(self, it):
-        """p is drawn times this factor (1, 2 or 5 times a power of ten), the longest arrow about
-        ARROW of the window."""
-        longest = float(np.abs(it.p).max()) * self.view.scale
-        return nice_below(ARROW * self.size / longest) if longest > 0.0 else 1.0
-
     def draw_iterate(self, surface, it):
-        """x^i in grey under the iterate x^{i+1} = x^i + alpha p in blue; p at each node as a red
-        arrow, with a ring where alpha_CCD p ends and a dot where alpha p ends (on the drawn scale)."""
+        """The main view of a Newton iterate: x^i in grey under x^{i+1} = x^i + alpha p in blue, and
+        at each node an arrow of fixed length in the direction of p (where |p_k| is at least
+        HINT_FLOOR of the largest): a hint of direction only, p itself is too short to see here."""
         pg, view = self.pygame, self.view
         draw.draw_square(pg, surface, self.scene, it.x, view, GREY, nodes=False)
         draw.draw_square(pg, surface, self.scene, it.x_next, view)
-        k = self.arrow_scale(it)
-        tail, tip = view(it.x), view(it.x + k * it.p)
-        ccd, accepted = view(it.x + k * it.alpha_ccd * it.p), view(it.x + k * it.alpha * it.p)
-        heads = arrow_heads(tail, tip, 0.015 * self.size)
-        for a, b, (w1, w2), c, d in zip(tail.tolist(), tip.tolist(), heads.tolist(), ccd.tolist(), accepted.tolist()):
+        size = np.hypot(it.p[:, 0], it.p[:, 1])
+        shown = (size > 0.0) & (size >= HINT_FLOOR * size.max())
+        tail = view(it.x[shown])
+        direction = it.p[shown] / size[shown, None] * [1.0, -1.0]        # y grows downwards on screen
+        tip = tail + HINT * self.size * direction
+        heads = arrow_heads(tail, tip, 0.012 * self.size)
+        for a, b, (w1, w2) in zip(tail.tolist(), tip.tolist(), heads.tolist()):
             pg.draw.line(surface, RED, a, b, 2)
             pg.draw.polygon(surface, RED, [b, w1, w2])
-            pg.draw.circle(surface, BLACK, c, 4, 1)
-            pg.draw.circle(surface, GREEN, d, 3)
+
+    def draw_inset(self, surface, it, top, bottom):
+        """The inset of a Newton iterate between rows `top` and `bottom`, beside the square on the
+        side with more room (over it only where that room is under MIN_INSET of the window), its node
+        circled and labelled in the main view; returns its Inset (None where the text leaves no room)."""
+        px = self.view(it.x)
+        room_left, room_right = px[:, 0].min(), self.size - px[:, 0].max()
+        width = int(min(INSET * self.size, max(max(room_left, room_right) - 24, MIN_INSET * self.size)))
+        height = int(min(INSET_TALL * self.size, bottom - top))
+        small = self.fonts[1].get_linesize()
+        header, footer = 8 + self.font.get_linesize() + 2 * small, 12 + small
+        if height < header + footer + small:                   # no room left under the text
+            return None
+        rect = (12 if room_left > room_right else self.size - 12 - width, int(top), width, height)
+        inset = newton_inset(self.scene, it, self.view, rect, header, footer)
+        node, label = px[inset.node], self.fonts[1].render(f"node {inset.node}", True, BLACK)
+        width_px, height_px = label.get_size()
+        out = np.where(node >= px.mean(axis=0), 1, -1)           # the label off the node, away from the square
+        self.pygame.draw.circle(surface, BLACK, node.tolist(), 9, 1)
+        surface.blit(label, (node[0] + out[0] * (6 + width_px / 2) - width_px / 2,
+                             node[1] + out[1] * (14 + height_px / 2) - height_px / 2))
+        draw_inset(self.pygame, surface.subsurface(inset.rect), self.scene, it, inset, (self.font, self.fonts[1]))
+        return inset
 
 
-def iterate_lines(run, scene, scale):
-    """The figures of Algorithm 4 for the iterate on screen."""
+@dataclass(frozen=True)
+class Inset:
+    """The Newton view's inset: one node of the iterate and the slope, magnified together, so that
+    p, the CCD bound and the accepted step are seen at their true size against the slope. Pixels are
+    the inset's own, from its top-left corner."""
+    rect: tuple             # (left, top, width, height) in the window, px
+    node: int               # the node magnified
+    why: str                # why that node: it sets alpha_CCD, or it is the nearest to the slope
+    view: draw.View         # world to the inset's pixels, at `magnification` times the window's scale
+    magnification: float
+    points: dict            # name -> (2,) world position of the node: x^i, x^i + p, ... (Algorithm 4)
+    markers: dict           # name -> (2,) the same in the inset's pixels, where they are drawn
+    slope: tuple            # the slope's line as drawn: its two ends in the inset's pixels (None: not drawn)
+    distance: float         # the node's distance to the slope at x^i, m (inf without a slope)
+
+    @property
+    def title(self):
+        """The inset's first line: the node and the magnification."""
+        return f"node {self.node}, x{self.magnification:g}"
+
+
+def focus_node(scene, it):
+    """The node the inset magnifies, and why: the one whose approach to the slope sets alpha_CCD
+    (Algorithm 4, line 1) when the CCD bound cuts the step, else the one nearest the slope (without
+    a slope, the lowest)."""
+    if "barrier" not in scene.terms:
+        return int(np.argmin(it.x[:, 1])), "the lowest"
+    if it.alpha_ccd < 1.0:
+        return int(np.argmax(BarrierEnergy.approach_rates(it.x, scene.n, scene.o, it.p))), "sets alpha_CCD"
+    return int(np.argmin(BarrierEnergy.distances(it.x, scene.n, scene.o))), "nearest the slope"
+
+
+def newton_inset(scene, it, view, rect, header=0, footer=0):
+    """The Inset of a Newton iterate in `rect` (its height cut to what the framed points need, at
+    least half its width): its focus node's x^i, x^i + p, x^i + alpha_CCD p, x^i + alpha p and the
+    slope (where the node is within SLOPE_REACH |p_k| of it), framed to fill INSET_FILL of the inset's
+    rows between `header` and `footer` pixels from its top and bottom, at a magnification of `view`'s
+    scale of one of ZOOMS times a power of ten, at most MAX_ZOOM."""
+    k, why = focus_node(scene, it)
+    x, p = it.x[k], it.p[k]
+    points = {"x^i": x, "x^i + p": x + p, "x^i + alpha_CCD p": x + it.alpha_ccd * p,
+              "x^i + alpha p": x + it.alpha * p}
+    framed, d = [x, x + p], math.inf
+    if "barrier" in scene.terms:
+        d = float(BarrierEnergy.distances(x[None], scene.n, scene.o)[0])
+    with_slope = d <= SLOPE_REACH * float(np.hypot(*p))
+    if with_slope:
+        framed.append(x - d * scene.n)                          # its foot on the slope
+    lo, hi = np.min(framed, axis=0), np.max(framed, axis=0)
+    width, height = rect[2:]
+    room = np.array([width, height - header - footer])          # px, across and down
+    extent = (hi - lo) * view.scale                            # px, at the window's scale
+    fit = min((INSET_FILL * room[extent > 0] / extent[extent > 0]).tolist(), default=MAX_ZOOM)
+    magnification = nice_below(min(fit, MAX_ZOOM), ZOOMS)
+    room[1] = min(room[1], max(0.5 * width, extent[1] * magnification / INSET_FILL))
+    height = int(header + room[1] + footer)                   # no taller than the framed points need
+    rect = (*rect[:3], height)
+    inset_view = draw.View(view.scale * magnification, width, height)
+    middle = header + 0.5 * room[1]                             # the row the framed points centre on
+    inset_view.center = 0.5 * (lo + hi) + [0.0, (middle - 0.5 * height) / inset_view.scale]
+    markers = {name: inset_view(point) for name, point in points.items()}
+    return Inset(rect, k, why, inset_view, magnification, points, markers,
+                 draw.slope_ends(scene, inset_view) if with_slope else None, d)
+
+
+def draw_inset(pygame, surface, scene, it, inset, fonts):
+    """The inset on its own `surface`: the slope (tinted below), the springs of x^i (grey) and
+    x^{i+1} (blue) about the node, p as a red arrow from x^i, a black ring at x^i + alpha_CCD p, a
+    green dot at x^i + alpha p, all in one magnified frame; the node and the magnification at the
+    top, a scale bar at the bottom, a border."""
+    view, m = inset.view, inset.markers
+    width, height = surface.get_size()
+    surface.fill((255, 255, 255))
+    if inset.slope is not None:
+        a, b = inset.slope
+        below = 2 * (width + height) * np.array([-scene.n[0], scene.n[1]])    # -n on screen, far
+        pygame.draw.polygon(surface, GROUND, [a.tolist(), b.tolist(), (b + below).tolist(), (a + below).tolist()])
+        pygame.draw.line(surface, draw.BLUE, a.tolist(), b.tolist(), 2)
+    draw.draw_square(pygame, surface, scene, it.x, view, GREY, nodes=False)
+    draw.draw_square(pygame, surface, scene, it.x_next, view, nodes=False)
+    tail, tip = m["x^i"], m["x^i + p"]
+    r = max(3, round(0.016 * width))                                        # px, the markers' radius
+    pygame.draw.line(surface, RED, tail.tolist(), tip.tolist(), 3)
+    if np.hypot(*(tip - tail)) > 1.0:
+        pygame.draw.polygon(surface, RED, [tip.tolist()] + arrow_heads(tail[None], tip[None], 3 * r)[0].tolist())
+    pygame.draw.circle(surface, GREY, tail.tolist(), r)
+    pygame.draw.circle(surface, BLACK, m["x^i + alpha_CCD p"].tolist(), r + 2, 2)
+    pygame.draw.circle(surface, GREEN, m["x^i + alpha p"].tolist(), r)
+    big, small = fonts
+    surface.blit(big.render(inset.title, True, BLACK), (8, 6))
+    row = 6 + big.get_linesize()
+    for text, color in [(f"({inset.why})", BLACK)] + (
+            [(f"the slope: {length_text(inset.distance)} from x^i, out of frame", draw.BLUE)]
+            if inset.slope is None and math.isfinite(inset.distance) else []):
+        surface.blit(small.render(text, True, color), (8, row))
+        row += small.get_linesize()
+    metres = nice_below(0.3 * width / view.scale)
+    bar, y = metres * view.scale, height - 12
+    pygame.draw.line(surface, BLACK, (8, y), (8 + bar, y), 3)
+    surface.blit(small.render(length_text(metres), True, BLACK), (14 + bar, y - small.get_linesize() // 2))
+    pygame.draw.rect(surface, BLACK, surface.get_rect(), 2)
+
+
+def length_text(metres):
+    """A length in m, mm or micrometres (um), to 3 digits."""
+    if metres >= 1.0:
+        return f"{metres:.3g} m"
+    return f"{metres * 1e3:.3g} mm" if metres >= 1e-3 else f"{metres * 1e6:.3g} um"
+
+
+def iterate_lines(run, scene):
+    """The figures of Algorithm 4 for the iterate on screen, and what the colours show."""
     it = run.iterate
     friction = ("lagged friction" if it.friction_update == 0 else
                 f"friction update {it.friction_update}, Algorithm 5")
     verdict = "<=" if it.residual <= scene.tol else ">"
     return [f"step {run.index + 1}, Newton iteration {run.iteration} ({friction})",
             f"||p||_inf / h = {it.residual:.3g} m/s {verdict} tol = {scene.tol:g} m/s at x^i",
-            f"CCD bound alpha_CCD = {it.alpha_ccd:.4g} (black rings)",
-            f"accepted alpha = alpha_CCD / 2^{it.halvings} = {it.alpha:.4g} (green dots)",
-            f"red: p at each node, drawn x{scale:g}; grey: x^i; blue: x^i + alpha p"]
+            f"CCD bound alpha_CCD = {it.alpha_ccd:.4g} (black ring: x^i + alpha_CCD p)",
+            f"accepted alpha = alpha_CCD / 2^{it.halvings} = {it.alpha:.4g} (green dot: x^i + alpha p)",
+            "grey: x^i; blue: x^i + alpha p; red: the direction of p at each node",
+            "inset: one node and the slope magnified together, p (red) to scale"]
 
 
 def wrap(font, text, width):
@@ -448,10 +623,10 @@ def arrow_heads(tail, tip, length):
     return np.stack([back + 0.5 * length * side, back - 0.5 * length * side], axis=1)
 
 
-def nice_below(value):
-    """The largest of 1, 2, 5 times a power of ten that is at most `value` (> 0)."""
+def nice_below(value, steps=(1, 2, 5)):
+    """The largest of `steps` (1, 2, 5) times a power of ten that is at most `value` (> 0)."""
     power = 10.0 ** math.floor(math.log10(value))
-    return max(m * power for m in (1, 2, 5) if m * power <= value * (1 + 1e-12))
+    return max(m * power for m in steps if m * power <= value * (1 + 1e-12))
 
 
 def font_size(size, small=False):
@@ -574,5 +749,6 @@ def _demo(pygame, plan, speed, size, signals, clock, log):
         failure = orchestration.failure_of(err, plan)
     steps = window.run.index if window else 0
     written = f"; {orchestration.written(plan)} in {plan.out}/" if output else ""
+    done = f"simulator.py: {steps} steps ({steps * scene.h:.2f} s) in the window{written}"
     return orchestration.end(plan, signals, folder, [output.track] if output else [], output and output.frame_log,
-                             failure, log, f"simulator.py: {steps} steps ({steps * scene.h:.2f} s) in the window{written}")
+                             failure, log, done)

@@ -1,0 +1,118 @@
+"""The live window's Newton view (key n): one node of the iterate and the slope magnified together,
+so that what is drawn where is what Algorithm 4 computed, at the impact (where the CCD bound cuts
+the step) and in the halving demo (`--h 0.03`, step 18, README's Live demo)."""
+import numpy as np
+import pytest
+
+import BarrierEnergy
+import simulator
+from viewer import window
+
+SIZE = 652      # the window's default side on a 1024x768 projector
+
+
+def paused_at(overrides, step, iteration, size=SIZE):
+    """A LiveWindow paused in `step` (counted from 1, as on screen) after `iteration` presses of n,
+    drawn once."""
+    scene = simulator.build_scene(**overrides)
+    pg = window.open_display()
+    w = window.LiveWindow(pg, pg.display.set_mode((size, size)), scene, 1000)
+    w.playing = False
+    for _ in range(step - 1):
+        w.run.step()
+    for _ in range(iteration):
+        assert w.run.newton_iteration() is None
+    w.draw()
+    return w
+
+
+def side(a, b, q):
+    """Which side of the line through pixels a and b the pixel q is on: the sign of (b - a) x (q - a)."""
+    return np.sign((b[0] - a[0]) * (q[1] - a[1]) - (b[1] - a[1]) * (q[0] - a[0]))
+
+
+# the impact's steps, where the CCD bound cuts the step (alpha_CCD = 0.71, 0.59, 0.41)
+IMPACT = [({}, 30, 1), ({}, 31, 1), ({}, 32, 1)]
+# the halving demo, step 18: alpha = alpha_CCD / 4, / 2, / 2, / 4 in iterations 4 to 7
+HALVING = [({"h": 0.03}, 18, i) for i in (4, 5, 6, 7)]
+
+
+@pytest.mark.parametrize("overrides, step, iteration", IMPACT)
+def test_each_marker_is_drawn_on_the_side_of_the_slope_its_point_is_on(overrides, step, iteration):
+    """In the inset's pixels, x^i, x^i + p, x^i + alpha_CCD p and x^i + alpha p lie on the same side
+    of the slope's drawn line as the computed points lie of the slope (d > 0 above, d < 0 below)."""
+    w = paused_at(overrides, step, iteration)
+    inset, scene = w.inset, w.scene
+    assert inset.slope is not None
+    a, b = inset.slope
+    above = side(a, b, inset.view(scene.o + scene.n))          # a point 1 m above the slope
+    d = {name: float(BarrierEnergy.distances(point[None], scene.n, scene.o)[0])
+         for name, point in inset.points.items()}
+    for name, marker in inset.markers.items():
+        assert (side(a, b, marker) == above) == (d[name] > 0.0), name
+    assert d["x^i"] > 0.0 and d["x^i + alpha_CCD p"] > 0.0 and d["x^i + alpha p"] > 0.0
+    assert d["x^i + p"] < 0.0 and w.run.iterate.alpha_ccd < 1.0     # the full step would cross the slope
+
+
+@pytest.mark.parametrize("overrides, step, iteration", IMPACT[:1] + HALVING)
+def test_the_inset_magnifies_the_view_not_the_vectors(overrides, step, iteration):
+    """Every marker is its point seen through one view, `magnification` times the window's scale
+    (1, 2, 3 or 5 times a power of ten, on screen in the inset's title): the distances between them
+    are alpha p at that scale, and p is at least a quarter of the inset long. The node is the one whose
+    CCD bound is alpha_CCD, or where the CCD does not cut the step, the one nearest the slope. Where
+    the slope is too far to frame with p (the halving demo), the inset leaves it out and says how far
+    it is."""
+    w = paused_at(overrides, step, iteration)
+    inset, it, scene = w.inset, w.run.iterate, w.scene
+    scale = inset.view.scale
+    assert scale == pytest.approx(inset.magnification * w.view.scale, rel=1e-12)
+    mantissa = inset.magnification / 10.0 ** np.floor(np.log10(inset.magnification))
+    assert round(mantissa, 9) in window.ZOOMS and f"x{inset.magnification:g}" in inset.title
+    k = inset.node
+    for name, alpha in (("x^i + p", 1.0), ("x^i + alpha_CCD p", it.alpha_ccd), ("x^i + alpha p", it.alpha)):
+        offset = inset.markers[name] - inset.markers["x^i"]
+        assert offset == pytest.approx(alpha * it.p[k] * [scale, -scale], abs=1e-6), name
+    width, height = inset.rect[2:]
+    for name, marker in inset.markers.items():
+        assert 0 <= marker[0] <= width and 0 <= marker[1] <= height, name
+    assert np.hypot(*(inset.markers["x^i + p"] - inset.markers["x^i"])) >= min(width, height) / 4
+    if it.alpha_ccd < 1.0:
+        alone = BarrierEnergy.init_step_size_kernel(it.x[k:k + 1], scene.n, scene.o, it.p[k:k + 1])
+        assert alone == it.alpha_ccd and inset.why == "sets alpha_CCD"
+    else:
+        assert k == np.argmin(BarrierEnergy.distances(it.x, scene.n, scene.o)) and inset.why == "nearest the slope"
+    if inset.slope is None:
+        assert inset.distance > window.SLOPE_REACH * np.hypot(*it.p[k])
+
+
+@pytest.mark.parametrize("overrides, step, iteration", IMPACT[:1] + HALVING[:1])
+def test_the_whole_window_carries_no_position_markers(overrides, step, iteration):
+    """The green dots (x^i + alpha p) are drawn in the inset only; the window's red arrows remain,
+    as the direction of p at each node."""
+    import pygame
+    w = paused_at(overrides, step, iteration)
+    pixels = pygame.surfarray.array3d(w.screen)                     # [x, y, rgb]
+    green = np.all(pixels == window.GREEN, axis=2)
+    left, top, width, height = w.inset.rect
+    inside = green[left:left + width, top:top + height].sum()
+    assert inside > 0 and inside == green.sum()
+    red = np.all(pixels == window.RED, axis=2)
+    red[left:left + width, top:top + height] = False
+    assert red.sum() > 100
+
+
+def test_an_iterate_that_does_not_move_is_drawn_too():
+    """At rest with no force (no gravity, no slope) Newton's first direction is p = 0: the window
+    draws it (no arrows, the markers all on x^i) instead of failing."""
+    w = paused_at({"slope": None, "gravity": (0.0, 0.0)}, 1, 1)
+    it, inset = w.run.iterate, w.inset
+    assert not it.p.any() and inset.magnification == window.MAX_ZOOM
+    assert all(np.array_equal(marker, inset.markers["x^i"]) for marker in inset.markers.values())
+
+
+@pytest.mark.parametrize("size", [window.MIN_SIZE, 900])
+def test_the_inset_fits_the_window_at_any_size(size):
+    """From the smallest window to a large one: the inset lies inside the window, under the text."""
+    w = paused_at({}, 30, 1, size)
+    left, top, width, height = w.inset.rect
+    assert 0 <= left and left + width <= size and 0 < top and top + height <= size
