@@ -98,7 +98,7 @@ def build_scene(**overrides):
     utils.check_start(p, DEFAULTS, x, n, o, d)
 
     diff = x[e[:, 0]] - x[e[:, 1]]
-    total_mass = p["mass"] if p["mass"] is not None else p["rho"] * p["side_len"] ** 2
+    total_mass = utils.total_mass(p)                            # mass, or rho side_len^2
     terms = ["inertia", "spring"] + ["gravity"] * any(p["gravity"])
     if n is not None:
         terms += ["barrier"] + ["friction"] * (p["mu"] > 0.0)

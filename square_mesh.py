@@ -89,9 +89,11 @@ def write_atomic(path, data):
             f.write(data.encode() if isinstance(data, str) else data)
             os.fchmod(f.fileno(), 0o666 & ~_umask())     # mkstemp makes 0600; use the usual mode
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as err:
         if os.path.exists(tmp):
             os.remove(tmp)
+        if isinstance(err, OSError) and not err.filename:     # a failed write (ENOSPC) names no file: this one
+            raise OSError(err.errno, err.strerror, path) from err
         raise
 
 

@@ -183,6 +183,12 @@ def check_params(defaults, aliases, overrides):
     return p
 
 
+def total_mass(p):
+    """The scene's total mass M, kg: `mass` where given, else rho side_len^2 (a product: inf, never an
+    OverflowError, for a size beyond float64)."""
+    return p["mass"] if p["mass"] is not None else p["rho"] * p["side_len"] * p["side_len"]
+
+
 def physical_memory():
     """This machine's physical memory in bytes, or None where the OS does not say."""
     try:
@@ -217,7 +223,7 @@ def _culprit(p, defaults, powers):
     lecture's scene: the largest exponent * log10(size / lecture's size) (1 for a zero vector)."""
     def size(name, of):
         if name == "mass":
-            return of["mass"] if of["mass"] is not None else of["rho"] * of["side_len"] ** 2
+            return total_mass(of)
         return float(np.hypot(*of[name])) if np.ndim(of[name]) else abs(of[name])
     def push(name):
         return powers[name] * math.log10(max(size(name, p), 1e-300) / (size(name, defaults) or 1.0))
@@ -232,7 +238,7 @@ def check_start(p, defaults, x, n, o, d):
     coordinates' round-off; or a node within round-off of the slope (d from BarrierEnergy.distances)."""
     h, k, v, g = p["h"], p["k"], math.hypot(*p["v0"]), math.hypot(*p["gravity"])
     Mp = {"mass": 1} if p["mass"] is not None else {"rho": 1, "side_len": 2}
-    M = p["mass"] if p["mass"] is not None else p["rho"] * p["side_len"] * p["side_len"]
+    M = total_mass(p)
     l, D, X = p["side_len"] / p["n_seg"], v * h + g * h * h, float(np.abs(x).max())
     scales = [("the total mass M", M, Mp), ("the kinetic energy 1/2 M |v0|^2", 0.5 * M * v * v, {**Mp, "v0": 2}),
               ("the first step's inertia term 1/2 M (|v0| h + |g| h^2)^2", 0.5 * M * D * D,
@@ -294,11 +300,12 @@ def scene_warnings(p, x, n, d):
        lowers E by about m (h r)^2, which drowns in E's rounding eps E_scale, E_scale = h^2 M |g| (max|x| +
        side_len) (2.9e-7 m/s estimated on the lecture's scene, stalls measured at 1e-7 to 2.1e-7)."""
     warnings, h, v, g = [], p["h"], math.hypot(*p["v0"]), math.hypot(*p["gravity"])
-    if v * h + g * h * h > p["side_len"]:
+    travel = v * h + g * h * h
+    if travel > p["side_len"]:
         largest = 2.0 * p["side_len"] / (v + math.hypot(v, 2.0 * math.sqrt(g * p["side_len"])))
         exact = decimal.Decimal(largest)
         rounded = exact.quantize(decimal.Decimal(1).scaleb(exact.adjusted() - 2), rounding=decimal.ROUND_FLOOR)
-        warnings.append(f"time step h = {h:g} s moves the square {v * h + g * h * h:.3g} m per step, more than its "
+        warnings.append(f"time step h = {h:g} s moves the square {travel:.3g} m per step, more than its "
                         f"size {p['side_len']:g} m: impacts are not resolved in time (results are qualitative "
                         f"only; use h <= {rounded.normalize():g} s)")
     if n is not None and p["mu"] > 0:
@@ -309,7 +316,7 @@ def scene_warnings(p, x, n, d):
             warnings.append(f"the square starts at rest on the slope and should slide at {slide:.3g} m/s^2, gaining "
                             f"{slide * h:.3g} m/s per step, less than tol = {p['tol']:g} m/s: Newton may stop "
                             f"before it leaves static friction (use tol <= {slide * h / 10:.2g})")
-    M = p["mass"] if p["mass"] is not None else p["rho"] * p["side_len"] ** 2
+    M = total_mass(p)
     reach = float(np.abs(x).max()) + p["side_len"]
     floor = max(math.sqrt(EPS * h * h * M * g * reach / (M / len(x))), EPS * reach) / h
     if p["tol"] < floor:

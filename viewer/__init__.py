@@ -1,4 +1,10 @@
-"""What a run of simulator.py writes and shows, apart from the physics (which stays in the flat files).
+"""The command line and what a run of simulator.py writes and shows, apart from the physics (which
+stays in the flat files). Imports point down: viewer -> simulator -> time_integrator -> energies -> utils.
+
+    startup.py      `python simulator.py` before numpy loads: one BLAS thread, Ctrl+C in one line
+    cli.py          the command line: flags, comparisons by lists, one-line errors (exit code 2)
+    run.py          a run to files: its plan, signals (Signals, Stopped), the last pictures and its one
+                    closing line and exit code (run.end, shared with the window)
 
     diagnostics.py  what a state says beyond the solver's report: contact speeds, sticking and
                     sliding nodes, the contact forces (from the energies' public functions), inverted cells

@@ -149,10 +149,7 @@ class OutputFolder:
         """Write the file `name` whole (text or bytes), its signals held until it is."""
         with self.signals.held():
             self._own(name)
-            try:
-                square_mesh.write_atomic(self.path(name), data)
-            except OSError as err:          # a failed write (ENOSPC) names no file: this one
-                raise OSError(err.errno, err.strerror, err.filename or self.path(name)) from err
+            square_mesh.write_atomic(self.path(name), data)
 
     def open_log(self, name, header):
         """A new LineFile `name`, starting with `header`."""
