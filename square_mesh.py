@@ -3,8 +3,6 @@
 Node i*(n_seg+1) + j sits at (-side_len/2 + i*side_len/n_seg, -side_len/2 + j*side_len/n_seg), the
 lecture's order. Springs: horizontal, then vertical, then both diagonals of every cell.
 """
-import os
-import tempfile
 
 import numpy as np
 
@@ -72,31 +70,3 @@ def obj_text(x, n_seg):
     # one C-level format call per block of lines, no Python loop over nodes or faces
     vertices = ("v %.6f %.6f 0.0\n" * len(x)) % tuple(x.ravel().tolist())
     return vertices + ("f %d %d %d\n" * len(faces)) % tuple(faces.ravel().tolist())
-
-
-def _umask():
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
-
-
-def write_atomic(path, data):
-    """Write text or bytes to `path` whole: into a temporary file beside it, then rename over it."""
-    folder = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(dir=folder, prefix=".tmp-", suffix=os.path.basename(path))
-    try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(data.encode() if isinstance(data, str) else data)
-            os.fchmod(f.fileno(), 0o666 & ~_umask())     # mkstemp makes 0600; use the usual mode
-        os.replace(tmp, path)
-    except BaseException as err:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        if isinstance(err, OSError) and not err.filename:     # a failed write (ENOSPC) names no file: this one
-            raise OSError(err.errno, err.strerror, path) from err
-        raise
-
-
-def write_obj(path, x, n_seg):
-    """Write one frame as an OBJ file, atomically (no half-written file is ever left)."""
-    write_atomic(path, obj_text(x, n_seg))

@@ -22,9 +22,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-import square_mesh
 import time_integrator
 from benchmarks import cases, plot
+from viewer import files
 
 HS = (0.04, 0.02, 0.01, 0.005, 0.0025)
 QUICK_HS = (0.04, 0.02)
@@ -197,7 +197,7 @@ def write_csv(path, rows):
     writer.writeheader()
     for row in rows:
         writer.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in row.items()})
-    square_mesh.write_atomic(path, buffer.getvalue())
+    files.write_atomic(path, buffer.getvalue())
 
 
 TOL_COLORS = {1e-2: (214, 39, 40), 1e-4: (31, 119, 180), 1e-6: (44, 160, 44)}

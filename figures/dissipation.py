@@ -6,7 +6,6 @@ import numpy as np
 
 import simulator
 from figures.page import RED, Page
-from viewer.diagnostics import friction_forces
 from viewer.draw import run_color
 
 MUS = (0.1, 0.11, 0.2)      # the lecture's mu comparison; mu = 0.11 is the default scene
@@ -20,11 +19,11 @@ def power(scene, steps):
     -mu lambda_k f1(|u_k|) / |u_k| u_k (t . d_k) with u_k = t . d_k / h: <= 0 in exact arithmetic. In
     float64 a dot product of 2N products is off by at most 2N eps sum |F_k,i d_k,i| (Higham, Accuracy and
     Stability of Numerical Algorithms, 3.1), and F_k and u_k carry a few roundings each: a computed
-    P above bound = (2N + 8) eps sum_k |F_k| |d_k| / h is physics, not round-off. F is the lagged force
-    (mu lambda^n at x^n) that the step used when friction_updates is 0."""
+    P above bound = (2N + 8) eps sum_k |F_k| |d_k| / h is physics, not round-off. F is the step's own
+    friction force (StepReport.friction_force: mu lambda^n at x^n when friction_updates is 0)."""
     t, P, bound, x_n = [], [], [], scene.x0
     for record in simulator.simulate(scene, steps):
-        F, d = friction_forces(scene, x_n, record.x), record.x - x_n
+        F, d = record.report.friction_force, record.x - x_n
         t.append(record.t)
         P.append(record.report.friction_work / scene.h)
         bound.append((2 * len(d) + 8) * np.finfo(float).eps * np.hypot(*F.T) @ np.hypot(*d.T) / scene.h)

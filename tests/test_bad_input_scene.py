@@ -126,9 +126,10 @@ def test_failure_mid_run_keeps_every_file_whole(tmp_path):
     rows = (out / "log.csv").read_text().splitlines()
     completed = len(rows) - 2                       # the header and the t = 0 row
     assert 0 < completed < 60 and f"{completed} steps kept" in failure[0]
+    assert f"step {completed + 1}: Newton did not converge" in failure[0]      # log.csv's numbering
     assert all(len(r.split(",")) == len(rows[0].split(",")) for r in rows)
     files = set(os.listdir(out))
     assert {f"frame_{i:05d}.png" for i in range(completed + 1)} <= files
     assert {f"frame_{i:05d}.obj" for i in range(completed + 1)} <= files
     assert f"frame_{completed + 1:05d}.png" not in files and "summary.png" in files
-    assert not [f for f in files if f.startswith(".") and f != viewer.files.MANIFEST]
+    assert not [f for f in files if f.startswith(".") and f not in viewer.files.OWN]

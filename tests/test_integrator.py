@@ -11,7 +11,7 @@ import simulator
 import time_integrator
 import utils
 from fd import assert_close, dense, fd_gradient
-from viewer import diagnostics
+from viewer import diagnostics, recording
 
 DATA = os.path.join(os.path.dirname(__file__), "data")
 
@@ -225,8 +225,8 @@ def test_an_uphill_direction_fails_the_line_search(monkeypatch):
     monkeypatch.setattr(time_integrator, "search_dir", lambda *args: -original(*args))
     with pytest.raises(time_integrator.LineSearchFailed) as info:
         time_integrator.step(scene, scene.x0, scene.v0, step_index=7)
-    assert info.value.step == 7 and info.value.figures["directional_derivative"] > 0
-    assert "step 7" in str(info.value)
+    assert info.value.step == 8 and info.value.figures["directional_derivative"] > 0    # log.csv's step 8
+    assert "step 8:" in str(info.value)
 
 
 def test_a_tolerance_below_round_off_stops_at_the_floor_and_says_so():
@@ -404,3 +404,27 @@ def test_a_body_at_rest_in_equilibrium_stays_put():
     # exact: x = x_tilde and every spring at the rest length build_scene measured with the same operations,
     # so grad E is 0.0 to the bit and p = H^-1 0 = 0 whatever the BLAS kernel
     assert report.residual == 0.0 and not report.stalled
+
+
+def test_the_steps_friction_force_is_the_one_its_last_friction_update_gives():
+    """Algorithm 5 re-solves the impact with lambda of the new iterate: the step's friction force (the
+    report's, which log.csv's W_friction, the arrows and the page use) is -grad P_f with mu*lambda at
+    x^{n+1}, not the lagged mu*lambda^n, and the work is that force times the displacement."""
+    scene = simulator.build_scene(friction_updates=5)
+    x_n = scene.x0
+    for record in simulator.simulate(scene, 60):
+        if record.report.friction_updates > 0:
+            break
+        x_n = record.x
+    report, x = record.report, record.x
+    assert report.friction_updates > 0
+    v, args = (x - x_n) / scene.h, (scene.n, scene.o, scene.contact_area, scene.mu, scene.dhat, scene.kappa)
+    mu_lambda_end, mu_lambda_n = BarrierEnergy.compute_mu_lambda(x, *args), BarrierEnergy.compute_mu_lambda(x_n, *args)
+    expected = -FrictionEnergy.grad(v, mu_lambda_end, scene.h, scene.n, scene.epsv)
+    lagged = -FrictionEnergy.grad(v, mu_lambda_n, scene.h, scene.n, scene.epsv)
+    scale = np.abs(expected).max()
+    assert np.abs(report.friction_force - expected).max() <= 1e-12 * scale        # the same formula
+    assert np.abs(lagged - expected).max() > 0.01 * scale                          # lambda did change
+    assert report.friction_work == pytest.approx(float(np.vdot(expected, x - x_n)), rel=1e-12)
+    drawn = recording.frame_run(scene, x, report, "run", (0, 0, 0), forces=True)["friction"]
+    assert drawn is report.friction_force

@@ -32,7 +32,7 @@ def log_steps(path):
 
 def leftovers(folder):
     """Temporary files left in the folder (names starting with '.', but the manifest)."""
-    return [name for name in os.listdir(folder) if name.startswith(".") and name != files.MANIFEST]
+    return [name for name in os.listdir(folder) if name.startswith(".") and name not in files.OWN]
 
 
 # ---- a run owns its files ---------------------------------------------------------------------------
@@ -125,15 +125,15 @@ def test_a_signal_while_pygame_loads_ends_the_run_in_one_line(tmp_path, monkeypa
 def test_a_signal_while_a_frame_is_written_keeps_every_file_whole(tmp_path, monkeypatch, signum, code):
     """The frame being written is finished, whole; no temporary is left; the steps kept are the last
     step in log.csv, and the last pictures are written for them."""
-    real = square_mesh.write_atomic
+    real = files.write_temporary
     calls = []
 
     def write(path, data):
         calls.append(path)
         if len(calls) == 7:                     # frame 3's PNG: the signal arrives as it is written
             os.kill(os.getpid(), signum)
-        real(path, data)
-    monkeypatch.setattr(square_mesh, "write_atomic", write)
+        return real(path, data)
+    monkeypatch.setattr(files, "write_temporary", write)
     status, lines = main("--steps", "300", "--frame-stride", "1", "--out", str(tmp_path))
     assert status == code and lines[-1].startswith("simulator.py: stopped: "), lines
     steps = log_steps(tmp_path / "log.csv")

@@ -30,7 +30,7 @@ def test_twenty_steps_write_frames_objs_csv_and_summary(tmp_path):
         [f"frame_{i:05d}.png" for i in range(21)]
     assert len([f for f in files if f.endswith(".obj")]) == 21
     assert "summary.png" in files and "log.csv" in files
-    assert not [f for f in files if f.startswith(".") and f != viewer.files.MANIFEST]     # no temporaries left
+    assert not [f for f in files if f.startswith(".") and f not in viewer.files.OWN]     # no temporaries left
     with open(out / "log.csv") as f:
         rows = list(csv.DictReader(f))
     assert len(rows) == 21 and set(viewer.log.COLUMNS) <= set(rows[0])           # t = 0 and 20 steps
@@ -78,7 +78,7 @@ def test_flags_reach_the_scene():
     assert scene.epsv == 1e-4 and scene.tol == 1e-3 and scene.friction_updates == 3
     assert np.allclose(scene.n, [np.sin(np.radians(10)), np.cos(np.radians(10))])
     assert np.allclose(scene.v0, [1.0, -2.0])
-    assert cli.steps_from_args(args, scene) == 600                  # 3 s default duration
+    assert cli.steps_from_args(args, scene) == round(cli.DURATION / 0.005)      # the default duration
     no_slope = cli.scene_from_args(cli.parse_command_line(["--no-slope"])[0])
     assert no_slope.n is None and "barrier" not in no_slope.terms
 

@@ -159,12 +159,12 @@ def test_forces_are_the_energies_forces_at_rest():
     forces carry its weight, sum lambda_k = M g, and friction is zero without tangential motion."""
     scene = simulator.build_scene(slope=(0.0, 1.0), slope_point=(0.0, -0.505), k=1e7)
     records = list(simulator.simulate(scene, 200))
-    x_n, x = records[-2].x, records[-1].x
+    x = records[-1].x
     normal = diagnostics.normal_forces(scene, x)
     weight = scene.m.sum() * 9.81
     assert normal[:, 1].sum() == pytest.approx(weight, rel=0.02)      # at rest within Newton's tolerance
     assert np.allclose(normal[:, 0], 0.0)
-    assert np.abs(diagnostics.friction_forces(scene, x_n, x)).max() < 1e-6 * weight
+    assert np.abs(records[-1].report.friction_force).max() < 1e-6 * weight
 
 
 def test_a_rerun_removes_only_the_files_of_an_earlier_run(tmp_path):
@@ -223,6 +223,31 @@ def page_data(folder):
     return json.loads(re.search(r"const run = (\{.*\});", text).group(1))
 
 
+def rest_from_log(rows):
+    """t of the first row from which every row has contacts, all of them sticking; None if the last
+    row does not: when the run came to rest, read off log.csv."""
+    resting = [int(r["contacts_sticking"]) > 0 and int(r["contacts_sliding"]) == 0 for r in rows]
+    if not resting[-1]:
+        return None
+    first = len(resting) - resting[::-1].index(False) if False in resting else 0
+    return float(rows[first]["t"])
+
+
+@pytest.mark.parametrize("duration", ["0.3", "0.05"])
+def test_the_closing_line_and_the_page_say_when_the_square_came_to_rest(tmp_path, duration):
+    """Slid onto flat ground at 0.3 m/s with mu = 0.3, the square stops within 0.3 s; after 0.05 s it
+    still slides. The closing line and the page's data give the time log.csv gives."""
+    code, lines = run_main("--slope-normal", "0,1", "--slope-point", "0,-0.505", "--v0", "0.3,0", "--mu", "0.3",
+                           "--k", "1e5", "--duration", duration, "--frame-stride", "5", "--out", str(tmp_path))
+    assert code == 0, lines
+    rest = rest_from_log(read_csv(tmp_path / "log.csv"))
+    if duration == "0.3":
+        assert rest is not None and 0.0 < rest < 0.2 and f"; the square came to rest at t = {rest:.2f} s;" in lines[-1]
+    else:
+        assert rest is None and "; the square still sliding at t = 0.05 s;" in lines[-1]
+    assert page_data(tmp_path)["rest"] == [rest]
+
+
 def test_page_lists_every_frame_with_its_figures(default_run):
     out, _ = default_run
     data = page_data(out)
@@ -260,7 +285,7 @@ def test_list_syntax():
     runs = cli.parse_command_line(["--k", "2e4,1e5"])
     assert [r.k for r in runs] == [2e4, 1e5] and [r.tag for r in runs] == ["k2e4", "k1e5"]
     plan = cli.plan_from_args(runs)
-    assert plan.steps == [round(cli.COMPARISON_DURATION / 0.01)] * 2 and plan.labels == ["k = 2e4", "k = 1e5"]
+    assert plan.steps == [round(cli.DURATION / 0.01)] * 2 and plan.labels == ["k = 2e4", "k = 1e5"]
     runs = cli.parse_command_line(["--v0=1,0;2,-1", "--steps", "5"])
     assert [r.v0 for r in runs] == [(1.0, 0.0), (2.0, -1.0)] and [r.steps for r in runs] == [5, 5]
     assert [r.tag for r in runs] == ["v0_1_0", "v0_2_-1"]
@@ -287,11 +312,15 @@ def test_the_lectures_comparison_in_one_command(tmp_path):
     last_sliding = {}
     for mu in ("0.1", "0.11", "0.2"):
         rows = read_csv(tmp_path / f"log_mu{mu}.csv")
-        assert float(rows[-1]["t"]) == cli.COMPARISON_DURATION
+        assert float(rows[-1]["t"]) == cli.DURATION
         last_sliding[mu] = max(float(r["t"]) for r in rows if int(r["contacts_sliding"]) > 0)
-    assert last_sliding["0.1"] == cli.COMPARISON_DURATION
-    assert 3.0 < last_sliding["0.11"] < cli.COMPARISON_DURATION - 0.2
+    assert last_sliding["0.1"] == cli.DURATION
+    assert 3.0 < last_sliding["0.11"] < cli.DURATION - 0.2
     assert last_sliding["0.2"] < last_sliding["0.11"]
+    rest = {mu: rest_from_log(read_csv(tmp_path / f"log_mu{mu}.csv")) for mu in ("0.1", "0.11", "0.2")}
+    assert rest["0.1"] is None and "mu = 0.1: still sliding at t = 6.00 s" in lines[-1]
+    for mu in ("0.11", "0.2"):
+        assert rest[mu] == pytest.approx(last_sliding[mu] + 0.01) and f"mu = {mu}: came to rest at t = {rest[mu]:.2f} s" in lines[-1]
 
 
 # ------------------------------------------------------------------------------------------------
@@ -358,7 +387,7 @@ def test_a_full_disk_is_one_line_exit_1_and_keeps_what_was_written(tmp_path, mon
 
 
 def test_a_log_row_that_cannot_be_written_whole_is_cut_back(tmp_path, monkeypatch):
-    log = viewer.log.LineFile(str(tmp_path / "log.csv"), ",".join(viewer.log.COLUMNS))
+    log = viewer.files.LineFile(str(tmp_path / "log.csv"), ",".join(viewer.log.COLUMNS))
     size = os.path.getsize(tmp_path / "log.csv")
     real = os.write
 

@@ -91,7 +91,7 @@ def run_window(argv, **kw):
 
 def hidden(folder):
     """The folder's names starting with '.' but the manifest: temporary files left over."""
-    return [p.name for p in folder.iterdir() if p.name.startswith(".") and p.name != files.MANIFEST]
+    return [p.name for p in folder.iterdir() if p.name.startswith(".") and p.name not in files.OWN]
 
 
 def read_log(folder):
@@ -158,8 +158,8 @@ def test_the_window_writes_the_files_a_run_without_it_writes(tmp_path):
         patch.setattr(window.LiveWindow, "loop", loop)
         assert run_window(["--window", *flags, "--out", str(windowed)], clock=clock) == 0
     assert cli.main([*flags, "--out", str(plain)]) == 0
-    names = sorted(p.name for p in plain.iterdir() if p.name != files.MANIFEST)
-    assert sorted(p.name for p in windowed.iterdir() if p.name != files.MANIFEST) == names and len(names) == 2 * 8 + 4
+    names = sorted(p.name for p in plain.iterdir() if p.name not in files.OWN)
+    assert sorted(p.name for p in windowed.iterdir() if p.name not in files.OWN) == names and len(names) == 2 * 8 + 4
     drop_wall = [{k: v for k, v in r.items() if k != "wall_s"} for r in read_log(plain)]
     assert [{k: v for k, v in r.items() if k != "wall_s"} for r in read_log(windowed)] == drop_wall
     for name in names:

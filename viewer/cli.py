@@ -16,8 +16,7 @@ import utils
 from viewer import run
 
 DEFAULT_OUT = "output"      # the output folder without --out
-DEFAULT_DURATION = 3.0      # s
-COMPARISON_DURATION = 6.0   # s: a comparison's default, long enough to see mu = 0.11 stop (about 5.5 s)
+DURATION = 6.0      # s, a run's and a comparison's: long enough to see mu = 0.11 come to rest (about 5.5 s)
 FRAMES_PER_SECOND = 30      # at least this many frames per simulated second by default
 
 # (flags, scene parameter, what it is, metavar): every flag that sets a scene parameter
@@ -81,7 +80,7 @@ def make_parser():
         "contact, semi-implicit friction) and write into a folder: index.html, a page that plays the run; "
         "PNG frames and OBJ meshes; log.csv; plots.png and summary.png. Compare runs by giving one scene "
         "flag a list: comma-separated values, or ';'-separated pairs, e.g. --mu 0.1,0.11,0.2 (the lecture's "
-        f"comparison; {COMPARISON_DURATION:g} s unless --duration or --steps says otherwise)."))
+        f"comparison; {DURATION:g} s unless --duration or --steps says otherwise)."))
     g = ap.add_argument_group("scene (the lecture's numbers by default)")
     for flags, param, what, metavar in SCENE_FLAGS:
         shown = (",".join(f"{v:g}" for v in d[param]) if isinstance(d[param], tuple) else
@@ -93,7 +92,7 @@ def make_parser():
     g.add_argument("--no-slope", action="store_true", help="free fall: no slope, no contact")
     r = ap.add_argument_group("run and output")
     r.add_argument("--duration", type=float, metavar="SECONDS",
-                   help=f"simulated seconds (default {DEFAULT_DURATION:g}; a comparison {COMPARISON_DURATION:g})")
+                   help=f"simulated seconds (default {DURATION:g})")
     r.add_argument("--steps", type=float, metavar="N", help="number of time steps, instead of --duration")
     r.add_argument("--out", metavar="FOLDER", help=f"output folder (default {DEFAULT_OUT}; with --window, "
                    f"files only when given)")
@@ -185,13 +184,13 @@ def scene_from_args(args):
     return simulator.build_scene(**overrides)
 
 
-def steps_from_args(args, scene, comparison=False):
-    """--steps, or --duration (default DEFAULT_DURATION, COMPARISON_DURATION for a comparison) in steps of h."""
+def steps_from_args(args, scene):
+    """--steps, or --duration (default DURATION) in steps of h."""
     if args.steps is not None:
         if args.duration is not None:
             raise CommandLineError("--duration and --steps both set the run's length; give one")
         return utils.check_whole("steps", args.steps, 1)
-    duration = args.duration if args.duration is not None else COMPARISON_DURATION if comparison else DEFAULT_DURATION
+    duration = args.duration if args.duration is not None else DURATION
     duration = utils.check_positive("duration", duration)
     if duration < scene.h:
         raise ValueError(f"duration {duration:g} s is shorter than one time step h = {scene.h:g} s")
@@ -222,7 +221,7 @@ def plan_from_args(runs):
     out = args.out if args.out is not None or args.window else DEFAULT_OUT
     return run.Plan(scenes=scenes, labels=[a.label or f"mu = {s.mu:g}" for a, s in zip(runs, scenes)],
                     tags=[a.tag for a in runs],
-                    steps=[steps_from_args(a, s, comparison=len(runs) > 1) for a, s in zip(runs, scenes)],
+                    steps=[steps_from_args(a, s) for a, s in zip(runs, scenes)],
                     out=out, stride=frame_stride(args, scenes), frames=not args.no_frames, forces=not args.no_forces)
 
 

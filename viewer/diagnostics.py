@@ -63,17 +63,6 @@ def normal_forces(scene, x):
     return lam[:, None] * scene.n
 
 
-def friction_forces(scene, x_n, x_next):
-    """The friction force of the step x^n -> x^{n+1} at every node (N, 2): -grad P_f at
-    v = (x^{n+1} - x^n) / h with the lagged mu lambda^n of x^n (zero away from contact or with mu = 0)."""
-    if "friction" not in scene.terms:
-        return np.zeros_like(x_next)
-    mu_lambda = BarrierEnergy.compute_mu_lambda(x_n, scene.n, scene.o, scene.contact_area, scene.mu,
-                                                scene.dhat, scene.kappa)
-    v = (x_next - x_n) / scene.h
-    return -FrictionEnergy.grad(v, mu_lambda, scene.h, scene.n, scene.epsv)
-
-
 def signed_areas(x, triangles):
     """Twice the signed area of each triangle (a, b, c): (b - a) x (c - a); > 0 as the mesh is built."""
     a, b, c = x[triangles[:, 0]], x[triangles[:, 1]], x[triangles[:, 2]]

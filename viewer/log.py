@@ -2,10 +2,8 @@
 
 Each row goes to the file in one write before that step's frame is saved, so the file is never more
 than one row (or one frame stride) ahead of the frames on disk and never holds half a row: a write
-that fails part way (a full disk) is cut back to the last whole row (LineFile).
+that fails part way (a full disk) is cut back to the last whole row (viewer.files.LineFile).
 """
-import os
-
 COLUMNS = ["step", "t", "wall_s", "com_x", "com_y", "v_tangential", "newton_iterations", "residual",
            "newton_stalled", "alpha_min", "line_search_steps", "min_distance", "friction_updates", "friction_converged",
            "contacts_sticking", "contacts_sliding", "inverted_triangles", "E_kinetic", "E_gravity", "E_spring",
@@ -26,36 +24,3 @@ def row(sample):
                      f"{s.v_tangential:.9f}"] + solver + [str(s.sticking), str(s.sliding), str(s.inverted)]
                     + [f"{E[k]:.9g}" for k in ("kinetic", "gravity", "spring", "barrier", "total")]
                     + [f"{s.friction_work:.9g}", f"{s.numerical_dissipation:.9g}"])
-
-
-class LineFile:
-    """A text file created new (never over another file, never through a symbolic link), then written
-    one whole line at a time, each at once: a write that fails part way (a full disk, a signal) is cut
-    back to the last whole line."""
-
-    def __init__(self, path, header):
-        self.path = path
-        self.fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o666)
-        self.size = 0
-        try:
-            self.append(header)
-        except BaseException:           # (a full disk) the file it created, empty: gone again
-            self.close()
-            os.remove(path)
-            raise
-
-    def append(self, line):
-        data = (line + "\n").encode()
-        try:
-            written = 0
-            while written < len(data):
-                written += os.write(self.fd, data[written:])
-        except BaseException as err:
-            os.ftruncate(self.fd, self.size)
-            if isinstance(err, OSError) and not err.filename:       # a failed write names no file: this one
-                raise OSError(err.errno, err.strerror, self.path) from err
-            raise
-        self.size += len(data)
-
-    def close(self):
-        os.close(self.fd)

@@ -80,6 +80,8 @@ function showFigures(frame) {
     rows += "<tr><th>" + name + "</th>" +
       frame[1].map(r => "<td>" + (r[f] === null ? "-" : r[f]) + "</td>").join("") + "</tr>";
   });
+  rows += "<tr><th>came to rest at t (s)</th>" +
+    run.rest.map(t => "<td>" + (t === null ? "not by the end" : t.toFixed(2)) + "</td>").join("") + "</tr>";
   document.getElementById("figures").innerHTML = rows;
 }
 
@@ -123,10 +125,12 @@ play();
 """
 
 
-def page_html(title, labels, frame_log, fps, axis, plot_width, note=""):
+def page_html(title, labels, frame_log, fps, axis, plot_width, note="", rest=None):
     """The page's text: `frame_log` (recording.FrameInfo per frame), `fps` frames per simulated
-    second, `axis` = (left px, right px, t_max) of plots.png's time axis (None: no plots)."""
-    data = {"labels": [html.escape(label) for label in labels], "figures": FIGURES, "fps": fps,
+    second, `axis` = (left px, right px, t_max) of plots.png's time axis (None: no plots), `rest` the
+    time each run came to rest (None: it did not)."""
+    rest = [None if t is None else round(t, 6) for t in (rest or [None] * len(labels))]
+    data = {"labels": [html.escape(label) for label in labels], "figures": FIGURES, "fps": fps, "rest": rest,
             "frames": [[round(f.t, 6), f.runs] for f in frame_log],
             "axis": list(axis) if axis else None, "plotWidth": plot_width}
     plots = ('<div id="plotbox"><img id="plots" src="plots.png" alt="plots of the run">'

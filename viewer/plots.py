@@ -100,6 +100,13 @@ class Axes:
         self.pygame.draw.line(self.surface, color, (LEFT + 1, row), (RIGHT - 1, row), 1)
         self.legend(color, text)
 
+    def vline(self, t, color, text):
+        """A dashed vertical line at time t, with a legend row."""
+        col = int(self.px(t, 1.0)[0])
+        for top in range(self.top + 2, self.bottom - 2, 8):
+            self.pygame.draw.line(self.surface, color, (col, top), (col, min(top + 4, self.bottom - 2)), 2)
+        self.legend(color, text)
+
     def legend(self, color, text):
         self.pygame.draw.rect(self.surface, color, (RIGHT + 12, self.legend_row + 5, 16, 6))
         self.surface.blit(self.font.render(text, True, (0, 0, 0)), (RIGHT + 34, self.legend_row))
@@ -142,6 +149,7 @@ def draw_plots(pygame, tracks):
                   "tangential speed of each contact node (m/s, log): below eps_v it sticks", "|v_t| (m/s)", log=True)
         ax.dots(d["speed_t"], d["speed"], tracks[0].color)
         ax.legend(tracks[0].color, "a contact node")
+        mark_rest(ax, tracks[0], (0, 0, 0))
     else:
         ax = Axes(pygame, surface, font, TOP, t_max, min(d["along"].min() for d in data),
                   max(d["along"].max() for d in data), "displacement of the centre of mass along the slope (m)",
@@ -156,6 +164,8 @@ def draw_plots(pygame, tracks):
             has = ~np.isnan(d["max_speed"])
             ax.dots(d["t"][has], d["max_speed"][has], tr.color)
             ax.legend(tr.color, tr.label)
+        for tr in tracks:
+            mark_rest(ax, tr, tr.color)
     ax.hline(epsv, (200, 0, 0), f"eps_v = {epsv:g} m/s")
     ax = Axes(pygame, surface, font, TOP + 2 * PANEL_HEIGHT, t_max, 0.0,
               max(float(d["newton"].max()) for d in data), "Newton iterations per step", "iterations")
@@ -164,6 +174,12 @@ def draw_plots(pygame, tracks):
         if len(tracks) > 1:
             ax.legend(tr.color, tr.label)
     return surface, (LEFT, RIGHT, t_max)
+
+
+def mark_rest(ax, track, color):
+    """The time the track came to rest (recording.Track.rest_since), dashed, if it did."""
+    if track.rest_since is not None:
+        ax.vline(track.rest_since, color, f"at rest from {track.rest_since:.2f} s")
 
 
 def _energy_panel(pygame, surface, font, top, t_max, d):

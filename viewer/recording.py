@@ -68,9 +68,10 @@ class Track:
         self.label, self.tag, self.color, self.folder = label, tag, color, folder
         self.triangles = diagnostics.mesh_triangles(scene)
         self.tangent = diagnostics.tangent(scene)
-        self.x_prev = self.x = scene.x0
+        self.x = scene.x0
         self.v = scene.v0
         self.step, self.friction_work, self.inverted_at, self.stalled_at = 0, 0.0, None, None
+        self.rest_since = None      # t (s) from which every contact node has stayed below eps_v, so far
         self.csv, self.logged = folder.open_log(files.log_csv(tag), ",".join(log.COLUMNS)), None
         self.samples = History(MAX_SAMPLES)
         self.snapshots = History(MAX_SNAPSHOTS)     # (t, x) every SNAPSHOT_EVERY s of simulated time
@@ -94,6 +95,8 @@ class Track:
                         numerical_dissipation=E0 + self.friction_work - E["total"], speeds=speeds,
                         sticking=sticking, sliding=sliding,
                         inverted=diagnostics.inverted_triangles(x, self.triangles))
+        at_rest = sticking > 0 and sliding == 0
+        self.rest_since = (self.rest_since if self.rest_since is not None else t) if at_rest else None
         with self.folder.signals.held():        # the row and its count: both or neither
             self.csv.append(log.row(sample))
             self.logged = sample.step
@@ -109,7 +112,7 @@ class Track:
 
     def take(self, record, progress):
         """Log the StepRecord of the step from the current state (the live window hands them in)."""
-        self.x_prev, self.x, self.v, self.step = self.x, record.x, record.v, record.index + 1
+        self.x, self.v, self.step = record.x, record.v, record.index + 1
         self.friction_work += record.report.friction_work
         sample = self._add(record.report, record.t, record.wall)
         if sample.inverted and self.inverted_at is None:
@@ -153,6 +156,18 @@ class Progress:
     def warn(self, track, text):
         who = f"{track.label}: " if len(self.tracks) > 1 else ""
         print(f"simulator.py: warning: {who}{text}", file=self.log, flush=True)
+
+
+def rest_words(tracks):
+    """When each run came to rest (every contact node below eps_v from then on, as log.csv's
+    contacts_sliding says), in words: 'came to rest at t = 5.53 s', or 'still sliding at t = 3.00 s'."""
+    def words(track):
+        if track.rest_since is None:
+            return f"{'still sliding' if track.samples.last.sliding else 'not at rest'} at t = {track.t:.2f} s"
+        return f"came to rest at t = {track.rest_since:.2f} s"
+    if len(tracks) == 1:
+        return "the square " + words(tracks[0])
+    return "; ".join(f"{track.label}: {words(track)}" for track in tracks)
 
 
 def stalled_warning(step, t, residual, tol):
@@ -205,7 +220,7 @@ class FrameWriter:
         """Frame j with every track, then each track's OBJ (after its log rows: the CSV is never behind)."""
         tracks, forces = self.tracks, self.newton_per_metre is not None
         self.view.follow(np.array([tr.samples.last.com for tr in tracks]))
-        runs = [frame_run(tr.scene, tr.x_prev, tr.x, tr.label, tr.color, forces) for tr in tracks]
+        runs = [frame_run(tr.scene, tr.x, tr.samples.last.report, tr.label, tr.color, forces) for tr in tracks]
         surface = draw.draw_frame(self.pygame, runs, max(tr.t for tr in tracks), self.view, self.fonts,
                                   self.newton_per_metre)
         with self.folder.signals.held():
@@ -245,13 +260,14 @@ def _figures(track):
             float(f"{s.min_distance:.4e}") if math.isfinite(s.min_distance) else None, s.sticking, s.sliding]
 
 
-def frame_run(scene, x_prev, x, label, color, forces):
+def frame_run(scene, x, report, label, color, forces):
     """One run as draw.draw_frame takes it; with `forces`, the contact forces at x and the friction
-    force of the step x_prev -> x."""
+    force of the step that ended at x (its StepReport's: with the mu*lambda and T it ended with)."""
     run = {"scene": scene, "x": x, "label": label, "color": color}
     if forces:
         run["normal"] = diagnostics.normal_forces(scene, x)
-        run["friction"] = diagnostics.friction_forces(scene, x_prev, x)
+        friction = report.friction_force if report is not None else None
+        run["friction"] = np.zeros_like(x) if friction is None else friction
     return run
 
 
@@ -259,6 +275,7 @@ def finish(tracks, folder, stride, frames, frame_log, header):
     """The pictures of the whole run, from what the tracks kept, each written whole as it is done:
     summary.png, plots.png and, when frames were written, index.html to play them."""
     pygame = draw.load_pygame()
+    header = header + [rest_words(tracks) + " (every contact below eps_v from then on)"]
     folder.write("summary.png", draw.png_data(pygame, summary.draw_summary(pygame, tracks, header), exact=True))
     surface, axis = plots.draw_plots(pygame, tracks)
     folder.write("plots.png", draw.png_data(pygame, surface, exact=True))
@@ -266,4 +283,5 @@ def finish(tracks, folder, stride, frames, frame_log, header):
         fps = 1.0 / (stride * min(tr.scene.h for tr in tracks))
         title = "Square on a slope: " + ", ".join(tr.label for tr in tracks)
         folder.write("index.html", page.page_html(title, [tr.label for tr in tracks], frame_log, fps, axis,
-                                                  surface.get_width(), note=" ".join(header)))
+                                                  surface.get_width(), note=" ".join(header),
+                                                  rest=[tr.rest_since for tr in tracks]))

@@ -196,8 +196,9 @@ def to_files(plan, signals, messages=None):
     except ENDINGS as err:
         failure = failure_of(err, plan)
     wall = time.perf_counter() - start
+    rest = f"; {recording.rest_words(tracks)}" if tracks else ""
     return end(plan, signals, folder, tracks, frame_log, failure, messages,
-               f"simulated {simulated(plan)} in {wall:.2f} s wall; {written(plan)} in {plan.out}/")
+               f"simulated {simulated(plan)} in {wall:.2f} s wall{rest}; {written(plan)} in {plan.out}/")
 
 
 def simulated(plan):

@@ -3,9 +3,13 @@ the command line (viewer/cli.py, figures/cli.py).
 
 Numpy, scipy and pygame take a moment to load. Until the run takes over its signals (viewer/run.py),
 Ctrl+C or SIGTERM during that moment end the program here, in one line, with nothing written.
+
+What the program says on stdout and stderr is best effort (BestEffort): a broken pipe (`2>&1 | head
+-1`), a full (`2>/dev/full`) or closed stream never changes what is computed, written or returned.
 """
 import functools
 import importlib
+import io
 import os
 import signal
 import sys
@@ -14,8 +18,40 @@ EXIT_CODES = {signal.SIGINT: 130, signal.SIGTERM: 143}      # 128 + the signal's
 REASONS = {signal.SIGINT: "interrupted", signal.SIGTERM: "terminated (SIGTERM)"}
 
 
+class BestEffort(io.TextIOBase):
+    """A text stream (sys.stdout, sys.stderr) whose writes never fail: once one fails (a broken pipe, a
+    full disk, a closed stream) the stream is pointed at os.devnull and the rest is dropped, so that
+    neither this program nor Python's exit fails on it."""
+
+    def __init__(self, stream):
+        self.stream, self.broken = stream, stream is None
+
+    def write(self, text):
+        self._try(lambda: self.stream.write(text))
+        return len(text)
+
+    def flush(self):
+        self._try(lambda: self.stream.flush())
+
+    def _try(self, act):
+        if not self.broken:
+            try:
+                act()
+            except (OSError, ValueError):       # ValueError: the stream was closed
+                self.broken = True
+                try:
+                    devnull = os.open(os.devnull, os.O_WRONLY)
+                    os.dup2(devnull, self.stream.fileno())
+                    os.close(devnull)
+                except (OSError, ValueError, AttributeError):
+                    pass
+
+
 def _stopped_while_starting(program, signum, frame):
-    os.write(2, f"{program}: stopped: {REASONS[signum]} while starting; nothing written\n".encode())
+    try:
+        os.write(2, f"{program}: stopped: {REASONS[signum]} while starting; nothing written\n".encode())
+    except OSError:             # stderr closed or full: the exit code still says it
+        pass
     os._exit(EXIT_CODES[signum])
 
 
@@ -26,6 +62,7 @@ def run_command_line(program="simulator.py", main="viewer.cli"):
     os.environ.setdefault("OMP_NUM_THREADS", "1")
     for signum in EXIT_CODES:
         signal.signal(signum, functools.partial(_stopped_while_starting, program))
+    sys.stdout, sys.stderr = BestEffort(sys.stdout), BestEffort(sys.stderr)
     code = importlib.import_module(main).main(sys.argv[1:])      # its run takes the signals over
     for signum in EXIT_CODES:       # the run has said how it ended: a late signal changes nothing
         signal.signal(signum, signal.SIG_IGN)

@@ -75,7 +75,7 @@ class LiveRun:
 
     def restart(self):
         self.index, self.x, self.v = 0, self.scene.x0.copy(), self.scene.v0.copy()
-        self.x_prev = self.x         # x^{n-1}, for the friction force of the last step
+        self.report = None          # the last step's StepReport (its friction force), None at t = 0
         self.iterates = None        # the generator of the step in progress, after n
         self.iterate = None         # its last NewtonIterate
         self.iteration = 0          # how many it has yielded
@@ -124,7 +124,7 @@ class LiveRun:
         of its iterations too, when n took them one at a time)."""
         record = StepRecord(self.index, (self.index + 1) * self.scene.h, x, v, report, wall + self.iterates_wall)
         self.index += 1
-        self.x_prev, self.x, self.v = self.x, x, v
+        self.report, self.x, self.v = report, x, v
         self.iterates, self.iterate, self.iteration, self.iterates_wall = None, None, 0, 0.0
         return record
 
@@ -384,7 +384,7 @@ class LiveWindow:
         x = run.shown_x
         self.view.follow(np.average(x, axis=0, weights=self.scene.m)[None])
         forces = self.newton_per_metre is not None and run.iterate is None
-        runs = [recording.frame_run(self.scene, run.x_prev, x, self.label, draw.BLUE, forces)]
+        runs = [recording.frame_run(self.scene, x, run.report, self.label, draw.BLUE, forces)]
         surface = draw.draw_frame(pg, runs, run.t, self.view, self.fonts, self.newton_per_metre if forces else None)
         if run.iterate is not None:
             self.draw_iterate(surface, run.iterate)
