@@ -55,6 +55,12 @@ def sticking_sliding(speeds, epsv):
     return sticking, len(speeds) - sticking
 
 
+def at_rest(sticking, sliding):
+    """Whether a state is at rest on the slope: in contact, and every contact node sticking. A run came to
+    rest at the first state from which every later one is (recording.Track.rest_since)."""
+    return sticking > 0 and sliding == 0
+
+
 def normal_forces(scene, x):
     """lambda_k n at every node (N, 2), lambda_k = -w_k dP/dd (BarrierEnergy.compute_mu_lambda with mu = 1)."""
     if "barrier" not in scene.terms:

@@ -95,8 +95,8 @@ class Track:
                         numerical_dissipation=E0 + self.friction_work - E["total"], speeds=speeds,
                         sticking=sticking, sliding=sliding,
                         inverted=diagnostics.inverted_triangles(x, self.triangles))
-        at_rest = sticking > 0 and sliding == 0
-        self.rest_since = (self.rest_since if self.rest_since is not None else t) if at_rest else None
+        resting = diagnostics.at_rest(sticking, sliding)
+        self.rest_since = (t if self.rest_since is None else self.rest_since) if resting else None
         with self.folder.signals.held():        # the row and its count: both or neither
             self.csv.append(log.row(sample))
             self.logged = sample.step
