@@ -42,7 +42,7 @@ DEFAULTS = types.MappingProxyType({
     "center": (0.0, 0.0),       # initial centre of the square, m
     "angle": 0.0,               # initial rotation of the square about its centre, radians
     "friction_updates": 0,      # fixed-point friction updates per step (Algorithm 5); 0: lagged, as the lecture
-    "max_newton_iterations": 1000,  # a safety cap: the hardest tested cases need about 200
+    "max_newton_iterations": 1000,  # a safety cap: the hardest tested cases need about 320 (docs/limits.md)
     "max_halvings": 60,         # line-search halvings before Newton gives up on a direction
 })
 ALIASES = {"dt": "h"}           # other names a parameter may be passed by
