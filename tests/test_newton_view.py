@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 import BarrierEnergy
+import legibility
 import simulator
 from viewer import window
 
@@ -116,3 +117,26 @@ def test_the_inset_fits_the_window_at_any_size(size):
     w = paused_at({}, 30, 1, size)
     left, top, width, height = w.inset.rect
     assert 0 <= left and left + width <= size and 0 < top and top + height <= size
+
+
+@pytest.mark.parametrize("overrides, step, iteration", IMPACT[:1] + HALVING[:1])
+def test_the_inset_says_which_lines_are_springs_and_where_the_slope_is(monkeypatch, overrides, step, iteration):
+    """A spring lying along the slope (in the halving demo, the mesh's bottom row crosses the whole
+    inset) must not read as the slope: the inset's notes call its thin lines springs, and where the
+    slope is out of frame they say how far below x^i it is; the slope, where it is in frame, is the
+    line with the tint below it (3 px; springs are 1 px). The notes, wrapped, fit the inset's width."""
+    import pygame
+    drawn = legibility.record_text(monkeypatch)
+    w = paused_at(overrides, step, iteration)
+    inset, it = w.inset, w.run.iterate
+    text = " ".join(t for t, _, _ in drawn)
+    assert "thin lines: springs" in text
+    distance = window.length_text(BarrierEnergy.distances(it.x[inset.node][None], w.scene.n, w.scene.o)[0])
+    assert (f"the slope: {distance} below x^i, out of frame" in text) == (inset.slope is None)
+    left, top, width, height = inset.rect
+    pixels = pygame.surfarray.array3d(w.screen)[left:left + width, top:top + height]
+    tinted = np.all(pixels == window.GROUND, axis=2).mean()      # a few pixels of anti-aliased lines have it too
+    assert (tinted > 0.01) == (inset.slope is not None)
+    for note, _ in window.inset_notes(w.scene, it):
+        for row in window.wrap(w.fonts[1], note, width - 16):
+            assert w.fonts[1].size(row)[0] <= width - 16 or " " not in row, row

@@ -62,8 +62,8 @@ def test_frame_looks_like_the_lecture(tmp_path):
     for x_m in (-2.0, -1.0, 1.0, 2.0):
         col, row = int(450 + 200 * x_m), 450 + 200 * (1 + 0.1 * x_m)
         assert any(bluish(image[col, int(row) + dr]) for dr in (-1, 0, 1)), f"slope at x = {x_m} m"
-    corner = image[:250, :40].reshape(-1, 3)
-    assert (corner.sum(axis=1) < 200).any() and (image[300:, :40] == 255).all()      # text only top-left
+    corner = image[:400, :44].reshape(-1, 3)                                          # the title's rows
+    assert (corner.sum(axis=1) < 200).any() and (image[400:, :44] == 255).all()      # text only top-left
 
 
 def test_flags_reach_the_scene():

@@ -19,6 +19,7 @@ import square_mesh
 from viewer import cli
 from command import run_main
 from fakes import fill_disk_after
+import legibility
 import viewer.log
 from viewer import diagnostics, draw, plots, recording, summary
 
@@ -122,9 +123,9 @@ def test_a_folding_mesh_warns_once_and_logs_the_count(tmp_path):
 # Frames
 # ------------------------------------------------------------------------------------------------
 
-def colour_count(path, color):
+def colour_count(path, color, rows=slice(None)):
     import pygame
-    image = pygame.surfarray.array3d(pygame.image.load(str(path)))
+    image = pygame.surfarray.array3d(pygame.image.load(str(path)))[:, rows]
     return int(np.all(image == color, axis=2).sum())
 
 
@@ -144,14 +145,72 @@ def test_frames_with_any_stride_are_numbered_0_1_2(tmp_path):
 
 
 def test_frames_draw_the_forces_unless_asked_not_to(default_run, tmp_path):
-    """In contact (t = 0.9 s) the frame has normal-force and friction arrows; --no-forces has none."""
+    """In contact (t = 0.9 s) the frame has normal-force and friction arrows; --no-forces has none.
+    Counted below the title and legends (rows from 300 px): the only black there is friction's."""
     out, _ = default_run
-    swatch = 18 * 8                                         # the legend's colour swatch, in pixels
-    assert colour_count(out / "frame_00000.png", draw.NORMAL_COLOR) == swatch       # in the air: no force
-    assert colour_count(out / "frame_00030.png", draw.NORMAL_COLOR) > swatch + 50
-    assert colour_count(out / "frame_00030.png", draw.FRICTION_COLOR) > swatch + 20
+
+    def below_legend(path, color):
+        return colour_count(path, color, rows=slice(300, None))
+    assert below_legend(out / "frame_00000.png", draw.NORMAL_COLOR) == 0           # in the air: no force
+    assert below_legend(out / "frame_00000.png", draw.FRICTION_COLOR) == 0
+    assert below_legend(out / "frame_00030.png", draw.NORMAL_COLOR) > 50
+    assert below_legend(out / "frame_00030.png", draw.FRICTION_COLOR) > 20
     code, _ = run_main("--steps", "90", "--frame-stride", "90", "--no-forces", "--out", str(tmp_path))
     assert code == 0 and colour_count(tmp_path / "frame_00001.png", draw.NORMAL_COLOR) == 0
+
+
+def test_no_text_in_the_frames_is_smaller_than_the_projector_minimum(monkeypatch, tmp_path):
+    """Every text a frame of a comparison with forces draws (the title, the runs' and the arrows'
+    legends, the slope's numbers) has capitals of at least draw.MIN_CAP_HEIGHT of the frame's
+    height, measured in pixels (20 px of 900; the arrows' legend and the numbers had 9), in a colour
+    of WCAG contrast at least 4.5:1 against white."""
+    drawn, in_frames = legibility.record_text(monkeypatch), []
+    write = recording.FrameWriter.write
+
+    def noting(self, j):
+        start = len(drawn)
+        write(self, j)
+        in_frames.extend(drawn[start:])
+    monkeypatch.setattr(recording.FrameWriter, "write", noting)
+    code, lines = run_main("--mu", "0.1,0.2", "--steps", "40", "--frame-stride", "20", "--out", str(tmp_path))
+    assert code == 0, lines
+    texts = {text for text, _, _ in in_frames}
+    assert {"mu = 0.1", "mu = 0.2", "normal force lambda_k n", "0 m"} <= texts
+    assert min(cap for _, cap, _ in in_frames) >= draw.MIN_CAP_HEIGHT * draw.RESOLUTION
+    assert min(legibility.contrast_ratio(color) for _, _, color in in_frames) >= 4.5
+
+
+def test_a_legends_swatches_sit_on_their_labels_rows():
+    """draw_frame's legends, laid out from the fonts' measured size: each swatch (each run's colour,
+    the normal force's red) lies within the rows of its label's ink, level with it and just left of
+    it, at the frames' size and at the window's sizes (600 px: the swatches sat off their labels)."""
+    pygame = draw.load_pygame()
+    scene = simulator.build_scene()
+    for size in (600, 652, draw.RESOLUTION):
+        runs = [recording.frame_run(scene, scene.x0, scene.x0 + [2.0 * k, 0.0], f"mu = 0.{k + 1}",
+                                    draw.run_color(k), True) for k in range(3)]
+        view = draw.View(draw.SCALE * size / draw.RESOLUTION, size)
+        fonts = draw.fonts(pygame, size)
+        surface, bottom = draw.draw_frame(pygame, runs, 0.0, view, fonts, draw.newton_per_metre(scene))
+        pixels = pygame.surfarray.array3d(surface)
+        cap = draw.cap_height(fonts[1])
+        for color in [run["color"] for run in runs] + [draw.NORMAL_COLOR]:
+            top, low, first, last, gap = legibility.swatch_and_label_rows(pixels, color, bottom)
+            assert first <= top and low <= last, (size, color)
+            assert low - top + 1 >= 0.5 * (last - first + 1), (size, color)      # level with it, not a sliver
+            assert gap <= cap, (size, color)
+
+
+def test_the_forces_colours_stay_distinct_from_every_runs_colour():
+    """The palettes: runs draw.RUN_COLORS (blue, orange, green, magenta, brown, sky blue, grey-olive),
+    forces draw.NORMAL_COLOR (red) and draw.FRICTION_COLOR (black). Every force colour is at least 40
+    apart in CIELAB (Delta E 1976) from every run's colour and from the other force's; friction's old
+    dark green was 19.8 from a comparison's third run (mu = 0.2's green). The closest pairs now: red
+    and brown 46.3, black and grey-olive (the 7th run) 47.6."""
+    forces = [draw.NORMAL_COLOR, draw.FRICTION_COLOR]
+    distances = [legibility.delta_e(force, run) for force in forces for run in draw.RUN_COLORS]
+    assert min(distances) >= 40 and legibility.delta_e(*forces) >= 40
+    assert legibility.delta_e((0, 109, 0), draw.run_color(2)) < 20          # the old friction colour
 
 
 def test_forces_are_the_energies_forces_at_rest():

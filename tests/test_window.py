@@ -16,8 +16,9 @@ import pytest
 
 import simulator
 from fakes import fill_disk_after
+import legibility
 import time_integrator
-from viewer import cli, files, run, window
+from viewer import cli, draw, files, run, window
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 H = simulator.DEFAULTS["h"]
@@ -462,6 +463,58 @@ def test_every_line_of_text_fits_the_window(size):
             assert w.font.size(row)[0] <= width or " " not in row.strip(), row
     w.draw()
     assert w.screen.get_size() == (size, size)
+
+
+def paused_window(overrides, step, iteration, size):
+    """A LiveWindow of `size` px paused in `step` (counted from 1) after `iteration` presses of n."""
+    w, _ = live_window(simulator.build_scene(**overrides), size=size)
+    w.playing = False
+    for _ in range(step - 1):
+        w.run.step()
+    for _ in range(iteration):
+        assert w.run.newton_iteration() is None
+    return w
+
+
+@pytest.mark.parametrize("size", [600, 652, 900])
+def test_no_text_in_the_window_is_smaller_than_the_projector_minimum(monkeypatch, size):
+    """Every text the window draws in each of its views (the forces' legend, the slope's numbers, the
+    status with a key's message and a warning, the key hints; the Newton view at the impact and in the
+    halving demo, its inset's title, notes and scale bar, the node's label) has capitals at least
+    draw.MIN_CAP_HEIGHT of the window tall, measured in pixels: 15 px at 652 (the legend, the numbers
+    and the inset's notes had 7), and is in a colour of WCAG contrast at least 4.5:1 against the white
+    background (the key hints: 5.9:1 in window.KEYS; they were 2.3:1 in light grey)."""
+    drawn = legibility.record_text(monkeypatch)
+    for overrides, step, iteration in [({}, 40, 0), ({}, 30, 1), ({"h": 0.03}, 18, 4)]:
+        w = paused_window(overrides, step, iteration, size)
+        if iteration == 0:
+            w.message, w.warnings["test"] = "step 39 done: a key's message", "a warning"
+        w.draw()
+        assert iteration == 0 or w.inset is not None
+    texts = {text for text, _, _ in drawn}
+    assert {"normal force lambda_k n", "0 m", "paused before step 40", "node 0, x30", "(sets alpha_CCD)",
+            "thin lines: springs", "node 15"} <= texts
+    in_order = " ".join(text for text, _, _ in drawn)           # a note wrapped over rows reads on
+    assert "below x^i, out of frame" in in_order and "q, Esc: quit" in in_order
+    smallest = min(cap for _, cap, _ in drawn)
+    assert smallest >= draw.MIN_CAP_HEIGHT * size
+    contrast = {color: legibility.contrast_ratio(color) for _, _, color in drawn}
+    assert min(contrast.values()) >= 4.5, contrast
+    assert {window.KEYS, window.GREEN, window.RED, draw.BLUE, window.BLACK} <= set(contrast)
+    assert legibility.contrast_ratio(window.KEYS) == pytest.approx(5.9, abs=0.05)
+
+
+@pytest.mark.parametrize("size", [600, 652, 900])
+def test_the_windows_legend_swatch_sits_on_its_labels_row(size):
+    """The forces' legend in the window (600 px: its swatches sat off their labels), laid out from the
+    font's measured size: the normal force's red swatch (the only red at t = 0, in the air) within the
+    rows of its label's ink and just left of it; the status lines start below the legend."""
+    w, _ = live_window(size=size)
+    w.draw()
+    pixels = pygame().surfarray.array3d(w.screen)
+    top, low, first, last, gap = legibility.swatch_and_label_rows(pixels, draw.NORMAL_COLOR, size // 3)
+    assert first <= top and low <= last and low - top + 1 >= 0.5 * (last - first + 1)
+    assert gap <= draw.cap_height(w.font)
 
 
 def test_no_display_is_one_line_and_exit_code_2(tmp_path):

@@ -7,6 +7,7 @@ frame instead of 20-25 ms with pygame.image.save, which is what lets a default r
 simulated second at under 3x the time of the same run without frames (benchmarks/speed.py --frames).
 """
 import io
+import math
 import os
 import struct
 import zlib
@@ -21,11 +22,16 @@ SCALE = 200.0               # pixels per metre, the lecture's
 BLUE = (0, 0, 255)
 # colours of PALETTE (below), so that frames show them exactly
 RUN_COLORS = [BLUE, (255, 146, 0), (0, 146, 0), (219, 0, 170), (146, 73, 0), (0, 182, 255), (109, 109, 85)]
-NORMAL_COLOR, FRICTION_COLOR = (219, 0, 0), (0, 109, 0)
+# the forces' colours, far from every run's (tests/test_viewer_outputs.py measures the distance in CIELAB):
+# friction was dark green (0, 109, 0), which a comparison's third run (0, 146, 0) all but repeated
+NORMAL_COLOR, FRICTION_COLOR = (219, 0, 0), (0, 0, 0)
 MARK_SPACING = 0.5          # m between marks along the slope
 ARROW_PER_WEIGHT = 1.0      # m of arrow for a force equal to the weight of the (first) square, M |g|
 FRICTION_ZOOM = 5.0         # friction arrows drawn this much longer (|F| <= mu lambda, mu ~ 0.1)
 ARROW_MAX = 1.5             # m; longer arrows (the impact) are cut here
+MIN_CAP_HEIGHT = 0.022      # of the picture's height: no capital letter drawn is shorter (16 arcminutes from
+                            # 4 screen heights in the default window: docs/live-demo.md, "Readable")
+TITLE_SCALE = 1.2           # the title's capitals this much taller
 
 
 def load_pygame():
@@ -138,23 +144,44 @@ def draw_arrows(pygame, surface, view, x, forces, newton_per_metre, color):
                                              [h[0] + b[0] - s[0], h[1] + b[1] - s[1]]])
 
 
-def draw_legend(pygame, surface, font, entries, top):
-    """Colour swatches with their text, one per line, from `top` down; returns the next free row."""
+def draw_legend(pygame, surface, font, entries, top, left=12):
+    """Colour swatches with their text, one per line from `top` down, laid out from the font's
+    measured size: a line apart, each swatch as tall as the capitals of its text and level with them
+    (from their top to the baseline), twice as wide; returns the next free row."""
+    line, baseline, cap = font.get_linesize(), font.get_ascent(), cap_height(font)
     for color, text in entries:
-        pygame.draw.rect(surface, color, (12, top + 5, 18, 8))
-        surface.blit(font.render(text, True, (0, 0, 0)), (38, top))
-        top += 22
+        pygame.draw.rect(surface, color, (left, top + baseline - cap, 2 * cap, cap))
+        surface.blit(font.render(text, True, (0, 0, 0)), (left + 2 * cap + cap // 2, top))
+        top += line
     return top
 
 
-def fonts(pygame):
-    """The frame's two fonts (large: title and runs; small: marks and the arrows' legend), made once."""
-    return pygame.font.Font(None, 26), pygame.font.Font(None, 20)
+def cap_height(font):
+    """How tall a capital letter is in `font`, px: the top of an H above the baseline."""
+    return font.metrics("H")[0][3]
+
+
+def font_with_caps(pygame, cap):
+    """pygame's default font at the smallest size whose capitals are at least `cap` px tall (they are
+    at most 0.6 of the size: the search starts below it)."""
+    size = max(1, math.floor(cap / 0.6))
+    while cap_height(pygame.font.Font(None, size)) < cap:
+        size += 1
+    return pygame.font.Font(None, size)
+
+
+def fonts(pygame, height=RESOLUTION):
+    """The two fonts of a picture `height` px tall: the text (the slope's marks, the arrows' legend,
+    the window's lines) with capitals MIN_CAP_HEIGHT of the height, and the title (and the runs'
+    legend) TITLE_SCALE taller."""
+    cap = MIN_CAP_HEIGHT * height
+    return font_with_caps(pygame, TITLE_SCALE * cap), font_with_caps(pygame, cap)
 
 
 def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None):
     """One frame: the slope, every run's square in its colour, the forces of each (when given), the
-    time, a legend for the runs (when there are several) and for the arrows.
+    time, a legend for the runs (when there are several) and for the arrows. Returns the frame and
+    the first row of pixels below its text.
 
     `runs`: list of dicts with keys scene, x, label, color and optionally normal, friction ((N, 2) forces).
     """
@@ -171,15 +198,15 @@ def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None):
                         FRICTION_COLOR)
     title = f"t = {t:.2f} s" + (f"   {runs[0]['label']}" if len(runs) == 1 else "")
     surface.blit(font.render(title, True, (0, 0, 0)), (12, 10))
-    top = 36
+    top = 10 + font.get_linesize()
     if len(runs) > 1:
         top = draw_legend(pygame, surface, font, [(r["color"], r["label"]) for r in runs], top)
     if newton_per_metre is not None:
         weight = newton_per_metre * ARROW_PER_WEIGHT
-        draw_legend(pygame, surface, small, [
+        top = draw_legend(pygame, surface, small, [
             (NORMAL_COLOR, "normal force lambda_k n"), (FRICTION_COLOR, f"friction force, drawn {FRICTION_ZOOM:g}x longer"),
             ((255, 255, 255), f"{ARROW_PER_WEIGHT:g} m of arrow = {weight:.4g} N (the weight M|g|)")], top + 4)
-    return surface
+    return surface, top
 
 
 # 3-3-2 bits of colour, index r << 5 | g << 2 | b (each channel's top bits): 8 levels of red and

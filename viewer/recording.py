@@ -221,8 +221,8 @@ class FrameWriter:
         tracks, forces = self.tracks, self.newton_per_metre is not None
         self.view.follow(np.array([tr.samples.last.com for tr in tracks]))
         runs = [frame_run(tr.scene, tr.x, tr.samples.last.report, tr.label, tr.color, forces) for tr in tracks]
-        surface = draw.draw_frame(self.pygame, runs, max(tr.t for tr in tracks), self.view, self.fonts,
-                                  self.newton_per_metre)
+        surface, _ = draw.draw_frame(self.pygame, runs, max(tr.t for tr in tracks), self.view, self.fonts,
+                                     self.newton_per_metre)
         with self.folder.signals.held():
             self.folder.write(files.frame_png(j), draw.png_data(self.pygame, surface))
             for tr in tracks:

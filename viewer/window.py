@@ -46,11 +46,14 @@ SLOPE_REACH = 1.5         # ... the slope framed where the node is within this m
 MAX_ZOOM = 1e4            # ... magnified at most this much (p_k = 0 would ask for infinitely much)
 ZOOMS = (1, 2, 3, 5)      # ... by one of these times a power of ten
 GROUND = (219, 219, 255)  # the inset's tint below the slope
-LEGEND_BOTTOM = 36 + 4 + 3 * 22   # px: below draw.draw_frame's legend of the force arrows (3 rows of 22 px)
 # SDL's drivers that draw into memory only: it falls back to one of them when it finds no display
 MEMORY_DRIVERS = ("dummy", "offscreen")
 
-BLACK, GREY, RED, GREEN = (0, 0, 0), (170, 170, 170), (200, 0, 0), (0, 140, 0)
+# the colours of text have a WCAG contrast ratio of at least 4.5:1 against the white background (AA for
+# text, tests/test_window.py): black 21, RED 6.1, GREEN 5.1, KEYS 5.9, draw.BLUE 8.6; GREY (2.3:1) draws
+# only the iterate x^i
+BLACK, GREY, RED, GREEN = (0, 0, 0), (170, 170, 170), (200, 0, 0), (0, 128, 0)
+KEYS = (100, 100, 100)    # the key hints at the bottom
 
 
 class WallClock:
@@ -229,8 +232,8 @@ class LiveWindow:
         self.newton_per_metre = draw.newton_per_metre(scene) if forces else None
         self.pacer = Pacer(self.clock, speed, scene.h)
         self.view = draw.View(draw.SCALE * self.size / draw.RESOLUTION, self.size)   # the lecture's 4.5 m across
-        self.font = pygame.font.Font(None, font_size(self.size))
-        self.fonts = (self.font, pygame.font.Font(None, font_size(self.size, small=True)))
+        self.fonts = draw.fonts(pygame, self.size)      # the frames' (title, text), at the window's size
+        self.font = self.fonts[1]                       # the status lines and the key hints
         self.playing, self.done = True, False
         self.failure = None         # the SimulationError that stopped the run, if one did
         self.write_error = None     # the OSError that stopped the files, if one did
@@ -385,17 +388,17 @@ class LiveWindow:
         self.view.follow(np.average(x, axis=0, weights=self.scene.m)[None])
         forces = self.newton_per_metre is not None and run.iterate is None
         runs = [recording.frame_run(self.scene, x, run.report, self.label, draw.BLUE, forces)]
-        surface = draw.draw_frame(pg, runs, run.t, self.view, self.fonts, self.newton_per_metre if forces else None)
+        surface, top = draw.draw_frame(pg, runs, run.t, self.view, self.fonts,
+                                       self.newton_per_metre if forces else None)
         if run.iterate is not None:
             self.draw_iterate(surface, run.iterate)
         line, width = self.font.get_linesize(), self.size - 24
-        top = LEGEND_BOTTOM if forces else 10 + line
         rows = [(row, color) for text, color in self.status_lines() for row in wrap(self.font, text, width)]
         for row, (text, color) in enumerate(rows):
             surface.blit(self.font.render(text, True, color), (12, top + row * line))
         bottom = [row for text in self.help_lines() for row in wrap(self.font, text, width)]
         for row, text in enumerate(reversed(bottom), start=1):
-            surface.blit(self.font.render(text, True, GREY), (12, self.size - 6 - row * line))
+            surface.blit(self.font.render(text, True, KEYS), (12, self.size - 6 - row * line))
         self.inset = None
         if run.iterate is not None:
             self.inset = self.draw_inset(surface, run.iterate, top + len(rows) * line + 8,
@@ -460,19 +463,22 @@ class LiveWindow:
         room_left, room_right = px[:, 0].min(), self.size - px[:, 0].max()
         width = int(min(INSET * self.size, max(max(room_left, room_right) - 24, MIN_INSET * self.size)))
         height = int(min(INSET_TALL * self.size, bottom - top))
-        small = self.fonts[1].get_linesize()
-        header, footer = 8 + self.font.get_linesize() + 2 * small, 12 + small
-        if height < header + footer + small:                   # no room left under the text
+        big, small = self.fonts
+        notes = [(row, color) for text, color in inset_notes(self.scene, it) for row in wrap(small, text, width - 16)]
+        line = small.get_linesize()
+        header, footer = 8 + big.get_linesize() + len(notes) * line, 12 + line
+        if height < header + footer + line:                    # no room left under the text
             return None
         rect = (12 if room_left > room_right else self.size - 12 - width, int(top), width, height)
         inset = newton_inset(self.scene, it, self.view, rect, header, footer)
-        node, label = px[inset.node], self.fonts[1].render(f"node {inset.node}", True, BLACK)
+        node = px[inset.node]
+        label = self.fonts[1].render(f"node {inset.node}", True, BLACK, (255, 255, 255))    # on white: over a number too
         width_px, height_px = label.get_size()
         out = np.where(node >= px.mean(axis=0), 1, -1)           # the label off the node, away from the square
         self.pygame.draw.circle(surface, BLACK, node.tolist(), 9, 1)
         surface.blit(label, (node[0] + out[0] * (6 + width_px / 2) - width_px / 2,
                              node[1] + out[1] * (14 + height_px / 2) - height_px / 2))
-        draw_inset(self.pygame, surface.subsurface(inset.rect), self.scene, it, inset, (self.font, self.fonts[1]))
+        draw_inset(self.pygame, surface.subsurface(inset.rect), self.scene, it, inset, self.fonts, notes)
         return inset
 
 
@@ -518,10 +524,8 @@ def newton_inset(scene, it, view, rect, header=0, footer=0):
     x, p = it.x[k], it.p[k]
     points = {"x^i": x, "x^i + p": x + p, "x^i + alpha_CCD p": x + it.alpha_ccd * p,
               "x^i + alpha p": x + it.alpha * p}
-    framed, d = [x, x + p], math.inf
-    if "barrier" in scene.terms:
-        d = float(BarrierEnergy.distances(x[None], scene.n, scene.o)[0])
-    with_slope = d <= SLOPE_REACH * float(np.hypot(*p))
+    framed, d = [x, x + p], slope_distance(scene, x)
+    with_slope = frames_slope(d, p)
     if with_slope:
         framed.append(x - d * scene.n)                          # its foot on the slope
     lo, hi = np.min(framed, axis=0), np.max(framed, axis=0)
@@ -541,11 +545,35 @@ def newton_inset(scene, it, view, rect, header=0, footer=0):
                  draw.slope_ends(scene, inset_view) if with_slope else None, d)
 
 
-def draw_inset(pygame, surface, scene, it, inset, fonts):
+def slope_distance(scene, x):
+    """The distance d = n^T (x - o) of one point x to the slope, m (inf without a slope)."""
+    if "barrier" not in scene.terms:
+        return math.inf
+    return float(BarrierEnergy.distances(x[None], scene.n, scene.o)[0])
+
+
+def frames_slope(d, p):
+    """Does the inset frame the slope with a node at distance d whose step is p? Where d is within
+    SLOPE_REACH |p|."""
+    return d <= SLOPE_REACH * float(np.hypot(*p))
+
+
+def inset_notes(scene, it):
+    """(text, colour) under the inset's title: why its node; where the slope is when it is out of
+    frame; and what the thin lines are, so that a spring lying along the slope is not read as it."""
+    k, why = focus_node(scene, it)
+    d = slope_distance(scene, it.x[k])
+    notes = [(f"({why})", BLACK)]
+    if math.isfinite(d) and not frames_slope(d, it.p[k]):
+        notes.append((f"the slope: {length_text(d)} below x^i, out of frame", draw.BLUE))
+    return notes + [("thin lines: springs", BLACK)]
+
+
+def draw_inset(pygame, surface, scene, it, inset, fonts, notes):
     """The inset on its own `surface`: the slope (tinted below), the springs of x^i (grey) and
     x^{i+1} (blue) about the node, p as a red arrow from x^i, a black ring at x^i + alpha_CCD p, a
     green dot at x^i + alpha p, all in one magnified frame; the node and the magnification at the
-    top, a scale bar at the bottom, a border."""
+    top with `notes` (rows of (text, colour)) under them, a scale bar at the bottom, a border."""
     view, m = inset.view, inset.markers
     width, height = surface.get_size()
     surface.fill((255, 255, 255))
@@ -553,7 +581,7 @@ def draw_inset(pygame, surface, scene, it, inset, fonts):
         a, b = inset.slope
         below = 2 * (width + height) * np.array([-scene.n[0], scene.n[1]])    # -n on screen, far
         pygame.draw.polygon(surface, GROUND, [a.tolist(), b.tolist(), (b + below).tolist(), (a + below).tolist()])
-        pygame.draw.line(surface, draw.BLUE, a.tolist(), b.tolist(), 2)
+        pygame.draw.line(surface, draw.BLUE, a.tolist(), b.tolist(), 3)
     draw.draw_square(pygame, surface, scene, it.x, view, GREY, nodes=False)
     draw.draw_square(pygame, surface, scene, it.x_next, view, nodes=False)
     tail, tip = m["x^i"], m["x^i + p"]
@@ -567,13 +595,11 @@ def draw_inset(pygame, surface, scene, it, inset, fonts):
     big, small = fonts
     surface.blit(big.render(inset.title, True, BLACK), (8, 6))
     row = 6 + big.get_linesize()
-    for text, color in [(f"({inset.why})", BLACK)] + (
-            [(f"the slope: {length_text(inset.distance)} from x^i, out of frame", draw.BLUE)]
-            if inset.slope is None and math.isfinite(inset.distance) else []):
+    for text, color in notes:
         surface.blit(small.render(text, True, color), (8, row))
         row += small.get_linesize()
     metres = nice_below(0.3 * width / view.scale)
-    bar, y = metres * view.scale, height - 12
+    bar, y = metres * view.scale, height - 6 - small.get_linesize() // 2
     pygame.draw.line(surface, BLACK, (8, y), (8 + bar, y), 3)
     surface.blit(small.render(length_text(metres), True, BLACK), (14 + bar, y - small.get_linesize() // 2))
     pygame.draw.rect(surface, BLACK, surface.get_rect(), 2)
@@ -627,12 +653,6 @@ def nice_below(value, steps=(1, 2, 5)):
     """The largest of `steps` (1, 2, 5) times a power of ten that is at most `value` (> 0)."""
     power = 10.0 ** math.floor(math.log10(value))
     return max(m * power for m in steps if m * power <= value * (1 + 1e-12))
-
-
-def font_size(size, small=False):
-    """The frames' fonts (draw.fonts: 26 px, and 20 px for the small one) at 900 px, in proportion,
-    and at least 14 (small: 12) px to stay readable."""
-    return max(12, round(20 * size / draw.RESOLUTION)) if small else max(14, round(26 * size / draw.RESOLUTION))
 
 
 # ------------------------------------------------------------------------------------------------
