@@ -187,7 +187,7 @@ def test_a_legends_swatches_sit_on_their_labels_rows():
     pygame = draw.load_pygame()
     scene = simulator.build_scene()
     for size in (600, 652, draw.RESOLUTION):
-        runs = [recording.frame_run(scene, scene.x0, scene.x0 + [2.0 * k, 0.0], f"mu = 0.{k + 1}",
+        runs = [recording.frame_run(scene, scene.x0 + [2.0 * k, 0.0], None, f"mu = 0.{k + 1}",
                                     draw.run_color(k), True) for k in range(3)]
         view = draw.View(draw.SCALE * size / draw.RESOLUTION, size)
         fonts = draw.fonts(pygame, size)
@@ -349,7 +349,7 @@ def test_list_syntax():
     assert [r.v0 for r in runs] == [(1.0, 0.0), (2.0, -1.0)] and [r.steps for r in runs] == [5, 5]
     assert [r.tag for r in runs] == ["v0_1_0", "v0_2_-1"]
     single = cli.parse_command_line(["--v0", "1,0"])
-    assert len(single) == 1 and single[0].v0 == (1.0, 0.0) and cli.plan_from_args(single).steps == [300]
+    assert len(single) == 1 and single[0].v0 == (1.0, 0.0) and cli.plan_from_args(single).steps == [round(cli.DURATION / 0.01)]
 
 
 @pytest.mark.parametrize("args, message", [
