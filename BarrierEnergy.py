@@ -15,6 +15,8 @@ import utils
 
 DHAT = 0.01     # barrier activation distance (m)
 KAPPA = 1e5     # barrier stiffness
+# what a result that overflowed came from (utils.finite_result)
+ARGUMENTS = "contact_area, dhat, kappa and the distances to the half-space"
 
 
 class NotAboveHalfSpace(ValueError):
@@ -30,18 +32,20 @@ def _check(x, n, o, contact_area, dhat, kappa):
 
 def val(x, n, o, contact_area, dhat=DHAT, kappa=KAPPA):
     """P_b = sum_{d_i < dhat} w_i dhat kappa/2 (s - 1) ln s, s = d_i / dhat (checked; see val_kernel)."""
-    return utils.finite_result("BarrierEnergy.val", val_kernel(*_check(x, n, o, contact_area, dhat, kappa)))
+    return utils.finite_result("BarrierEnergy.val", val_kernel(*_check(x, n, o, contact_area, dhat, kappa)),
+                               ARGUMENTS)
 
 
 def grad(x, n, o, contact_area, dhat=DHAT, kappa=KAPPA):
     """grad_i P_b = w_i dhat b'(d_i) n (checked; see grad_kernel)."""
-    return utils.finite_result("BarrierEnergy.grad", grad_kernel(*_check(x, n, o, contact_area, dhat, kappa)))
+    return utils.finite_result("BarrierEnergy.grad", grad_kernel(*_check(x, n, o, contact_area, dhat, kappa)),
+                               ARGUMENTS)
 
 
 def hess(x, n, o, contact_area, dhat=DHAT, kappa=KAPPA):
     """hess_i P_b = w_i dhat b''(d_i) n n^T as an IJV triplet (checked; see hess_kernel)."""
     nodes, blocks = hess_kernel(*_check(x, n, o, contact_area, dhat, kappa))
-    return utils.blocks_to_ijv(nodes, utils.finite_result("BarrierEnergy.hess", blocks))
+    return utils.blocks_to_ijv(nodes, utils.finite_result("BarrierEnergy.hess", blocks, ARGUMENTS))
 
 
 def distances(x, n, o):
@@ -123,7 +127,8 @@ def compute_mu_lambda(x, n, o, contact_area, mu, dhat=DHAT, kappa=KAPPA):
     mu = utils.as_float("mu", mu, "must be a finite number >= 0")
     if not np.isfinite(mu) or mu < 0.0:
         raise ValueError(f"mu must be a finite number >= 0, got {mu}")
-    return compute_mu_lambda_kernel(x, n, o, contact_area, mu, dhat, kappa)
+    return utils.finite_result("BarrierEnergy.compute_mu_lambda",
+                               compute_mu_lambda_kernel(x, n, o, contact_area, mu, dhat, kappa), ARGUMENTS)
 
 
 def compute_mu_lambda_kernel(x, n, o, contact_area, mu, dhat, kappa):

@@ -19,6 +19,7 @@ import numpy as np
 import utils
 
 EPSV = 1e-3     # eps_v (m/s): tangential speed below which friction is static-like
+ARGUMENTS = "v, mu_lambda, hhat and epsv"       # what a result that overflowed came from (utils.finite_result)
 
 
 # --- the mollifier (the lecture's three functions; written in r = ||vbar|| / eps_v) -------------------
@@ -46,28 +47,25 @@ def f_hess_term(vbarnorm, epsv):
 
 def _check(v, mu_lambda, hhat, n, epsv):
     v = utils.check_points("v", v)
-    mu_lambda = utils.check_per_item("mu_lambda", mu_lambda, len(v))
-    if (mu_lambda < 0).any():
-        i = int(np.argmax(mu_lambda < 0))
-        raise ValueError(f"mu_lambda must be >= 0, got {mu_lambda[i]} at node {i}")
-    return (v, mu_lambda, utils.check_positive("hhat", hhat), utils.check_unit_normal("n", n),
-            utils.check_epsv(epsv))
+    return (v, utils.check_per_item("mu_lambda", mu_lambda, len(v), must_be=">= 0"),
+            utils.check_positive("hhat", hhat), utils.check_unit_normal("n", n), utils.check_epsv(epsv))
 
 
 def val(v, mu_lambda, hhat, n, epsv=EPSV):
     """P_f = sum_k mu lambda_k f0(||vbar_k|| hhat) (checked; see val_kernel)."""
-    return utils.finite_result("FrictionEnergy.val", val_kernel(*_check(v, mu_lambda, hhat, n, epsv)))
+    return utils.finite_result("FrictionEnergy.val", val_kernel(*_check(v, mu_lambda, hhat, n, epsv)), ARGUMENTS)
 
 
 def grad(v, mu_lambda, hhat, n, epsv=EPSV):
     """grad_k P_f = mu lambda_k T (f1(||vbar_k||) / ||vbar_k||) vbar_k (checked; see grad_kernel)."""
-    return utils.finite_result("FrictionEnergy.grad", grad_kernel(*_check(v, mu_lambda, hhat, n, epsv)))
+    return utils.finite_result("FrictionEnergy.grad", grad_kernel(*_check(v, mu_lambda, hhat, n, epsv)),
+                               ARGUMENTS)
 
 
 def hess(v, mu_lambda, hhat, n, epsv=EPSV, project_psd=True):
     """hess_k P_f as an IJV triplet (checked; see hess_kernel)."""
     nodes, blocks = hess_kernel(*_check(v, mu_lambda, hhat, n, epsv), project_psd=project_psd)
-    return utils.blocks_to_ijv(nodes, utils.finite_result("FrictionEnergy.hess", blocks))
+    return utils.blocks_to_ijv(nodes, utils.finite_result("FrictionEnergy.hess", blocks, ARGUMENTS))
 
 
 def tangent(n):

@@ -8,6 +8,7 @@ import numpy as np
 import utils
 
 GRAVITY = (0.0, -9.81)  # m/s^2, the lecture's g
+ARGUMENTS = "x, m and g"        # what a result that overflowed came from (utils.finite_result)
 
 
 def _check(x, m, g):
@@ -17,17 +18,18 @@ def _check(x, m, g):
 
 def val(x, m, g=GRAVITY):
     """P_g = -sum_i m_i g . x_i (checked; see val_kernel)."""
-    return val_kernel(*_check(x, m, g))
+    return utils.finite_result("GravityEnergy.val", val_kernel(*_check(x, m, g)), ARGUMENTS)
 
 
 def grad(x, m, g=GRAVITY):
     """grad P_g = -m_i g at every node (checked; see grad_kernel)."""
-    return grad_kernel(*_check(x, m, g))
+    return utils.finite_result("GravityEnergy.grad", grad_kernel(*_check(x, m, g)), ARGUMENTS)
 
 
 def hess(x, m, g=GRAVITY):
     """P_g is linear in x: its Hessian is zero, an empty IJV triplet (checked)."""
-    return utils.blocks_to_ijv(*hess_kernel(*_check(x, m, g)))
+    nodes, blocks = hess_kernel(*_check(x, m, g))
+    return utils.blocks_to_ijv(nodes, utils.finite_result("GravityEnergy.hess", blocks, ARGUMENTS))
 
 
 def val_kernel(x, m, g):

@@ -7,32 +7,31 @@ import numpy as np
 
 import utils
 
+ARGUMENTS = "x, x_tilde and m"      # what a result that overflowed came from (utils.finite_result)
+
 
 def _check(x, x_tilde, m):
     x = utils.check_points("x", x)
     x_tilde = utils.check_points("x_tilde", x_tilde)
     if x_tilde.shape != x.shape:
         raise ValueError(f"x_tilde must have the shape of x {x.shape}, got {x_tilde.shape}")
-    m = utils.check_per_item("m", m, len(x))
-    if (m <= 0).any():
-        i = int(np.argmax(m <= 0))
-        raise ValueError(f"m must be > 0 at every node, got {m[i]} at node {i}")
-    return x, x_tilde, m
+    return x, x_tilde, utils.check_per_item("m", m, len(x), must_be="> 0")
 
 
 def val(x, x_tilde, m):
     """E_I = 1/2 sum_i m_i ||x_i - x_tilde_i||^2 (checked; see val_kernel)."""
-    return val_kernel(*_check(x, x_tilde, m))
+    return utils.finite_result("InertiaEnergy.val", val_kernel(*_check(x, x_tilde, m)), ARGUMENTS)
 
 
 def grad(x, x_tilde, m):
     """grad E_I = M (x - x_tilde) (checked; see grad_kernel)."""
-    return grad_kernel(*_check(x, x_tilde, m))
+    return utils.finite_result("InertiaEnergy.grad", grad_kernel(*_check(x, x_tilde, m)), ARGUMENTS)
 
 
 def hess(x, x_tilde, m):
     """hess E_I = M as an IJV triplet (checked; see hess_kernel)."""
-    return utils.blocks_to_ijv(*hess_kernel(*_check(x, x_tilde, m)))
+    nodes, blocks = hess_kernel(*_check(x, x_tilde, m))
+    return utils.blocks_to_ijv(nodes, utils.finite_result("InertiaEnergy.hess", blocks, ARGUMENTS))
 
 
 def val_kernel(x, x_tilde, m):

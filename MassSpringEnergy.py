@@ -8,31 +8,31 @@ import numpy as np
 
 import utils
 
+ARGUMENTS = "x, l2 and k"       # what a result that overflowed came from (utils.finite_result)
+
 
 def _check(x, e, l2, k):
     x = utils.check_points("x", x)
     e = utils.check_edges("e", e, len(x))
-    l2 = utils.check_per_item("l2", l2, len(e), what="edge")
-    if (l2 <= 0).any():
-        i = int(np.argmax(l2 <= 0))
-        raise ValueError(f"l2 (squared rest length) must be > 0, got {l2[i]} at edge {i}")
-    return x, e, l2, utils.check_per_item("k", k, len(e), what="edge")
+    return (x, e, utils.check_per_item("l2", l2, len(e), what="edge", must_be="> 0"),
+            utils.check_per_item("k", k, len(e), what="edge"))
 
 
 def val(x, e, l2, k):
     """P_e = sum_e 1/2 k l2 (||diff||^2 / l2 - 1)^2 (checked; see val_kernel)."""
-    return val_kernel(*_check(x, e, l2, k))
+    return utils.finite_result("MassSpringEnergy.val", val_kernel(*_check(x, e, l2, k)), ARGUMENTS)
 
 
 def grad(x, e, l2, k):
     """dP_e/dx_a = -dP_e/dx_b = 2 k (||diff||^2 / l2 - 1) diff (checked; see grad_kernel)."""
-    return grad_kernel(*_check(x, e, l2, k))
+    return utils.finite_result("MassSpringEnergy.grad", grad_kernel(*_check(x, e, l2, k)), ARGUMENTS)
 
 
 def hess(x, e, l2, k, project_psd=True):
     """Per edge [[H, -H], [-H, H]] as an IJV triplet (checked; see hess_kernel). `project_psd=False`
     gives the true, possibly indefinite, Hessian."""
-    return utils.blocks_to_ijv(*hess_kernel(*_check(x, e, l2, k), project_psd=project_psd))
+    nodes, blocks = hess_kernel(*_check(x, e, l2, k), project_psd=project_psd)
+    return utils.blocks_to_ijv(nodes, utils.finite_result("MassSpringEnergy.hess", blocks, ARGUMENTS))
 
 
 def _edges(x, e):

@@ -93,7 +93,7 @@ def build_scene(**overrides):
     x = x @ np.array([[c, s], [-s, c]]) + np.array(p["center"])
     n = o = d = None
     if p["slope"] is not None:
-        n, o = np.array(p["slope"]) / np.hypot(*p["slope"]), np.array(p["slope_point"])
+        n, o = utils.slope_normal(p["slope"]), np.array(p["slope_point"])      # slope / |slope|
         d = BarrierEnergy.distances(x, n, o)
     utils.check_start(p, DEFAULTS, x, n, o, d)
 

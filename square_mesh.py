@@ -14,9 +14,7 @@ def _node_index(i, j, n_seg):
 
 
 def _check_n_seg(n_seg):
-    if isinstance(n_seg, bool) or not float(n_seg).is_integer() or n_seg < 1:
-        raise ValueError(f"n_seg must be a whole number >= 1, got {n_seg}")
-    return int(n_seg)
+    return utils.check_whole("n_seg", n_seg, 1)
 
 
 def generate(side_len, n_seg):

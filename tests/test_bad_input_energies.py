@@ -1,4 +1,6 @@
 """Bad input to the energy functions raises ValueError naming the argument; no NaN comes back."""
+import inspect
+
 import numpy as np
 import pytest
 
@@ -37,7 +39,7 @@ CASES = [
     (MassSpringEnergy, spring(l2=L2[:-1]), "l2 must have one value per edge"),
     (MassSpringEnergy, spring(k=np.ones(3)), "k must have one value per edge"),
     (MassSpringEnergy, spring(k=np.inf), "k has a non-finite value inf"),
-    (MassSpringEnergy, spring(l2=0 * L2), "l2 (squared rest length) must be > 0"),
+    (MassSpringEnergy, spring(l2=0 * L2), "l2 must be > 0 at every edge, got 0.0 at edge 0"),
     (InertiaEnergy, lambda f: f(X, X[:-1], np.ones(len(X))), "x_tilde must have the shape"),
     (InertiaEnergy, lambda f: f(X, X, -np.ones(len(X))), "m must be > 0"),
     (GravityEnergy, lambda f: f(X, np.ones(2)), "m must have one value per node"),
@@ -106,3 +108,114 @@ def test_tiny_eps_v_still_exact_where_representable():
 def test_ccd_refuses_a_start_below_the_slope():
     with pytest.raises(ValueError, match="node 0 is at distance -1 <= 0"):
         BarrierEnergy.init_step_size(np.array([[0.0, -1.0]]), [0.0, 1.0], [0.0, 0.0], np.ones((1, 2)))
+
+
+# ---- what is not an array of real numbers (issue 25, item 7) ---------------------------------------------
+
+# every public argument of each energy, at values each accepts (the barrier's slope below every node)
+ARGS = {
+    InertiaEnergy: dict(x=X, x_tilde=X, m=np.ones(len(X))),
+    MassSpringEnergy: dict(x=X, e=E, l2=L2, k=1.0),
+    GravityEnergy: dict(x=X, m=np.ones(len(X)), g=(0.0, -9.81)),
+    BarrierEnergy: dict(x=X, n=N, o=[0.0, -0.55], contact_area=W),
+    FrictionEnergy: dict(v=X * 0, mu_lambda=W, hhat=0.01, n=N),
+}
+
+
+def not_real(value):
+    """`value` made complex (with zero imaginary parts: the old checks dropped them silently), text that
+    float() would parse, booleans, and Python objects: each is no real number."""
+    if np.ndim(value) == 0:
+        return [complex(value), np.complex128(value), str(value), True, np.True_, np.array(1.0 + 0j), None]
+    a = np.asarray(value)
+    return [a.astype(complex), a.astype(str), a.astype(bool), a.astype(object), a.tolist() + [[1j, 0]]]
+
+
+NOT_REAL = [(module, name, bad) for module, args in ARGS.items() for name, value in args.items()
+            for bad in not_real(value)]
+
+
+@pytest.mark.parametrize("module, name, bad", NOT_REAL, ids=[
+    f"{m.__name__}-{n}-{b.dtype if isinstance(b, np.ndarray) else type(b).__name__}" for m, n, b in NOT_REAL])
+@pytest.mark.parametrize("kind", ["val", "grad", "hess"])
+def test_an_argument_that_is_no_real_number_is_refused_by_name(module, name, bad, kind):
+    getattr(module, kind)(**ARGS[module])                          # the good arguments pass
+    with pytest.raises(ValueError, match=f"^{name} must "):
+        getattr(module, kind)(**{**ARGS[module], name: bad})
+
+
+@pytest.mark.parametrize("name, value", [("k", 10 ** 400), ("l2", -10 ** 400)])
+def test_an_int_beyond_float64_is_refused_by_name(name, value):
+    with pytest.raises(ValueError, match=rf"^{name} must be a number, got -?1\.00e\+400, beyond float64's range"):
+        MassSpringEnergy.val(**{**ARGS[MassSpringEnergy], name: value})
+
+
+@pytest.mark.parametrize("module, name, must_be", [(InertiaEnergy, "m", "> 0"), (MassSpringEnergy, "l2", "> 0"),
+                                                   (FrictionEnergy, "mu_lambda", ">= 0")])
+def test_the_first_item_out_of_range_is_named(module, name, must_be):
+    """One check (utils.check_per_item's must_be) for the masses, the squared rest lengths and mu lambda:
+    the first item that breaks it, by index; zero itself is refused only where must_be is > 0."""
+    good = np.asarray(ARGS[module][name], dtype=float)
+    bad = good.copy()
+    bad[[3, 5]] = -1.0
+    what = "edge" if module is MassSpringEnergy else "node"
+    for kind in ("val", "grad", "hess"):
+        with pytest.raises(ValueError, match=rf"^{name} must be {must_be} at every {what}, got -1.0 at {what} 3$"):
+            getattr(module, kind)(**{**ARGS[module], name: bad})
+    zero = good.copy()
+    zero[4] = 0.0
+    if must_be == "> 0":
+        with pytest.raises(ValueError, match=rf"got 0.0 at {what} 4$"):
+            module.val(**{**ARGS[module], name: zero})
+    else:
+        module.val(**{**ARGS[module], name: zero})
+
+
+# ---- results beyond float64 from finite arguments: refused the same way by all five -----------------------
+
+BIG = 1e200
+OVERFLOWS = [      # (module, kind, arguments whose result overflows)
+    (InertiaEnergy, "val", dict(x=BIG * X, x_tilde=-BIG * X, m=np.ones(len(X)))),
+    (InertiaEnergy, "grad", dict(x=BIG * X, x_tilde=-BIG * X, m=np.full(len(X), BIG))),
+    (MassSpringEnergy, "val", dict(x=BIG * X, e=E, l2=L2, k=1.0)),
+    (MassSpringEnergy, "grad", dict(x=1e308 * X, e=E, l2=L2, k=1.0)),         # the issue's NaN
+    (MassSpringEnergy, "hess", dict(x=BIG * X, e=E, l2=L2, k=1.0)),
+    (GravityEnergy, "val", dict(x=X + 1.0, m=np.full(len(X), BIG), g=(0.0, -BIG))),
+    (GravityEnergy, "grad", dict(x=X, m=np.full(len(X), BIG), g=(0.0, -BIG))),
+    (BarrierEnergy, "val", dict(x=X, n=N, o=[0.0, -0.505], contact_area=np.full(len(X), 1e308),
+                                kappa=1e308)),
+    (BarrierEnergy, "grad", dict(x=np.array([[0.0, 1e-320]]), n=N, o=[0.0, 0.0], contact_area=[1.0])),
+    (BarrierEnergy, "hess", dict(x=np.array([[0.0, 1e-160]]), n=N, o=[0.0, 0.0], contact_area=[1.0])),
+    (FrictionEnergy, "val", dict(v=X + 1e10, mu_lambda=np.full(len(X), 1e308), hhat=1.0, n=N)),
+    (FrictionEnergy, "grad", dict(v=np.full((1, 2), 5e-4), mu_lambda=[1e308], hhat=0.01, n=[1.0, 0.0])),
+    (FrictionEnergy, "hess", dict(v=np.zeros((1, 2)), mu_lambda=[1e308], hhat=0.01, n=N)),
+]
+
+
+@pytest.mark.parametrize("module, kind, args", OVERFLOWS, ids=[f"{m.__name__}.{k}" for m, k, _ in OVERFLOWS])
+def test_a_result_beyond_float64_is_refused_never_returned(module, kind, args):
+    """Finite arguments the checks accept, whose kernel's result is not finite (inf or NaN): the public
+    function raises the one utils.finite_result error, naming the function and the module's arguments."""
+    public = {p.name: p.default for p in inspect.signature(getattr(module, kind)).parameters.values()}
+    checked = module._check(*[args.get(name, public[name]) for name in inspect.signature(module._check).parameters])
+    with np.errstate(all="ignore"):
+        result = getattr(module, f"{kind}_kernel")(*checked)
+        assert not np.isfinite(result[1] if kind == "hess" else result).all()
+        with pytest.raises(ValueError) as info:
+            getattr(module, kind)(**args)
+    assert str(info.value) == (f"{module.__name__}.{kind} overflowed to a non-finite value: its arguments are "
+                               f"beyond float64's range (check {module.ARGUMENTS})")
+
+
+@pytest.mark.parametrize("side_len, n_seg, message", [
+    (1.0, "4", "n_seg must be a whole number >= 1, got '4'"),
+    (1.0, 4 + 0j, r"n_seg must be a whole number >= 1, got \(4\+0j\)"),
+    (1.0, True, "n_seg must be a whole number >= 1, got True"),
+    (1.0, 10 ** 400, r"n_seg must be a whole number >= 1, got 1\.00e\+400, beyond float64's range"),
+    (10 ** 400, 4, r"side_len must be a finite number > 0, got 1\.00e\+400, beyond float64's range"),
+    ("1", 4, "side_len must be a finite number > 0, got '1'"),
+    (np.array([1.0]), 4, r"side_len must be a finite number > 0, got array\(\[1\.\]\)"),
+], ids=["'4'", "4+0j", "True", "10**400", "side 10**400", "side '1'", "side array"])
+def test_mesh_refuses_what_is_no_number(side_len, n_seg, message):
+    with pytest.raises(ValueError, match=f"^{message}$"):
+        square_mesh.generate(side_len, n_seg)

@@ -254,3 +254,96 @@ def test_text_for_numbers_is_refused(name, value):
     with pytest.raises(ValueError, match=f"^{name} must be .*, got {re.escape(repr(value))}"):
         simulator.build_scene(**{name: value})
 
+
+
+# ---- numbers that are not float64 numbers (issue 25, item 7) -----------------------------------------
+
+SCALARS = [name for name, value in simulator.DEFAULTS.items()
+           if isinstance(value, (int, float)) and not isinstance(value, bool)] + ["mass"]
+VECTORS = [name for name, value in simulator.DEFAULTS.items() if isinstance(value, tuple)]
+
+
+@pytest.mark.parametrize("name", SCALARS)
+@pytest.mark.parametrize("value", [10 ** 400, -10 ** 400], ids=["10**400", "-10**400"])
+def test_an_int_beyond_float64_is_refused_naming_the_parameter(name, value):
+    """float(10**400) raises OverflowError: refused as a ValueError naming the parameter, the value shown
+    in 3 digits (not its 401)."""
+    with pytest.raises(ValueError, match=rf"^{name} must be .*, got -?1\.00e\+400, beyond float64's range$"):
+        simulator.build_scene(**{name: value})
+
+
+@pytest.mark.parametrize("name", VECTORS + ["slope"])
+@pytest.mark.parametrize("value, shown", [((10 ** 400, 0.0), r"\(1\.00e\+400, 0\.0\), beyond float64's range"),
+                                          ((0.0, -10 ** 400), r"\(0\.0, -1\.00e\+400\), beyond float64's range"),
+                                          ((1j, 0.0), r"\(1j, 0\.0\)"), ((0.0, 2 + 0j), r"\(0\.0, \(2\+0j\)\)"),
+                                          ((True, 0.5), r"\(True, 0\.5\)"), ((None, 0.0), r"\(None, 0\.0\)"),
+                                          (np.array([1.0, 0.0], dtype=complex), r"array\(\[1\.\+0\.j, 0\.\+0\.j\]\)"),
+                                          (np.array([1.0, 0.0], dtype=object),
+                                           r"array\(\[1\.0, 0\.0\], dtype=object\)")],
+                         ids=["10**400", "-10**400", "1j", "2+0j", "True", "None", "complex array", "object array"])
+def test_a_vector_of_no_real_numbers_is_refused_naming_the_parameter(name, value, shown):
+    """A complex component (even 2+0j, or a complex array with zero imaginary parts, which numpy would
+    convert dropping them), a bool, None, an int beyond float64: a ValueError naming the parameter."""
+    with pytest.raises(ValueError, match=f"^{name} must be a 2-vector of numbers, got {shown}$"):
+        simulator.build_scene(**{name: value})
+
+
+@pytest.mark.parametrize("name", SCALARS)
+@pytest.mark.parametrize("value", [1j, 0.01 + 0j, np.complex128(1.0), np.array(1.0 + 0j), np.array(True),
+                                   np.array("4"), np.array([1.0]), [1.0], None],
+                         ids=["1j", "0.01+0j", "complex128", "0-d complex", "0-d bool", "0-d text", "1 value",
+                              "list", "None"])
+def test_a_scalar_of_no_real_number_is_refused_naming_the_parameter(name, value):
+    if name == "mass" and value is None:
+        return                                  # mass None is the default: rho side_len^2
+    with pytest.raises(ValueError, match=f"^{name} must be .*, got {re.escape(repr(value))}$"):
+        simulator.build_scene(**{name: value})
+
+
+def test_real_numbers_of_other_types_are_taken():
+    """What is one real number is accepted, whatever its type: numpy scalars and 0-d arrays, a Fraction."""
+    import fractions
+    scene = simulator.build_scene(k=np.float32(2e4), n_seg=np.int64(3), mu=np.array(0.2), h=fractions.Fraction(1, 100),
+                                  center=np.array([0, 1], dtype=np.int8), v0=[np.float16(1.0), 0])
+    assert (scene.k[0], scene.n_seg, scene.mu, scene.h) == (2e4, 3, 0.2, 0.01)
+    assert scene.params["center"] == (0.0, 1.0) and scene.params["v0"] == (1.0, 0.0)
+
+
+# ---- a slope normal float64 cannot normalize (issue 25, item 6) ---------------------------------------
+
+@pytest.mark.parametrize("slope", [(1e-320, 1e-319), (1e-310, 1e-310), (-3e-322, 5e-323)], ids=str)
+def test_a_slope_normal_that_cannot_be_normalized_is_refused(slope):
+    """Subnormal components carry fewer digits: slope / |slope| is not of unit length within
+    UNIT_LENGTH_EPS eps (the lecture's normalization, computed here, says by how much); refused naming it."""
+    n = np.array(slope) / np.hypot(*slope)
+    off = abs(np.hypot(*n) - 1.0)
+    assert off > utils.UNIT_LENGTH_EPS * EPS
+    shown = re.escape(f"{list(slope)} is beyond float64: normalized, its length is 1 ") + "[+-]" + \
+        re.escape(f" {off:.2g} ({off / EPS:.3g} eps), not 1 within {utils.UNIT_LENGTH_EPS} eps")
+    with pytest.raises(ValueError, match=f"^slope normal {shown}"):
+        simulator.build_scene(slope=slope)
+
+
+@pytest.mark.parametrize("scale", [1.0, 1e-300, 1e-306, 1e300, 1e307])
+def test_a_slope_normal_of_normal_float64_components_builds_a_unit_normal(scale):
+    """At any scale of normal (not subnormal) components the normal comes out of unit length within
+    UNIT_LENGTH_EPS eps, in the slope's direction: no scene of such a slope is refused."""
+    rng = np.random.default_rng(25)
+    for slope in rng.uniform(0.1, 1.0, (50, 2)) * scale * np.array([[1.0, 3.0]]):
+        n = utils.slope_normal(tuple(slope))
+        assert abs(np.hypot(*n) - 1.0) <= utils.UNIT_LENGTH_EPS * EPS
+        assert n[0] * slope[1] == pytest.approx(n[1] * slope[0], rel=1e-15)
+    scene = simulator.build_scene(slope=(0.1 * scale, scale), center=(0.0, 0.0))
+    assert scene.n == pytest.approx(simulator.build_scene().n, rel=1e-15)
+
+
+def test_cli_subnormal_slope_normal_writes_nothing(tmp_path):
+    """python simulator.py --slope-normal 1e-320,1e-319: the one line names the flag, exit 2, and the
+    output folder stays empty (it used to remove an earlier run, write log.csv, then fail with exit 1)."""
+    result = cli("--slope-normal", "1e-320,1e-319", "--out", str(tmp_path), "--steps", "3")
+    lines = result.stderr.strip().splitlines()
+    assert result.returncode == 2 and len(lines) == 1, result.stderr
+    assert lines[0].startswith("simulator.py: error: --slope-normal: slope normal [1e-320, 1e-319] is beyond float64")
+    assert os.listdir(tmp_path) == []
+    line = refused_in_one_line(["--slope-normal", "1e-310,1e-310"], tmp_path / "out")
+    assert line.startswith("simulator.py: error: --slope-normal: slope normal [1e-310, 1e-310] is beyond float64")

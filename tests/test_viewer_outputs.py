@@ -355,11 +355,18 @@ def test_list_syntax():
 @pytest.mark.parametrize("args, message", [
     (["--mu", "0.1,0.2", "--k", "1e4,2e4"], "only one scene flag may take a list"),
     (["--mu", "0.1,0.1"], "--mu: the list 0.1,0.1 repeats a value"),
+    (["--mu", "0.1,0.10"], "--mu: the list 0.1,0.10 repeats a value: 0.1 and 0.10 are equal"),
+    (["--k", "2e4,1e5,20000"], "--k: the list 2e4,1e5,20000 repeats a value: 2e4 and 20000 are equal"),
+    (["--n-seg", "4,8,8.0"], "--n-seg: the list 4,8,8.0 repeats a value: 8 and 8.0 are equal"),
+    (["--mu", "0,-0"], "--mu: the list 0,-0 repeats a value: 0 and -0 are equal"),
+    (["--v0", "1,0;1.0,0e3"], "--v0: the list 1,0;1.0,0e3 repeats a value: 1,0 and 1.0,0e3 are equal"),
     (["--mu", "0.1,x"], "invalid float value"),
 ])
 def test_bad_lists_are_one_line_and_exit_2(args, message, tmp_path):
+    """Values are compared as numbers, as the flag parses them: 0.1 and 0.10 would be one scene run twice."""
     code, lines = run_main(*args, "--out", str(tmp_path / "o"))
     assert code == 2 and len(lines) == 1 and message in lines[0] and lines[0].startswith("simulator.py: error:")
+    assert not (tmp_path / "o").exists()
 
 
 @pytest.mark.slow

@@ -69,6 +69,15 @@ def pair(text):
     return tuple(values)
 
 
+def as_number(text, pair_flag):
+    """A list value as the number (or pair) its flag parses it to, so '0.1' and '0.10' compare equal; the
+    text itself where it does not parse (argparse then names it)."""
+    try:
+        return pair(text) if pair_flag else float(text)
+    except (ValueError, argparse.ArgumentTypeError):
+        return text
+
+
 def is_pair(metavar):
     return "," in metavar
 
@@ -152,8 +161,11 @@ def parse_command_line(argv):
     values = [v.replace(" ", "") for v in text.split(";" if pair_flag else ",")]
     if not all(values):
         raise CommandLineError(f"{flag}: the list {text!r} has an empty value")
-    if len(set(values)) < len(values):
-        raise CommandLineError(f"{flag}: the list {text} repeats a value")
+    numbers = [as_number(value, pair_flag) for value in values]
+    for j, number in enumerate(numbers):
+        if number in numbers[:j]:
+            raise CommandLineError(f"{flag}: the list {text} repeats a value: {values[numbers.index(number)]} "
+                                   f"and {values[j]} are equal")
     runs, skip = [], i + (1 if "=" in argv[i] else 2)
     for value in values:
         args = parser.parse_args(argv[:i] + [f"{flag}={value}"] + argv[skip:])
