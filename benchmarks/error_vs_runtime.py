@@ -24,7 +24,7 @@ import numpy as np
 
 import time_integrator
 from benchmarks import cases, plot
-from viewer import files
+from viewer import whole_files
 
 HS = (0.04, 0.02, 0.01, 0.005, 0.0025)
 QUICK_HS = (0.04, 0.02)
@@ -197,7 +197,7 @@ def write_csv(path, rows):
     writer.writeheader()
     for row in rows:
         writer.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in row.items()})
-    files.write_atomic(path, buffer.getvalue())
+    whole_files.write_atomic(path, buffer.getvalue())
 
 
 TOL_COLORS = {1e-2: (214, 39, 40), 1e-4: (31, 119, 180), 1e-6: (44, 160, 44)}

@@ -12,7 +12,7 @@ import io
 import math
 from dataclasses import dataclass, field
 
-from viewer import files
+from viewer import whole_files
 from viewer.draw import load_pygame
 
 PANEL_W, PANEL_H = 620, 430         # pixels per panel, axes and labels included
@@ -165,4 +165,4 @@ def save_loglog_panels(path, title, panels, legend, notes=()):
         y += 24
     buffer = io.BytesIO()
     pygame.image.save(surface, buffer, "png")
-    files.write_atomic(path, buffer.getvalue())
+    whole_files.write_atomic(path, buffer.getvalue())

@@ -9,9 +9,8 @@ import numpy as np
 import pytest
 
 import figures.page
-import square_mesh
 from figures import cli, dissipation, fixed_point, mollifier, semi_implicit
-from viewer import files
+from viewer import files, manifest, whole_files
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 PNG_SIGNATURE, PNG_END = b"\x89PNG\r\n\x1a\n", b"IEND\xaeB`\x82"
@@ -110,12 +109,12 @@ def test_ctrl_c_ends_in_one_line_with_130(tmp_path, capsys, monkeypatch):
 def test_ctrl_c_while_writing_lands_after_the_file_is_whole(tmp_path, capsys, monkeypatch):
     """A real SIGINT sent while the PNG is being written is held until the rename: the file is whole,
     no temporary file is left, and the run then ends with 130."""
-    real = files.write_temporary
+    real = whole_files.write_temporary
 
     def write_interrupted(path, data):
         os.kill(os.getpid(), signal.SIGINT)
         return real(path, data)
-    monkeypatch.setattr(files, "write_temporary", write_interrupted)
+    monkeypatch.setattr(whole_files, "write_temporary", write_interrupted)
     assert cli.main(["mollifier", "--out", str(tmp_path)]) == 130
     assert capsys.readouterr().err.count("\n") == 1
     assert sorted(os.listdir(tmp_path)) == [files.MANIFEST, "mollifier.png"]
@@ -137,6 +136,6 @@ def test_writing_one_figure_keeps_the_others(tmp_path, monkeypatch):
     assert cli.main(["fixed_point", "--out", str(tmp_path)]) == 0
     assert (tmp_path / "mollifier.png").read_bytes() == first
     assert (tmp_path / "fixed_point.png").read_bytes() == b"a stub page"
-    assert sorted(files.read_manifest(str(tmp_path))) == ["fixed_point.png", "mollifier.png"]
+    assert sorted(manifest.read_manifest(str(tmp_path))) == ["fixed_point.png", "mollifier.png"]
     (tmp_path / "fixed_point.png").unlink()
     assert cli.main(["fixed_point", "--out", str(tmp_path)]) == 0          # still its own name to write

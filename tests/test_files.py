@@ -6,7 +6,6 @@ import errno
 import os
 import shutil
 import signal
-import stat
 import subprocess
 import sys
 import time
@@ -14,7 +13,7 @@ import time
 import pytest
 
 from command import run_main as main
-from viewer import files, run
+from viewer import files, folder_lock, manifest, run, whole_files
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SIMULATOR = os.path.join(ROOT, "simulator.py")
@@ -38,7 +37,7 @@ def wait_for(path, timeout=60):
 def test_a_name_taken_between_the_check_and_the_write_is_never_overwritten(tmp_path, monkeypatch):
     """A user's file created (O_EXCL) under an output's name while the run writes it: the run's link
     fails, the user's file is untouched, the run ends in one line naming the output, not a temporary."""
-    real = files.write_temporary
+    real = whole_files.write_temporary
 
     def race(path, data):
         ident = real(path, data)
@@ -47,7 +46,7 @@ def test_a_name_taken_between_the_check_and_the_write_is_never_overwritten(tmp_p
             os.write(fd, b"the user's own")
             os.close(fd)
         return ident
-    monkeypatch.setattr(files, "write_temporary", race)
+    monkeypatch.setattr(whole_files, "write_temporary", race)
     code, lines = main("--steps", "5", "--no-frames", "--out", str(tmp_path))
     assert code == 1 and (tmp_path / "summary.png").read_bytes() == b"the user's own"
     assert "summary.png: a file of that name appeared" in lines[-1] and ".tmp-" not in lines[-1], lines
@@ -56,14 +55,14 @@ def test_a_name_taken_between_the_check_and_the_write_is_never_overwritten(tmp_p
 
 def test_a_folder_removed_mid_run_is_named_by_its_output(tmp_path, monkeypatch):
     """The output folder removed as a frame is written: the line names the frame, not its temporary."""
-    real, calls = files.write_temporary, []
+    real, calls = whole_files.write_temporary, []
 
     def gone(path, data):
         calls.append(path)
         if len(calls) == 5:
             shutil.rmtree(tmp_path / "out")
         return real(path, data)
-    monkeypatch.setattr(files, "write_temporary", gone)
+    monkeypatch.setattr(whole_files, "write_temporary", gone)
     code, lines = main("--steps", "30", "--frame-stride", "1", "--out", str(tmp_path / "out"))
     assert code == 1 and "cannot write " in lines[-1] and ".tmp-" not in lines[-1], lines
     assert os.path.basename(calls[-1])[len(".tmp-12345678-"):] in lines[-1]
@@ -72,16 +71,16 @@ def test_a_folder_removed_mid_run_is_named_by_its_output(tmp_path, monkeypatch):
 def test_a_manifest_removed_mid_run_is_written_again_whole(tmp_path, monkeypatch):
     """The manifest deleted during a run: the run writes it again from what it knows, so the next run
     still owns every file (and removes the stale frames)."""
-    real, calls = files.write_temporary, []
+    real, calls = whole_files.write_temporary, []
 
     def remove_manifest(path, data):
         calls.append(path)
         if len(calls) == 4:
             os.remove(tmp_path / files.MANIFEST)
         return real(path, data)
-    monkeypatch.setattr(files, "write_temporary", remove_manifest)
+    monkeypatch.setattr(whole_files, "write_temporary", remove_manifest)
     assert main("--steps", "8", "--frame-stride", "1", "--out", str(tmp_path))[0] == 0
-    listed = files.read_manifest(str(tmp_path))
+    listed = manifest.read_manifest(str(tmp_path))
     on_disk = set(os.listdir(tmp_path)) - set(files.OWN)
     assert set(listed) == on_disk and all(ident is not None for ident in listed.values())
     monkeypatch.undo()
@@ -138,7 +137,7 @@ def test_a_run_killed_with_sigkill_leaves_a_folder_the_next_run_takes_over(tmp_p
 def test_a_stale_lock_file_is_taken_over_where_the_file_is_the_lock(tmp_path, monkeypatch):
     """Where the platform has no lock of its own (lock() gives None), the file is the lock: held while
     its pid runs, taken over once it no longer does."""
-    monkeypatch.setattr(files, "lock", lambda fd: None)
+    monkeypatch.setattr(folder_lock, "lock", lambda fd: None)
     (tmp_path / files.LOCK).write_text(f"{os.getpid()} now\n")
     with pytest.raises(ValueError, match=rf"pid {os.getpid()}"):
         files.OutputFolder.claim(str(tmp_path), {"a.png"}, run.Signals())
@@ -169,7 +168,7 @@ def test_a_changed_file_the_run_would_only_remove_is_refused_too(tmp_path):
     assert (tmp_path / "frame_00008.obj").read_text() == "my edit\n" and (tmp_path / "frame_00002.png").exists()
 
 
-@pytest.mark.skipif(not files.HAS_OWNERS, reason="no file owners on this platform")
+@pytest.mark.skipif(not whole_files.HAS_OWNERS, reason="no file owners on this platform")
 def test_a_manifest_others_may_write_is_refused_and_nothing_removed(tmp_path):
     assert main("--steps", "3", "--out", str(tmp_path))[0] == 0
     before = sorted(os.listdir(tmp_path))
@@ -178,7 +177,7 @@ def test_a_manifest_others_may_write_is_refused_and_nothing_removed(tmp_path):
     assert code == 2 and files.MANIFEST in lines[0] and sorted(os.listdir(tmp_path)) == before
 
 
-@pytest.mark.skipif(not files.HAS_OWNERS, reason="no file owners on this platform")
+@pytest.mark.skipif(not whole_files.HAS_OWNERS, reason="no file owners on this platform")
 def test_a_manifest_planted_by_another_user_is_refused(tmp_path):
     """In a folder others may write to, another user's manifest listing the user's file: refused, the
     file kept. Planting it needs another uid: the test runs as root, or says why it cannot."""
@@ -188,7 +187,7 @@ def test_a_manifest_planted_by_another_user_is_refused(tmp_path):
     (tmp_path / "thesis.tex").write_text("years of work")
     st = os.stat(tmp_path / "thesis.tex")
     (tmp_path / files.MANIFEST).write_text(
-        f"{files.HEADER}\nthesis.tex\t{st.st_dev}\t{st.st_ino}\t{st.st_size}\t{st.st_mtime_ns}\n")
+        f"{manifest.HEADER}\nthesis.tex\t{st.st_dev}\t{st.st_ino}\t{st.st_size}\t{st.st_mtime_ns}\n")
     os.chmod(tmp_path / files.MANIFEST, 0o600)
     os.chown(tmp_path / files.MANIFEST, 65534, 65534)
     code, lines = main("--steps", "3", "--out", str(tmp_path))

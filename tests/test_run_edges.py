@@ -13,11 +13,10 @@ import numpy as np
 import pytest
 
 import simulator
-import square_mesh
 import time_integrator
 import viewer.log
 from command import run_main as main
-from viewer import cli, draw, files, plots
+from viewer import cli, draw, files, plots, whole_files
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -125,7 +124,7 @@ def test_a_signal_while_pygame_loads_ends_the_run_in_one_line(tmp_path, monkeypa
 def test_a_signal_while_a_frame_is_written_keeps_every_file_whole(tmp_path, monkeypatch, signum, code):
     """The frame being written is finished, whole; no temporary is left; the steps kept are the last
     step in log.csv, and the last pictures are written for them."""
-    real = files.write_temporary
+    real = whole_files.write_temporary
     calls = []
 
     def write(path, data):
@@ -133,7 +132,7 @@ def test_a_signal_while_a_frame_is_written_keeps_every_file_whole(tmp_path, monk
         if len(calls) == 7:                     # frame 3's PNG: the signal arrives as it is written
             os.kill(os.getpid(), signum)
         return real(path, data)
-    monkeypatch.setattr(files, "write_temporary", write)
+    monkeypatch.setattr(whole_files, "write_temporary", write)
     status, lines = main("--steps", "300", "--frame-stride", "1", "--out", str(tmp_path))
     assert status == code and lines[-1].startswith("simulator.py: stopped: "), lines
     steps = log_steps(tmp_path / "log.csv")

@@ -8,7 +8,7 @@ import InertiaEnergy
 import MassSpringEnergy
 import square_mesh
 import utils
-from viewer import files
+from viewer import whole_files
 
 
 def eig_route(H):
@@ -73,7 +73,7 @@ def test_mesh_counts(n_seg):
 def test_obj_output(tmp_path):
     x, _ = square_mesh.generate(1.0, 2)
     path = tmp_path / "f.obj"
-    files.write_atomic(str(path), square_mesh.obj_text(x, 2))
+    whole_files.write_atomic(str(path), square_mesh.obj_text(x, 2))
     lines = path.read_text().splitlines()
     assert lines[0] == "v -0.500000 -0.500000 0.0" and len(lines) == 9 + 8
     faces = np.array([[int(t) for t in line.split()[1:]] for line in lines if line.startswith("f")])
@@ -83,13 +83,13 @@ def test_obj_output(tmp_path):
 
 def test_atomic_write_leaves_old_file_on_failure(tmp_path):
     path = tmp_path / "a.txt"
-    files.write_atomic(str(path), "old")
+    whole_files.write_atomic(str(path), "old")
 
     class Boom:
         def encode(self):
             raise RuntimeError("boom")
     with pytest.raises((RuntimeError, TypeError)):
-        files.write_atomic(str(path), Boom())
+        whole_files.write_atomic(str(path), Boom())
     assert path.read_text() == "old" and os.listdir(tmp_path) == ["a.txt"]
 
 

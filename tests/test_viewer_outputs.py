@@ -21,6 +21,7 @@ from command import run_main
 from fakes import fill_disk_after
 import legibility
 import viewer.log
+import viewer.whole_files
 from viewer import diagnostics, draw, plots, recording, summary
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -453,7 +454,7 @@ def test_a_full_disk_is_one_line_exit_1_and_keeps_what_was_written(tmp_path, mon
 
 
 def test_a_log_row_that_cannot_be_written_whole_is_cut_back(tmp_path, monkeypatch):
-    log = viewer.files.LineFile(str(tmp_path / "log.csv"), ",".join(viewer.log.COLUMNS))
+    log = viewer.whole_files.LineFile(str(tmp_path / "log.csv"), ",".join(viewer.log.COLUMNS))
     size = os.path.getsize(tmp_path / "log.csv")
     real = os.write
 

@@ -13,7 +13,10 @@ stays in the flat files). Imports point down: viewer -> simulator -> time_integr
     plots.py        plots.png: energy budget, contact speeds, Newton iterations (or a comparison of runs)
     summary.py      summary.png: spaced, time-labelled snapshots at a fixed scale
     page.py         index.html: plays the frames from the file system, with the plots and a time cursor
-    files.py        the output folder a run owns: its names, the manifest of what it wrote, whole writes
+    files.py        the output folder a run owns: its names, what it refuses, how it writes and removes
+    folder_lock.py  one run per folder: the folder's lock, let go however the process ends
+    manifest.py     what the runs wrote there and each file's identity (device, inode, size, mtime)
+    whole_files.py  files created new (O_EXCL) and written whole, never through a link or blocking
     recording.py    steps one or more scenes side by side and writes all of the above
     window.py       the live window (--window): the run paced to the wall clock, driven by keys down
                     to one Newton iteration, drawn by draw.py, its files (--out) by recording.py

@@ -2,7 +2,7 @@
 
 Each row goes to the file in one write before that step's frame is saved, so the file is never more
 than one row (or one frame stride) ahead of the frames on disk and never holds half a row: a write
-that fails part way (a full disk) is cut back to the last whole row (viewer.files.LineFile).
+that fails part way (a full disk) is cut back to the last whole row (viewer.whole_files.LineFile).
 """
 COLUMNS = ["step", "t", "wall_s", "com_x", "com_y", "v_tangential", "newton_iterations", "residual",
            "newton_stalled", "alpha_min", "line_search_steps", "min_distance", "friction_updates", "friction_converged",
