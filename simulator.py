@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 import BarrierEnergy
+import square_checks
 import square_mesh
 import time_integrator
 import utils
@@ -86,19 +87,19 @@ def _readonly(a):
 
 def build_scene(**overrides):
     """The scene's model, built once from DEFAULTS with `overrides`; a ValueError names a bad parameter
-    (utils.check_params, utils.check_start)."""
-    p = utils.check_params(DEFAULTS, ALIASES, overrides)
+    (square_checks.check_params, square_checks.check_start)."""
+    p = square_checks.check_params(DEFAULTS, ALIASES, overrides)
     x, e = square_mesh.generate(p["side_len"], p["n_seg"])      # the square, centred at the origin
     c, s = math.cos(p["angle"]), math.sin(p["angle"])
     x = x @ np.array([[c, s], [-s, c]]) + np.array(p["center"])
     n = o = d = None
     if p["slope"] is not None:
-        n, o = utils.slope_normal(p["slope"]), np.array(p["slope_point"])      # slope / |slope|
+        n, o = square_checks.slope_normal(p["slope"]), np.array(p["slope_point"])      # slope / |slope|
         d = BarrierEnergy.distances(x, n, o)
-    utils.check_start(p, DEFAULTS, x, n, o, d)
+    square_checks.check_start(p, DEFAULTS, x, n, o, d)
 
     diff = x[e[:, 0]] - x[e[:, 1]]
-    total_mass = utils.total_mass(p)                            # mass, or rho side_len^2
+    total_mass = square_checks.total_mass(p)                            # mass, or rho side_len^2
     terms = ["inertia", "spring"] + ["gravity"] * any(p["gravity"])
     if n is not None:
         terms += ["barrier"] + ["friction"] * (p["mu"] > 0.0)
@@ -112,7 +113,7 @@ def build_scene(**overrides):
         mu=p["mu"], dhat=p["dhat"], kappa=p["kappa"], epsv=p["epsv"], h=p["h"], tol=p["tol"],
         n_seg=p["n_seg"], side_len=p["side_len"], friction_updates=p["friction_updates"],
         max_newton_iterations=p["max_newton_iterations"], max_halvings=p["max_halvings"],
-        terms=tuple(terms), warnings=utils.scene_warnings(p, x, n, d),
+        terms=tuple(terms), warnings=square_checks.scene_warnings(p, x, n, d),
         solver=utils.SPDSolver.for_mesh(len(x), e))
 
 

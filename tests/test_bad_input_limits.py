@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 import simulator
+import square_checks
 import time_integrator
-import utils
 import viewer.cli
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -71,7 +71,7 @@ def test_round_off_threshold_on_a_flat_slope(gap, refused):
             simulator.build_scene(**kwargs)
     else:
         assert "barrier" in simulator.build_scene(**kwargs).terms
-    threshold = utils.ROUNDOFF_ULPS * EPS * (math.hypot(0.5, 0.5) + 0.5 + gap)
+    threshold = square_checks.ROUNDOFF_ULPS * EPS * (math.hypot(0.5, 0.5) + 0.5 + gap)
     assert (gap <= threshold) == refused
 
 
@@ -144,7 +144,7 @@ def test_build_scene_refuses_first_step_overflow(kwargs, culprit, what):
 def test_scale_limit_leaves_finite_sums():
     """FLOAT64_SCALE_LIMIT: a scale squared and summed over the 1e8 nodes that fit at most (16 KiB
     each in 1.6 TB) stays finite."""
-    assert np.isfinite(np.sum(np.full(10, utils.FLOAT64_SCALE_LIMIT) ** 2) * 1e7)
+    assert np.isfinite(np.sum(np.full(10, square_checks.FLOAT64_SCALE_LIMIT) ** 2) * 1e7)
 
 
 def test_newton_matrix_bound():
@@ -153,7 +153,7 @@ def test_newton_matrix_bound():
     only M resolves, comes out right)."""
     m = simulator.DEFAULTS["rho"] / 25                       # n_seg 4: 25 nodes, 40 kg each
     h = simulator.DEFAULTS["h"]
-    k_limit = utils.NEWTON_RATIO_LIMIT * m / h ** 2
+    k_limit = square_checks.NEWTON_RATIO_LIMIT * m / h ** 2
     with pytest.raises(ValueError, match=r"^k = .*: float64 cannot resolve the Newton matrix M \+ h\^2 K, "
                                          r"as h\^2 k / m = 9\.0\de\+14"):
         simulator.build_scene(k=2 * k_limit)
@@ -179,14 +179,14 @@ def test_lectures_scene_and_stability_extremes_are_far_inside_the_limits():
 
 def test_memory_check_refuses_what_does_not_fit(monkeypatch):
     """With 1 GiB of memory, the largest n_seg the message names fits and the next does not."""
-    monkeypatch.setattr(utils, "physical_memory", lambda: 2 ** 30)
+    monkeypatch.setattr(square_checks, "physical_memory", lambda: 2 ** 30)
     with pytest.raises(ValueError, match=r"^n_seg = 300 makes 9.06e\+4 nodes, about 1.38 GiB .* more than "
                                          r"this machine's 1 GiB \(largest n_seg that fits: (\d+)\)") as info:
         simulator.build_scene(n_seg=300)
     largest = int(str(info.value).rsplit(" ", 1)[1].rstrip(")"))
-    utils.check_memory(largest)
+    square_checks.check_memory(largest)
     with pytest.raises(ValueError):
-        utils.check_memory(largest + 1)
+        square_checks.check_memory(largest + 1)
 
 
 # The peak as VmHWM, not ru_maxrss: a forked child keeps its parent's ru_maxrss across exec, so the
@@ -209,7 +209,7 @@ def test_memory_per_node_bounds_the_measured_peak():
                              timeout=120, env={**os.environ, "OPENBLAS_NUM_THREADS": "1"})
         return int(out.stdout.split()[-1]) * 1024
     per_node = (peak(128) - peak(1)) / 129 ** 2
-    assert per_node <= utils.MEMORY_PER_NODE <= 4 * per_node
+    assert per_node <= square_checks.MEMORY_PER_NODE <= 4 * per_node
 
 
 # ---- the too-large-h warning -------------------------------------------------------------------------
@@ -317,9 +317,9 @@ def test_a_slope_normal_that_cannot_be_normalized_is_refused(slope):
     UNIT_LENGTH_EPS eps (the lecture's normalization, computed here, says by how much); refused naming it."""
     n = np.array(slope) / np.hypot(*slope)
     off = abs(np.hypot(*n) - 1.0)
-    assert off > utils.UNIT_LENGTH_EPS * EPS
+    assert off > square_checks.UNIT_LENGTH_EPS * EPS
     shown = re.escape(f"{list(slope)} is beyond float64: normalized, its length is 1 ") + "[+-]" + \
-        re.escape(f" {off:.2g} ({off / EPS:.3g} eps), not 1 within {utils.UNIT_LENGTH_EPS} eps")
+        re.escape(f" {off:.2g} ({off / EPS:.3g} eps), not 1 within {square_checks.UNIT_LENGTH_EPS} eps")
     with pytest.raises(ValueError, match=f"^slope normal {shown}"):
         simulator.build_scene(slope=slope)
 
@@ -330,8 +330,8 @@ def test_a_slope_normal_of_normal_float64_components_builds_a_unit_normal(scale)
     UNIT_LENGTH_EPS eps, in the slope's direction: no scene of such a slope is refused."""
     rng = np.random.default_rng(25)
     for slope in rng.uniform(0.1, 1.0, (50, 2)) * scale * np.array([[1.0, 3.0]]):
-        n = utils.slope_normal(tuple(slope))
-        assert abs(np.hypot(*n) - 1.0) <= utils.UNIT_LENGTH_EPS * EPS
+        n = square_checks.slope_normal(tuple(slope))
+        assert abs(np.hypot(*n) - 1.0) <= square_checks.UNIT_LENGTH_EPS * EPS
         assert n[0] * slope[1] == pytest.approx(n[1] * slope[0], rel=1e-15)
     scene = simulator.build_scene(slope=(0.1 * scale, scale), center=(0.0, 0.0))
     assert scene.n == pytest.approx(simulator.build_scene().n, rel=1e-15)
