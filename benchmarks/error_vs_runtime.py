@@ -1,7 +1,10 @@
 """Error against run time: the work-precision report.
 
-    python -m benchmarks.error_vs_runtime            # the full sweep (about 2 minutes), from the repo root
+    python -m benchmarks.error_vs_runtime            # the full sweep (about 30 s), from the repo root
     python -m benchmarks.error_vs_runtime --quick    # two time steps of one case, seconds (a smoke test)
+
+The full run writes into benchmarks/results/ (what benchmarks/README.md quotes), --quick into a new
+temporary folder, --out DIR into DIR.
 
 Sweeps the time step h, the Newton tolerance and the friction mode (lagged mu*lambda^n, as in the
 lecture, or fully implicit by up to FIXED_POINT_CAP fixed-point updates per step, Algorithm 5) over
@@ -22,6 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+import benchmarks
 import square_mesh
 import time_integrator
 from benchmarks import cases, plot
@@ -32,7 +36,6 @@ TOLS = (1e-2, 1e-4, 1e-6)
 FIXED_POINT_CAP = 20                        # friction updates per step at most, fully implicit mode
 MODES = {"lagged": 0, "implicit": FIXED_POINT_CAP}
 REFERENCE_H, REFERENCE_TOL = 0.000625, 1e-6  # the full scene's reference: 8x below the smallest h
-OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "results")
 COLUMNS = ["case", "error_measure", "friction", "tol", "h", "steps", "error", "observed_order",
            "wall_per_sim_second", "newton_per_step", "friction_updates_per_step", "unconverged_steps"]
 
@@ -237,14 +240,15 @@ def draw(path, rows):
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="python -m benchmarks.error_vs_runtime", description=__doc__.split("\n\n")[0])
     ap.add_argument("--quick", action="store_true", help=f"only free fall at h = {QUICK_HS} (a smoke test)")
-    ap.add_argument("--out", default=OUT, help="folder for error_vs_runtime.csv and .png (default %(default)s)")
+    ap.add_argument("--out", help="folder for error_vs_runtime.csv and .png (default: benchmarks/results/ for "
+                                  "the full run, a new temporary folder with --quick)")
     args = ap.parse_args(argv)
-    os.makedirs(args.out, exist_ok=True)
+    out = benchmarks.output_folder(args.out, not args.quick, "error_vs_runtime")
     start = time.perf_counter()
     rows, notes = sweep(quick=args.quick)
     print("\n".join([table(rows), ""] + notes if notes else [table(rows)]))
-    csv_path = os.path.join(args.out, "error_vs_runtime.csv")
-    png_path = os.path.join(args.out, "error_vs_runtime.png")
+    csv_path = os.path.join(out, "error_vs_runtime.csv")
+    png_path = os.path.join(out, "error_vs_runtime.png")
     write_csv(csv_path, rows)
     draw(png_path, rows)
     print(f"\n{len(rows)} runs in {time.perf_counter() - start:.0f} s; wrote {csv_path} and {png_path}", file=sys.stderr)
