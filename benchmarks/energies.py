@@ -10,6 +10,9 @@ the unchecked kernels and solves with utils.SPDSolver; see benchmarks.speed.) Ta
 
     python -m benchmarks.energies            # n_seg 64 and 128
     python -m benchmarks.energies --quick    # n_seg 8 and 16, a smoke run
+
+The full run writes energies.csv into benchmarks/results/ (what benchmarks/README.md quotes), --quick
+into a new temporary folder, --out DIR into DIR.
 """
 import argparse
 import csv
@@ -24,6 +27,8 @@ import scipy.sparse.linalg
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
+
+import benchmarks         # noqa: E402
 
 import BarrierEnergy      # noqa: E402  (the project's flat modules, after the path is set)
 import FrictionEnergy     # noqa: E402
@@ -122,7 +127,8 @@ def format_table(rows):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="n_seg 8 and 16, three repeats")
-    ap.add_argument("--csv", help="CSV path (default benchmarks/results/energies.csv; --quick: benchmarks/out/)")
+    ap.add_argument("--out", help="folder for energies.csv (default: benchmarks/results/ for the full run, "
+                                  "a new temporary folder with --quick)")
     args = ap.parse_args(argv)
     sizes, repeats = ((8, 16), 3) if args.quick else ((64, 128), 7)
     rows = []
@@ -130,8 +136,7 @@ def main(argv=None):
         print(f"n_seg {n_seg} ...", file=sys.stderr, flush=True)
         rows.append(measure(n_seg, repeats))
     print(format_table(rows))
-    path = args.csv or os.path.join(ROOT, "benchmarks", "out" if args.quick else "results", "energies.csv")
-    os.makedirs(os.path.dirname(path), exist_ok=True)
+    path = os.path.join(benchmarks.output_folder(args.out, not args.quick, "energies"), "energies.csv")
     with open(path, "w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=COLUMNS, extrasaction="ignore")
         writer.writeheader()

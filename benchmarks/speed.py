@@ -22,6 +22,10 @@ has them can be compared. REV may also be a folder holding a tree.
     python -m benchmarks.speed --frames              # the default run with and without frames (frames_overhead)
     python -m benchmarks.speed --window              # the live window at n_seg 4, 8, 16 (on $DISPLAY too)
 
+Only the plain command writes into benchmarks/results/ (speed.csv, the table benchmarks/README.md
+quotes); a run with --quick, --sizes or --against writes speed.csv (and speed-against.csv) into a new
+temporary folder, and --out DIR into DIR. --window and --frames only print.
+
 Timing on a shared machine: other processes take the CPU at times, which stretches wall time but
 not the process's own CPU time, so the figures to read are the CPU medians; a line is marked noisy
 when wall / CPU time exceeds WAIT_LIMIT (the process waited for a CPU) or the repeats spread by more
@@ -40,6 +44,8 @@ import subprocess
 import sys
 import tempfile
 import time
+
+import benchmarks
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -395,8 +401,8 @@ def main(argv=None):
     ap.add_argument("--quick", action="store_true", help="smoke run: n_seg 4 and 8, few steps (comparison: n_seg 4)")
     ap.add_argument("--against", metavar="REV", help="also compare with this commit (or folder), side by side")
     ap.add_argument("--sizes", help="comma-separated n_seg values of the table (default: all of the mode)")
-    ap.add_argument("--csv", help="the table's CSV (default benchmarks/results/speed.csv, --quick: benchmarks/out/); "
-                                  "the comparison's goes beside it, '-against' added to the name")
+    ap.add_argument("--out", help="folder for speed.csv and speed-against.csv (default: benchmarks/results/ for the "
+                                  "plain command; with --quick, --sizes or --against a new temporary folder)")
     ap.add_argument("--worker", help=argparse.SUPPRESS)
     ap.add_argument("--window", action="store_true",
                     help="only the live window's real-time figures (n_seg 4, 8, 16; on $DISPLAY too when there is one)")
@@ -418,7 +424,8 @@ def main(argv=None):
         rows.append(measure(n_seg, *table.get(n_seg, ("drop" if n_seg <= 32 else "slide", 110 if n_seg <= 32 else 5, 10, 3))))
         print(f"n_seg {n_seg}: {rows[-1]['cpu_ms_per_step']:.3g} ms/step", file=sys.stderr, flush=True)
     print(format_table(rows))
-    path = args.csv or os.path.join(ROOT, "benchmarks", "out" if args.quick else "results", "speed.csv")
+    out = benchmarks.output_folder(args.out, not (args.quick or args.sizes or args.against), "speed")
+    path = os.path.join(out, "speed.csv")
     write_csv(path, COLUMNS, rows)
     if args.against:
         with tempfile.TemporaryDirectory(prefix="speed-against-") as folder:
@@ -426,9 +433,9 @@ def main(argv=None):
             comparison = compare(ROOT, old_tree, AGAINST_QUICK if args.quick else AGAINST)
         print()
         print(format_comparison(comparison, args.against))
-        write_csv(path[:-len(".csv")] + "-against.csv" if path.endswith(".csv") else path + "-against",
-                  AGAINST_COLUMNS, comparison)
+        write_csv(os.path.join(out, "speed-against.csv"), AGAINST_COLUMNS, comparison)
     print(f"BLAS threads: OPENBLAS_NUM_THREADS={os.environ['OPENBLAS_NUM_THREADS']}")
+    print(f"wrote speed.csv{' and speed-against.csv' if args.against else ''} into {out}", file=sys.stderr)
     return 0
 
 

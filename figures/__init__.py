@@ -2,7 +2,8 @@
 
     dissipation     friction's power at every step is <= 0: it takes kinetic energy out, never gives it back
     mollifier       f1 replaces Coulomb's f (C^1 static-dynamic transition); f0'(y) = f1(y / hhat), checked
-    semi_implicit   the lagged (semi-implicit) friction against Algorithm 5's fully implicit friction
+    semi_implicit   the lagged (semi-implicit) friction against Algorithm 5's fully implicit friction, and
+                    which is nearer a reference run at h/8
     fixed_point     Algorithm 5's line-3 measure per friction update: a step that converges, one that does not
 
 Each figure is a module with `compute(...)` (the numbers, from the project's own functions; the tests

@@ -2,10 +2,30 @@
 quick sizes, and of the reading path's line counter."""
 import csv
 import os
+import shutil
+import subprocess
+import tempfile
 
 import pytest
 
+import benchmarks
 from benchmarks import error_vs_runtime
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def checkout_state():
+    """What a benchmark must not change: `git status --porcelain` of the checkout, and the size and
+    modification time of every file in benchmarks/results/ (a file rewritten with the same bytes
+    counts too). Skips the test where this is not a git checkout."""
+    if shutil.which("git") is None:
+        pytest.skip("git is not installed, so whether the checkout stays clean cannot be told")
+    status = subprocess.run(["git", "-C", ROOT, "status", "--porcelain", "--untracked-files=all"],
+                            capture_output=True, text=True)
+    if status.returncode != 0:
+        pytest.skip(f"not inside a git checkout: {status.stderr.strip()}")
+    stamps = {entry.name: (entry.stat().st_size, entry.stat().st_mtime_ns) for entry in os.scandir(benchmarks.RESULTS)}
+    return status.stdout, stamps
 
 
 def test_quick_report_writes_table_csv_and_png(tmp_path, capsys):
@@ -27,16 +47,33 @@ def test_quick_report_writes_table_csv_and_png(tmp_path, capsys):
 def test_energy_benchmark_quick_table(tmp_path, capsys):
     """benchmarks/energies.py --quick: one row per size with every column, ratios computed from them."""
     from benchmarks import energies
-    rows = energies.main(["--quick", "--csv", str(tmp_path / "e.csv")])
+    rows = energies.main(["--quick", "--out", str(tmp_path)])
     assert [r["n_seg"] for r in rows] == [8, 16]
     for r in rows:
         assert set(energies.COLUMNS) <= set(r) and all(r[c] > 0 for c in energies.COLUMNS[3:])
         assert r["ratio"] == r["energies_total_ms"] / r["factor_solve_ms"]
-    assert (tmp_path / "e.csv").read_text().splitlines()[0] == ",".join(energies.COLUMNS)
+    assert (tmp_path / "energies.csv").read_text().splitlines()[0] == ",".join(energies.COLUMNS)
     assert "target ratio < 0.5" in capsys.readouterr().out
 
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+def test_smoke_runs_write_into_a_temporary_folder_and_leave_the_checkout_clean(tmp_path, monkeypatch, capsys):
+    """Each benchmark's smoke run (--quick; speed also with --sizes, a partial table), without --out,
+    writes into a new temporary folder of its own: `git status --porcelain` and benchmarks/results/
+    stay as they were (issue 26). reading_path writes no file (its test checks the same around it);
+    only a full run writes into benchmarks/results/."""
+    from benchmarks import energies, speed
+    before = checkout_state()
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))       # where tempfile.mkdtemp creates folders
+    assert error_vs_runtime.main(["--quick"]) == 0
+    energies.main(["--quick"])
+    assert speed.main(["--quick", "--sizes", "4"]) == 0
+    assert checkout_state() == before
+    written = {folder.name.split("-")[0]: sorted(os.listdir(folder)) for folder in tmp_path.iterdir()}
+    assert written == {"error_vs_runtime": ["error_vs_runtime.csv", "error_vs_runtime.png"],
+                       "energies": ["energies.csv"], "speed": ["speed.csv"]}
+    assert str(tmp_path) in capsys.readouterr().err                 # each says where it wrote
+    assert benchmarks.output_folder(None, True, "speed") == benchmarks.RESULTS
+    assert benchmarks.output_folder(str(tmp_path / "mine"), False, "speed") == str(tmp_path / "mine")
 
 
 def test_speed_benchmark_quick_table_and_comparison(tmp_path):
@@ -44,11 +81,11 @@ def test_speed_benchmark_quick_table_and_comparison(tmp_path):
     the comparison's row for n_seg 4, in the CSVs. The tree compared with itself runs the same
     trajectory, so both sides must count the same Newton iterations and no mismatch may be flagged
     (no timing is asserted, only the tables' form and the iteration counts)."""
-    import subprocess
     import sys
     from benchmarks import speed
+    before = checkout_state()
     out = tmp_path / "speed.csv"
-    result = subprocess.run([sys.executable, "-m", "benchmarks.speed", "--quick", "--against", ROOT, "--csv", str(out)],
+    result = subprocess.run([sys.executable, "-m", "benchmarks.speed", "--quick", "--against", ROOT, "--out", str(tmp_path)],
                             cwd=ROOT, capture_output=True, text=True, timeout=300)
     assert result.returncode == 0, result.stderr
     rows = list(csv.DictReader(open(out)))
@@ -62,6 +99,7 @@ def test_speed_benchmark_quick_table_and_comparison(tmp_path):
         assert int(r["newton_new"]) == int(r["newton_old"]) > 0 and "MISMATCH" not in r["noise"]
         assert float(r["cpu_ratio"]) == pytest.approx(float(r["cpu_ms_new"]) / float(r["cpu_ms_old"]), rel=1e-4)
     assert "CPU new/old" in result.stdout and "Newton/step" in result.stdout
+    assert checkout_state() == before
 
 
 def test_speed_comparison_flags_a_newton_mismatch(monkeypatch):
@@ -135,7 +173,9 @@ def test_reading_path_of_this_tree_against_itself(capsys):
     """python -m benchmarks.reading_path --against <this tree>: the same table twice, counting the
     integrator and the simulator, each file within its code lines, and the totals in the last line."""
     from benchmarks import reading_path
+    before = checkout_state()
     assert reading_path.main(["--against", ROOT]) == 0
+    assert checkout_state() == before                               # it writes no file
     out = capsys.readouterr().out.splitlines()
     tables = [out[out.index(title) + 2:] for title in ("working tree", ROOT)]
     tables = [table[:[line.split()[0] for line in table].index("total")] for table in tables]
@@ -152,8 +192,6 @@ def test_reading_path_of_this_tree_against_itself(capsys):
 
 def test_trees_to_compare_are_exported_with_git_archive(tmp_path):
     """--against REV: the commit's files are written into a folder, the checkout untouched."""
-    import shutil
-    import subprocess
     from benchmarks import speed
     if shutil.which("git") is None or subprocess.run(["git", "-C", ROOT, "rev-parse", "HEAD"],
                                                      capture_output=True).returncode != 0:

@@ -14,7 +14,6 @@ from viewer import files, manifest, whole_files
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 PNG_SIGNATURE, PNG_END = b"\x89PNG\r\n\x1a\n", b"IEND\xaeB`\x82"
-HARD_SCENE = {"mu": 1.0, "h": 0.05, "v0": (5.0, -5.0)}     # where lagged and Algorithm 5 differ visibly
 
 
 def test_f0_derivative_is_f1():
@@ -45,13 +44,64 @@ def test_fixed_point_reports_a_step_that_does_not_converge():
     assert len(measures) == report.friction_updates + 1 > 1
 
 
-def test_lagged_and_implicit_friction_end_apart():
-    r = semi_implicit.compute({"default": {}, "hard": HARD_SCENE}, duration=0.4)
+@pytest.fixture(scope="module")
+def semi_implicit_short():
+    """The semi_implicit figure's numbers, its two scenes over their first 0.4 s."""
+    return semi_implicit.compute(duration=0.4)
+
+
+def test_lagged_and_implicit_friction_end_apart(semi_implicit_short):
+    r = semi_implicit_short
     for s in r.scenes:
         assert np.isfinite(s.gap).all() and s.gap[-1] > 0.0
         assert s.gap[0] == 0.0                     # same start
-    default, hard = r.scenes
-    assert hard.gap[-1] > 10 * default.gap[-1]
+        assert all(far[0] == 0.0 for far in s.from_reference.values())
+        steps = len(s.t) - 1                      # the reference and its check: the same 0.4 s in more steps
+        assert len(s.t_ref) - 1 == semi_implicit.REFERENCE_DIVISOR * steps
+        assert len(s.t_check) - 1 == semi_implicit.CHECK_DIVISOR * steps
+        assert s.t_ref[-1] == pytest.approx(s.t[-1]) and s.t_check[-1] == pytest.approx(s.t[-1])
+    default, pressed = r.scenes
+    assert pressed.gap[-1] > 10 * default.gap[-1]
+
+
+def test_the_caption_calls_nearer_the_run_the_distances_put_nearer(semi_implicit_short):
+    """The verdict is derived from the distances at the end: the nearer run, the margin, and "measured"
+    only where the margin exceeds the reference's own error (its distance from the check run)."""
+    text = "\n".join(semi_implicit.caption(semi_implicit_short))
+    for s in semi_implicit_short.scenes:
+        lagged, implicit, own = (s.from_reference[name][-1] for name in ("lagged", "Algorithm 5", semi_implicit.CHECK))
+        nearer = "lagged" if lagged < implicit else "Algorithm 5"
+        assert s.verdict == (nearer, abs(lagged - implicit), abs(lagged - implicit) > own)
+        assert (f"{nearer} is nearer by {1e3 * abs(lagged - implicit):.3g} mm, "
+                f"{'more' if abs(lagged - implicit) > own else 'less'} than the reference's own error") in text
+        assert f"lagged {1e3 * lagged:.3g} mm, Algorithm 5 {1e3 * implicit:.3g} mm" in text
+    default, pressed = semi_implicit_short.scenes
+    assert pressed.verdict[0] == "Algorithm 5" and pressed.verdict[2]        # lagging the start's push is measured
+    assert default.start_load == 0.0 and pressed.start_load > 1.5
+
+
+def test_the_pressed_scene_starts_on_the_slope_and_its_lagged_step_brakes_with_the_starts_push():
+    """sliding_start: the square aligned with the slope, its bottom row 8 mm from it, every node moving
+    downhill at 3 m/s. The lagged first step's friction is mu lambda(x^0) (the slide's lambda^n), every
+    contact sliding (f1 = 1): the springs' forces cancel in the sum and the barrier's are normal, so the
+    centre of mass's downhill speed after one step is v0 + h (g . t - mu sum lambda(x^0) / M), to within
+    Newton's tolerance on the velocities."""
+    import BarrierEnergy
+    import FrictionEnergy
+    import simulator
+    params = semi_implicit.sliding_start(0.008, 3.0, mu=0.3, h=0.05)
+    scene = simulator.build_scene(**params)
+    t = FrictionEnergy.tangent(scene.n)
+    d = BarrierEnergy.distances(scene.x0, scene.n, scene.o)
+    assert d[::scene.n_seg + 1] == pytest.approx(0.008, abs=1e-12) and d.min() == pytest.approx(0.008, abs=1e-12)
+    assert scene.v0 @ scene.n == pytest.approx(0.0, abs=1e-12) and scene.v0 @ t == pytest.approx(3.0)
+    record = next(simulator.simulate(scene, 1))
+    mu_lambda = BarrierEnergy.compute_mu_lambda(scene.x0, scene.n, scene.o, scene.contact_area, scene.mu,
+                                               scene.dhat, scene.kappa)
+    M = scene.m.sum()
+    expected = 3.0 + scene.h * (scene.g @ t - mu_lambda.sum() / M)
+    assert np.average(record.v, axis=0, weights=scene.m) @ t == pytest.approx(expected, abs=scene.tol)
+    assert mu_lambda.sum() / scene.mu > 1.5 * M * -(scene.g @ scene.n)      # pressed: more than its weight
 
 
 def run_cli(*args):
