@@ -15,7 +15,6 @@ The full run writes energies.csv into benchmarks/results/ (what benchmarks/READM
 into a new temporary folder, --out DIR into DIR.
 """
 import argparse
-import csv
 import os
 import statistics
 import sys
@@ -29,6 +28,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
 
 import benchmarks         # noqa: E402
+from benchmarks import tables  # noqa: E402
 
 import BarrierEnergy      # noqa: E402  (the project's flat modules, after the path is set)
 import FrictionEnergy     # noqa: E402
@@ -137,10 +137,7 @@ def main(argv=None):
         rows.append(measure(n_seg, repeats))
     print(format_table(rows))
     path = os.path.join(benchmarks.output_folder(args.out, not args.quick, "energies"), "energies.csv")
-    with open(path, "w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=COLUMNS, extrasaction="ignore")
-        writer.writeheader()
-        writer.writerows({k: (f"{v:.4g}" if isinstance(v, float) else v) for k, v in r.items()} for r in rows)
+    tables.write_csv(path, COLUMNS, rows, digits=4)
     print(f"wrote {path}", file=sys.stderr)
     return rows
 

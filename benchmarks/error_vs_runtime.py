@@ -15,8 +15,6 @@ Newton iterations and friction updates (Algorithm 5's re-solves) per step. Print
 friction mode and tolerance). Progress goes to stderr.
 """
 import argparse
-import csv
-import io
 import math
 import os
 import sys
@@ -27,8 +25,7 @@ import numpy as np
 
 import benchmarks
 import time_integrator
-from benchmarks import cases, plot
-from viewer import whole_files
+from benchmarks import cases, plot, tables
 
 HS = (0.04, 0.02, 0.01, 0.005, 0.0025)
 QUICK_HS = (0.04, 0.02)
@@ -198,15 +195,6 @@ def table(rows):
     return "\n".join(out[1:])
 
 
-def write_csv(path, rows):
-    buffer = io.StringIO()
-    writer = csv.DictWriter(buffer, COLUMNS, lineterminator="\n")
-    writer.writeheader()
-    for row in rows:
-        writer.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in row.items()})
-    whole_files.write_atomic(path, buffer.getvalue())
-
-
 TOL_COLORS = {1e-2: (214, 39, 40), 1e-4: (31, 119, 180), 1e-6: (44, 160, 44)}
 MODE_LOOK = {"lagged": (False, "o"), "none": (False, "o"), "implicit": (True, "s")}
 
@@ -258,7 +246,7 @@ def main(argv=None):
     print("\n".join([table(rows), ""] + notes if notes else [table(rows)]))
     csv_path = os.path.join(out, "error_vs_runtime.csv")
     png_path = os.path.join(out, "error_vs_runtime.png")
-    write_csv(csv_path, rows)
+    tables.write_csv(csv_path, COLUMNS, rows)
     draw(png_path, rows)
     print(f"\n{len(rows)} runs in {time.perf_counter() - start:.0f} s; wrote {csv_path} and {png_path}", file=sys.stderr)
     return 0

@@ -82,7 +82,7 @@ def test_speed_benchmark_quick_table_and_comparison(tmp_path):
     trajectory, so both sides must count the same Newton iterations and no mismatch may be flagged
     (no timing is asserted, only the tables' form and the iteration counts)."""
     import sys
-    from benchmarks import speed
+    from benchmarks import speed, speed_against
     before = checkout_state()
     out = tmp_path / "speed.csv"
     result = subprocess.run([sys.executable, "-m", "benchmarks.speed", "--quick", "--against", ROOT, "--out", str(tmp_path)],
@@ -94,7 +94,8 @@ def test_speed_benchmark_quick_table_and_comparison(tmp_path):
         assert int(r["dof"]) == 2 * (int(r["n_seg"]) + 1) ** 2 and float(r["newton_per_step"]) >= 1
         assert float(r["cpu_ms_per_step"]) > 0 and 0 < float(r["solve_share"]) < 1
     compared = list(csv.DictReader(open(tmp_path / "speed-against.csv")))
-    assert [int(r["n_seg"]) for r in compared] == list(speed.AGAINST_QUICK) and list(compared[0]) == speed.AGAINST_COLUMNS
+    assert [int(r["n_seg"]) for r in compared] == list(speed_against.AGAINST_QUICK)
+    assert list(compared[0]) == speed_against.AGAINST_COLUMNS
     for r in compared:
         assert int(r["newton_new"]) == int(r["newton_old"]) > 0 and "MISMATCH" not in r["noise"]
         assert float(r["cpu_ratio"]) == pytest.approx(float(r["cpu_ms_new"]) / float(r["cpu_ms_old"]), rel=1e-4)
@@ -104,10 +105,10 @@ def test_speed_benchmark_quick_table_and_comparison(tmp_path):
 
 def test_speed_comparison_flags_a_newton_mismatch(monkeypatch):
     """Two trees whose runs take different Newton iteration counts are flagged in the comparison."""
-    from benchmarks import speed
+    from benchmarks import speed_against
     newton = {"a": 10, "b": 11}
-    monkeypatch.setattr(speed, "run_in_process", lambda tree, n_seg, steps: (0.01, 0.01, newton[tree]))
-    row, = speed.compare("a", "b", {4: (5, 2)})
+    monkeypatch.setattr(speed_against, "run_in_process", lambda tree, n_seg, steps: (0.01, 0.01, newton[tree]))
+    row, = speed_against.compare("a", "b", {4: (5, 2)})
     assert row["newton_new"] == 10 and row["newton_old"] == 11 and row["noise"].startswith("NEWTON MISMATCH")
     assert row["cpu_ratio"] == 1.0
 
@@ -192,10 +193,10 @@ def test_reading_path_of_this_tree_against_itself(capsys):
 
 def test_trees_to_compare_are_exported_with_git_archive(tmp_path):
     """--against REV: the commit's files are written into a folder, the checkout untouched."""
-    from benchmarks import speed
+    from benchmarks import speed_against
     if shutil.which("git") is None or subprocess.run(["git", "-C", ROOT, "rev-parse", "HEAD"],
                                                      capture_output=True).returncode != 0:
         pytest.skip("not a git checkout")
-    assert speed.export_tree("HEAD", str(tmp_path)) == str(tmp_path)
+    assert speed_against.export_tree("HEAD", str(tmp_path)) == str(tmp_path)
     assert (tmp_path / "time_integrator.py").is_file() and (tmp_path / "simulator.py").is_file()
-    assert speed.export_tree(str(tmp_path), "unused") == str(tmp_path)
+    assert speed_against.export_tree(str(tmp_path), "unused") == str(tmp_path)

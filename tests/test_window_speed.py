@@ -1,11 +1,11 @@
 """`python -m benchmarks.speed --window`: the window's pacing at n_seg 4, 8 and 16, on the dummy
 driver and, where there is a display, on it too (the measurements themselves are stubbed here: the
 window's own run is tests/test_window.py's test_the_window_benchmark_runs)."""
-from benchmarks import speed
+from benchmarks import window_speed
 
 
 def fake_measure(calls):
-    def window_real_time(n_seg, speed_=1.0, duration=3.0, driver=speed.MEMORY_DRIVER):
+    def window_real_time(n_seg, speed_=1.0, duration=3.0, driver=window_speed.MEMORY_DRIVER):
         calls.append((n_seg, speed_, driver))
         return {"n_seg": n_seg, "speed": speed_, "driver": driver, "wall_per_simulated": 1.0,
                 "cpu_per_simulated": 0.5, "busy": 0.5, "frames": 60, "slow_frames": 0, "lowest_rate": 1.0}
@@ -15,9 +15,9 @@ def fake_measure(calls):
 def test_the_table_covers_n_seg_4_8_16_on_every_driver_found(monkeypatch):
     for display, drivers in ((None, ["dummy"]), ("x11", ["dummy", "x11"])):
         calls = []
-        monkeypatch.setattr(speed, "window_real_time", fake_measure(calls))
-        monkeypatch.setattr(speed, "display_driver", lambda: display)
-        table = speed.window_table()
+        monkeypatch.setattr(window_speed, "window_real_time", fake_measure(calls))
+        monkeypatch.setattr(window_speed, "display_driver", lambda: display)
+        table = window_speed.window_table()
         assert {n for n, _, _ in calls} == {4, 8, 16} and {d for _, _, d in calls} == set(drivers)
         assert len(calls) == 3 * len(drivers) * 2                          # speed 1 and flat out
         assert all(f"  {n:>5}  {d:>6}" in table for n, _, d in calls)
@@ -25,4 +25,4 @@ def test_the_table_covers_n_seg_4_8_16_on_every_driver_found(monkeypatch):
 
 def test_no_display_means_the_dummy_driver_only(monkeypatch):
     monkeypatch.delenv("DISPLAY", raising=False)
-    assert speed.display_driver() is None
+    assert window_speed.display_driver() is None
