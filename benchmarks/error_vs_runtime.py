@@ -8,7 +8,7 @@ temporary folder, --out DIR into DIR.
 
 Sweeps the time step h, the Newton tolerance and the friction mode (lagged mu*lambda^n, as in the
 lecture, or fully implicit by up to FIXED_POINT_CAP fixed-point updates per step, Algorithm 5) over
-the closed-form cases of benchmarks/cases.py and the lecture's full scene. For every run it records
+the closed-form cases of closed_forms.py and the lecture's full scene. For every run it records
 the error (each case has its own measure, see CASES), the wall-clock time per simulated second, and
 Newton iterations and friction updates (Algorithm 5's re-solves) per step. Prints a table, writes <out>/error_vs_runtime.csv and draws
 <out>/error_vs_runtime.png (error against run time, log-log, one panel per case, one line per
@@ -25,7 +25,8 @@ import numpy as np
 
 import benchmarks
 import time_integrator
-from benchmarks import cases, plot, tables
+import closed_forms as cases
+from benchmarks import plot, tables
 
 HS = (0.04, 0.02, 0.01, 0.005, 0.0025)
 QUICK_HS = (0.04, 0.02)

@@ -1,11 +1,11 @@
 """A scene builder shared by the tests: the square clear of a slope of any angle (the resting starts
-are benchmarks/cases.py's `resting_scene`, shared with the accuracy report)."""
+are closed_forms.py's `resting_scene`, shared with the accuracy report)."""
 import math
 
 import numpy as np
 
 import simulator
-from benchmarks.cases import slope_normal
+from closed_forms import slope_normal
 
 SLOPE_POINT = (0.0, -1.0)
 

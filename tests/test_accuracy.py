@@ -1,6 +1,6 @@
 """Accuracy against closed-form answers: sliding, sticking, free fall; convergence order of the full scene.
 
-The scenes, exact answers and measurements live in benchmarks/cases.py, shared with the report
+The scenes, exact answers and measurements live in closed_forms.py, shared with the report
 (python -m benchmarks.error_vs_runtime). Every step here is solved to TOL, far below the velocities
 being measured, so what is left is the error of the discretization (implicit Euler, barrier,
 mollified friction), which is what these tests are about. The report shows what looser Newton
@@ -11,7 +11,7 @@ import math
 import numpy as np
 import pytest
 
-from benchmarks import cases
+import closed_forms as cases
 
 # Newton tolerance on ||p||_inf / h (m/s). It must sit well below eps_v = 1e-3 m/s and below the
 # velocity change per step (a h = 4.9e-3 m/s when sliding at h = 0.01): Newton starts every step from
@@ -40,7 +40,7 @@ def test_resting_pose_balances_forces_and_moments(tan_theta, mu):
     d = (scene.x0 - scene.o) @ scene.n
     bottom = np.arange(0, len(d), scene.n_seg + 1)              # nodes with j = 0
     assert np.all(d[bottom] < scene.dhat) and np.all(np.delete(d, bottom) > scene.dhat)
-    f = cases._barrier_force(scene, d[bottom])
+    f = cases.barrier_force(scene, d[bottom])
     weight, theta = 1000.0 * 9.81, math.atan(tan_theta)
     assert f.sum() == pytest.approx(weight * math.cos(theta), rel=1e-9)
     c = min(tan_theta, mu)

@@ -1,7 +1,8 @@
 """The closed-form cases: their scenes, their exact answers, and how a run is measured against them.
 
 Shared by tests/test_accuracy.py (which asserts) and benchmarks/error_vs_runtime.py (which reports),
-so both measure the same thing the same way.
+so both measure the same thing the same way; a module of its own, so that neither a test imports a
+benchmark nor a benchmark a test.
 
 - Sliding and sticking: a nearly rigid square (spring stiffness STIFF_K) starts at rest with its
   bottom edge on the slope, at the pose where the barrier carries its weight (`resting_scene`).
@@ -75,7 +76,7 @@ def creep_speed(scene):
     return scene.epsv * (1.0 - math.sqrt(1.0 - ratio))
 
 
-def _barrier_force(scene, d):
+def barrier_force(scene, d):
     """Normal force of the barrier on a bottom node at distance d: -w dhat b'(d) for d < dhat, else 0."""
     d = np.asarray(d, dtype=np.float64)
     inside = np.minimum(d, scene.dhat)
@@ -95,7 +96,7 @@ def resting_pose(scene):
         sum_i f_i = N,   f_i = f(d0 - s r_i)                  (normal forces)
         sum_i r_i f_i = (side/2) N tan(gamma - beta)          (moments about the centre of mass)
 
-    f: barrier force per bottom node (`_barrier_force`); r_i: the node's position along the edge,
+    f: barrier force per bottom node (`barrier_force`); r_i: the node's position along the edge,
     downhill positive; N, F: normal load and friction force at the base (`_loads`), tan(gamma) = F/N.
     The moment equation is that of the normal forces f_i and the friction forces (F/N) f_i (sliding:
     mu f_i; sticking: every node creeps at the same speed, so mu f1(v) f_i) at the tilted nodes. F acts
@@ -109,12 +110,12 @@ def resting_pose(scene):
 
     def d0_for(s):
         # from the deepest node touching the slope (infinite force) to every node beyond dhat (none)
-        return _bracketed_root(lambda d0: _barrier_force(scene, d0 - s * r).sum() - normal_load,
+        return _bracketed_root(lambda d0: barrier_force(scene, d0 - s * r).sum() - normal_load,
                                s * reach * (1 + 1e-12) + 1e-15, scene.dhat + s * reach)
 
     def moment_excess(s):
         lever = scene.side_len / 2 * math.tan(math.atan2(friction, normal_load) + math.asin(s))
-        return r @ _barrier_force(scene, d0_for(s) - s * r) - lever * normal_load
+        return r @ barrier_force(scene, d0_for(s) - s * r) - lever * normal_load
 
     if friction <= 0.0:
         return d0_for(0.0), 0.0
