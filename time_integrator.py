@@ -55,7 +55,7 @@ class StepReport:
     friction_updates: int = 0       # Algorithm 5's friction updates that re-solved the step (0: lagged friction)
     friction_converged: bool = True  # Algorithm 5 reached its fixed point (always True when lagged)
     friction_work: float = 0.0      # work of the friction forces over the step (J, <= 0)
-    friction_force: np.ndarray = None   # (N, 2) the step's friction force (`friction_force`); None without friction
+    friction_force: np.ndarray = None   # (N, 2) the step's friction force, with its last mu*lambda; None without
 
     @property
     def newton_iterations(self):
@@ -91,13 +91,6 @@ def friction_update(scene, lagged, x):
         return lagged
     return Lagged(lagged.x_n, lagged.x_tilde, BarrierEnergy.compute_mu_lambda_kernel(
         x, scene.n, scene.o, scene.contact_area, scene.mu, scene.dhat, scene.kappa))
-
-
-def friction_force(scene, lagged, x):
-    """The friction force -grad P_f(v) at every node (N, 2), v = (x - x^n) / h, with the mu*lambda and T
-    that `lagged` holds: a step's own, its last FrictionUpdate (StepReport.friction_force)."""
-    v = (x - lagged.x_n) / scene.h
-    return -FrictionEnergy.grad_kernel(v, lagged.mu_lambda, scene.h, scene.n, scene.epsv)
 
 
 # --- the Incremental Potential ----------------------------------------------------------------------
@@ -232,9 +225,10 @@ def newton_iterates(scene, x, v, *, step_index=0):
                 report.friction_updates = j
     except (ValueError, np.linalg.LinAlgError) as err:      # an energy overflowed, or H could not be factored
         raise NonFiniteState(f"the step's numbers broke down ({err})", step_index) from err
-    if "friction" in scene.terms:       # the friction force at the step's end, times the displacement
-        report.friction_force = friction_force(scene, lagged, x)
-        report.friction_work = float(np.vdot(report.friction_force, x - x_n))
+    if "friction" in scene.terms:       # the step's friction force -grad P_f(v^{n+1}), its last mu*lambda and T
+        report.friction_force = -FrictionEnergy.grad_kernel((x - x_n) / scene.h, lagged.mu_lambda, scene.h, scene.n,
+                                                            scene.epsv)
+        report.friction_work = float(np.vdot(report.friction_force, x - x_n))     # its work over the step
     if "barrier" in scene.terms:
         report.min_distance = float(BarrierEnergy.distances(x, scene.n, scene.o).min())
     return x, (x - x_n) / scene.h, report

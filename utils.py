@@ -41,7 +41,7 @@ def as_float(name, value, requirement):
     """float(value), or a ValueError saying `name` {requirement} for anything that is not one real number
     (see _real): booleans, text, complex numbers, arrays, ints beyond float64's range."""
     try:
-        return _real(value)
+        return float(value) if type(value) in (int, float) else _real(value)     # a plain number: as it is
     except OverflowError:
         raise ValueError(f"{name} {requirement}, got {_typed(value)}, beyond float64's range") from None
     except (TypeError, ValueError):
@@ -68,7 +68,7 @@ def _real_array(name, a):
 def check_points(name, x, shape=None):
     """Return `x` as a float64 (N, 2) array, of `shape` if given; ValueError if it holds no real numbers
     (_real_array), the shape is wrong or a value is not finite."""
-    x = _real_array(name, x)
+    x = x if isinstance(x, np.ndarray) and x.dtype == np.float64 else _real_array(name, x)
     if x.ndim != 2 or x.shape[1] != 2 or shape not in (None, x.shape):
         raise ValueError(f"{name} must have shape {shape or '(N, 2)'}, got shape {x.shape}")
     if not np.isfinite(x).all():
@@ -137,7 +137,6 @@ def check_positive(name, value):
     return value
 
 
-# eps_v below this makes f_hess_term's 1/eps_v^2 overflow float64 (1/eps_v^2 < 1.8e308 needs eps_v > 7.5e-155)
 def check_whole(name, value, minimum):
     """Return `value` as an int; ValueError unless it is a whole number >= minimum."""
     number = as_float(name, value, f"must be a whole number >= {minimum}")
@@ -146,6 +145,7 @@ def check_whole(name, value, minimum):
     return int(number)
 
 
+# eps_v below this makes f_hess_term's 1/eps_v^2 overflow float64 (1/eps_v^2 < 1.8e308 needs eps_v > 7.5e-155)
 EPSV_MIN = 1e-150
 
 
