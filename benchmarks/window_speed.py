@@ -39,7 +39,7 @@ class MeteredClock:
 
 
 def window_real_time(n_seg, speed=1.0, duration=3.0, driver=MEMORY_DRIVER):
-    """The default run (3 s) in the live window at `speed`, drawing included, on SDL video driver
+    """A 3 s run of the default scene in the live window at `speed`, drawing included, on SDL video driver
     `driver` (the dummy one draws into memory; x11 shows it on $DISPLAY, a desktop or Xvfb): wall
     seconds per simulated second (1/speed when it keeps up), CPU seconds per simulated
     second (what it needs of one core, whatever else the machine runs), the share of the wall time the
@@ -84,7 +84,7 @@ def window_table(sizes=WINDOW_N_SEGS):
     dummy driver and, where there is a display, on it."""
     drivers = [MEMORY_DRIVER] + [d for d in [display_driver()] if d]
     where = f"DISPLAY={os.environ.get('DISPLAY')}" if len(drivers) > 1 else "no display found: dummy only"
-    lines = [f"Live window ({WINDOW_PIXELS} px, drawing included; {where}), the default 3 s run:",
+    lines = [f"Live window ({WINDOW_PIXELS} px, drawing included; {where}), a 3 s run:",
              "  n_seg  driver  speed  wall/simulated s  CPU/simulated s  busy  frames  frames 'slower'  "
              "lowest rate  -> x real time"]
     for n_seg in sizes:
