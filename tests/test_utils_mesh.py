@@ -3,6 +3,7 @@ import os
 
 import numpy as np
 import pytest
+import scipy.sparse.linalg
 
 import InertiaEnergy
 import MassSpringEnergy
@@ -216,3 +217,26 @@ def test_rectangle_counts_order_and_spacing(nx, ny):
         square_mesh.obj_text(x[:-1], nx, ny)
     with pytest.raises(ValueError, match="ny must be a whole number >= 1, got 0"):
         square_mesh.rectangle(width, height, nx, 0)
+
+
+def test_a_block_outside_the_band_is_refused_and_a_declared_one_solves_as_spsolve():
+    """Issue 28: a 4x4 block coupling nodes 0 and 24 of the n_seg 4 mesh lies outside the band its edges
+    give (before, the banded solve then differed from spsolve by 0.89, silently). It is refused at once;
+    declared as an element of the scene, the band covers it and the banded solve agrees with spsolve."""
+    x, e, H, _ = system_setup(4, seed=3)
+    rng = np.random.default_rng(4)
+    A = rng.normal(size=(1, 4, 4))
+    coupled = H + [(np.array([[0, 24]]), A @ np.swapaxes(A, 1, 2))]
+    matrix = utils.ijv_to_csr(utils.concat_ijv(utils.blocks_to_ijv(*h) for h in coupled), 2 * len(x)).tocsc()
+    b = rng.normal(size=2 * len(x))
+    reference = scipy.sparse.linalg.spsolve(matrix, b)
+    mesh_only = utils.SPDSolver.for_mesh(len(x), e)
+    assert mesh_only.kind == "banded" and mesh_only.bandwidth == 2 * 6 + 1
+    with pytest.raises(utils.OutOfBand, match=r"nodes \[0, 24\] couples DOFs 49 apart, beyond the band of 13"):
+        mesh_only.solve(coupled, b)
+    declared = utils.SPDSolver.for_mesh(len(x), e, elements=[np.array([[0, 24]])])
+    assert declared.kind == "banded" and declared.bandwidth == 2 * 24 + 1
+    for solver in (declared, utils.SPDSolver.for_mesh(len(x), e, "superlu")):
+        assert np.allclose(solver.solve(coupled, b), reference, rtol=0, atol=1e-10 * np.abs(reference).max())
+    # node blocks (the hand's, the barrier's) couple a node to itself only: they keep the mesh's band
+    assert utils.SPDSolver.for_mesh(len(x), e, elements=[np.arange(20, 25)[:, None]]).bandwidth == 13
