@@ -4,6 +4,7 @@ import pytest
 
 import BarrierEnergy
 import FrictionEnergy
+import HandEnergy
 import GravityEnergy
 import InertiaEnergy
 import MassSpringEnergy
@@ -106,3 +107,33 @@ def test_tiny_eps_v_still_exact_where_representable():
 def test_ccd_refuses_a_start_below_the_slope():
     with pytest.raises(ValueError, match="node 0 is at distance -1 <= 0"):
         BarrierEnergy.init_step_size(np.array([[0.0, -1.0]]), [0.0, 1.0], [0.0, 0.0], np.ones((1, 2)))
+
+
+HELD, TARGET = np.array([6, 7, 8]), X[6:] + [0.0, -0.1]
+
+
+def hand(x=X, nodes=HELD, target=TARGET, k_hand=2000.0):
+    return lambda f: f(x, nodes, target, k_hand)
+
+
+@pytest.mark.parametrize("call, message", [
+    (hand(x=NAN_X), "x has a non-finite value nan at node 3"),
+    (hand(nodes=HELD + 7), "nodes has node index 13 outside [0, 9)"),
+    (hand(nodes=HELD.astype(float)), "nodes must be a 1-D array of integer node indices"),
+    (hand(nodes=np.array([6, 6, 8])), "nodes must not hold a node twice"),
+    (hand(target=TARGET[:2]), "target must have shape (3, 2)"),
+    (hand(k_hand=np.ones(2)), "k_hand must have one value per held node (3)"),
+    (hand(k_hand=-1.0), "k_hand must be >= 0, got -1.0 at held node 0"),
+])
+@pytest.mark.parametrize("kind", ["val", "grad", "hess"])
+def test_bad_input_to_the_hand_raises_value_error(call, message, kind):
+    with pytest.raises(ValueError, match=message.replace("(", r"\(").replace(")", r"\)").replace("[", r"\[")):
+        call(getattr(HandEnergy, kind))
+
+
+def test_a_mu_per_node_is_checked():
+    x = X + [0.0, 0.505]                                    # every node above the ground, the bottom row within dhat
+    with pytest.raises(ValueError, match="mu must have one value per node"):
+        BarrierEnergy.compute_mu_lambda(x, N, O, W, np.ones(3))
+    with pytest.raises(ValueError, match="mu must be >= 0 at every node, got -0.5 at node 4"):
+        BarrierEnergy.compute_mu_lambda(x, N, O, W, np.where(np.arange(len(X)) == 4, -0.5, 0.3))
