@@ -75,7 +75,7 @@ def hess(x, nodes, target, k_hand):
 def val_kernel(x, nodes, target, k_hand):
     """P_hand = sum_i 1/2 k_hand ||x_i - target_i||^2."""
     diff = x.take(nodes, axis=0) - target
-    return 0.5 * float(np.sum(k_hand * np.einsum("ij,ij->i", diff, diff)))
+    return 0.5 * float((k_hand * np.einsum("ij,ij->i", diff, diff)).sum())
 
 
 def grad_kernel(x, nodes, target, k_hand):
