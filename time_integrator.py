@@ -97,19 +97,22 @@ def step_time(scene, step_index):
 
 def friction_update(scene, lagged, x, v=None):
     """FrictionUpdate(x) of Algorithm 5: mu*lambda from the barrier at x (`lagged` unchanged without
-    friction). With one coefficient mu is scene.mu. Where the scene's static mu_s differs from its kinetic
-    mu (not in the lecture: its chalk remark), mu_k = slip_weakened_mu(|t . v_k|) per node, from v, the
-    velocity of the state x: v^n at x^n (the lagged solve), or (x - x^n) / h (v None) at an iterate of
-    Algorithm 5; it stays fixed through the solve, as lambda and T do."""
+    friction); mu is scene.mu, or one per node where the static mu_s differs from it (`slip_weakened_mu`,
+    from v, the velocity of the state x)."""
     if "friction" not in scene.terms:
         return lagged
-    mu = scene.mu
-    if scene.mu_s is not None and scene.mu_s != scene.mu:
-        v = (x - lagged.x_n) / scene.h if v is None else v
-        vbarnorm = np.abs(v @ FrictionEnergy.tangent(scene.n))      # ||vbar_k|| = |t . v_k|
-        mu = FrictionEnergy.slip_weakened_mu(vbarnorm, scene.mu, scene.mu_s, scene.v_c)
+    mu = scene.mu if scene.mu_s in (None, scene.mu) else slip_weakened_mu(scene, lagged, x, v)
     return dataclasses.replace(lagged, mu_lambda=BarrierEnergy.compute_mu_lambda_kernel(
         x, scene.n, scene.o, scene.contact_area, mu, scene.dhat, scene.kappa))
+
+
+def slip_weakened_mu(scene, lagged, x, v=None):
+    """mu_k = mu + (mu_s - mu) exp(-|t . v_k| / v_c) per node (not in the lecture: its chalk remark, static
+    friction above kinetic), v the velocity of the state x: v^n at x^n (the lagged solve), (x - x^n) / h
+    (v None) at an iterate of Algorithm 5. FrictionUpdate holds it fixed through the solve, as lambda and T."""
+    v = (x - lagged.x_n) / scene.h if v is None else v
+    vbarnorm = np.abs(v @ FrictionEnergy.tangent(scene.n))          # ||vbar_k|| = |t . v_k|
+    return FrictionEnergy.slip_weakened_mu(vbarnorm, scene.mu, scene.mu_s, scene.v_c)
 
 
 def friction_force(scene, lagged, x):
