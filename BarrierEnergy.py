@@ -122,19 +122,26 @@ def init_step_size_kernel(x, n, o, p):
 
 
 def compute_mu_lambda(x, n, o, contact_area, mu, dhat=DHAT, kappa=KAPPA):
-    """mu * lambda_k, the friction bound of each node (checked; see compute_mu_lambda_kernel)."""
+    """mu * lambda_k, the friction bound of each node; mu one coefficient, or one per node (checked; see
+    compute_mu_lambda_kernel)."""
     x, n, o, contact_area, dhat, kappa = _check(x, n, o, contact_area, dhat, kappa)
-    mu = utils.as_float("mu", mu, "must be a finite number >= 0")
-    if not np.isfinite(mu) or mu < 0.0:
-        raise ValueError(f"mu must be a finite number >= 0, got {mu}")
+    if np.ndim(mu) == 0:
+        mu = utils.as_float("mu", mu, "must be a finite number >= 0")
+        if not np.isfinite(mu) or mu < 0.0:
+            raise ValueError(f"mu must be a finite number >= 0, got {mu}")
+    else:
+        mu = utils.check_per_item("mu", mu, len(x), must_be=">= 0")
     return utils.finite_result("BarrierEnergy.compute_mu_lambda",
                                compute_mu_lambda_kernel(x, n, o, contact_area, mu, dhat, kappa), ARGUMENTS)
 
 
 def compute_mu_lambda_kernel(x, n, o, contact_area, mu, dhat, kappa):
     """mu * lambda_k, lambda_k = -w_k dhat b'(d_k) = -dP_b/dd_k the contact force magnitude, for d_k < dhat;
-    zero elsewhere. The friction term uses it lagged, from x^n."""
+    zero elsewhere. mu is a number, or an array of one mu_k per node (slip-weakened friction,
+    FrictionEnergy.slip_weakened_mu). The friction term uses it lagged, from x^n."""
     i, d = _active(x, n, o, dhat)
+    if np.ndim(mu):
+        mu = mu.take(i)                         # mu_k of the nodes within dhat
     mu_lambda = np.zeros(len(x))
     mu_lambda[i] = -mu * dP_dd(d, contact_area.take(i), dhat, kappa)
     return mu_lambda

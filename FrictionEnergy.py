@@ -6,7 +6,8 @@ vbar_k = (T^n)^T v_k the tangential velocity of node k, v = (x - x^n) / hhat:
     P_f(x) = sum_k mu lambda_k^n f0(||vbar_k|| hhat)                 (the lecture's P_f)
 
 `val`, `grad`, `hess` take v and return P_f and its derivatives with respect to x (dv/dx = I / hhat).
-Only the nodes with mu_lambda > 0 (in contact at x^n) enter.
+Only the nodes with mu_lambda > 0 (in contact at x^n) enter. mu_lambda is per node, so a coefficient
+per node (`slip_weakened_mu`, static above kinetic: the chalk's stick-slip) needs nothing new here.
 
 For a half-space in 2-D the tangent line has one unit direction t = (n_y, -n_x), so T = I - n n^T = t t^T
 and vbar_k = u_k t with u_k = t . v_k: ||vbar_k|| = |u_k|. The code computes in that form.
@@ -41,6 +42,16 @@ def f_hess_term(vbarnorm, epsv):
     """(f1'(||vbar||) ||vbar|| - f1(||vbar||)) / ||vbar||^2: -1 / eps_v^2 for ||vbar|| < eps_v, else
     -1 / ||vbar||^2."""
     return -1.0 / np.maximum(vbarnorm, epsv) ** 2
+
+
+# --- friction that weakens with slip (not in the lecture: its chalk remark, Rabinowicz's mu_s > mu_k) --
+
+def slip_weakened_mu(vbarnorm, mu, mu_s, v_c):
+    """mu(||vbar||) = mu + (mu_s - mu) exp(-||vbar|| / v_c): the static coefficient mu_s at rest, falling
+    to the kinetic mu once the node slips much faster than v_c. The time integrator evaluates it in
+    FrictionUpdate only, at the velocity of x^n (or of Algorithm 5's iterate), and holds it fixed through
+    the Newton solve like lambda and T, so P_f stays a potential within each solve."""
+    return mu + (mu_s - mu) * np.exp(-vbarnorm / v_c)
 
 
 # --- P_f, its gradient and Hessian ---------------------------------------------------------------

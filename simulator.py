@@ -1,8 +1,10 @@
-"""The lecture's case study: an elastic mass-spring square dropped onto a slope with friction.
+"""The lecture's case study: an elastic mass-spring square dropped onto a slope with friction; and its
+closing remark, Rabinowicz's chalk pushed or dragged across a board by a hand (stick-slip).
 
     scene = build_scene(mu=0.2)                     # the lecture's numbers (DEFAULTS), one of them changed
     for record in simulate(scene, steps=300):       # implicit Euler, one time_integrator.step at a time
         print(record.t, record.x.mean(axis=0))
+    chalk = build_chalk_scene(k_hand=4000.0)        # the chalk's numbers (CHALK), one of them changed
 
 `python simulator.py` runs the scene and writes what it shows (frames, a page, plots, a log): the
 command line lives in viewer/cli.py (`python simulator.py --help`), the drawing in viewer/.
@@ -19,6 +21,8 @@ from dataclasses import dataclass
 import numpy as np
 
 import BarrierEnergy
+import HandEnergy
+import chalk_checks
 import square_checks
 import square_mesh
 import time_integrator
@@ -51,7 +55,7 @@ ALIASES = {"dt": "h"}           # other names a parameter may be passed by
 
 @dataclass(frozen=True)
 class Scene:
-    """What a scene *is*: built once by `build_scene`, never changed by stepping."""
+    """What a scene *is*: built once by `build_scene` or `build_chalk_scene`, never changed by stepping."""
     params: types.MappingProxyType  # the checked parameters it was built from
     x0: np.ndarray              # (N, 2) initial positions
     v0: np.ndarray              # (N, 2) initial velocities
@@ -69,14 +73,18 @@ class Scene:
     epsv: float
     h: float
     tol: float
-    n_seg: int
-    side_len: float
+    n_seg: int                  # the square's (None for the chalk: see cells)
+    side_len: float             # the square's, m (None for the chalk)
     friction_updates: int
     max_newton_iterations: int
     max_halvings: int
     terms: tuple                # the energy terms the Incremental Potential sums
     warnings: tuple             # what this scene's results cannot be trusted for, as sentences
     solver: utils.SPDSolver     # how H p = -grad E is solved on this mesh
+    cells: tuple = None         # (nx, ny): the mesh's cells (square_mesh.rectangle); the square's (n_seg, n_seg)
+    hand: HandEnergy.Hand = None    # the grip's held nodes and moving targets, or None
+    mu_s: float = None          # static friction coefficient, or None: one coefficient, mu
+    v_c: float = None           # m/s: mu falls from mu_s to mu over slip speeds of about v_c (with mu_s)
 
 
 def _readonly(a):
@@ -114,7 +122,61 @@ def build_scene(**overrides):
         n_seg=p["n_seg"], side_len=p["side_len"], friction_updates=p["friction_updates"],
         max_newton_iterations=p["max_newton_iterations"], max_halvings=p["max_halvings"],
         terms=tuple(terms), warnings=square_checks.scene_warnings(p, x, n, d),
-        solver=utils.SPDSolver.for_mesh(len(x), e))
+        solver=utils.SPDSolver.for_mesh(len(x), e), cells=(p["n_seg"], p["n_seg"]))
+
+
+CHALK = types.MappingProxyType({
+    "length": 0.09, "width": 0.01,  # m: the chalk, along its axis and across
+    "nx": 18, "ny": 2,          # cells along and across: (nx + 1)(ny + 1) nodes
+    "rho": 15.0,                # kg/m^2
+    "k": 1e5,                   # spring stiffness, N/m
+    "h": 1e-3,                  # time step, s
+    "gravity": (0.0, -9.81),    # m/s^2
+    "mu": 0.35,                 # kinetic friction coefficient
+    "mu_s": 0.5,                # static coefficient; mu_s = mu: one coefficient, the lecture's friction
+    "v_c": 1e-3,                # slip speed over which mu falls from mu_s to mu, m/s
+    "dhat": 1e-3, "kappa": 1e3,     # barrier activation distance (m) and stiffness
+    "epsv": 1e-4,               # friction's eps_v, m/s
+    "tol": 1e-5,                # Newton tolerance on ||p||_inf / h, m/s
+    "tilt": 60.0,               # degrees between the chalk and the board
+    "drag": False,              # False: pushed (the hand behind the tip, obtuse angle); True: dragged (acute)
+    "k_hand": 2000.0,           # the grip: stiffness of each held node's spring, N/m
+    "held_columns": 3,          # the hand holds the nodes of this many columns at the far end
+    "press": 5e-4, "t_press": 0.1,  # the targets press this far into the board (m) over t_press (s),
+    "t_hold": 0.1, "drive": 0.01,   # hold for t_hold (s), then move along the board at drive (m/s)
+    "friction_updates": 0, "max_newton_iterations": 1000, "max_halvings": 60,
+})
+
+
+def build_chalk_scene(**overrides):
+    """Rabinowicz's chalk: a mass-spring rectangle at `tilt` to a flat board (normal (0, 1) through the
+    origin), its tip corner at dhat, held by the hand at the far end, which moves along +x: pushed, the
+    chalk leans back over the tip; dragged, forward. A ValueError names a bad parameter."""
+    p = chalk_checks.check_params(CHALK, overrides)
+    x, e = square_mesh.rectangle(p["length"], p["width"], p["nx"], p["ny"], (0.0, -p["width"] / 2.0))
+    tilt = math.radians(p["tilt"])
+    a = np.array([math.cos(tilt) * (1.0 if p["drag"] else -1.0), math.sin(tilt)])     # the axis, tip to hand
+    x = x @ np.array([a, [-a[1], a[0]]])                       # rows (u, w) -> u a + w a_perp
+    x = x - [x[np.argmin(x[:, 1]), 0], x[:, 1].min() - p["dhat"]]      # the tip corner at (0, dhat)
+    held = np.arange((p["nx"] + 1 - p["held_columns"]) * (p["ny"] + 1), len(x))
+    t1, t2, down = p["t_press"], p["t_press"] + p["t_hold"], -p["press"]
+    hand = HandEnergy.Hand(nodes=_readonly(held), rest=_readonly(x[held]), k_hand=p["k_hand"],
+                           key_t=_readonly([0.0, t1, t2, t2 + 1.0]),       # then on at drive
+                           key_d=_readonly([[0.0, 0.0], [0.0, down], [0.0, down], [p["drive"], down]]))
+    diff = x[e[:, 0]] - x[e[:, 1]]
+    terms = ["inertia", "spring"] + ["gravity"] * any(p["gravity"]) + ["hand", "barrier"]
+    return Scene(
+        params=types.MappingProxyType(p), x0=_readonly(x), v0=_readonly(np.zeros_like(x)),
+        e=_readonly(np.asfortranarray(e)), l2=_readonly(np.einsum("ij,ij->i", diff, diff)),
+        k=_readonly(np.full(len(e), p["k"])),
+        m=_readonly(np.full(len(x), p["rho"] * p["length"] * p["width"] / len(x))),
+        contact_area=_readonly(np.full(len(x), p["width"] / p["ny"])), g=_readonly(p["gravity"]),
+        n=_readonly([0.0, 1.0]), o=_readonly([0.0, 0.0]), mu=p["mu"], dhat=p["dhat"], kappa=p["kappa"],
+        epsv=p["epsv"], h=p["h"], tol=p["tol"], n_seg=None, side_len=None, friction_updates=p["friction_updates"],
+        max_newton_iterations=p["max_newton_iterations"], max_halvings=p["max_halvings"],
+        terms=tuple(terms + ["friction"] * (max(p["mu"], p["mu_s"]) > 0.0)), warnings=(),
+        solver=utils.SPDSolver.for_mesh(len(x), e, elements=[held[:, None]]),      # the hand: node blocks
+        cells=(p["nx"], p["ny"]), hand=hand, mu_s=p["mu_s"], v_c=p["v_c"])
 
 
 @dataclass
@@ -134,4 +196,4 @@ def simulate(scene, steps):
     for i in range(utils.check_whole("steps", steps, 1)):
         start = time.perf_counter()
         x, v, report = time_integrator.step(scene, x, v, step_index=i)
-        yield StepRecord(i, (i + 1) * scene.h, x, v, report, time.perf_counter() - start)
+        yield StepRecord(i, time_integrator.step_time(scene, i), x, v, report, time.perf_counter() - start)

@@ -1,15 +1,17 @@
 """One implicit Euler time step, written as minimizing the Incremental Potential (IP):
 
-    E(x) = 1/2 ||x - x_tilde||_M^2 + h^2 (P_e(x) + P_g(x) + P_b(x) + P_f(x)),   x_tilde = x^n + h v^n,
+    E(x) = 1/2 ||x - x_tilde||_M^2 + h^2 (P_e(x) + P_g(x) + P_hand(x) + P_b(x) + P_f(x)),   x_tilde = x^n + h v^n,
 
 summing only the potential terms the scene has (`scene.terms`). Projected Newton with the filtered
 backtracking line search of Algorithm 4 minimizes it; friction uses mu*lambda^n and T^n lagged from x^n
 (semi-implicit), and `scene.friction_updates` > 0 adds the fixed-point iterations of Algorithm 5 for
-fully implicit friction.
+fully implicit friction. A hand (the chalk's grip) pulls its held nodes to their targets at t^{n+1}.
 
-`step(scene, x, v)` returns (x^{n+1}, v^{n+1}, StepReport); it prints nothing and changes none of its
-inputs. `newton_iterates` is the same step one Newton iteration at a time, for a window to show.
+`step(scene, x, v, step_index=n)` maps (x^n, v^n) at t^n = n h to (x^{n+1}, v^{n+1}) at t^{n+1} =
+(n + 1) h, and a StepReport; it prints nothing and changes none of its inputs. `newton_iterates` is the
+same step one Newton iteration at a time, for a window to show.
 """
+import dataclasses
 from dataclasses import dataclass, field
 import math
 
@@ -18,6 +20,7 @@ import numpy as np
 import BarrierEnergy
 import FrictionEnergy
 import GravityEnergy
+import HandEnergy
 import InertiaEnergy
 import MassSpringEnergy
 import utils
@@ -79,18 +82,37 @@ class NewtonIterate:
 @dataclass(frozen=True)
 class Lagged:
     """What the Incremental Potential holds fixed during one Newton solve: x^n, x_tilde = x^n + h v^n,
-    and mu*lambda per node (None when the scene has no friction). T^n = I - n n^T is the slope's."""
+    mu*lambda per node (None when the scene has no friction), and the hand's targets at t^{n+1} (None
+    without a hand). T^n = I - n n^T is the slope's."""
     x_n: np.ndarray
     x_tilde: np.ndarray
     mu_lambda: np.ndarray
+    targets: np.ndarray = None
 
 
-def friction_update(scene, lagged, x):
-    """FrictionUpdate(x) of Algorithm 5: mu*lambda from the barrier at x (None without friction)."""
+def step_time(scene, step_index):
+    """t^{n+1} = (n + 1) h, the time the step from x^n (step_index n) goes to, as simulate's records say."""
+    return (step_index + 1) * scene.h
+
+
+def friction_update(scene, lagged, x, v=None):
+    """FrictionUpdate(x) of Algorithm 5: mu*lambda from the barrier at x (`lagged` unchanged without
+    friction); mu is scene.mu, or one per node where the static mu_s differs from it (`slip_weakened_mu`,
+    from v, the velocity of the state x)."""
     if "friction" not in scene.terms:
         return lagged
-    return Lagged(lagged.x_n, lagged.x_tilde, BarrierEnergy.compute_mu_lambda_kernel(
-        x, scene.n, scene.o, scene.contact_area, scene.mu, scene.dhat, scene.kappa))
+    mu = scene.mu if scene.mu_s in (None, scene.mu) else slip_weakened_mu(scene, lagged, x, v)
+    return dataclasses.replace(lagged, mu_lambda=BarrierEnergy.compute_mu_lambda_kernel(
+        x, scene.n, scene.o, scene.contact_area, mu, scene.dhat, scene.kappa))
+
+
+def slip_weakened_mu(scene, lagged, x, v=None):
+    """mu_k = mu + (mu_s - mu) exp(-|t . v_k| / v_c) per node (not in the lecture: its chalk remark, static
+    friction above kinetic), v the velocity of the state x: v^n at x^n (the lagged solve), (x - x^n) / h
+    (v None) at an iterate of Algorithm 5. FrictionUpdate holds it fixed through the solve, as lambda and T."""
+    v = (x - lagged.x_n) / scene.h if v is None else v
+    vbarnorm = np.abs(v @ FrictionEnergy.tangent(scene.n))          # ||vbar_k|| = |t . v_k|
+    return FrictionEnergy.slip_weakened_mu(vbarnorm, scene.mu, scene.mu_s, scene.v_c)
 
 
 # --- the Incremental Potential ----------------------------------------------------------------------
@@ -101,6 +123,8 @@ def potential_terms(scene, lagged, x):
     every = {"spring": (MassSpringEnergy, (x, s.e, s.l2, s.k)), "gravity": (GravityEnergy, (x, s.m, s.g)),
              "barrier": (BarrierEnergy, (x, s.n, s.o, s.contact_area, s.dhat, s.kappa)),
              "friction": (FrictionEnergy, (v, lagged.mu_lambda, s.h, s.n, s.epsv))}
+    if s.hand is not None:                              # its targets: those of t^{n+1}, held in `lagged`
+        every["hand"] = (HandEnergy, (x, s.hand.nodes, lagged.targets, s.hand.k_hand))
     return [every[term] for term in s.terms if term != "inertia"]
 
 
@@ -205,13 +229,14 @@ def _check_round_off_floor(scene, lagged, x, p, E, E_next, residual, step_index)
 
 def newton_iterates(scene, x, v, *, step_index=0):
     """The time step of `step`, one Newton iteration at a time: yields a NewtonIterate after each line
-    search, returns (x^{n+1}, v^{n+1}, StepReport)."""
+    search, returns (x^{n+1}, v^{n+1}, StepReport). The hand's targets are those of t^{n+1} = step_time."""
     x_n, v_n = utils.check_points("x", x, scene.x0.shape), utils.check_points("v", v, scene.x0.shape)
     if "barrier" in scene.terms:
         BarrierEnergy.check_above(x_n, scene.n, scene.o)
     report = StepReport()
     try:
-        lagged = friction_update(scene, Lagged(x_n, x_n + scene.h * v_n, None), x_n)      # mu*lambda^n, T^n
+        targets = scene.hand.targets(step_time(scene, step_index)) if "hand" in scene.terms else None
+        lagged = friction_update(scene, Lagged(x_n, x_n + scene.h * v_n, None, targets), x_n, v_n)  # mu*lambda^n
         x = yield from newton(scene, lagged, x_n, report, step_index)
         if "friction" in scene.terms and scene.friction_updates > 0:                       # Algorithm 5
             for j in range(1, scene.friction_updates + 2):
@@ -235,7 +260,8 @@ def newton_iterates(scene, x, v, *, step_index=0):
 
 
 def step(scene, x, v, *, step_index=0):
-    """Advance (x^n, v^n) by one implicit Euler step of scene.h: returns (x^{n+1}, v^{n+1}, StepReport)."""
+    """Advance (x^n, v^n) at t^n = step_index h by one implicit Euler step of scene.h: returns (x^{n+1},
+    v^{n+1}, StepReport). step_index also numbers the step in errors; a hand's targets move with it."""
     iterates = newton_iterates(scene, x, v, step_index=step_index)
     try:
         while True:

@@ -226,11 +226,21 @@ def add_to_pairs(e, f, n):
 BAND_LIMIT = 40
 
 
+class OutOfBand(RuntimeError):
+    """A block of H couples two DOFs further apart than the band its SPDSolver was built for: the banded
+    solve would drop it and return a wrong p, so it is refused. Not a ValueError: the time step reports
+    it as it is (a scene that did not declare a term's elements), not as a numerical breakdown."""
+
+
 @dataclass(frozen=True)
 class SPDSolver:
     """Solves H p = b for the Incremental Potential's Hessian H, symmetric positive definite (M plus
     PSD-projected terms), given as element blocks on one mesh. `kind` is fixed per mesh by `for_mesh`:
-    "banded", LAPACK's banded Cholesky (dpbtrf, dpbtrs) on the upper band; or "superlu", a sparse LU."""
+    "banded", LAPACK's banded Cholesky (dpbtrf, dpbtrs) on the upper band; or "superlu", a sparse LU.
+
+    The band rule: the band is derived once from every element a scene's terms can produce (the mesh's
+    edges, and `elements` for any other coupling); a block that does not fit raises OutOfBand at once,
+    never a silently wrong banded solve. (Node blocks, 2x2 on one node, always fit.)"""
     n_dofs: int
     bandwidth: int              # max |row - col| of an entry H can have
     kind: str
@@ -239,11 +249,15 @@ class SPDSolver:
     edge_slots: np.ndarray      # (E, 10) band positions of the upper triangle of edge j's 4x4 block
 
     @classmethod
-    def for_mesh(cls, n_nodes, e, kind=None):
-        """The solver for H on n_nodes nodes joined by edges e (H has a 2x2 block per node and per edge);
-        `kind` None picks "banded" unless the band is over BAND_LIMIT times H's nonzeros."""
+    def for_mesh(cls, n_nodes, e, kind=None, elements=()):
+        """The solver for H on n_nodes nodes joined by edges e (H has a 2x2 block per node and a 4x4 one per
+        edge) and the element node lists (B, m) of `elements`, the other blocks the scene's terms produce;
+        its band, 2 max(node span) + 1, covers them all. `kind` None picks "banded" unless the band is over
+        BAND_LIMIT times the nonzeros of the nodes' and edges' blocks."""
         e = np.array(e, dtype=np.int64).reshape(-1, 2)
-        bandwidth = int(2 * np.abs(e[:, 0] - e[:, 1]).max(initial=0) + 1)
+        spans = [np.abs(e[:, 0] - e[:, 1]).max(initial=0)]
+        spans += [np.ptp(np.asarray(nodes, dtype=np.int64), axis=1).max(initial=0) for nodes in elements]
+        bandwidth = int(2 * max(spans) + 1)
         nonzeros = 4 * n_nodes + 8 * len(e)
         if kind is None:
             kind = "banded" if (bandwidth + 1) * 2 * n_nodes <= BAND_LIMIT * nonzeros else "superlu"
@@ -297,9 +311,16 @@ class SPDSolver:
 
 def _band_slots(bandwidth, nodes, i, j):
     """Where entry (i, j) of each element's block lands in the flat upper band: H[r, c] with r <= c is at
-    bandwidth + r - c + (bandwidth + 1) c = bandwidth + r + bandwidth c, (B, len(i))."""
+    bandwidth + r - c + (bandwidth + 1) c = bandwidth + r + bandwidth c, (B, len(i)). OutOfBand where an
+    entry has |r - c| > bandwidth: its slot would be another entry's, or outside the band."""
     dofs = block_dofs(nodes)
     r, c = dofs[:, i], dofs[:, j]
+    reach = np.abs(r - c).max(axis=1, initial=0)
+    if reach.size and reach.max() > bandwidth:
+        b = int(np.argmax(reach))
+        raise OutOfBand(f"a block on nodes {nodes[b].tolist()} couples DOFs {reach[b]} apart, beyond the band "
+                        f"of {bandwidth} this banded solver was built for: build it with every element the "
+                        f"scene's terms produce (SPDSolver.for_mesh(..., elements=...)), or kind='superlu'")
     return bandwidth + np.minimum(r, c) + bandwidth * np.maximum(r, c)
 
 

@@ -6,6 +6,7 @@ import pytest
 
 import BarrierEnergy
 import FrictionEnergy
+import HandEnergy
 import GravityEnergy
 import InertiaEnergy
 import MassSpringEnergy
@@ -219,3 +220,33 @@ def test_a_result_beyond_float64_is_refused_never_returned(module, kind, args):
 def test_mesh_refuses_what_is_no_number(side_len, n_seg, message):
     with pytest.raises(ValueError, match=f"^{message}$"):
         square_mesh.generate(side_len, n_seg)
+
+
+HELD, TARGET = np.array([6, 7, 8]), X[6:] + [0.0, -0.1]
+
+
+def hand(x=X, nodes=HELD, target=TARGET, k_hand=2000.0):
+    return lambda f: f(x, nodes, target, k_hand)
+
+
+@pytest.mark.parametrize("call, message", [
+    (hand(x=NAN_X), "x has a non-finite value nan at node 3"),
+    (hand(nodes=HELD + 7), "nodes has node index 13 outside [0, 9)"),
+    (hand(nodes=HELD.astype(float)), "nodes must be a 1-D array of integer node indices"),
+    (hand(nodes=np.array([6, 6, 8])), "nodes must not hold a node twice"),
+    (hand(target=TARGET[:2]), "target must have shape (3, 2)"),
+    (hand(k_hand=np.ones(2)), "k_hand must have one value per held node (3)"),
+    (hand(k_hand=-1.0), "k_hand must be >= 0, got -1.0 at held node 0"),
+])
+@pytest.mark.parametrize("kind", ["val", "grad", "hess"])
+def test_bad_input_to_the_hand_raises_value_error(call, message, kind):
+    with pytest.raises(ValueError, match=message.replace("(", r"\(").replace(")", r"\)").replace("[", r"\[")):
+        call(getattr(HandEnergy, kind))
+
+
+def test_a_mu_per_node_is_checked():
+    x = X + [0.0, 0.505]                                    # every node above the ground, the bottom row within dhat
+    with pytest.raises(ValueError, match="mu must have one value per node"):
+        BarrierEnergy.compute_mu_lambda(x, N, O, W, np.ones(3))
+    with pytest.raises(ValueError, match="mu must be >= 0 at every node, got -0.5 at node 4"):
+        BarrierEnergy.compute_mu_lambda(x, N, O, W, np.where(np.arange(len(X)) == 4, -0.5, 0.3))

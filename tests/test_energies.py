@@ -6,6 +6,7 @@ import pytest
 import BarrierEnergy
 import FrictionEnergy
 import GravityEnergy
+import HandEnergy
 import InertiaEnergy
 import MassSpringEnergy
 import square_mesh
@@ -326,3 +327,87 @@ def test_fd_check_catches_broken_formula(break_it, monkeypatch):
         check_derivatives(lambda y: FrictionEnergy.val((y - x_n) / 0.01, *args),
                           lambda y: FrictionEnergy.grad((y - x_n) / 0.01, *args),
                           lambda y: FrictionEnergy.hess((y - x_n) / 0.01, *args, project_psd=False), xf, 1e-9)
+
+
+# --- the hand (the chalk's grip): zero-rest-length springs to moving targets -------------------------
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_hand(seed):
+    rng = np.random.default_rng(seed)
+    x = rng.normal(size=(9, 2))
+    nodes = rng.choice(9, size=4, replace=False)
+    target = x[nodes] + 0.1 * rng.normal(size=(4, 2))
+    for k_hand in (rng.uniform(500, 8000), rng.uniform(500, 8000, 4)):         # one stiffness, or one per node
+        check_derivatives(lambda y: HandEnergy.val(y, nodes, target, k_hand),
+                          lambda y: HandEnergy.grad(y, nodes, target, k_hand),
+                          lambda y: HandEnergy.hess(y, nodes, target, k_hand), x, 1e-5)
+    free = np.setdiff1d(np.arange(9), nodes)
+    assert not HandEnergy.grad(x, nodes, target, 1e3)[free].any()             # only the held nodes are pulled
+
+
+def test_hand_value_by_hand_and_its_blocks_are_node_blocks():
+    # one held node 3 m and 4 m from its target: 1/2 k 5^2
+    assert HandEnergy.val([[0.0, 0.0], [1.0, 1.0]], [1], [[4.0, 5.0]], 4.0) == 50.0
+    assert HandEnergy.grad([[0.0, 0.0], [1.0, 1.0]], [1], [[4.0, 5.0]], 4.0).tolist() == [[0, 0], [-12, -16]]
+    nodes, blocks = HandEnergy.hess_kernel(np.zeros((5, 2)), np.array([1, 4]), np.zeros((2, 2)), 7.0)
+    assert nodes.shape == (2, 1) and np.array_equal(blocks, [7.0 * np.eye(2)] * 2)   # k_hand I on each node alone
+
+
+def test_hand_targets_follow_the_keyframes_and_then_the_last_velocity():
+    hand = HandEnergy.Hand(nodes=np.array([0, 1]), rest=np.array([[0.0, 1.0], [1.0, 1.0]]), k_hand=2000.0,
+                           key_t=np.array([0.0, 0.1, 0.2, 1.2]),
+                           key_d=np.array([[0.0, 0.0], [0.0, -5e-4], [0.0, -5e-4], [0.01, -5e-4]]))
+    assert np.array_equal(hand.targets(0.0), hand.rest)
+    assert np.allclose(hand.displacement(0.05), [0.0, -2.5e-4], rtol=0, atol=1e-18)      # halfway down
+    assert np.allclose(hand.displacement(0.15), [0.0, -5e-4], rtol=0, atol=1e-18)        # holding
+    assert np.allclose(hand.displacement(0.7), [0.005, -5e-4], rtol=0, atol=1e-15)       # moving at 0.01 m/s
+    assert np.allclose(hand.displacement(3.2), [0.03, -5e-4], rtol=0, atol=1e-15)        # and on, past key_t[-1]
+    assert np.allclose(hand.targets(3.2), hand.rest + [0.03, -5e-4], rtol=0, atol=1e-15)
+
+
+# --- friction that weakens with slip: mu per node ----------------------------------------------------
+
+def test_slip_weakened_mu_from_static_to_kinetic():
+    mu, mu_s, v_c = 0.35, 0.5, 1e-3
+    vbarnorm = np.array([0.0, v_c, 10 * v_c, 1.0])
+    assert_close(FrictionEnergy.slip_weakened_mu(vbarnorm, mu, mu_s, v_c),
+                 [mu_s, mu + (mu_s - mu) / np.e, mu + (mu_s - mu) * np.exp(-10), mu], 1e-15, "mu(||vbar||)")
+    # one coefficient (mu_s = mu) is mu exactly, at every speed: mu + 0 * exp(...)
+    assert (FrictionEnergy.slip_weakened_mu(vbarnorm, mu, mu, v_c) == mu).all()
+
+
+def test_mu_lambda_with_a_mu_per_node_is_each_node_s_mu_times_its_contact_force():
+    rng = np.random.default_rng(5)
+    d = np.array([0.002, 0.006, 0.02, 0.5, 0.004])
+    x, w = barrier_points(rng, d), np.full(5, 0.25)
+    mu = rng.uniform(0.1, 0.6, 5)
+    force = np.linalg.norm(-BarrierEnergy.grad(x, N_SLOPE, O_SLOPE, w), axis=1)
+    assert_close(BarrierEnergy.compute_mu_lambda(x, N_SLOPE, O_SLOPE, w, mu), mu * force, 1e-12, "mu_k lambda_k")
+    # an array of one value is the scalar's result, bit for bit
+    assert np.array_equal(BarrierEnergy.compute_mu_lambda(x, N_SLOPE, O_SLOPE, w, np.full(5, 0.3)),
+                          BarrierEnergy.compute_mu_lambda(x, N_SLOPE, O_SLOPE, w, 0.3))
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+@pytest.mark.parametrize("where", ["static", "sliding", "zero"])
+def test_friction_with_a_slip_weakened_mu_per_node(seed, where):
+    """The lagged solve's P_f with mu_k = slip_weakened_mu(|t . v^n_k|), mu_lambda = mu_k lambda_k(x^n):
+    fixed through the solve, so P_f(x) is still a potential and its grad and hess still match FD."""
+    rng = np.random.default_rng(seed)
+    epsv, hhat, v_c = 1e-3, 0.01, 1e-3
+    speeds = {"static": rng.uniform(0.05, 0.9, 6) * epsv, "sliding": rng.uniform(2, 500, 6) * epsv,
+              "zero": np.zeros(6)}[where]
+    x_n, x, _ = friction_setup(rng, speeds, epsv, hhat)
+    contact = O_SLOPE + np.outer(rng.uniform(-1, 1, 6), FrictionEnergy.tangent(N_SLOPE)) \
+        + np.outer(rng.uniform(0.1, 1.5, 6) * 0.01, N_SLOPE)         # some nodes within dhat = 0.01, some beyond
+    v_n = rng.normal(size=(6, 2)) * rng.uniform(0, 5 * v_c, 6)[:, None]
+    mu = FrictionEnergy.slip_weakened_mu(np.abs(v_n @ FrictionEnergy.tangent(N_SLOPE)), 0.35, 0.5, v_c)
+    mu_lambda = BarrierEnergy.compute_mu_lambda(contact, N_SLOPE, O_SLOPE, np.full(6, 0.25), mu)
+    assert ((mu >= 0.35) & (mu <= 0.5)).all() and (mu_lambda > 0).any()
+    args = (mu_lambda, hhat, N_SLOPE, epsv)
+
+    def vel(y):
+        return (y - x_n) / hhat
+    gap = min(np.abs(speeds - epsv).min(), speeds.min()) if where != "zero" else 1e-3 * epsv
+    check_derivatives(lambda y: FrictionEnergy.val(vel(y), *args), lambda y: FrictionEnergy.grad(vel(y), *args),
+                      lambda y: FrictionEnergy.hess(vel(y), *args, project_psd=False), x, 1e-4 * hhat * gap)

@@ -3,6 +3,7 @@ import os
 
 import numpy as np
 import pytest
+import scipy.sparse.linalg
 
 import InertiaEnergy
 import MassSpringEnergy
@@ -161,3 +162,81 @@ def test_add_to_pairs_sums_each_pair_s_rows():
         expected[a] += row
         expected[b] -= row
     assert np.array_equal(utils.add_to_pairs(e, f, 3), expected)      # small integers: exact
+
+
+# --- the rectangle of nx x ny cells, and the square as its nx = ny = n_seg case --------------------
+
+def lecture_square(side_len, n_seg):
+    """The square as the lecture's scene script builds it, in plain loops: node i*(n_seg+1)+j at
+    (-side_len/2 + i step, -side_len/2 + j step), then the horizontal, vertical and diagonal springs."""
+    step, n = side_len / n_seg, n_seg
+    x = [[-side_len / 2 + i * step, -side_len / 2 + j * step] for i in range(n + 1) for j in range(n + 1)]
+    e = [[i * (n + 1) + j, (i + 1) * (n + 1) + j] for i in range(n) for j in range(n + 1)]
+    e += [[i * (n + 1) + j, i * (n + 1) + j + 1] for i in range(n + 1) for j in range(n)]
+    for i in range(n):
+        for j in range(n):
+            e += [[i * (n + 1) + j, (i + 1) * (n + 1) + j + 1], [(i + 1) * (n + 1) + j, i * (n + 1) + j + 1]]
+    return np.array(x), np.array(e, dtype=np.int64)
+
+
+@pytest.mark.parametrize("side_len, n_seg", [(1.0, 1), (1.0, 4), (0.3, 7), (2.5, 16), (1e-3, 33)])
+def test_the_square_is_the_lecture_s_node_for_node_and_edge_for_edge(side_len, n_seg):
+    """Bit for bit: the same IEEE operations in the same order give the same doubles (the goldens depend
+    on it), and the rectangle function with nx = ny = n_seg gives the same arrays as generate."""
+    x, e = square_mesh.generate(side_len, n_seg)
+    x_lecture, e_lecture = lecture_square(side_len, n_seg)
+    assert x.dtype == np.float64 and x.tobytes() == x_lecture.tobytes()
+    assert e.dtype == np.int64 and np.array_equal(e, e_lecture)
+    xr, er = square_mesh.rectangle(side_len, side_len, n_seg, n_seg, (-side_len / 2, -side_len / 2))
+    assert xr.tobytes() == x.tobytes() and np.array_equal(er, e)
+
+
+@pytest.mark.parametrize("nx, ny", [(18, 2), (1, 3), (5, 1), (4, 7)])
+def test_rectangle_counts_order_and_spacing(nx, ny):
+    width, height, origin = 0.09, 0.01, (0.25, -0.5)
+    x, e = square_mesh.rectangle(width, height, nx, ny, origin)
+    dx, dy = width / nx, height / ny
+    assert x.shape == ((nx + 1) * (ny + 1), 2)
+    assert len(e) == nx * (ny + 1) + (nx + 1) * ny + 2 * nx * ny
+    i, j = np.divmod(np.arange(len(x)), ny + 1)                 # node i*(ny+1)+j at (x0 + i dx, y0 + j dy)
+    assert np.allclose(x, np.stack([origin[0] + i * dx, origin[1] + j * dy], 1), rtol=0, atol=1e-15)
+    lengths = np.sort(np.linalg.norm(x[e[:, 0]] - x[e[:, 1]], axis=1))
+    expected = np.sort([dx] * (nx * (ny + 1)) + [dy] * ((nx + 1) * ny) + [np.hypot(dx, dy)] * (2 * nx * ny))
+    assert np.allclose(lengths, expected, rtol=1e-12, atol=0)
+    assert len({tuple(sorted(p)) for p in e.tolist()}) == len(e)                # no spring twice
+    chains = square_mesh.polylines(nx, ny)
+    covered = sorted(tuple(sorted(p)) for c in chains for p in zip(c[:-1].tolist(), c[1:].tolist()))
+    assert covered == sorted(tuple(sorted(p)) for p in e.tolist())           # the polylines draw each spring once
+    tri = square_mesh.triangles(nx, ny)
+    assert tri.shape == (2 * nx * ny, 3) and tri.max() == len(x) - 1
+    area = 0.5 * np.cross(x[tri[:, 1]] - x[tri[:, 0]], x[tri[:, 2]] - x[tri[:, 0]])
+    assert np.allclose(area, dx * dy / 2, rtol=1e-9)                          # counter-clockwise, no overlap
+    text = square_mesh.obj_text(x, nx, ny)
+    assert text.count("v ") == len(x) and text.count("f ") == len(tri)
+    with pytest.raises(ValueError, match=f"nx x ny = {nx} x {ny} cells needs {len(x)}"):
+        square_mesh.obj_text(x[:-1], nx, ny)
+    with pytest.raises(ValueError, match="ny must be a whole number >= 1, got 0"):
+        square_mesh.rectangle(width, height, nx, 0)
+
+
+def test_a_block_outside_the_band_is_refused_and_a_declared_one_solves_as_spsolve():
+    """Issue 28: a 4x4 block coupling nodes 0 and 24 of the n_seg 4 mesh lies outside the band its edges
+    give (before, the banded solve then differed from spsolve by 0.89, silently). It is refused at once;
+    declared as an element of the scene, the band covers it and the banded solve agrees with spsolve."""
+    x, e, H, _ = system_setup(4, seed=3)
+    rng = np.random.default_rng(4)
+    A = rng.normal(size=(1, 4, 4))
+    coupled = H + [(np.array([[0, 24]]), A @ np.swapaxes(A, 1, 2))]
+    matrix = utils.ijv_to_csr(utils.concat_ijv(utils.blocks_to_ijv(*h) for h in coupled), 2 * len(x)).tocsc()
+    b = rng.normal(size=2 * len(x))
+    reference = scipy.sparse.linalg.spsolve(matrix, b)
+    mesh_only = utils.SPDSolver.for_mesh(len(x), e)
+    assert mesh_only.kind == "banded" and mesh_only.bandwidth == 2 * 6 + 1
+    with pytest.raises(utils.OutOfBand, match=r"nodes \[0, 24\] couples DOFs 49 apart, beyond the band of 13"):
+        mesh_only.solve(coupled, b)
+    declared = utils.SPDSolver.for_mesh(len(x), e, elements=[np.array([[0, 24]])])
+    assert declared.kind == "banded" and declared.bandwidth == 2 * 24 + 1
+    for solver in (declared, utils.SPDSolver.for_mesh(len(x), e, "superlu")):
+        assert np.allclose(solver.solve(coupled, b), reference, rtol=0, atol=1e-10 * np.abs(reference).max())
+    # node blocks (the hand's, the barrier's) couple a node to itself only: they keep the mesh's band
+    assert utils.SPDSolver.for_mesh(len(x), e, elements=[np.arange(20, 25)[:, None]]).bandwidth == 13
