@@ -139,6 +139,8 @@ def check_positive(name, value):
 
 def check_whole(name, value, minimum):
     """Return `value` as an int; ValueError unless it is a whole number >= minimum."""
+    if type(value) is int and minimum <= value <= 2 ** 53:      # a count float64 holds exactly: as it is
+        return value
     number = as_float(name, value, f"must be a whole number >= {minimum}")
     if not np.isfinite(number) or not number.is_integer() or number < minimum:
         raise ValueError(f"{name} must be a whole number >= {minimum}, got {value}")
