@@ -12,23 +12,23 @@ def check_params(defaults, overrides):
     parameter)."""
     unknown = sorted(set(overrides) - set(defaults))
     if unknown:
-        raise ValueError(f"unknown chalk parameter(s): {', '.join(unknown)}; valid: {', '.join(sorted(defaults))}")
+        raise utils.ParameterError(unknown[0], f"unknown chalk parameter(s): {', '.join(unknown)}; valid: {', '.join(sorted(defaults))}")
     p = {**defaults, **overrides}
     for name in ("length", "width", "rho", "k", "h", "v_c", "dhat", "kappa", "tol", "k_hand", "t_press", "t_hold"):
         p[name] = utils.check_positive(name, p[name])
     for name in ("mu", "mu_s", "press", "drive"):
         p[name] = utils.as_float(name, p[name], "must be a finite number >= 0")
         if not 0.0 <= p[name] < math.inf:
-            raise ValueError(f"{name} must be a finite number >= 0, got {p[name]}")
+            raise utils.ParameterError(name, f"{name} must be a finite number >= 0, got {p[name]}")
     p["tilt"] = utils.as_float("tilt", p["tilt"], "must be a number of degrees in (0, 180)")
     if not 0.0 < p["tilt"] < 180.0:
-        raise ValueError(f"tilt must be a number of degrees in (0, 180), got {p['tilt']}")
+        raise utils.ParameterError("tilt", f"tilt must be a number of degrees in (0, 180), got {p['tilt']}")
     for name, minimum in (("nx", 1), ("ny", 1), ("held_columns", 1), ("friction_updates", 0),
                           ("max_newton_iterations", 1), ("max_halvings", 1)):
         p[name] = utils.check_whole(name, p[name], minimum)
     if p["held_columns"] > p["nx"]:
-        raise ValueError(f"held_columns must leave the tip free: at most nx = {p['nx']}, got {p['held_columns']}")
+        raise utils.ParameterError("held_columns", f"held_columns must leave the tip free: at most nx = {p['nx']}, got {p['held_columns']}")
     if not isinstance(p["drag"], (bool, np.bool_)):
-        raise ValueError(f"drag must be True or False, got {p['drag']!r}")
+        raise utils.ParameterError("drag", f"drag must be True or False, got {p['drag']!r}")
     p["epsv"], p["gravity"] = utils.check_epsv(p["epsv"]), tuple(utils.check_vector("gravity", p["gravity"]).tolist())
     return p

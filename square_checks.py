@@ -9,7 +9,7 @@ import os
 
 import numpy as np
 
-from utils import as_float, check_epsv, check_positive, check_vector, check_whole
+from utils import ParameterError, as_float, check_epsv, check_positive, check_vector, check_whole
 
 # ----------------------------------------------------------------------------------------------
 
@@ -34,15 +34,15 @@ def check_params(defaults, aliases, overrides):
     """`defaults` updated by `overrides` (each alias renamed to its parameter), every value checked."""
     unknown = sorted(set(overrides) - set(defaults) - set(aliases))
     if unknown:
-        raise ValueError(f"unknown scene parameter(s): {', '.join(unknown)}; valid: "
+        raise ParameterError(unknown[0], f"unknown scene parameter(s): {', '.join(unknown)}; valid: "
                          f"{', '.join(sorted([*defaults, *aliases]))}")
     p = dict(defaults)
     for name, value in overrides.items():
         if aliases.get(name, name) != name and aliases[name] in overrides:
-            raise ValueError(f"{aliases[name]} is given twice, as {aliases[name]} and as its alias {name}; give one")
+            raise ParameterError(aliases[name], f"{aliases[name]} is given twice, as {aliases[name]} and as its alias {name}; give one")
         p[aliases.get(name, name)] = value
     if p["mass"] is not None and "rho" in overrides:
-        raise ValueError(f"mass = {p['mass']} and rho = {p['rho']} are both given: the total mass is mass, "
+        raise ParameterError("mass", f"mass = {p['mass']} and rho = {p['rho']} are both given: the total mass is mass, "
                          f"or rho side_len^2; give one")
     for name in ("side_len", "rho", "k", "h", "dhat", "kappa", "tol") + ("mass",) * (p["mass"] is not None):
         p[name] = check_positive(name, p[name])
@@ -53,9 +53,9 @@ def check_params(defaults, aliases, overrides):
     for name in ("mu", "angle"):
         p[name] = as_float(name, p[name], "must be a finite number")
         if not np.isfinite(p[name]):
-            raise ValueError(f"{name} must be finite, got {p[name]}")
+            raise ParameterError(name, f"{name} must be finite, got {p[name]}")
     if p["mu"] < 0:
-        raise ValueError(f"mu must be >= 0, got {p['mu']}")
+        raise ParameterError("mu", f"mu must be >= 0, got {p['mu']}")
     for name in ("gravity", "slope_point", "v0", "center") + ("slope",) * (p["slope"] is not None):
         p[name] = tuple(check_vector(name, p[name]).tolist())
     if p["slope"] is not None:
@@ -76,11 +76,11 @@ def slope_normal(slope):
     length = float(np.hypot(*slope))
     if not 0.0 < length < np.inf:
         problem = "must be non-zero" if length == 0.0 else "is too long to normalize"
-        raise ValueError(f"slope normal {problem}, got {list(slope)}")
+        raise ParameterError("slope", f"slope normal {problem}, got {list(slope)}")
     n = np.array(slope) / length
     off = float(np.hypot(*n)) - 1.0
     if not abs(off) <= UNIT_LENGTH_EPS * EPS:
-        raise ValueError(f"slope normal {list(slope)} is beyond float64: normalized, its length is 1 "
+        raise ParameterError("slope", f"slope normal {list(slope)} is beyond float64: normalized, its length is 1 "
                          f"{'+-'[off < 0]} {abs(off):.2g} ({abs(off) / EPS:.3g} eps), not 1 within {UNIT_LENGTH_EPS} "
                          f"eps (components below {np.finfo(float).tiny:.3g} are subnormal, with fewer digits: "
                          f"scale it up)")
@@ -105,7 +105,7 @@ def check_memory(n_seg):
     """ValueError if the (n_seg + 1)^2 nodes, MEMORY_PER_NODE each, would not fit this machine's memory."""
     nodes, have = (n_seg + 1) ** 2, physical_memory()      # Python ints: exact at any n_seg
     if have is not None and MEMORY_PER_NODE * nodes > have:
-        raise ValueError(f"n_seg = {float(n_seg):g} makes {decimal.Decimal(nodes):.3g} nodes, about "
+        raise ParameterError("n_seg", f"n_seg = {float(n_seg):g} makes {decimal.Decimal(nodes):.3g} nodes, about "
                          f"{decimal.Decimal(MEMORY_PER_NODE * nodes) / 2**30:.3g} GiB of memory at "
                          f"{MEMORY_PER_NODE // 1024} KiB each, more than this machine's {have / 2**30:.3g} GiB "
                          f"(largest n_seg that fits: {math.isqrt(have // MEMORY_PER_NODE) - 1})")
@@ -163,31 +163,31 @@ def check_start(p, defaults, x, n, o, d):
     for what, value, powers in scales:
         if not value <= FLOAT64_SCALE_LIMIT:
             name = _culprit(p, defaults, powers)
-            raise ValueError(f"{name} = {_shown(p[name])} is beyond float64's range in this scene: {what} would "
+            raise ParameterError(name, f"{name} = {_shown(p[name])} is beyond float64's range in this scene: {what} would "
                              f"be {value:.3g}, above the {FLOAT64_SCALE_LIMIT:g} whose squares still sum to a "
                              f"finite number")
     m = M / len(x)
     ratio = h * h * k / m if m > 0.0 else math.inf         # a mass that underflowed to 0 resolves nothing
     if not ratio <= NEWTON_RATIO_LIMIT:
         name = _culprit(p, defaults, {"k": 1, "h": 2, "n_seg": 2, **{a: -b for a, b in Mp.items()}})
-        raise ValueError(f"{name} = {_shown(p[name])}: float64 cannot resolve the Newton matrix M + h^2 K, as "
+        raise ParameterError(name, f"{name} = {_shown(p[name])}: float64 cannot resolve the Newton matrix M + h^2 K, as "
                          f"h^2 k / m = {ratio:.3g} (h = {h:g} s, k = {k:g}, node mass m = {m:.3g} kg) is "
                          f"above 0.1/eps = {NEWTON_RATIO_LIMIT:.2g}, where m is lost in the round-off of h^2 k "
                          f"(lower k or h, or raise the mass)")
     if not h * h >= np.finfo(float).tiny:
-        raise ValueError(f"h = {h:g} s is too small for float64: h^2 = {h * h:.3g} underflows (h >= 1.5e-154 s)")
+        raise ParameterError("h", f"h = {h:g} s is too small for float64: h^2 = {h * h:.3g} underflows (h >= 1.5e-154 s)")
     scale = X + (0.0 if o is None else float(np.abs(o).max())) + D
     for what, length, powers in (("the mesh spacing side_len / n_seg", l, {"side_len": -1, "n_seg": 1}),
                                  ("dhat", p["dhat"], {"dhat": -1, "side_len": 1})):
         if not length > ROUNDOFF_ULPS * EPS * scale:
             name = _culprit(p, defaults, {"center": 1, "slope_point": 1, "v0": 1, "gravity": 1, "h": 1, **powers})
-            raise ValueError(f"{name} = {_shown(p[name])} leaves {what} = {length:.3g} m below the round-off of "
+            raise ParameterError(name, f"{name} = {_shown(p[name])} leaves {what} = {length:.3g} m below the round-off of "
                              f"the first step's coordinates, which reach {scale:.3g} m (keep every coordinate "
                              f"below {1 / (ROUNDOFF_ULPS * EPS):.2g} times the spacing and dhat)")
     if d is not None and not d.min() > roundoff(x, o):
         i = int(np.argmin(d))
         moved = np.array(p["center"]) + (p["dhat"] - d[i]) * n
-        raise ValueError(f"the square starts touching or below the slope: node {i} at {x[i].tolist()} has distance "
+        raise ParameterError("center", f"the square starts touching or below the slope: node {i} at {x[i].tolist()} has distance "
                          f"{d[i]:.3g} m, not above the round-off of its coordinates ({roundoff(x, o):.2g} m); move "
                          f"center (now {_shown(p['center'])}) away from the slope, e.g. to "
                          f"{_shown(moved).replace(', ', ',')}, which puts that node dhat = {p['dhat']:g} m above it")

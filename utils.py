@@ -17,6 +17,15 @@ from scipy.linalg import lapack
 # Input checks: one line each in the energies, a ValueError that names the argument.
 # ----------------------------------------------------------------------------------------------
 
+class ParameterError(ValueError):
+    """A bad value of one parameter or argument, `parameter` its name (the command line finds its flag
+    by it). Still a ValueError, as every check promises."""
+
+    def __init__(self, parameter, message):
+        super().__init__(message)
+        self.parameter = parameter
+
+
 def _real(value):
     """float(value) for one real number; TypeError for anything else, even where float() would convert
     it: a bool, text ('4' is text, not a count), a complex number (even 1+0j), an array of any size.
@@ -43,9 +52,9 @@ def as_float(name, value, requirement):
     try:
         return float(value) if type(value) in (int, float) else _real(value)     # a plain number: as it is
     except OverflowError:
-        raise ValueError(f"{name} {requirement}, got {_typed(value)}, beyond float64's range") from None
+        raise ParameterError(name, f"{name} {requirement}, got {_typed(value)}, beyond float64's range") from None
     except (TypeError, ValueError):
-        raise ValueError(f"{name} {requirement}, got {value!r}") from None
+        raise ParameterError(name, f"{name} {requirement}, got {value!r}") from None
 
 
 def _as_array(name, a):
@@ -53,7 +62,7 @@ def _as_array(name, a):
     try:
         return np.asarray(a)
     except ValueError:
-        raise ValueError(f"{name} must be an array of numbers, got a ragged {type(a).__name__}") from None
+        raise ParameterError(name, f"{name} must be an array of numbers, got a ragged {type(a).__name__}") from None
 
 
 def _real_array(name, a):
@@ -61,7 +70,7 @@ def _real_array(name, a):
     booleans, text, complex numbers (even with zero imaginary parts) and objects are refused."""
     a = _as_array(name, a)
     if a.dtype.kind not in "iuf":
-        raise ValueError(f"{name} must hold real numbers, got dtype {a.dtype}")
+        raise ParameterError(name, f"{name} must hold real numbers, got dtype {a.dtype}")
     return a.astype(np.float64, copy=False)
 
 
@@ -70,10 +79,10 @@ def check_points(name, x, shape=None):
     (_real_array), the shape is wrong or a value is not finite."""
     x = x if isinstance(x, np.ndarray) and x.dtype == np.float64 else _real_array(name, x)
     if x.ndim != 2 or x.shape[1] != 2 or shape not in (None, x.shape):
-        raise ValueError(f"{name} must have shape {shape or '(N, 2)'}, got shape {x.shape}")
+        raise ParameterError(name, f"{name} must have shape {shape or '(N, 2)'}, got shape {x.shape}")
     if not np.isfinite(x).all():
         bad = np.argwhere(~np.isfinite(x))[0]
-        raise ValueError(f"{name} has a non-finite value {x[tuple(bad)]} at node {bad[0]}")
+        raise ParameterError(name, f"{name} has a non-finite value {x[tuple(bad)]} at node {bad[0]}")
     return x
 
 
@@ -84,15 +93,15 @@ def check_per_item(name, a, count, what="node", must_be=None):
     array = _as_array(name, a)
     a = np.full(count, as_float(name, a, "must be a number")) if array.ndim == 0 else _real_array(name, array)
     if a.shape != (count,):
-        raise ValueError(f"{name} must have one value per {what} ({count}), got shape {a.shape}")
+        raise ParameterError(name, f"{name} must have one value per {what} ({count}), got shape {a.shape}")
     if not np.isfinite(a).all():
         i = int(np.argmax(~np.isfinite(a)))
-        raise ValueError(f"{name} has a non-finite value {a[i]} at {what} {i}")
+        raise ParameterError(name, f"{name} has a non-finite value {a[i]} at {what} {i}")
     if must_be is not None:
         bad = a <= 0.0 if must_be == "> 0" else a < 0.0
         if bad.any():
             i = int(np.argmax(bad))
-            raise ValueError(f"{name} must be {must_be} at every {what}, got {a[i]} at {what} {i}")
+            raise ParameterError(name, f"{name} must be {must_be} at every {what}, got {a[i]} at {what} {i}")
     return a
 
 
@@ -105,18 +114,18 @@ def check_vector(name, a):
     except ValueError:                      # a ragged nesting of lists
         shape = None
     if shape != (2,):
-        raise ValueError(f"{name} must be a 2-vector, got " + (f"shape {shape}" if shape is not None else repr(a)))
+        raise ParameterError(name, f"{name} must be a 2-vector, got " + (f"shape {shape}" if shape is not None else repr(a)))
     try:
         if isinstance(a, np.ndarray) and a.dtype.kind not in "iuf":
             raise TypeError
         a = np.array([_real(c) for c in a])
     except OverflowError:
-        raise ValueError(f"{name} must be a 2-vector of numbers, got ({', '.join(map(_typed, a))}), beyond "
+        raise ParameterError(name, f"{name} must be a 2-vector of numbers, got ({', '.join(map(_typed, a))}), beyond "
                          f"float64's range") from None
     except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a 2-vector of numbers, got {a!r}") from None
+        raise ParameterError(name, f"{name} must be a 2-vector of numbers, got {a!r}") from None
     if not np.isfinite(a).all():
-        raise ValueError(f"{name} must be finite, got {a.tolist()}")
+        raise ParameterError(name, f"{name} must be finite, got {a.tolist()}")
     return a
 
 
@@ -125,7 +134,7 @@ def check_unit_normal(name, n):
     n = check_vector(name, n)
     length = float(np.hypot(n[0], n[1]))
     if abs(length - 1.0) > 1e-9:
-        raise ValueError(f"{name} must be a unit vector, got {n.tolist()} of length {length:.6g}")
+        raise ParameterError(name, f"{name} must be a unit vector, got {n.tolist()} of length {length:.6g}")
     return n
 
 
@@ -133,7 +142,7 @@ def check_positive(name, value):
     """Return `value` as a float; ValueError unless it is a finite number > 0."""
     value = as_float(name, value, "must be a finite number > 0")
     if not np.isfinite(value) or value <= 0.0:
-        raise ValueError(f"{name} must be a finite number > 0, got {value}")
+        raise ParameterError(name, f"{name} must be a finite number > 0, got {value}")
     return value
 
 
@@ -143,7 +152,7 @@ def check_whole(name, value, minimum):
         return value
     number = as_float(name, value, f"must be a whole number >= {minimum}")
     if not np.isfinite(number) or not number.is_integer() or number < minimum:
-        raise ValueError(f"{name} must be a whole number >= {minimum}, got {value}")
+        raise ParameterError(name, f"{name} must be a whole number >= {minimum}, got {value}")
     return int(number)
 
 
@@ -155,7 +164,7 @@ def check_epsv(epsv):
     """Return eps_v as a float; ValueError unless it is a finite number >= EPSV_MIN."""
     epsv = check_positive("epsv", epsv)
     if epsv < EPSV_MIN:
-        raise ValueError(f"epsv must be >= {EPSV_MIN:g} (f_hess_term's 1/eps_v^2 must fit in float64), got {epsv}")
+        raise ParameterError("epsv", f"epsv must be >= {EPSV_MIN:g} (f_hess_term's 1/eps_v^2 must fit in float64), got {epsv}")
     return epsv
 
 
@@ -163,13 +172,13 @@ def check_edges(name, e, n_nodes):
     """Return `e` as an int (E, 2) array of node indices in [0, n_nodes)."""
     e = _as_array(name, e)
     if e.ndim != 2 or e.shape[1] != 2:
-        raise ValueError(f"{name} must have shape (E, 2), got shape {e.shape}")
+        raise ParameterError(name, f"{name} must have shape (E, 2), got shape {e.shape}")
     if e.size and not np.issubdtype(e.dtype, np.integer):
-        raise ValueError(f"{name} must hold integer node indices, got dtype {e.dtype}")
+        raise ParameterError(name, f"{name} must hold integer node indices, got dtype {e.dtype}")
     e = e.astype(np.int64, copy=False)
     if e.size and (e.min() < 0 or e.max() >= n_nodes):
         bad = e[(e < 0) | (e >= n_nodes)][0]
-        raise ValueError(f"{name} has node index {bad} outside [0, {n_nodes}) for {n_nodes} nodes")
+        raise ParameterError(name, f"{name} has node index {bad} outside [0, {n_nodes}) for {n_nodes} nodes")
     return e
 
 
@@ -264,7 +273,7 @@ class SPDSolver:
         if kind is None:
             kind = "banded" if (bandwidth + 1) * 2 * n_nodes <= BAND_LIMIT * nonzeros else "superlu"
         if kind not in ("banded", "superlu"):
-            raise ValueError(f"kind must be 'banded' or 'superlu', got {kind!r}")
+            raise ParameterError("kind", f"kind must be 'banded' or 'superlu', got {kind!r}")
         node_slots = _band_slots(bandwidth, np.arange(n_nodes)[:, None], *_UPPER_TRIANGLE[2])
         edge_slots = _band_slots(bandwidth, e, *_UPPER_TRIANGLE[4])
         for a in (node_slots, e, edge_slots):

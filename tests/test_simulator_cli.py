@@ -8,8 +8,10 @@ import numpy as np
 import pytest
 
 import simulator
+import utils
 import viewer.files
 import viewer.log
+from command import run_main
 from viewer import cli
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -147,3 +149,19 @@ def test_tolerance_below_round_off_warns_and_finishes(tmp_path):
     assert all(float(r["residual"]) <= 1e-8 for r in rows if r["newton_stalled"] == "0")
     assert max(int(r["newton_iterations"]) for r in rows) < 50
     assert result.stderr.count("round-off floor") == 1
+
+
+def test_an_errors_flag_comes_from_its_parameter_not_its_words(monkeypatch):
+    """A ValueError carries its parameter (utils.ParameterError): the command line names the flag from
+    its flag table whatever the message says; a message that starts with a flag's words but carries
+    no parameter gets no flag."""
+    def refuse(parameter, words):
+        def build(**params):
+            raise utils.ParameterError(parameter, words) if parameter else ValueError(words)
+        return build
+    for parameter, words, shown in (("mu", "reworded: no flag's name in front", "--mu: reworded"),
+                                    ("slope", "a slope this run cannot take", "--slope-normal: a slope"),
+                                    (None, "mu must be >= 0, yet no parameter", "error: mu must")):
+        monkeypatch.setattr(simulator, "build_scene", refuse(parameter, words))
+        code, lines = run_main("--steps", "3")
+        assert code == 2 and len(lines) == 1 and f"simulator.py: error: {shown}" in lines[0], lines

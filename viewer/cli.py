@@ -42,10 +42,9 @@ SCENE_FLAGS = [
     (("--max-newton",), "max_newton_iterations", "Newton iteration cap per solve", "N"),
 ]
 WINDOW_FLAGS = ("--size", "--speed")
-# the words an error message starts with -> the flag it is about
-FLAG_OF = {**{param: flags[0] for flags, param, _, _ in SCENE_FLAGS}, "slope normal": "--slope-normal",
-           "slope-angle": "--slope-angle", "the square starts": "--center", "steps": "--steps",
-           "duration": "--duration", "frame-stride": "--frame-stride", "out folder": "--out",
+# the parameter a ValueError is about (utils.ParameterError.parameter) -> its flag
+FLAG_OF = {**{param: flags[0] for flags, param, _, _ in SCENE_FLAGS}, "slope_angle": "--slope-angle",
+           "steps": "--steps", "duration": "--duration", "frame-stride": "--frame-stride", "out": "--out",
            "size": "--size", "speed": "--speed"}
 
 
@@ -190,7 +189,7 @@ def scene_from_args(args):
         overrides["slope"] = None
     elif args.slope_angle is not None:
         if not -90.0 < args.slope_angle < 90.0:
-            raise ValueError(f"slope-angle must be in (-90, 90) degrees, got {args.slope_angle}")
+            raise utils.ParameterError("slope_angle", f"slope-angle must be in (-90, 90) degrees, got {args.slope_angle}")
         theta = math.radians(args.slope_angle)
         overrides["slope"] = (math.sin(theta), math.cos(theta))
     return simulator.build_scene(**overrides)
@@ -205,9 +204,9 @@ def steps_from_args(args, scene):
     duration = args.duration if args.duration is not None else DURATION
     duration = utils.check_positive("duration", duration)
     if duration < scene.h:
-        raise ValueError(f"duration {duration:g} s is shorter than one time step h = {scene.h:g} s")
+        raise utils.ParameterError("duration", f"duration {duration:g} s is shorter than one time step h = {scene.h:g} s")
     if not math.isfinite(duration / scene.h):
-        raise ValueError(f"duration {duration:g} s is more time steps of h = {scene.h:g} s than float64 "
+        raise utils.ParameterError("duration", f"duration {duration:g} s is more time steps of h = {scene.h:g} s than float64 "
                          f"can count (use --steps, or a larger h)")
     return int(round(duration / scene.h))
 
@@ -237,12 +236,10 @@ def plan_from_args(runs):
                     out=out, stride=frame_stride(args, scenes), frames=not args.no_frames, forces=not args.no_forces)
 
 
-def flag_of(message):
-    """'--flag: ' for the flag an error message is about (it starts with the parameter's name), or ''."""
-    for words in sorted(FLAG_OF, key=len, reverse=True):
-        if message.startswith(words + " "):
-            return f"{FLAG_OF[words]}: "
-    return ""
+def flag_of(err):
+    """'--flag: ' for the flag of the parameter a ValueError is about (utils.ParameterError), or ''."""
+    flag = FLAG_OF.get(getattr(err, "parameter", None))
+    return f"{flag}: " if flag else ""
 
 
 def main(argv=None):
@@ -258,7 +255,7 @@ def main(argv=None):
         except CommandLineError as err:
             print(f"simulator.py: error: {err}", file=sys.stderr)
         except ValueError as err:
-            print(f"simulator.py: error: {flag_of(str(err))}{err}", file=sys.stderr)
+            print(f"simulator.py: error: {flag_of(err)}{err}", file=sys.stderr)
         except run.Stopped as stopped:
             print(f"simulator.py: stopped: {stopped.reason}; nothing written", file=sys.stderr)
             return stopped.code

@@ -21,6 +21,7 @@ import re
 import secrets
 import stat
 
+import utils
 from viewer import folder_lock, manifest, whole_files
 from viewer.folder_lock import LOCK
 from viewer.manifest import MANIFEST
@@ -84,15 +85,15 @@ def check_names(folder, names):
             pass
     for part in os.path.relpath(top, existing).split(os.sep):
         if len(os.fsencode(part)) > name_max:
-            raise ValueError(f"out folder {folder!r} has a name longer than the {name_max} bytes its file "
+            raise utils.ParameterError("out", f"out folder {folder!r} has a name longer than the {name_max} bytes its file "
                              f"system allows: {part[:40]}...")
     for name in names:
         size = len(os.fsencode(name)) + TEMPORARY_EXTRA
         if size > name_max:
-            raise ValueError(f"output name {name!r} is too long: {size - TEMPORARY_EXTRA} bytes, the folder "
+            raise utils.ParameterError("out", f"output name {name!r} is too long: {size - TEMPORARY_EXTRA} bytes, the folder "
                              f"allows {name_max - TEMPORARY_EXTRA} (shorten the list value it is named after)")
         if len(os.fsencode(os.path.join(top, name))) + TEMPORARY_EXTRA >= path_max:
-            raise ValueError(f"out folder {folder!r} is too deep: its files' paths would be longer than "
+            raise utils.ParameterError("out", f"out folder {folder!r} is too deep: its files' paths would be longer than "
                              f"the {path_max} bytes the file system allows")
 
 
@@ -128,11 +129,11 @@ class OutputFolder:
     def _claim(self, keep):
         folder = self.folder
         if not os.access(folder, os.W_OK | os.X_OK):        # e.g. read-only: refused before removing anything
-            raise ValueError(f"out folder {folder!r} cannot be written: {os.strerror(errno.EACCES)}")
+            raise utils.ParameterError("out", f"out folder {folder!r} cannot be written: {os.strerror(errno.EACCES)}")
         try:
             self.lock = folder_lock.Lock(folder)
         except OSError as err:
-            raise ValueError(f"out folder {folder!r} cannot be written: creating a file in it failed "
+            raise utils.ParameterError("out", f"out folder {folder!r} cannot be written: creating a file in it failed "
                              f"({err.strerror or err})") from None
         owned = manifest.read_manifest(folder)
         entries = sorted(set(os.listdir(folder)) - set(OWN))
@@ -142,10 +143,10 @@ class OutputFolder:
                 at = self.path(name)
                 what = ("a symbolic link" if os.path.islink(at) else "changed since this simulator wrote it"
                         if name in owned else "not written by this simulator")
-                raise ValueError(f"out folder {folder!r} already holds {name}, {what}: move it away or "
+                raise utils.ParameterError("out", f"out folder {folder!r} already holds {name}, {what}: move it away or "
                                  f"choose another --out")
             if name in owned and name not in mine and not keep and owned[name] is not None:
-                raise ValueError(f"out folder {folder!r} holds {name}, changed since this simulator wrote it: "
+                raise utils.ParameterError("out", f"out folder {folder!r} holds {name}, changed since this simulator wrote it: "
                                  f"move it away or choose another --out")
         try:
             for name in entries:
@@ -158,7 +159,7 @@ class OutputFolder:
                     os.remove(self.path(name))
             self.manifest = self._new_manifest()
         except OSError as err:
-            raise ValueError(f"out folder {folder!r} cannot be written: creating a file in it failed "
+            raise utils.ParameterError("out", f"out folder {folder!r} cannot be written: creating a file in it failed "
                              f"({err.strerror or err})") from None
 
     def _is_owned(self, name, ident):
@@ -199,7 +200,7 @@ class OutputFolder:
         except OSError as err:
             for path in reversed(made):
                 os.rmdir(path)
-            raise ValueError(f"out folder {self.folder!r} cannot be created: {err.strerror or err}") from None
+            raise utils.ParameterError("out", f"out folder {self.folder!r} cannot be created: {err.strerror or err}") from None
         return made
 
     def path(self, name):

@@ -9,6 +9,7 @@ import errno
 import os
 import time
 
+import utils
 from viewer import whole_files
 
 LOCK = ".simulator-lock"
@@ -34,7 +35,7 @@ class Lock:
                         os.close(self.fd)
                         continue
                 if not held:
-                    raise ValueError(f"out folder {folder!r} is in use by another run (pid {self._holder()}): "
+                    raise utils.ParameterError("out", f"out folder {folder!r} is in use by another run (pid {self._holder()}): "
                                      f"wait until it ends or choose another --out")
             except BaseException:
                 os.close(self.fd)
@@ -44,7 +45,7 @@ class Lock:
                 break
             os.close(self.fd)               # its holder removed it as we took it: again
         else:
-            raise ValueError(f"out folder {folder!r}: its lock keeps changing hands; choose another --out")
+            raise utils.ParameterError("out", f"out folder {folder!r}: its lock keeps changing hands; choose another --out")
         try:
             os.ftruncate(self.fd, 0)
             os.lseek(self.fd, 0, os.SEEK_SET)
@@ -63,11 +64,11 @@ class Lock:
         except FileExistsError:
             return self._open(folder)
         except OSError as err:
-            raise ValueError(f"out folder {folder!r} holds {LOCK}, not a lock file of this simulator "
+            raise utils.ParameterError("out", f"out folder {folder!r} holds {LOCK}, not a lock file of this simulator "
                              f"({err.strerror}): move it away or choose another --out") from None
         if not whole_files.mine(os.fstat(fd)):
             os.close(fd)
-            raise ValueError(f"out folder {folder!r} holds {LOCK}, another user's: choose another --out")
+            raise utils.ParameterError("out", f"out folder {folder!r} holds {LOCK}, another user's: choose another --out")
         return new, fd
 
     def _holder(self):

@@ -7,6 +7,7 @@ write to, or that is not a regular file, was not written by this program (viewer
 """
 import os
 
+import utils
 from viewer import whole_files
 
 MANIFEST = ".simulator-files"
@@ -22,7 +23,7 @@ def read_manifest(folder):
     try:
         fd = whole_files.open_existing(path)
     except OSError:
-        raise ValueError(refused) from None
+        raise utils.ParameterError("out", refused) from None
     if fd is None:
         return {}
     with os.fdopen(fd, "rb") as f:
@@ -32,7 +33,7 @@ def read_manifest(folder):
         except (OSError, UnicodeDecodeError):
             lines = []
     if not ok or not lines or lines[0] != HEADER:
-        raise ValueError(refused)
+        raise utils.ParameterError("out", refused)
     records = {}
     for line in lines[1:]:
         name, *fields = line.rstrip(" ").split("\t")
