@@ -161,7 +161,7 @@ def test_an_errors_flag_comes_from_its_parameter_not_its_words(monkeypatch):
         return build
     for parameter, words, shown in (("mu", "reworded: no flag's name in front", "--mu: reworded"),
                                     ("slope", "a slope this run cannot take", "--slope-normal: a slope"),
-                                    (None, "mu must be >= 0, yet no parameter", "error: mu must")):
+                                    (None, "mu must be >= 0, yet no parameter", "mu must")):
         monkeypatch.setattr(simulator, "build_scene", refuse(parameter, words))
         code, lines = run_main("--steps", "3")
         assert code == 2 and len(lines) == 1 and f"simulator.py: error: {shown}" in lines[0], lines
