@@ -103,7 +103,7 @@ class LiveRun:
         if self.iterates is None:
             x, v, report = time_integrator.step(self.scene, self.x, self.v, step_index=self.index)
         else:
-            x, v, report = _run_out(self.iterates)
+            x, v, report = time_integrator.run_out(self.iterates)
         return self._advance(x, v, report, time.perf_counter() - start)
 
     def newton_iteration(self):
@@ -130,15 +130,6 @@ class LiveRun:
         self.report, self.x, self.v = report, x, v
         self.iterates, self.iterate, self.iteration, self.iterates_wall = None, None, 0, 0.0
         return record
-
-
-def _run_out(generator):
-    """The value a generator returns, after running through what it still yields."""
-    while True:
-        try:
-            next(generator)
-        except StopIteration as done:
-            return done.value
 
 
 # ------------------------------------------------------------------------------------------------
