@@ -7,7 +7,7 @@ import pytest
 import BarrierEnergy
 import legibility
 import simulator
-from viewer import window
+from viewer import draw, window
 
 SIZE = 652      # the window's default side on a 1024x768 projector
 
@@ -138,5 +138,5 @@ def test_the_inset_says_which_lines_are_springs_and_where_the_slope_is(monkeypat
     tinted = np.all(pixels == window.GROUND, axis=2).mean()      # a few pixels of anti-aliased lines have it too
     assert (tinted > 0.01) == (inset.slope is not None)
     for note, _ in window.inset_notes(w.scene, it):
-        for row in window.wrap(w.fonts[1], note, width - 16):
+        for row in draw.wrap(w.fonts[1], note, width - 16):
             assert w.fonts[1].size(row)[0] <= width - 16 or " " not in row, row

@@ -459,7 +459,7 @@ def test_every_line_of_text_fits_the_window(size):
     width = size - 24
     texts = [f"t = {999.99:.2f} s   mu = {w.scene.mu:g}"] + [t for t, _ in w.status_lines()] + w.help_lines()
     for text in texts:
-        for row in window.wrap(w.font, text, width):
+        for row in draw.wrap(w.font, text, width):
             assert w.font.size(row)[0] <= width or " " not in row.strip(), row
     w.draw()
     assert w.screen.get_size() == (size, size)

@@ -13,6 +13,8 @@ import math
 
 import numpy as np
 
+from viewer import draw
+
 WIDTH, PANEL_HEIGHT, TOP = 900, 250, 10
 LEFT, RIGHT = 80, 700           # the time axis's pixel columns; the legends sit right of it
 ENERGY_COLORS = {"kinetic": (230, 120, 0), "gravity": (120, 80, 40), "spring": (0, 150, 60),
@@ -22,10 +24,7 @@ ENERGY_COLORS = {"kinetic": (230, 120, 0), "gravity": (120, 80, 40), "spring": (
 
 def nice_ticks(lo, hi, count=5):
     """Round tick values (1, 2 or 5 times a power of ten apart) covering [lo, hi]."""
-    span = hi - lo if hi > lo else 1.0
-    raw = span / count
-    power = 10.0 ** math.floor(math.log10(raw))
-    step = min((m * power for m in (1, 2, 5, 10) if m * power >= raw), default=10 * power)
+    step = draw.nice_number((hi - lo if hi > lo else 1.0) / count, up=True)
     return step * np.arange(math.ceil(lo / step), math.floor(hi / step) + 1)
 
 

@@ -384,10 +384,10 @@ class LiveWindow:
         if run.iterate is not None:
             self.draw_iterate(surface, run.iterate)
         line, width = self.font.get_linesize(), self.size - 24
-        rows = [(row, color) for text, color in self.status_lines() for row in wrap(self.font, text, width)]
+        rows = [(row, color) for text, color in self.status_lines() for row in draw.wrap(self.font, text, width)]
         for row, (text, color) in enumerate(rows):
             surface.blit(self.font.render(text, True, color), (12, top + row * line))
-        bottom = [row for text in self.help_lines() for row in wrap(self.font, text, width)]
+        bottom = [row for text in self.help_lines() for row in draw.wrap(self.font, text, width)]
         for row, text in enumerate(reversed(bottom), start=1):
             surface.blit(self.font.render(text, True, KEYS), (12, self.size - 6 - row * line))
         self.inset = None
@@ -441,7 +441,7 @@ class LiveWindow:
         tail = view(it.x[shown])
         direction = it.p[shown] / size[shown, None] * [1.0, -1.0]        # y grows downwards on screen
         tip = tail + HINT * self.size * direction
-        heads = arrow_heads(tail, tip, 0.012 * self.size)
+        heads = draw.arrow_heads(tail, tip, 0.012 * self.size)
         for a, b, (w1, w2) in zip(tail.tolist(), tip.tolist(), heads.tolist()):
             pg.draw.line(surface, RED, a, b, 2)
             pg.draw.polygon(surface, RED, [b, w1, w2])
@@ -455,7 +455,7 @@ class LiveWindow:
         width = int(min(INSET * self.size, max(max(room_left, room_right) - 24, MIN_INSET * self.size)))
         height = int(min(INSET_TALL * self.size, bottom - top))
         big, small = self.fonts
-        notes = [(row, color) for text, color in inset_notes(self.scene, it) for row in wrap(small, text, width - 16)]
+        notes = [(row, color) for text, color in inset_notes(self.scene, it) for row in draw.wrap(small, text, width - 16)]
         line = small.get_linesize()
         header, footer = 8 + big.get_linesize() + len(notes) * line, 12 + line
         if height < header + footer + line:                    # no room left under the text
@@ -524,7 +524,7 @@ def newton_inset(scene, it, view, rect, header=0, footer=0):
     room = np.array([width, height - header - footer])          # px, across and down
     extent = (hi - lo) * view.scale                            # px, at the window's scale
     fit = min((INSET_FILL * room[extent > 0] / extent[extent > 0]).tolist(), default=MAX_ZOOM)
-    magnification = nice_below(min(fit, MAX_ZOOM), ZOOMS)
+    magnification = draw.nice_number(min(fit, MAX_ZOOM), ZOOMS)
     room[1] = min(room[1], max(0.5 * width, extent[1] * magnification / INSET_FILL))
     height = int(header + room[1] + footer)                   # no taller than the framed points need
     rect = (*rect[:3], height)
@@ -579,7 +579,7 @@ def draw_inset(pygame, surface, scene, it, inset, fonts, notes):
     r = max(3, round(0.016 * width))                                        # px, the markers' radius
     pygame.draw.line(surface, RED, tail.tolist(), tip.tolist(), 3)
     if np.hypot(*(tip - tail)) > 1.0:
-        pygame.draw.polygon(surface, RED, [tip.tolist()] + arrow_heads(tail[None], tip[None], 3 * r)[0].tolist())
+        pygame.draw.polygon(surface, RED, [tip.tolist()] + draw.arrow_heads(tail[None], tip[None], 3 * r)[0].tolist())
     pygame.draw.circle(surface, GREY, tail.tolist(), r)
     pygame.draw.circle(surface, BLACK, m["x^i + alpha_CCD p"].tolist(), r + 2, 2)
     pygame.draw.circle(surface, GREEN, m["x^i + alpha p"].tolist(), r)
@@ -589,7 +589,7 @@ def draw_inset(pygame, surface, scene, it, inset, fonts, notes):
     for text, color in notes:
         surface.blit(small.render(text, True, color), (8, row))
         row += small.get_linesize()
-    metres = nice_below(0.3 * width / view.scale)
+    metres = draw.nice_number(0.3 * width / view.scale)
     bar, y = metres * view.scale, height - 6 - small.get_linesize() // 2
     pygame.draw.line(surface, BLACK, (8, y), (8 + bar, y), 3)
     surface.blit(small.render(length_text(metres), True, BLACK), (14 + bar, y - small.get_linesize() // 2))
@@ -615,35 +615,6 @@ def iterate_lines(run, scene):
             f"accepted alpha = alpha_CCD / 2^{it.halvings} = {it.alpha:.4g} (green dot: x^i + alpha p)",
             "grey: x^i; blue: x^i + alpha p; red: the direction of p at each node",
             "inset: one node and the slope magnified together, p (red) to scale"]
-
-
-def wrap(font, text, width):
-    """`text` broken at spaces into rows at most `width` pixels wide (a longer word stays whole)."""
-    rows, row = [], ""
-    for word in text.split(" "):
-        trial = f"{row} {word}" if row else word
-        if row.strip() and font.size(trial)[0] > width:
-            rows.append(row.rstrip())
-            row = word
-        else:
-            row = trial
-    return rows + [row]
-
-
-def arrow_heads(tail, tip, length):
-    """(N, 2, 2): the two back corners of each arrow's head, `length` pixels behind its tip."""
-    d = tip - tail
-    norm = np.hypot(d[:, 0], d[:, 1])[:, None]
-    u = np.divide(d, norm, out=np.zeros_like(d), where=norm > 0)
-    side = np.stack([-u[:, 1], u[:, 0]], axis=1)
-    back = tip - length * u
-    return np.stack([back + 0.5 * length * side, back - 0.5 * length * side], axis=1)
-
-
-def nice_below(value, steps=(1, 2, 5)):
-    """The largest of `steps` (1, 2, 5) times a power of ten that is at most `value` (> 0)."""
-    power = 10.0 ** math.floor(math.log10(value))
-    return max(m * power for m in steps if m * power <= value * (1 + 1e-12))
 
 
 # ------------------------------------------------------------------------------------------------
