@@ -21,7 +21,7 @@ from command import run_main
 from fakes import fill_disk_after
 import legibility
 import viewer.log
-from viewer import diagnostics, draw, plots, recording, summary
+from viewer import diagnostics, draw, frames, plots, recording, summary
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -165,13 +165,13 @@ def test_no_text_in_the_frames_is_smaller_than_the_projector_minimum(monkeypatch
     height, measured in pixels (20 px of 900; the arrows' legend and the numbers had 9), in a colour
     of WCAG contrast at least 4.5:1 against white."""
     drawn, in_frames = legibility.record_text(monkeypatch), []
-    write = recording.FrameWriter.write
+    write = frames.FrameWriter.write
 
     def noting(self, j):
         start = len(drawn)
         write(self, j)
         in_frames.extend(drawn[start:])
-    monkeypatch.setattr(recording.FrameWriter, "write", noting)
+    monkeypatch.setattr(frames.FrameWriter, "write", noting)
     code, lines = run_main("--mu", "0.1,0.2", "--steps", "40", "--frame-stride", "20", "--out", str(tmp_path))
     assert code == 0, lines
     texts = {text for text, _, _ in in_frames}
@@ -187,7 +187,7 @@ def test_a_legends_swatches_sit_on_their_labels_rows():
     pygame = draw.load_pygame()
     scene = simulator.build_scene()
     for size in (600, 652, draw.RESOLUTION):
-        runs = [recording.frame_run(scene, scene.x0 + [2.0 * k, 0.0], None, f"mu = 0.{k + 1}",
+        runs = [frames.frame_run(scene, scene.x0 + [2.0 * k, 0.0], None, f"mu = 0.{k + 1}",
                                     draw.run_color(k), True) for k in range(3)]
         view = draw.View(draw.SCALE * size / draw.RESOLUTION, size)
         fonts = draw.fonts(pygame, size)

@@ -8,6 +8,7 @@ the figures of that step for each run; below it plots.png with a cursor at the c
 """
 import html
 import json
+import math
 
 from viewer import draw
 
@@ -125,8 +126,17 @@ play();
 """
 
 
+def figures(sample):
+    """The figures the page shows for a state (FIGURES; None where there is none), from its Sample."""
+    s = sample
+    residual = s.report.residual if s.report else math.nan
+    return [s.step, round(s.t, 6), s.report.newton_iterations if s.report else 0,
+            float(f"{residual:.3e}") if math.isfinite(residual) else None,
+            float(f"{s.min_distance:.4e}") if math.isfinite(s.min_distance) else None, s.sticking, s.sliding]
+
+
 def page_html(title, labels, frame_log, fps, axis, plot_width, note="", rest=None):
-    """The page's text: `frame_log` (recording.FrameInfo per frame), `fps` frames per simulated
+    """The page's text: `frame_log` (frames.FrameInfo per frame), `fps` frames per simulated
     second, `axis` = (left px, right px, t_max) of plots.png's time axis (None: no plots), `rest` the
     time each run came to rest (None: it did not)."""
     rest = [None if t is None else round(t, 6) for t in (rest or [None] * len(labels))]

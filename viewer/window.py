@@ -24,7 +24,7 @@ import numpy as np
 import BarrierEnergy
 import time_integrator
 from simulator import StepRecord
-from viewer import diagnostics, draw, files, recording, run as orchestration
+from viewer import diagnostics, draw, files, frames, progress, recording, run as orchestration
 
 FPS = 60                  # frames drawn per second at most
 MIN_FPS = 20              # ... and at least, when the steps fall behind (the other frames are dropped)
@@ -189,14 +189,14 @@ class Files:
     def __init__(self, plan, folder, log):
         self.plan, self.frame_log = plan, []
         self.track = recording.Track(plan.scenes[0], plan.steps[0], None, plan.labels[0], "", draw.run_color(0), folder)
-        self.progress = recording.Progress([self.track], log)
-        self.writer = recording.FrameWriter([self.track], folder, plan.forces, self.frame_log) if plan.frames else None
+        self.progress = progress.Progress([self.track], log)
+        self.writer = frames.FrameWriter([self.track], folder, plan.forces, self.frame_log) if plan.frames else None
         if self.writer is not None:
             self.writer.write(0)
 
     def record(self, record):
         """Write a completed step: its log.csv row, and its frame when one is due (frame j at step
-        j stride, the last at the run's last step, as recording.frame_steps numbers them)."""
+        j stride, the last at the run's last step, as frames.frame_steps numbers them)."""
         track, stride = self.track, self.plan.stride
         if record.index != track.step:          # computed before a restart: written then
             return
@@ -351,12 +351,9 @@ class LiveWindow:
     def check(self, record):
         """What a run to files warns about, noted the first time: Newton at float64's round-off floor, a
         mesh folded over."""
-        step, t = record.index + 1, record.t
-        if record.report.stalled:
-            self.note("stalled", recording.stalled_warning(step, t, record.report.residual, self.scene.tol))
         inverted = diagnostics.inverted_triangles(record.x, self.triangles)
-        if inverted:
-            self.note("inverted", recording.inverted_warning(step, t, inverted, len(self.triangles)))
+        for kind, text in progress.step_warnings(self.scene, record.index + 1, record.t, record.report, inverted).items():
+            self.note(kind, text)
 
     def note(self, kind, text):
         """A warning, the first of its kind: shown under the caption from now on, and on stderr (where
@@ -378,7 +375,7 @@ class LiveWindow:
         x = run.shown_x
         self.view.follow(np.average(x, axis=0, weights=self.scene.m)[None])
         forces = self.newton_per_metre is not None and run.iterate is None
-        runs = [recording.frame_run(self.scene, x, run.report, self.label, draw.BLUE, forces)]
+        runs = [frames.frame_run(self.scene, x, run.report, self.label, draw.BLUE, forces)]
         surface, top = draw.draw_frame(pg, runs, run.t, self.view, self.fonts,
                                        self.newton_per_metre if forces else None)
         if run.iterate is not None:
