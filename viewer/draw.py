@@ -20,6 +20,10 @@ import square_mesh
 RESOLUTION = 900            # pixels, square frames
 SCALE = 200.0               # pixels per metre, the lecture's
 BLUE = (0, 0, 255)
+# the live window's colours; those of its text have a WCAG contrast ratio of at least 4.5:1 against the
+# white background (AA for text, tests/test_window.py): BLACK 21, RED 6.1, GREEN 5.1, BLUE 8.6,
+# window.KEYS 5.9; GREY (2.3:1) draws only the Newton view's iterate x^i
+BLACK, GREY, RED, GREEN = (0, 0, 0), (170, 170, 170), (200, 0, 0), (0, 128, 0)
 # colours of PALETTE (below), so that frames show them exactly
 RUN_COLORS = [BLUE, (255, 146, 0), (0, 146, 0), (219, 0, 170), (146, 73, 0), (0, 182, 255), (109, 109, 85)]
 # the forces' colours, far from every run's (tests/test_viewer_outputs.py measures the distance in CIELAB):
