@@ -312,13 +312,15 @@ def test_page_lists_every_frame_with_its_figures(default_run):
     data = page_data(out)
     rows = read_csv(out / "log.csv")
     assert len(data["frames"]) == len(frame_indices(out)) == 51 and data["fps"] == pytest.approx(100 / 3)
-    for j, (t, runs) in enumerate(data["frames"]):
-        step, t_step, newton, residual, min_d, sticking, sliding = runs[0]
-        row = rows[step]
-        assert step == min(3 * j, 150) and t == pytest.approx(float(row["t"]))
-        assert newton == int(row["newton_iterations"])
-        assert (sticking, sliding) == (int(row["contacts_sticking"]), int(row["contacts_sliding"]))
-    assert data["axis"][0] == plots.LEFT and data["axis"][1] == plots.RIGHT and data["axis"][2] == pytest.approx(1.5)
+    for j, frame in enumerate(data["frames"]):
+        figures = frame["runs"][0]                      # by log.csv's column names
+        row = rows[figures["step"]]
+        assert figures["step"] == min(3 * j, 150) and frame["t"] == pytest.approx(float(row["t"]))
+        assert figures["t"] == float(row["t"]) and figures["newton_iterations"] == int(row["newton_iterations"])
+        assert figures["residual"] == (float(row["residual"]) if row["residual"] else None)
+        assert (figures["contacts_sticking"], figures["contacts_sliding"]) == (int(row["contacts_sticking"]),
+                                                                               int(row["contacts_sliding"]))
+    assert data["axis"] == {"left": plots.LEFT, "right": plots.RIGHT, "tMax": pytest.approx(1.5)}
 
 
 # ------------------------------------------------------------------------------------------------

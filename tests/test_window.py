@@ -133,7 +133,7 @@ def test_close_button_esc_and_q_end_the_run_with_exit_0_and_files_intact(tmp_pat
     for name in ("summary.png", "plots.png"):
         assert pygame().image.load(str(tmp_path / name)).get_width() > 0
     page = json.loads(re.search(r"const run = (\{.*\});", (tmp_path / "index.html").read_text()).group(1))
-    assert [figures[0][0] for _, figures in page["frames"]] == [stride * j for j in range(len(frames))]  # steps
+    assert [frame["runs"][0]["step"] for frame in page["frames"]] == [stride * j for j in range(len(frames))]
 
 
 def test_the_window_writes_the_files_a_run_without_it_writes(tmp_path):

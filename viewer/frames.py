@@ -28,7 +28,7 @@ def frame_steps(tracks, stride):
 
 @dataclass
 class FrameInfo:
-    """What the page shows beside frame j: per track, (step, t, newton, residual, min_d, sticking, sliding)."""
+    """What the page shows beside frame j at time t: per track, its figures by name (page.figures)."""
     index: int
     t: float
     runs: list
@@ -57,7 +57,7 @@ class FrameWriter:
             self.folder.write(files.frame_png(j), draw.png_data(self.pygame, surface))
             for tr in tracks:
                 self.folder.write(files.frame_obj(j, tr.tag), square_mesh.obj_text(tr.x, tr.scene.n_seg))
-            self.frame_log.append(FrameInfo(j, max(tr.t for tr in tracks), [page.figures(tr.samples.last) for tr in tracks]))
+            self.frame_log.append(FrameInfo(j, max(tr.t for tr in tracks), [page.figures(tr.row) for tr in tracks]))
 
 
 def frame_count(scenes, steps, stride):

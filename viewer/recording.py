@@ -41,7 +41,7 @@ class History:
 
 @dataclass
 class Sample:
-    """The figures of one state of a run: one log.csv row (report is None for t = 0)."""
+    """The figures of one state of a run (report is None for t = 0): log.COLUMN reads its named row."""
     step: int
     t: float
     wall: float
@@ -60,7 +60,8 @@ class Sample:
 
 class Track:
     """One scene being run: its records, its log.csv in `folder` (files.OutputFolder), its samples and
-    snapshots so far. `logged` is the last step whose row log.csv holds."""
+    snapshots so far; `row` is the named row (log.values) of its latest state, `logged` the last step
+    whose row log.csv holds."""
 
     def __init__(self, scene, steps, records, label, tag, color, folder):
         self.scene, self.steps, self.records = scene, steps, records
@@ -97,8 +98,9 @@ class Track:
                         inverted=diagnostics.inverted_triangles(x, self.triangles))
         resting = diagnostics.at_rest(sticking, sliding)
         self.rest_since = (t if self.rest_since is None else self.rest_since) if resting else None
+        self.row = log.values(sample)           # the state's named figures, as log.csv writes them
         with self.folder.signals.held():        # the row and its count: both or neither
-            self.csv.append(log.row(sample))
+            self.csv.append(log.line(self.row))
             self.logged = sample.step
         self.samples.add(sample)
         if self.snapshots.last is None or t >= self.snapshots.last[0] + SNAPSHOT_EVERY - 1e-9:
