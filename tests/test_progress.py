@@ -22,7 +22,7 @@ def test_step_warnings_name_the_step_and_what_to_do():
                                       "residual 1.3e-08 m/s above tol = 0.01 m/s")
 
 
-def test_a_run_to_files_says_each_kind_of_warning_once(tmp_path, capsys):
+def test_a_run_to_files_says_each_kind_of_warning_once(tmp_path):
     """Newton stalls at many steps of a run at tol 1e-8; the warning comes once, at the first."""
     scene = simulator.build_scene(tol=1e-8)
     tracks = recorded(tmp_path, [scene], 40)
