@@ -104,7 +104,8 @@ def plan(pygame, tracks, header):
     label_w, label_h = small.size(time_label(max(tr.t for tr in tracks)))
     right_room = label_w + 12                   # px right of the motion, for the last state's label
     width_m = max(float(hi[0] - lo[0]) for lo, hi in boxes)
-    scale = SCALE if width_m * SCALE + right_room <= MAX_WIDTH else draw.nice_number((MAX_WIDTH - right_room) / width_m, TWO_DIGITS)
+    scale = SCALE if width_m * SCALE + right_room <= MAX_WIDTH else \
+        draw.nice_number((MAX_WIDTH - right_room) / width_m, TWO_DIGITS)
     width = int(max(width_m * scale + right_room, MIN_WIDTH))
     top = 22 * len(header) + 34
     panels, row = [], top
