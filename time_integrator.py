@@ -259,12 +259,17 @@ def newton_iterates(scene, x, v, *, step_index=0):
     return x, (x - x_n) / scene.h, report
 
 
+def run_out(iterates):
+    """Run a step's Newton iterates (newton_iterates, perhaps part-taken) to the end of the step: returns
+    what the generator returns, (x^{n+1}, v^{n+1}, StepReport)."""
+    while True:
+        try:
+            next(iterates)
+        except StopIteration as done:   # the generator's return value
+            return done.value
+
+
 def step(scene, x, v, *, step_index=0):
     """Advance (x^n, v^n) at t^n = step_index h by one implicit Euler step of scene.h: returns (x^{n+1},
     v^{n+1}, StepReport). step_index also numbers the step in errors; a hand's targets move with it."""
-    iterates = newton_iterates(scene, x, v, step_index=step_index)
-    try:
-        while True:
-            next(iterates)
-    except StopIteration as done:       # the generator's return value
-        return done.value
+    return run_out(newton_iterates(scene, x, v, step_index=step_index))

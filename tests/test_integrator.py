@@ -11,7 +11,7 @@ import simulator
 import time_integrator
 import utils
 from fd import assert_close, dense, fd_gradient
-from viewer import diagnostics, recording
+from viewer import diagnostics, frames
 
 DATA = os.path.join(os.path.dirname(__file__), "data")
 
@@ -426,5 +426,5 @@ def test_the_steps_friction_force_is_the_one_its_last_friction_update_gives():
     assert np.abs(report.friction_force - expected).max() <= 1e-12 * scale        # the same formula
     assert np.abs(lagged - expected).max() > 0.01 * scale                          # lambda did change
     assert report.friction_work == pytest.approx(float(np.vdot(expected, x - x_n)), rel=1e-12)
-    drawn = recording.frame_run(scene, x, report, "run", (0, 0, 0), forces=True)["friction"]
+    drawn = frames.frame_run(scene, x, report, "run", (0, 0, 0), forces=True)["friction"]
     assert drawn is report.friction_force

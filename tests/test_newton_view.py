@@ -7,7 +7,7 @@ import pytest
 import BarrierEnergy
 import legibility
 import simulator
-from viewer import window
+from viewer import draw, newton_view, window
 
 SIZE = 652      # the window's default side on a 1024x768 projector
 
@@ -68,7 +68,7 @@ def test_the_inset_magnifies_the_view_not_the_vectors(overrides, step, iteration
     scale = inset.view.scale
     assert scale == pytest.approx(inset.magnification * w.view.scale, rel=1e-12)
     mantissa = inset.magnification / 10.0 ** np.floor(np.log10(inset.magnification))
-    assert round(mantissa, 9) in window.ZOOMS and f"x{inset.magnification:g}" in inset.title
+    assert round(mantissa, 9) in newton_view.ZOOMS and f"x{inset.magnification:g}" in inset.title
     k = inset.node
     for name, alpha in (("x^i + p", 1.0), ("x^i + alpha_CCD p", it.alpha_ccd), ("x^i + alpha p", it.alpha)):
         offset = inset.markers[name] - inset.markers["x^i"]
@@ -83,7 +83,7 @@ def test_the_inset_magnifies_the_view_not_the_vectors(overrides, step, iteration
     else:
         assert k == np.argmin(BarrierEnergy.distances(it.x, scene.n, scene.o)) and inset.why == "nearest the slope"
     if inset.slope is None:
-        assert inset.distance > window.SLOPE_REACH * np.hypot(*it.p[k])
+        assert inset.distance > newton_view.SLOPE_REACH * np.hypot(*it.p[k])
 
 
 @pytest.mark.parametrize("overrides, step, iteration", IMPACT[:1] + HALVING[:1])
@@ -93,11 +93,11 @@ def test_the_whole_window_carries_no_position_markers(overrides, step, iteration
     import pygame
     w = paused_at(overrides, step, iteration)
     pixels = pygame.surfarray.array3d(w.screen)                     # [x, y, rgb]
-    green = np.all(pixels == window.GREEN, axis=2)
+    green = np.all(pixels == draw.GREEN, axis=2)
     left, top, width, height = w.inset.rect
     inside = green[left:left + width, top:top + height].sum()
     assert inside > 0 and inside == green.sum()
-    red = np.all(pixels == window.RED, axis=2)
+    red = np.all(pixels == draw.RED, axis=2)
     red[left:left + width, top:top + height] = False
     assert red.sum() > 100
 
@@ -107,7 +107,7 @@ def test_an_iterate_that_does_not_move_is_drawn_too():
     draws it (no arrows, the markers all on x^i) instead of failing."""
     w = paused_at({"slope": None, "gravity": (0.0, 0.0)}, 1, 1)
     it, inset = w.run.iterate, w.inset
-    assert not it.p.any() and inset.magnification == window.MAX_ZOOM
+    assert not it.p.any() and inset.magnification == newton_view.MAX_ZOOM
     assert all(np.array_equal(marker, inset.markers["x^i"]) for marker in inset.markers.values())
 
 
@@ -131,12 +131,12 @@ def test_the_inset_says_which_lines_are_springs_and_where_the_slope_is(monkeypat
     inset, it = w.inset, w.run.iterate
     text = " ".join(t for t, _, _ in drawn)
     assert "thin lines: springs" in text
-    distance = window.length_text(BarrierEnergy.distances(it.x[inset.node][None], w.scene.n, w.scene.o)[0])
+    distance = newton_view.length_text(BarrierEnergy.distances(it.x[inset.node][None], w.scene.n, w.scene.o)[0])
     assert (f"the slope: {distance} below x^i, out of frame" in text) == (inset.slope is None)
     left, top, width, height = inset.rect
     pixels = pygame.surfarray.array3d(w.screen)[left:left + width, top:top + height]
-    tinted = np.all(pixels == window.GROUND, axis=2).mean()      # a few pixels of anti-aliased lines have it too
+    tinted = np.all(pixels == newton_view.GROUND, axis=2).mean()      # a few pixels of anti-aliased lines have it too
     assert (tinted > 0.01) == (inset.slope is not None)
-    for note, _ in window.inset_notes(w.scene, it):
-        for row in window.wrap(w.fonts[1], note, width - 16):
+    for note, _ in newton_view.inset_notes(w.scene, it):
+        for row in draw.wrap(w.fonts[1], note, width - 16):
             assert w.fonts[1].size(row)[0] <= width - 16 or " " not in row, row

@@ -48,5 +48,5 @@ def test_the_scale_is_a_round_number_of_pixels_per_metre(tmp_path):
     pygame = draw.load_pygame()
     assert summary.plan(pygame, tracks_of(tmp_path, [simulator.build_scene()], 20), []).scale == summary.SCALE
     scale = summary.plan(pygame, tracks_of(tmp_path, [simulator.build_scene(v0=(20.0, 0.0))], 150), []).scale
-    assert scale < summary.SCALE and f"{scale:.3g}" == f"{scale:g}" and scale == summary.round_down(scale)
-    assert [summary.round_down(v) for v in (38.79, 0.5432, 99.99, 1234.0)] == [38.0, 0.54, 99.0, 1200.0]
+    assert scale < summary.SCALE and f"{scale:.3g}" == f"{scale:g}" and scale == draw.nice_number(scale, summary.TWO_DIGITS)
+    assert [draw.nice_number(v, summary.TWO_DIGITS) for v in (38.79, 0.5432, 99.99, 1234.0)] == [38.0, 0.54, 99.0, 1200.0]

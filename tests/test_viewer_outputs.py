@@ -22,7 +22,7 @@ from fakes import fill_disk_after
 import legibility
 import viewer.log
 import viewer.whole_files
-from viewer import diagnostics, draw, plots, recording, summary
+from viewer import diagnostics, draw, frames, plots, recording, summary
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -166,13 +166,13 @@ def test_no_text_in_the_frames_is_smaller_than_the_projector_minimum(monkeypatch
     height, measured in pixels (20 px of 900; the arrows' legend and the numbers had 9), in a colour
     of WCAG contrast at least 4.5:1 against white."""
     drawn, in_frames = legibility.record_text(monkeypatch), []
-    write = recording.FrameWriter.write
+    write = frames.FrameWriter.write
 
     def noting(self, j):
         start = len(drawn)
         write(self, j)
         in_frames.extend(drawn[start:])
-    monkeypatch.setattr(recording.FrameWriter, "write", noting)
+    monkeypatch.setattr(frames.FrameWriter, "write", noting)
     code, lines = run_main("--mu", "0.1,0.2", "--steps", "40", "--frame-stride", "20", "--out", str(tmp_path))
     assert code == 0, lines
     texts = {text for text, _, _ in in_frames}
@@ -188,7 +188,7 @@ def test_a_legends_swatches_sit_on_their_labels_rows():
     pygame = draw.load_pygame()
     scene = simulator.build_scene()
     for size in (600, 652, draw.RESOLUTION):
-        runs = [recording.frame_run(scene, scene.x0 + [2.0 * k, 0.0], None, f"mu = 0.{k + 1}",
+        runs = [frames.frame_run(scene, scene.x0 + [2.0 * k, 0.0], None, f"mu = 0.{k + 1}",
                                     draw.run_color(k), True) for k in range(3)]
         view = draw.View(draw.SCALE * size / draw.RESOLUTION, size)
         fonts = draw.fonts(pygame, size)
@@ -313,13 +313,15 @@ def test_page_lists_every_frame_with_its_figures(default_run):
     data = page_data(out)
     rows = read_csv(out / "log.csv")
     assert len(data["frames"]) == len(frame_indices(out)) == 51 and data["fps"] == pytest.approx(100 / 3)
-    for j, (t, runs) in enumerate(data["frames"]):
-        step, t_step, newton, residual, min_d, sticking, sliding = runs[0]
-        row = rows[step]
-        assert step == min(3 * j, 150) and t == pytest.approx(float(row["t"]))
-        assert newton == int(row["newton_iterations"])
-        assert (sticking, sliding) == (int(row["contacts_sticking"]), int(row["contacts_sliding"]))
-    assert data["axis"][0] == plots.LEFT and data["axis"][1] == plots.RIGHT and data["axis"][2] == pytest.approx(1.5)
+    for j, frame in enumerate(data["frames"]):
+        figures = frame["runs"][0]                      # by log.csv's column names
+        row = rows[figures["step"]]
+        assert figures["step"] == min(3 * j, 150) and frame["t"] == pytest.approx(float(row["t"]))
+        assert figures["t"] == float(row["t"]) and figures["newton_iterations"] == int(row["newton_iterations"])
+        assert figures["residual"] == (float(row["residual"]) if row["residual"] else None)
+        assert (figures["contacts_sticking"], figures["contacts_sliding"]) == (int(row["contacts_sticking"]),
+                                                                               int(row["contacts_sliding"]))
+    assert data["axis"] == {"left": plots.LEFT, "right": plots.RIGHT, "tMax": pytest.approx(1.5)}
 
 
 # ------------------------------------------------------------------------------------------------

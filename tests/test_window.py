@@ -18,7 +18,7 @@ import simulator
 from fakes import fill_disk_after
 import legibility
 import time_integrator
-from viewer import cli, draw, files, run, window
+from viewer import cli, draw, files, live, run, window
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 H = simulator.DEFAULTS["h"]
@@ -133,7 +133,7 @@ def test_close_button_esc_and_q_end_the_run_with_exit_0_and_files_intact(tmp_pat
     for name in ("summary.png", "plots.png"):
         assert pygame().image.load(str(tmp_path / name)).get_width() > 0
     page = json.loads(re.search(r"const run = (\{.*\});", (tmp_path / "index.html").read_text()).group(1))
-    assert [figures[0][0] for _, figures in page["frames"]] == [stride * j for j in range(len(frames))]  # steps
+    assert [frame["runs"][0]["step"] for frame in page["frames"]] == [stride * j for j in range(len(frames))]
 
 
 def test_the_window_writes_the_files_a_run_without_it_writes(tmp_path):
@@ -312,7 +312,7 @@ def test_r_restarts_from_the_initial_state_and_replays_the_same_run(tmp_path):
     plan = run.Plan([scene], ["mu = 0.11"], [""], [300], str(tmp_path), stride=1, frames=False, forces=True)
     signals = run.Signals()
     folder = files.OutputFolder.claim(plan.out, plan.names(), signals)
-    output = window.Files(plan, folder, io.StringIO())
+    output = live.Files(plan, folder, io.StringIO())
     w = window.LiveWindow(pg, pg.display.set_mode((400, 400)), scene, 300, 1.0, output, clock)
     seen = {}
 
@@ -459,7 +459,7 @@ def test_every_line_of_text_fits_the_window(size):
     width = size - 24
     texts = [f"t = {999.99:.2f} s   mu = {w.scene.mu:g}"] + [t for t, _ in w.status_lines()] + w.help_lines()
     for text in texts:
-        for row in window.wrap(w.font, text, width):
+        for row in draw.wrap(w.font, text, width):
             assert w.font.size(row)[0] <= width or " " not in row.strip(), row
     w.draw()
     assert w.screen.get_size() == (size, size)
@@ -500,7 +500,7 @@ def test_no_text_in_the_window_is_smaller_than_the_projector_minimum(monkeypatch
     assert smallest >= draw.MIN_CAP_HEIGHT * size
     contrast = {color: legibility.contrast_ratio(color) for _, _, color in drawn}
     assert min(contrast.values()) >= 4.5, contrast
-    assert {window.KEYS, window.GREEN, window.RED, draw.BLUE, window.BLACK} <= set(contrast)
+    assert {window.KEYS, draw.GREEN, draw.RED, draw.BLUE, draw.BLACK} <= set(contrast)
     assert legibility.contrast_ratio(window.KEYS) == pytest.approx(5.9, abs=0.05)
 
 
@@ -643,7 +643,7 @@ def red_pixels(w):
     """Pixels of the arrows' red in the window, as last drawn."""
     w.draw()
     pixels = pygame().surfarray.array3d(w.screen).reshape(-1, 3)
-    return int((pixels == window.RED).all(axis=1).sum())
+    return int((pixels == draw.RED).all(axis=1).sum())
 
 
 def showing_the_current_state(w):

@@ -9,17 +9,23 @@ stays in the flat files). Imports point down: viewer -> simulator -> time_integr
     diagnostics.py  what a state says beyond the solver's report: contact speeds, sticking and
                     sliding nodes, the contact forces (from the energies' public functions), inverted cells
     log.py          log.csv: one row per step, appended and flushed as the step ends
-    draw.py         one frame: the slope with distance marks, the squares, the forces, a legend; PNG files
+    recording.py    the run driver: steps one or more scenes side by side, a log row as each step ends
+    progress.py     what a run says as it goes: progress lines, warnings about a step, when it came to rest
+    frames.py       when each frame is due; writing it (PNG, OBJs, the page's figures)
+    draw.py         one frame: the slope with distance marks, the squares, the forces, a legend; PNG
+                    files; the drawing helpers (arrowheads, text wrapping, round numbers)
     plots.py        plots.png: energy budget, contact speeds, Newton iterations (or a comparison of runs)
     summary.py      summary.png: spaced, time-labelled snapshots at a fixed scale
     page.py         index.html: plays the frames from the file system, with the plots and a time cursor
+    pictures.py     the pictures written at a run's end: summary.png, plots.png, index.html
     files.py        the output folder a run owns: its names, what it refuses, how it writes and removes
     folder_lock.py  one run per folder: the folder's lock, let go however the process ends
     manifest.py     what the runs wrote there and each file's identity (device, inode, size, mtime)
     whole_files.py  files created new (O_EXCL) and written whole, never through a link or blocking
-    recording.py    steps one or more scenes side by side and writes all of the above
-    window.py       the live window (--window): the run paced to the wall clock, driven by keys down
-                    to one Newton iteration, drawn by draw.py, its files (--out) by recording.py
+    live.py         the live demo without its window (no pygame): the run a step or a Newton iteration
+                    at a time, paced to the wall clock, what the keys do, its files (--out) and warnings
+    newton_view.py  the window's Newton view: the iterate, the direction p, the magnified inset
+    window.py       the live window (--window): the loop (keys, status, drawing), opening the display
 
 pygame is imported only inside the functions that draw (see draw.load_pygame).
 """

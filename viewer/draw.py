@@ -20,6 +20,10 @@ import square_mesh
 RESOLUTION = 900            # pixels, square frames
 SCALE = 200.0               # pixels per metre, the lecture's
 BLUE = (0, 0, 255)
+# the live window's colours; those of its text have a WCAG contrast ratio of at least 4.5:1 against the
+# white background (AA for text, tests/test_window.py): BLACK 21, RED 6.1, GREEN 5.1, BLUE 8.6,
+# window.KEYS 5.9; GREY (2.3:1) draws only the Newton view's iterate x^i
+BLACK, GREY, RED, GREEN = (0, 0, 0), (170, 170, 170), (200, 0, 0), (0, 128, 0)
 # colours of PALETTE (below), so that frames show them exactly
 RUN_COLORS = [BLUE, (255, 146, 0), (0, 146, 0), (219, 0, 170), (146, 73, 0), (0, 182, 255), (109, 109, 85)]
 # the forces' colours, far from every run's (tests/test_viewer_outputs.py measures the distance in CIELAB):
@@ -129,6 +133,15 @@ def newton_per_metre(scene):
     return weight / ARROW_PER_WEIGHT
 
 
+def arrow_heads(tail, head, length):
+    """(K, 2, 2): the two back corners of each arrow's head, from pixels `tail` to `head` (K, 2), `length`
+    pixels behind its tip and as wide as half that either side (an arrow of no length: its tip)."""
+    back = (tail - head) / np.maximum(np.hypot(*(tail - head).T), 1e-9)[:, None]      # unit, pixels
+    side = np.stack([-back[:, 1], back[:, 0]], axis=1)
+    corner = head + length * back
+    return np.stack([corner + 0.5 * length * side, corner - 0.5 * length * side], axis=1)
+
+
 def draw_arrows(pygame, surface, view, x, forces, newton_per_metre, color):
     """An arrow from each node whose force is not zero, ARROW_PER_WEIGHT m per weight, cut at ARROW_MAX."""
     size = np.hypot(forces[:, 0], forces[:, 1])
@@ -136,12 +149,9 @@ def draw_arrows(pygame, surface, view, x, forces, newton_per_metre, color):
     length = np.minimum(size[on] / newton_per_metre, ARROW_MAX)
     direction = forces[on] / size[on, None]
     tail, head = view(x[on]), view(x[on] + length[:, None] * direction)
-    back = (tail - head) / np.maximum(np.hypot(*(tail - head).T), 1e-9)[:, None]      # unit, pixels
-    side = np.stack([-back[:, 1], back[:, 0]], axis=1)
-    for t, h, b, s in zip(tail.tolist(), head.tolist(), (8 * back).tolist(), (4 * side).tolist()):
+    for t, h, (c1, c2) in zip(tail.tolist(), head.tolist(), arrow_heads(tail, head, 8).tolist()):
         pygame.draw.line(surface, color, t, h, 2)
-        pygame.draw.polygon(surface, color, [h, [h[0] + b[0] + s[0], h[1] + b[1] + s[1]],
-                                             [h[0] + b[0] - s[0], h[1] + b[1] - s[1]]])
+        pygame.draw.polygon(surface, color, [h, c1, c2])
 
 
 def draw_legend(pygame, surface, font, entries, top, left=12):
@@ -154,6 +164,29 @@ def draw_legend(pygame, surface, font, entries, top, left=12):
         surface.blit(font.render(text, True, (0, 0, 0)), (left + 2 * cap + cap // 2, top))
         top += line
     return top
+
+
+def wrap(font, text, width):
+    """`text` broken at spaces into rows at most `width` pixels wide (a longer word stays whole)."""
+    rows, row = [], ""
+    for word in text.split(" "):
+        trial = f"{row} {word}" if row else word
+        if row.strip() and font.size(trial)[0] > width:
+            rows.append(row.rstrip())
+            row = word
+        else:
+            row = trial
+    return rows + [row]
+
+
+def nice_number(value, steps=(1, 2, 5), up=False):
+    """A round number for a scale bar, a tick or a zoom: the largest of `steps` times a power of ten that
+    is at most `value` (> 0), or with `up` the smallest that is at least it. The steps are 1, 2 and 5
+    by default (0.3 -> 0.2, up: 0.5); range(10, 100) gives two significant digits (38.79 -> 38)."""
+    power = 10.0 ** (math.floor(math.log10(value)) - math.floor(math.log10(max(steps))))
+    if up:
+        return min(m * p for p in (power, 10 * power) for m in steps if m * p >= value)
+    return max(m * power for m in steps if m * power <= value * (1 + 1e-12))
 
 
 def cap_height(font):

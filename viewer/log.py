@@ -1,26 +1,93 @@
 """log.csv: one row per step (and one for t = 0), appended and flushed as each step ends.
 
+COLUMN is the one definition of a state's per-step figures: each one's name (log.csv's header, and
+its key in a row), unit, meaning, how log.csv writes it and how it is read off a recording.Sample.
+log.csv's lines (`line`), the page's figures beside each frame (page.FIGURES picks them by name) and
+plots.png's curves (plots.series) read the same named rows (`values`); docs/output.md's table of the
+columns is these definitions as written here (tests/test_log.py checks it).
+
 Each row goes to the file in one write before that step's frame is saved, so the file is never more
 than one row (or one frame stride) ahead of the frames on disk and never holds half a row: a write
 that fails part way (a full disk) is cut back to the last whole row (viewer.whole_files.LineFile).
 """
-COLUMNS = ["step", "t", "wall_s", "com_x", "com_y", "v_tangential", "newton_iterations", "residual",
-           "newton_stalled", "alpha_min", "line_search_steps", "min_distance", "friction_updates", "friction_converged",
-           "contacts_sticking", "contacts_sliding", "inverted_triangles", "E_kinetic", "E_gravity", "E_spring",
-           "E_barrier", "E_total", "W_friction", "D_numerical"]
+from dataclasses import dataclass
+from typing import Callable
 
 
-def row(sample):
-    """The CSV line of one Sample (see recording.Sample); the solver's figures are empty at t = 0."""
-    s, rep, E = sample, sample.report, sample.energies
-    if rep is None:
-        solver = ["0", "", "0", "", "0", f"{s.min_distance:.9g}", "0", "1"]
-    else:
-        solver = [str(rep.newton_iterations), f"{rep.residual:.3e}", str(int(rep.stalled)),
-                  f"{min(rep.alphas, default=1.0):.6g}",
-                  str(len(rep.alphas)), f"{rep.min_distance:.9g}", str(rep.friction_updates),
-                  str(int(rep.friction_converged))]
-    return ",".join([str(s.step), f"{s.t:.6f}", f"{s.wall:.6f}", f"{s.com[0]:.9f}", f"{s.com[1]:.9f}",
-                     f"{s.v_tangential:.9f}"] + solver + [str(s.sticking), str(s.sliding), str(s.inverted)]
-                    + [f"{E[k]:.9g}" for k in ("kinetic", "gravity", "spring", "barrier", "total")]
-                    + [f"{s.friction_work:.9g}", f"{s.numerical_dissipation:.9g}"])
+@dataclass(frozen=True)
+class Column:
+    """One figure of a state. `unit` is "" for a count or a flag; `label` names it in a table's header
+    (the page's); `fmt` is how log.csv writes it (a format spec: "d" a whole number); `value` reads it
+    off a Sample, None where there is none (the solver's figures at t = 0: an empty field)."""
+    name: str
+    unit: str
+    label: str
+    meaning: str
+    fmt: str
+    value: Callable
+
+
+def solver(figure, at_start):
+    """A figure of the step's StepReport (`figure(report)`), `at_start` at t = 0, where no step was taken."""
+    return lambda s: at_start if s.report is None else figure(s.report)
+
+
+COLUMN = {c.name: c for c in [
+    Column("step", "", "step", "the steps taken (0: the start)", "d", lambda s: s.step),
+    Column("t", "s", "t", "the time after them", ".6f", lambda s: s.t),
+    Column("wall_s", "s", "wall time", "the step's wall-clock time", ".6f", lambda s: s.wall),
+    Column("com_x", "m", "centre of mass x", "the centre of mass, x", ".9f", lambda s: float(s.com[0])),
+    Column("com_y", "m", "centre of mass y", "the centre of mass, y", ".9f", lambda s: float(s.com[1])),
+    Column("v_tangential", "m/s", "velocity along the slope", "the centre of mass's velocity along the slope",
+           ".9f", lambda s: s.v_tangential),
+    Column("newton_iterations", "", "Newton iterations", "Newton iterations of the step, summed over its solves",
+           "d", solver(lambda r: r.newton_iterations, 0)),
+    Column("residual", "m/s", "residual",
+           "||p||_inf / h at the step's end; where the bound ||grad E||_2 / (min m h) already shows convergence, "
+           "that bound (an upper bound on ||p||_inf / h)", ".3e", solver(lambda r: r.residual, None)),
+    Column("newton_stalled", "", "Newton stalled",
+           "1 where Newton stopped at float64's round-off floor with the residual above tol", "d",
+           solver(lambda r: int(r.stalled), 0)),
+    Column("alpha_min", "", "smallest alpha", "the smallest accepted line-search step alpha", ".6g",
+           solver(lambda r: min(r.alphas, default=1.0), None)),
+    Column("line_search_steps", "", "line searches", "how many line searches", "d",
+           solver(lambda r: len(r.alphas), 0)),
+    Column("min_distance", "m", "min distance", "the smallest node distance to the slope", ".9g",
+           lambda s: s.min_distance),
+    Column("friction_updates", "", "friction updates",
+           "how many times Algorithm 5 updated mu*lambda at the new iterate and solved the step again; 0 for "
+           "the lecture's lagged friction (the default) and without friction, at most --friction-iterations",
+           "d", solver(lambda r: r.friction_updates, 0)),
+    Column("friction_converged", "", "friction converged",
+           "1 where the step ended at Algorithm 5's fixed point (the Newton residual with the updated mu*lambda "
+           "<= tol), 0 where it stopped at the cap above it; always 1 for lagged friction, which does not "
+           "iterate", "d", solver(lambda r: int(r.friction_converged), 1)),
+    Column("contacts_sticking", "", "contacts sticking",
+           "nodes within dhat of the slope whose tangential speed ||(I - n n^T) v|| is below eps_v (the "
+           "mollifier's static regime)", "d", lambda s: s.sticking),
+    Column("contacts_sliding", "", "contacts sliding", "nodes within dhat of the slope at or above eps_v", "d",
+           lambda s: s.sliding),
+    Column("inverted_triangles", "", "inverted triangles", "mesh triangles turned over", "d", lambda s: s.inverted),
+    Column("E_kinetic", "J", "kinetic energy", "the kinetic energy", ".9g", lambda s: s.energies["kinetic"]),
+    Column("E_gravity", "J", "gravity", "gravity's potential energy", ".9g", lambda s: s.energies["gravity"]),
+    Column("E_spring", "J", "spring energy", "the springs' energy", ".9g", lambda s: s.energies["spring"]),
+    Column("E_barrier", "J", "barrier energy", "the barrier's energy", ".9g", lambda s: s.energies["barrier"]),
+    Column("E_total", "J", "total energy", "their sum, E", ".9g", lambda s: s.energies["total"]),
+    Column("W_friction", "J", "friction work",
+           "the work friction has done since t = 0 (<= 0), summed over steps as -grad P_f . (x^{n+1} - x^n)",
+           ".9g", lambda s: s.friction_work),
+    Column("D_numerical", "J", "numerical dissipation",
+           "E(0) + W_friction - E: what implicit Euler's numerical dissipation has taken out", ".9g",
+           lambda s: s.numerical_dissipation),
+]}
+COLUMNS = list(COLUMN)          # log.csv's header, in order
+
+
+def values(sample):
+    """The named row of one Sample (recording.Sample): {column name: its figure, None where there is none}."""
+    return {name: column.value(sample) for name, column in COLUMN.items()}
+
+
+def line(row):
+    """log.csv's line of a named row (`values`): each figure as its column writes it, empty where none."""
+    return ",".join("" if row[name] is None else format(row[name], column.fmt) for name, column in COLUMN.items())

@@ -1,18 +1,25 @@
 """index.html: a page that plays the run's PNG frames from the file system, with no server.
 
 It opens from the output folder in any current browser (file://...): the frames are the PNG files
-pygame rendered beside it, and the figures of every frame are written into the page itself as a
-JavaScript array (a page opened from the file system may not read other files, but it may show
+pygame rendered beside it, and the figures of every frame are written into the page itself as
+JavaScript data (a page opened from the file system may not read other files, but it may show
 images). Play/pause, one frame back or forward, a time slider, the playback speed; beside the frame,
 the figures of that step for each run; below it plots.png with a cursor at the current time.
+
+The figures are log.csv's columns, picked by name (FIGURES) from each state's named row (log.values):
+the data holds, for every frame, each run's figures as an object by column name, and the list of
+names with their headers; the script reads them by name.
 """
 import html
 import json
+import math
 
-from viewer import draw
+from viewer import draw, log
 
-FIGURES = ["step", "t (s)", "Newton iterations", "residual (m/s)", "min distance (m)", "contacts sticking",
-           "contacts sliding"]
+# the figures beside each frame: log.csv's columns by name (viewer/log.py), each shown as log.csv writes
+# it (the format given here where it is not: min_distance to 5 digits instead of 9)
+FIGURES = {"step": None, "t": None, "newton_iterations": None, "residual": None, "min_distance": ".4e",
+           "contacts_sticking": None, "contacts_sliding": None}
 
 TEMPLATE = """<!DOCTYPE html>
 <html lang="en">
@@ -65,10 +72,10 @@ function frameName(k) { return "frame_" + String(k).padStart(5, "0") + ".png"; }
 // that of the widest text.
 const lastFrame = run.frames.length - 1, FIGURE_SPACE = "\\u2007";
 const frameDigits = String(lastFrame).length;
-const timeDigits = Math.max(...run.frames.map(f => f[0].toFixed(2).length));
+const timeDigits = Math.max(...run.frames.map(f => f.t.toFixed(2).length));
 function clockText(k) {
   return "frame " + String(k).padStart(frameDigits, FIGURE_SPACE) + " / " + lastFrame + ", t = " +
-    run.frames[k][0].toFixed(2).padStart(timeDigits, FIGURE_SPACE) + " s";
+    run.frames[k].t.toFixed(2).padStart(timeDigits, FIGURE_SPACE) + " s";
 }
 const clock = document.getElementById("clock");
 clock.textContent = clockText(lastFrame);
@@ -76,9 +83,9 @@ clock.style.minWidth = Math.ceil(clock.getBoundingClientRect().width) + "px";
 
 function showFigures(frame) {
   let rows = "<tr><th></th>" + run.labels.map(l => "<th>" + l + "</th>").join("") + "</tr>";
-  run.figures.forEach((name, f) => {
-    rows += "<tr><th>" + name + "</th>" +
-      frame[1].map(r => "<td>" + (r[f] === null ? "-" : r[f]) + "</td>").join("") + "</tr>";
+  run.figures.forEach(figure => {
+    rows += "<tr><th>" + figure.header + "</th>" + frame.runs.map(
+      r => "<td>" + (r[figure.name] === null ? "-" : r[figure.name]) + "</td>").join("") + "</tr>";
   });
   rows += "<tr><th>came to rest at t (s)</th>" +
     run.rest.map(t => "<td>" + (t === null ? "not by the end" : t.toFixed(2)) + "</td>").join("") + "</tr>";
@@ -95,7 +102,7 @@ function show(k) {
   showFigures(frame);
   const cursor = document.getElementById("cursor");
   if (cursor) {
-    const left = run.axis[0] + (run.axis[1] - run.axis[0]) * frame[0] / run.axis[2];
+    const left = run.axis.left + (run.axis.right - run.axis.left) * frame.t / run.axis.tMax;
     cursor.style.left = (100 * left / run.plotWidth) + "%";
   }
 }
@@ -125,14 +132,32 @@ play();
 """
 
 
+def figures(row):
+    """The figures the page shows for a state, by name (FIGURES), from its named row (log.values):
+    JSON numbers, rounded as they are shown, None where there is none or it is not finite."""
+    shown = {}
+    for name, fmt in FIGURES.items():
+        value, fmt = row[name], fmt or log.COLUMN[name].fmt
+        finite = value is not None and math.isfinite(value)
+        shown[name] = None if not finite else int(value) if fmt == "d" else float(format(value, fmt))
+    return shown
+
+
+def header(name):
+    """A figure's header in the page's table: its label, and its unit in brackets."""
+    column = log.COLUMN[name]
+    return f"{column.label} ({column.unit})" if column.unit else column.label
+
+
 def page_html(title, labels, frame_log, fps, axis, plot_width, note="", rest=None):
-    """The page's text: `frame_log` (recording.FrameInfo per frame), `fps` frames per simulated
-    second, `axis` = (left px, right px, t_max) of plots.png's time axis (None: no plots), `rest` the
-    time each run came to rest (None: it did not)."""
+    """The page's text: `frame_log` (frames.FrameInfo per frame: each run's figures), `fps` frames per
+    simulated second, `axis` = (left px, right px, t_max) of plots.png's time axis (None: no plots),
+    `rest` the time each run came to rest (None: it did not)."""
     rest = [None if t is None else round(t, 6) for t in (rest or [None] * len(labels))]
-    data = {"labels": [html.escape(label) for label in labels], "figures": FIGURES, "fps": fps, "rest": rest,
-            "frames": [[round(f.t, 6), f.runs] for f in frame_log],
-            "axis": list(axis) if axis else None, "plotWidth": plot_width}
+    data = {"labels": [html.escape(label) for label in labels], "fps": fps, "rest": rest,
+            "figures": [{"name": name, "header": html.escape(header(name))} for name in FIGURES],
+            "frames": [{"t": round(f.t, 6), "runs": f.runs} for f in frame_log],
+            "axis": dict(zip(("left", "right", "tMax"), axis)) if axis else None, "plotWidth": plot_width}
     plots = ('<div id="plotbox"><img id="plots" src="plots.png" alt="plots of the run">'
              '<div id="cursor"></div></div>') if axis else ""
     return (TEMPLATE.replace("__TITLE__", html.escape(title)).replace("__SIZE__", str(draw.RESOLUTION))

@@ -13,6 +13,8 @@ import math
 
 import numpy as np
 
+from viewer import draw, log
+
 WIDTH, PANEL_HEIGHT, TOP = 900, 250, 10
 LEFT, RIGHT = 80, 700           # the time axis's pixel columns; the legends sit right of it
 ENERGY_COLORS = {"kinetic": (230, 120, 0), "gravity": (120, 80, 40), "spring": (0, 150, 60),
@@ -22,10 +24,7 @@ ENERGY_COLORS = {"kinetic": (230, 120, 0), "gravity": (120, 80, 40), "spring": (
 
 def nice_ticks(lo, hi, count=5):
     """Round tick values (1, 2 or 5 times a power of ten apart) covering [lo, hi]."""
-    span = hi - lo if hi > lo else 1.0
-    raw = span / count
-    power = 10.0 ** math.floor(math.log10(raw))
-    step = min((m * power for m in (1, 2, 5, 10) if m * power >= raw), default=10 * power)
+    step = draw.nice_number((hi - lo if hi > lo else 1.0) / count, up=True)
     return step * np.arange(math.ceil(lo / step), math.floor(hi / step) + 1)
 
 
@@ -114,13 +113,17 @@ class Axes:
 
 
 def series(track):
-    """The arrays the plots need from a track's samples."""
+    """The arrays the plots need from a track's samples: log.csv's columns by name (log.COLUMN), and
+    the contact nodes' speeds."""
     s = track.samples.all()
-    return {"t": np.array([x.t for x in s]),
-            "E": {k: np.array([x.energies[k] for x in s]) for k in ("kinetic", "gravity", "spring", "barrier", "total")},
-            "W": np.array([x.friction_work for x in s]), "D": np.array([x.numerical_dissipation for x in s]),
-            "newton": np.array([x.report.newton_iterations if x.report else 0 for x in s]),
-            "along": np.array([(x.com - s[0].com) @ track.tangent for x in s]),
+
+    def column(name):
+        return np.array([log.COLUMN[name].value(x) for x in s])
+    com = np.stack([column("com_x"), column("com_y")], axis=1)
+    return {"t": column("t"),
+            "E": {k: column(f"E_{k}") for k in ("kinetic", "gravity", "spring", "barrier", "total")},
+            "W": column("W_friction"), "D": column("D_numerical"), "newton": column("newton_iterations"),
+            "along": np.array([(c - com[0]) @ track.tangent for c in com]),
             "speed_t": np.concatenate([np.full(len(x.speeds), x.t) for x in s]),
             "speed": np.concatenate([x.speeds for x in s]),
             "max_speed": np.array([x.speeds.max() if len(x.speeds) else np.nan for x in s])}

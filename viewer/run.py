@@ -18,11 +18,10 @@ import numpy as np
 
 import simulator
 import time_integrator
-from viewer import draw, files, recording
+from viewer import draw, files, pictures, recording
+from viewer.frames import frame_count
+from viewer.progress import rest_words
 from viewer.startup import EXIT_CODES, REASONS
-
-PICTURES = ("summary.png", "plots.png", "index.html")      # the last pictures, written after the steps
-
 
 class Stopped(BaseException):
     """SIGINT (Ctrl+C) or SIGTERM: the run stops, says so in one line and keeps what it wrote."""
@@ -87,7 +86,7 @@ class Plan:
 
     def names(self):
         """The names this run writes into `out` (files.RunNames)."""
-        return files.RunNames(self.tags, recording.frame_count(self.scenes, self.steps, self.stride), self.frames)
+        return files.RunNames(self.tags, frame_count(self.scenes, self.steps, self.stride), self.frames)
 
 
 def warn(plan, messages):
@@ -151,7 +150,7 @@ def end(plan, signals, folder, tracks, frame_log, failure, messages, done):
         try:
             for track in tracks:
                 track.last_snapshot()
-            recording.finish(tracks, folder, plan.stride, plan.frames, frame_log, summary_header(plan))
+            pictures.write(tracks, folder, plan.stride, plan.frames, frame_log, summary_header(plan))
         except Stopped as stopped:
             failure = failure or Failure(stopped.code, f"stopped: {stopped.reason} while writing the last pictures")
         except ENDINGS as err:
@@ -176,7 +175,7 @@ def kept(tracks, folder, plan):
     if not tracks:
         return "nothing written" + (f" in {plan.out}/" if folder is not None else "")
     steps = min(track.logged or 0 for track in tracks)
-    left_out = [name for name in PICTURES if name in plan.names().fixed and name not in folder.written]
+    left_out = [name for name in pictures.NAMES if name in plan.names().fixed and name not in folder.written]
     return f"{steps} steps kept in {plan.out}/" + (f"; left out: {', '.join(left_out)}" if left_out else "")
 
 
@@ -196,7 +195,7 @@ def to_files(plan, signals, messages=None):
     except ENDINGS as err:
         failure = failure_of(err, plan)
     wall = time.perf_counter() - start
-    rest = f"; {recording.rest_words(tracks)}" if tracks else ""
+    rest = f"; {rest_words(tracks)}" if tracks else ""
     return end(plan, signals, folder, tracks, frame_log, failure, messages,
                f"simulated {simulated(plan)} in {wall:.2f} s wall{rest}; {written(plan)} in {plan.out}/")
 

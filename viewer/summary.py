@@ -9,7 +9,6 @@ drawn in red, and a 1 m bar gives the scale: SCALE pixels per metre, unless the 
 for MAX_WIDTH pixels (then a round number of pixels, two digits). A comparison draws one panel per
 run, one above the other, all at the same scale. Everything drawn is placed by `plan`.
 """
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -22,6 +21,7 @@ MIN_WIDTH = 700     # pixels
 MARGIN = 0.6        # m of room around the motion
 HEADER = 70         # pixels of text above each panel
 GAP = 4             # pixels between the drawn snapshots (with their labels)
+TWO_DIGITS = range(10, 100)     # a scale too long for SCALE is rounded down to two digits (38 px/m)
 
 
 @dataclass
@@ -54,12 +54,6 @@ class Plan:
     top: int            # the first panel's top row, below the header lines and the scale bar
     scale: float
     panels: list
-
-
-def round_down(value, digits=2):
-    """`value` (> 0) rounded down to `digits` significant digits: 38.79 -> 38, 0.5432 -> 0.54."""
-    power = 10.0 ** (math.floor(math.log10(value)) - digits + 1)
-    return float(f"{math.floor(value / power * (1 + 1e-12)) * power:.{digits}g}")
 
 
 def spaced(boxes, gap=GAP):
@@ -110,7 +104,8 @@ def plan(pygame, tracks, header):
     label_w, label_h = small.size(time_label(max(tr.t for tr in tracks)))
     right_room = label_w + 12                   # px right of the motion, for the last state's label
     width_m = max(float(hi[0] - lo[0]) for lo, hi in boxes)
-    scale = SCALE if width_m * SCALE + right_room <= MAX_WIDTH else round_down((MAX_WIDTH - right_room) / width_m)
+    scale = SCALE if width_m * SCALE + right_room <= MAX_WIDTH else \
+        draw.nice_number((MAX_WIDTH - right_room) / width_m, TWO_DIGITS)
     width = int(max(width_m * scale + right_room, MIN_WIDTH))
     top = 22 * len(header) + 34
     panels, row = [], top

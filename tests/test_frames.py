@@ -1,0 +1,31 @@
+"""viewer/frames.py: when each frame is due. Frames come every `stride` steps of the smallest h,
+numbered from 0, the last at the end of the longest run; each run is shown at the last step it has
+reached by then."""
+import types
+
+import pytest
+
+from viewer import frames
+
+
+def tracks(*runs):
+    """Stand-ins for recording.Track: (h, steps) each."""
+    return [types.SimpleNamespace(scene=types.SimpleNamespace(h=h), steps=steps) for h, steps in runs]
+
+
+def test_frames_every_stride_steps_and_the_last_state():
+    runs = tracks((0.01, 10))
+    assert list(frames.frame_steps(runs, 4)) == [(0, [0]), (1, [4]), (2, [8]), (3, [10])]
+    assert frames.frame_count([r.scene for r in runs], [10], 4) == 4
+    assert [j for j, _ in frames.frame_steps(tracks((0.01, 12)), 4)] == [0, 1, 2, 3]     # 12 is a frame's
+
+
+@pytest.mark.parametrize("runs, stride, expected", [
+    (((0.01, 30), (0.02, 15)), 5, [[0, 0], [5, 2], [10, 5], [15, 7], [20, 10], [25, 12], [30, 15]]),
+    (((0.01, 20), (0.03, 4)), 10, [[0, 0], [10, 3], [20, 6]])])
+def test_a_comparison_of_time_steps_shows_each_run_at_the_same_times(runs, stride, expected):
+    """Frame j at t = j stride h_min: a run of larger h at its last step by then (floor); a run that
+    ended earlier is asked for steps past its end, and Track.advance stops at its last."""
+    runs = tracks(*runs)
+    got = [targets for _, targets in frames.frame_steps(runs, stride)]
+    assert got == expected and len(got) == frames.frame_count([r.scene for r in runs], [r.steps for r in runs], stride)

@@ -1,0 +1,143 @@
+"""viewer/live.py: the live demo without its window (no pygame): the run one step or one Newton
+iteration at a time, its pacing to a clock, what the keys do, and its warnings. Driven here with a fake
+clock; tests/test_window.py drives the same through the window's keys."""
+import io
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import simulator
+import time_integrator
+from viewer import live
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+H = simulator.DEFAULTS["h"]
+
+
+class FakeClock:
+    """Wall time that moves only when told to."""
+
+    def __init__(self):
+        self.t = 0.0
+
+    def now(self):
+        return self.t
+
+    def sleep(self, seconds):
+        self.t += seconds
+
+
+def test_a_step_is_the_same_whole_or_one_newton_iteration_at_a_time():
+    """LiveRun.step is time_integrator.step; n after n (newton_iteration) yields each iterate and the
+    n after the last completes the same step; a step begun with n and finished with step()
+    (time_integrator.run_out) too."""
+    scene = simulator.build_scene()
+    whole, by_iteration, mixed = live.LiveRun(scene, 100), live.LiveRun(scene, 100), live.LiveRun(scene, 100)
+    for _ in range(30):                                             # to the impact
+        for run in (whole, by_iteration, mixed):
+            run.step()
+    expected = time_integrator.step(scene, whole.x, whole.v, step_index=30)[0]
+    record = whole.step()
+    assert record.index == 30 and record.t == pytest.approx(0.31) and np.array_equal(record.x, expected)
+    count = 0
+    while (record := by_iteration.newton_iteration()) is None:
+        count += 1
+        assert by_iteration.iteration == count and by_iteration.index == 30
+        assert np.array_equal(by_iteration.shown_x, by_iteration.iterate.x_next)
+    assert count >= 2 and np.array_equal(record.x, expected) and by_iteration.iterate is None
+    assert mixed.newton_iteration() is None and mixed.iteration == 1
+    assert np.array_equal(mixed.step().x, expected) and mixed.index == 31 and mixed.iterate is None
+    mixed.restart()
+    assert mixed.index == 0 and np.array_equal(mixed.x, scene.x0) and mixed.report is None
+
+
+def test_the_pacer_says_the_time_due_and_the_rate_reached():
+    clock = FakeClock()
+    pacer = live.Pacer(clock, 0.5, H)
+    clock.t = 2.0
+    assert pacer.due() == pytest.approx(1.0)                        # at half speed
+    pacer.start(0.3)
+    clock.t = 2.4
+    assert pacer.due() == pytest.approx(0.5)
+    for k in range(200):                                            # playing at a quarter of real time
+        clock.t = 3.0 + 0.01 * k
+        pacer.sample(0.0025 * k)
+    assert pacer.rate() == pytest.approx(0.5)                       # 0.25x of the 0.5x asked
+    pacer.forget()
+    pacer.sample(0.0)
+    assert pacer.rate() is None                                     # not a span of play yet
+
+
+def test_the_demo_takes_the_steps_due_and_no_more():
+    """Free steps (the clock stands still while stepping): after each frame of play, t is the last
+    step's end that is due, t <= wall < t + h."""
+    clock = FakeClock()
+    demo = live.LiveDemo(simulator.build_scene(), 300, 1.0, None, clock, io.StringIO())
+    for frame in range(1, 61):                                      # one second at 60 frames a second
+        clock.t = frame / 60
+        demo.play()
+        assert demo.run.t <= clock.t + 1e-9 < demo.run.t + H
+    assert demo.slow is None and "slow" not in demo.warnings
+
+
+def test_steps_slower_than_real_time_are_not_caught_up_and_are_said(monkeypatch):
+    """Steps costing 3 h of wall time each: the demo falls behind no more than CATCH_UP (it goes on
+    from where it is), plays at 1/3 of real time and notes so once."""
+    clock, step = FakeClock(), time_integrator.step
+
+    def slow_step(*args, **kw):
+        clock.t += 3 * H
+        return step(*args, **kw)
+
+    monkeypatch.setattr(time_integrator, "step", slow_step)
+    log = io.StringIO()
+    demo = live.LiveDemo(simulator.build_scene(), 300, 1.0, None, clock, log)
+    while demo.run.index < 150:
+        started = clock.t
+        demo.play()
+        clock.t = max(clock.t, started + 1 / 60)                    # the window's loop: 60 frames a second
+        assert demo.pacer.due() - demo.run.t <= live.CATCH_UP + 2 * H
+    assert demo.slow == pytest.approx(1 / 3, abs=0.02)
+    assert demo.warnings["slow"].startswith("the window ran slower than real time: 0.3")
+    assert log.getvalue().count("slower than real time") == 1
+
+
+def test_the_keys_pause_step_and_restart():
+    demo = live.LiveDemo(simulator.build_scene(), 10, 1.0, None, FakeClock(), io.StringIO())
+    demo.toggle_pause()
+    assert not demo.playing
+    assert demo.one_step() and demo.run.index == 1
+    demo.one_newton_iteration()
+    assert demo.run.iteration == 1 and demo.run.index == 1
+    while demo.run.index == 1:
+        demo.one_newton_iteration()
+    assert demo.message.startswith("step 2 done: Newton converged")
+    while demo.one_step():
+        pass
+    assert demo.stopped() and demo.run.index == 10 and not demo.one_step()
+    demo.restart()
+    assert demo.playing and demo.run.index == 0                     # stopped at the end: plays again
+
+
+def test_the_demo_notes_each_warning_once_as_a_run_to_files_words_it():
+    log = io.StringIO()
+    demo = live.LiveDemo(simulator.build_scene(tol=1e-8), 40, 1.0, None, FakeClock(), log)
+    while demo.one_step():
+        pass
+    stalled = [text for kind, text in demo.warnings.items() if kind == "stalled"]
+    assert len(stalled) == 1 and "round-off floor" in stalled[0]
+    assert log.getvalue().count("Newton stopped at float64's round-off floor") == 1
+
+
+def test_the_demo_needs_no_pygame():
+    code = ("import io, sys, simulator; from viewer import live\n"
+            "class Clock:\n    t = 0.0\n    def now(self): return self.t\n    def sleep(self, s): self.t += s\n"
+            "clock = Clock(); demo = live.LiveDemo(simulator.build_scene(), 20, 1.0, None, clock, io.StringIO())\n"
+            "clock.t = 0.1; demo.play(); demo.toggle_pause(); demo.one_newton_iteration(); demo.one_step()\n"
+            "print(demo.run.index, 'pygame' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, timeout=120,
+                         env={**os.environ, "OPENBLAS_NUM_THREADS": "1"})
+    assert out.returncode == 0 and out.stdout.split() == ["11", "False"], out.stderr

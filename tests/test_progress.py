@@ -1,0 +1,53 @@
+"""viewer/progress.py: what a run says as it goes. The warnings about a step are worded in one place
+(step_warnings), for a run to files and the window alike; a run says each kind once."""
+import io
+import types
+
+import simulator
+import time_integrator
+from command import recorded
+from viewer import progress
+
+
+def test_step_warnings_name_the_step_and_what_to_do():
+    scene = simulator.build_scene()
+    calm = time_integrator.StepReport(residual=0.004)
+    assert progress.step_warnings(scene, 12, 0.12, calm, 0) == {}
+    stalled = time_integrator.StepReport(residual=1.3e-8, stalled=True)
+    said = progress.step_warnings(scene, 30, 0.3, stalled, 4)
+    assert list(said) == ["inverted", "stalled"]
+    assert said["inverted"].startswith("at step 30 (t = 0.30 s) 4 of 32 mesh triangles are inverted")
+    assert "--k" in said["inverted"] and "--h" in said["inverted"]
+    assert said["stalled"].startswith("at step 30 (t = 0.30 s) Newton stopped at float64's round-off floor, "
+                                      "residual 1.3e-08 m/s above tol = 0.01 m/s")
+
+
+def test_a_run_to_files_says_each_kind_of_warning_once(tmp_path):
+    """Newton stalls at many steps of a run at tol 1e-8; the warning comes once, at the first."""
+    scene = simulator.build_scene(tol=1e-8)
+    tracks = recorded(tmp_path, [scene], 40)
+    stalled = [s.step for s in tracks[0].samples.all() if s.report is not None and s.report.stalled]
+    assert len(stalled) > 1 and tracks[0].warned == {"stalled"}
+
+
+def test_rest_words_say_when_each_run_came_to_rest():
+    def track(label, rest_since, sliding, t=3.0):
+        return types.SimpleNamespace(label=label, rest_since=rest_since, t=t,
+                                     samples=types.SimpleNamespace(last=types.SimpleNamespace(sliding=sliding)))
+    assert progress.rest_words([track("a", 5.534, 0)]) == "the square came to rest at t = 5.53 s"
+    assert progress.rest_words([track("a", None, 2)]) == "the square still sliding at t = 3.00 s"
+    assert progress.rest_words([track("mu = 0.1", None, 0), track("mu = 0.2", 2.8, 0)]) == \
+        "mu = 0.1: not at rest at t = 3.00 s; mu = 0.2: came to rest at t = 2.80 s"
+
+
+def test_progress_lines_come_every_tenth_of_the_run():
+    log = io.StringIO()
+    report = time_integrator.StepReport(residual=2e-3, alphas=[1.0, 1.0])
+    tr = types.SimpleNamespace(label="run", steps=100, step=0, t=0.0,
+                               samples=types.SimpleNamespace(last=types.SimpleNamespace(report=report, min_distance=0.5)))
+    lines = progress.Progress([tr], log)
+    for step in range(1, 101):
+        tr.step, tr.t = step, step * 0.01
+        lines.tick(tr)
+    rows = log.getvalue().splitlines()
+    assert len(rows) == 10 and rows[0] == "step 10/100  t=0.10s  newton=2  residual=2.0e-03  min_d=5.00e-01"
