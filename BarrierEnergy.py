@@ -140,8 +140,6 @@ def compute_mu_lambda_kernel(x, n, o, contact_area, mu, dhat, kappa):
     zero elsewhere. mu is a number, or an array of one mu_k per node (slip-weakened friction,
     FrictionEnergy.slip_weakened_mu). The friction term uses it lagged, from x^n."""
     i, d = _active(x, n, o, dhat)
-    if np.ndim(mu):
-        mu = mu.take(i)                         # mu_k of the nodes within dhat
-    mu_lambda = np.zeros(len(x))
-    mu_lambda[i] = -mu * dP_dd(d, contact_area.take(i), dhat, kappa)
+    mu_lambda = np.zeros(len(x))                # mu per node: that of the nodes within dhat
+    mu_lambda[i] = -(mu.take(i) if np.ndim(mu) else mu) * dP_dd(d, contact_area.take(i), dhat, kappa)
     return mu_lambda

@@ -13,6 +13,7 @@ same step one Newton iteration at a time, for a window to show.
 """
 import dataclasses
 from dataclasses import dataclass, field
+import functools
 import math
 
 import numpy as np
@@ -117,15 +118,34 @@ def slip_weakened_mu(scene, lagged, x, v=None):
 
 # --- the Incremental Potential ----------------------------------------------------------------------
 
+@dataclass(frozen=True)
+class Term:
+    """One potential energy term, declared once: its module; the arguments of its val/grad/hess in the
+    lecture's order, by name (x, v = (x - x^n) / h, mu_lambda and targets: the step's; any other: the
+    scene's, `hand.nodes` its hand's); whether it stores energy (friction's potential only dissipates)."""
+    module: object
+    args: tuple
+    stores_energy: bool
+
+
+TERMS = {"spring": Term(MassSpringEnergy, ("x", "e", "l2", "k"), True),
+         "gravity": Term(GravityEnergy, ("x", "m", "g"), True),
+         "barrier": Term(BarrierEnergy, ("x", "n", "o", "contact_area", "dhat", "kappa"), True),
+         "friction": Term(FrictionEnergy, ("v", "mu_lambda", "h", "n", "epsv"), False),
+         "hand": Term(HandEnergy, ("x", "hand.nodes", "targets", "hand.k_hand"), True)}   # targets of t^{n+1}
+
+
 def potential_terms(scene, lagged, x):
-    """The scene's potential terms at x: (energy module, its arguments in the lecture's order)."""
-    s, v = scene, (x - lagged.x_n) / scene.h            # friction's argument: the velocity the step implies
-    every = {"spring": (MassSpringEnergy, (x, s.e, s.l2, s.k)), "gravity": (GravityEnergy, (x, s.m, s.g)),
-             "barrier": (BarrierEnergy, (x, s.n, s.o, s.contact_area, s.dhat, s.kappa)),
-             "friction": (FrictionEnergy, (v, lagged.mu_lambda, s.h, s.n, s.epsv))}
-    if s.hand is not None:                              # its targets: those of t^{n+1}, held in `lagged`
-        every["hand"] = (HandEnergy, (x, s.hand.nodes, lagged.targets, s.hand.k_hand))
-    return [every[term] for term in s.terms if term != "inertia"]
+    """The scene's potential terms at x: (energy module, its arguments in the lecture's order), as TERMS
+    declares them, for the terms the scene has (`scene.terms`)."""
+    step = {"x": x, "v": (x - lagged.x_n) / scene.h, "mu_lambda": lagged.mu_lambda, "targets": lagged.targets}
+    return [(TERMS[t].module, tuple(step[a] if a in step else scene_value(scene, a) for a in TERMS[t].args))
+            for t in scene.terms if t != "inertia"]
+
+
+def scene_value(scene, name):
+    """The scene's value of that name: scene.e for 'e', scene.hand.nodes for 'hand.nodes'."""
+    return functools.reduce(getattr, name.split("."), scene)
 
 
 def IP_val(scene, lagged, x):
@@ -251,8 +271,7 @@ def newton_iterates(scene, x, v, *, step_index=0):
     except (ValueError, np.linalg.LinAlgError) as err:      # an energy overflowed, or H could not be factored
         raise NonFiniteState(f"the step's numbers broke down ({err})", step_index) from err
     if "friction" in scene.terms:       # the step's friction force -grad P_f(v^{n+1}), its last mu*lambda and T
-        report.friction_force = -FrictionEnergy.grad_kernel((x - x_n) / scene.h, lagged.mu_lambda, scene.h, scene.n,
-                                                            scene.epsv)
+        report.friction_force = -FrictionEnergy.grad_kernel(*dict(potential_terms(scene, lagged, x))[FrictionEnergy])
         report.friction_work = float(np.vdot(report.friction_force, x - x_n))     # its work over the step
     if "barrier" in scene.terms:
         report.min_distance = float(BarrierEnergy.distances(x, scene.n, scene.o).min())

@@ -219,8 +219,7 @@ def check_size(value):
     """--size as a whole number of pixels in [MIN_SIZE, MAX_SIZE]; ValueError otherwise."""
     if not (math.isfinite(value) and float(value).is_integer() and MIN_SIZE <= value <= MAX_SIZE):
         raise utils.ParameterError("size", f"size must be a whole number of pixels in [{MIN_SIZE}, {MAX_SIZE}] "
-                                   f"(the window's "
-                         f"side), got {value:g}")
+                                           f"(the window's side), got {value:g}")
     return int(value)
 
 
