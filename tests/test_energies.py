@@ -10,7 +10,7 @@ import HandEnergy
 import InertiaEnergy
 import MassSpringEnergy
 import square_mesh
-from fd import assert_close, dense, fd_gradient, fd_jacobian, roundoff
+from helpers.fd import assert_close, dense, fd_gradient, fd_jacobian, roundoff
 
 SEEDS = range(6)
 N_SLOPE = np.array([0.1, 1.0]) / np.hypot(0.1, 1.0)
@@ -411,3 +411,25 @@ def test_friction_with_a_slip_weakened_mu_per_node(seed, where):
     gap = min(np.abs(speeds - epsv).min(), speeds.min()) if where != "zero" else 1e-3 * epsv
     check_derivatives(lambda y: FrictionEnergy.val(vel(y), *args), lambda y: FrictionEnergy.grad(vel(y), *args),
                       lambda y: FrictionEnergy.hess(vel(y), *args, project_psd=False), x, 1e-4 * hhat * gap)
+
+
+def eig_route(H):
+    """Reference: numpy's eigen-decomposition, negative eigenvalues clamped, one matrix at a time (the
+    lecture's make_PD)."""
+    out = []
+    for A in H:
+        lam, Q = np.linalg.eigh(A)
+        out.append(Q @ np.diag(np.maximum(lam, 0)) @ Q.T)
+    return np.array(out)
+
+
+def test_spring_closed_form_equals_4x4_eigen_projection():
+    rng = np.random.default_rng(2)
+    x, e = square_mesh.generate(1.0, 3)
+    d = x[e[:, 0]] - x[e[:, 1]]
+    l2 = np.einsum("ij,ij->i", d, d)
+    x = x * 0.8 + 0.05 * rng.normal(size=x.shape)                   # mostly compressed springs
+    rows, cols, vals = MassSpringEnergy.hess(x, e, l2, 1e4, project_psd=False)
+    blocks = vals.reshape(len(e), 4, 4)
+    projected = MassSpringEnergy.hess(x, e, l2, 1e4)[2].reshape(len(e), 4, 4)
+    assert np.allclose(projected, eig_route(blocks), rtol=1e-10, atol=1e-8)

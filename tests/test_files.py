@@ -12,7 +12,7 @@ import time
 
 import pytest
 
-from command import run_main as main
+from helpers.command import run_main as main
 from viewer import files, folder_lock, manifest, run, whole_files
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))

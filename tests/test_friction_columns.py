@@ -8,7 +8,7 @@ import pytest
 
 import simulator
 import time_integrator
-from command import recorded
+from helpers.command import recorded
 from viewer import log
 
 

@@ -10,7 +10,7 @@ import FrictionEnergy
 import simulator
 import time_integrator
 import utils
-from fd import assert_close, dense, fd_gradient
+from helpers.fd import assert_close, dense, fd_gradient
 from viewer import diagnostics, frames
 
 DATA = os.path.join(os.path.dirname(__file__), "data")

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import BarrierEnergy
-import legibility
+from helpers import legibility
 import simulator
 from viewer import draw, newton_view, window
 

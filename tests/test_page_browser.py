@@ -2,16 +2,11 @@
 and the page's own script is driven as a user would: a frame is shown, frames change while it
 plays, and the step button moves exactly one frame. Skips, saying why, where no browser is found
 (.ci/run installs Debian's `chromium`)."""
-import json
-import re
-import shutil
-import subprocess
-
 import pytest
 
+from helpers.browser import BROWSERS, find_browser, probe_page
 from viewer import cli
 
-BROWSERS = ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable", "chrome")
 
 # Appended to a copy of the page: watches it play for a while, then pauses it and presses the
 # step buttons, and writes what it saw into the DOM, which Chromium prints (--dump-dom).
@@ -42,27 +37,6 @@ window.addEventListener("load", () => {
 });
 </script>
 """
-
-
-def find_browser():
-    return next((path for path in map(shutil.which, BROWSERS) if path), None)
-
-
-def probe_page(out, probe, tmp_path, budget_ms=5000):
-    """Open `out`/index.html with `probe` (a script that writes JSON into <pre id="probe">) appended,
-    in headless Chromium, and return what it wrote; skips where no browser is found."""
-    browser = find_browser()
-    if browser is None:
-        pytest.skip(f"no browser found (looked for {', '.join(BROWSERS)}); .ci/run installs Debian's chromium")
-    page = (out / "index.html").read_text()
-    (out / "probe.html").write_text(page.replace("</body>", probe + "</body>"))
-    result = subprocess.run([browser, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
-                             f"--user-data-dir={tmp_path / 'profile'}", f"--virtual-time-budget={budget_ms}",
-                             "--dump-dom", (out / "probe.html").as_uri()],
-                            capture_output=True, text=True, timeout=120)
-    found = re.search(r'<pre id="probe">(.*?)</pre>', result.stdout)
-    assert found, f"the page did not report (exit {result.returncode}): {result.stderr[-2000:]}"
-    return json.loads(found.group(1).replace("&quot;", '"'))
 
 
 def test_index_html_plays_in_headless_chromium(tmp_path):

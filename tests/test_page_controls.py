@@ -4,7 +4,7 @@ browser is found, as tests/test_page_browser.py does."""
 import pytest
 
 from viewer import cli
-from test_page_browser import BROWSERS, find_browser, probe_page
+from helpers.browser import BROWSERS, find_browser, probe_page
 
 # Appended to a copy of the page: drags the slider to frames whose counter reads 0, 9, 10 and the last
 # (t from 0.00 s to over 10 s), and writes the controls' left edges at each into the DOM.

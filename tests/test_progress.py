@@ -5,7 +5,7 @@ import types
 
 import simulator
 import time_integrator
-from command import recorded
+from helpers.command import recorded
 from viewer import progress
 
 

@@ -84,3 +84,27 @@ def test_the_readme_notebook_code_runs_as_written():
         out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, timeout=120,
                              env={**os.environ, "OPENBLAS_NUM_THREADS": "1"})
         assert out.returncode == 0, out.stderr
+
+
+def test_rooms_stay_small_and_tests_import_no_other_test():
+    """No module outside tests/ over 400 lines (one job per module); no test module imports another test
+    module (what they share lives in tests/helpers/); neither a shared helper nor a test of the physics
+    imports benchmarks (only a benchmark's own test may)."""
+    import ast
+    import glob
+    tests = os.path.join(ROOT, "tests")
+    sources = [p for folder in ("", "viewer", "figures", "benchmarks") for p in glob.glob(os.path.join(ROOT, folder, "*.py"))]
+    long = [f"{os.path.relpath(p, ROOT)} ({n})" for p in sources if (n := len(open(p).read().splitlines())) > 400]
+    assert not long, f"modules over 400 lines: {long}"
+    test_modules = {os.path.basename(p)[:-3] for p in glob.glob(os.path.join(tests, "test_*.py"))}
+    benchmark_tests = {"test_benchmarks", "test_error_vs_runtime", "test_reading_path", "test_speed",
+                       "test_speed_against", "test_window_speed"}
+    for path in glob.glob(os.path.join(tests, "*.py")) + glob.glob(os.path.join(tests, "helpers", "*.py")):
+        name = os.path.basename(path)[:-3]
+        for node in ast.walk(ast.parse(open(path).read())):
+            modules = ([a.name for a in node.names] if isinstance(node, ast.Import) else
+                       [node.module or ""] if isinstance(node, ast.ImportFrom) else [])
+            for module in modules:
+                assert module.split(".")[-1] not in test_modules, f"{name} imports the test module {module}"
+                if module.split(".")[0] == "benchmarks":
+                    assert name in benchmark_tests, f"{name} imports {module}: only a benchmark's test may"

@@ -15,7 +15,7 @@ import pytest
 import simulator
 import time_integrator
 import viewer.log
-from command import run_main as main
+from helpers.command import run_main as main
 from viewer import cli, draw, files, plots, whole_files
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))

@@ -21,7 +21,7 @@ import pytest
 import BarrierEnergy
 import simulator
 from closed_forms import downhill, resting_scene
-from scenes import clear_scene
+from helpers.scenes import clear_scene
 from viewer import diagnostics
 
 

@@ -7,13 +7,8 @@ import numpy as np
 import pytest
 
 import simulator
-from command import recorded
+from helpers.command import recorded as tracks_of
 from viewer import draw, summary
-
-
-def tracks_of(tmp_path, scenes, steps):
-    """The scenes run side by side as a run without frames runs them, for their pictures."""
-    return recorded(tmp_path, scenes, steps)
 
 
 def overlap(a, b, gap):

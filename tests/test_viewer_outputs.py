@@ -17,9 +17,9 @@ import pytest
 import simulator
 import square_mesh
 from viewer import cli
-from command import run_main
-from fakes import fill_disk_after
-import legibility
+from helpers.command import run_main
+from helpers.fakes import fill_disk_after
+from helpers import legibility
 import viewer.log
 import viewer.whole_files
 from viewer import diagnostics, draw, frames, plots, recording, summary

@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 
 import simulator
-from fakes import fill_disk_after
-import legibility
+from helpers.fakes import fill_disk_after
+from helpers import legibility
 import time_integrator
 from viewer import cli, draw, files, live, run, window
 
@@ -651,14 +651,6 @@ def showing_the_current_state(w):
     shown = pygame().surfarray.array3d(w.screen)
     w.draw()
     return np.array_equal(shown, pygame().surfarray.array3d(w.screen))
-
-
-def test_the_window_benchmark_runs():
-    """benchmarks.speed --window's measurement, on a run of 5 steps played flat out."""
-    from benchmarks import window_speed
-    r = window_speed.window_real_time(4, speed=100.0, duration=0.05)
-    assert r["frames"] >= 1 and 0.0 < r["busy"] <= 1.0 and r["cpu_per_simulated"] > 0.0
-    assert r["wall_per_simulated"] > 0.0
 
 
 # ------------------------------------------------------------------------------------------------

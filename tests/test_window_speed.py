@@ -1,6 +1,6 @@
 """`python -m benchmarks.speed --window`: the window's pacing at n_seg 4, 8 and 16, on the dummy
-driver and, where there is a display, on it too (the measurements themselves are stubbed here: the
-window's own run is tests/test_window.py's test_the_window_benchmark_runs)."""
+driver and, where there is a display, on it too (the measurements are stubbed, but for one
+run of 5 steps: test_the_window_benchmark_runs)."""
 from benchmarks import window_speed
 
 
@@ -26,3 +26,10 @@ def test_the_table_covers_n_seg_4_8_16_on_every_driver_found(monkeypatch):
 def test_no_display_means_the_dummy_driver_only(monkeypatch):
     monkeypatch.delenv("DISPLAY", raising=False)
     assert window_speed.display_driver() is None
+
+
+def test_the_window_benchmark_runs():
+    """benchmarks.speed --window's measurement, on a run of 5 steps played flat out."""
+    r = window_speed.window_real_time(4, speed=100.0, duration=0.05)
+    assert r["frames"] >= 1 and 0.0 < r["busy"] <= 1.0 and r["cpu_per_simulated"] > 0.0
+    assert r["wall_per_simulated"] > 0.0

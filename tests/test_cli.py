@@ -11,7 +11,7 @@ import simulator
 import utils
 import viewer.files
 import viewer.log
-from command import run_main
+from helpers.command import run_main
 from viewer import cli
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))

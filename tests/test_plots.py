@@ -3,7 +3,7 @@ up every value axis (the panels' titles name them too)."""
 import numpy as np
 
 import simulator
-from test_summary import tracks_of
+from helpers.command import recorded as tracks_of
 from viewer import draw, plots
 
 

@@ -1,0 +1,9 @@
+"""What several test modules share, in one place (no test module imports another):
+
+    command.py      the command line run in this process (run_main), tracks recorded as a run records them
+    fakes.py        failures staged on purpose (a disk that fills up)
+    fd.py           finite differences, and how close a derivative must come to them
+    scenes.py       scenes the stability tests build
+    legibility.py   text sizes, contrast and colour distances measured in drawn pixels
+    browser.py      a page opened in headless Chromium with a probe script
+"""

@@ -1,0 +1,40 @@
+"""benchmarks/: where they write (a smoke run never over benchmarks/results/), and the energies'
+quick table."""
+import os
+import tempfile
+
+import benchmarks
+from benchmarks import error_vs_runtime
+from helpers.checkout import checkout_state
+
+
+def test_energy_benchmark_quick_table(tmp_path, capsys):
+    """benchmarks/energies.py --quick: one row per size with every column, ratios computed from them."""
+    from benchmarks import energies
+    rows = energies.main(["--quick", "--out", str(tmp_path)])
+    assert [r["n_seg"] for r in rows] == [8, 16]
+    for r in rows:
+        assert set(energies.COLUMNS) <= set(r) and all(r[c] > 0 for c in energies.COLUMNS[3:])
+        assert r["ratio"] == r["energies_total_ms"] / r["factor_solve_ms"]
+    assert (tmp_path / "energies.csv").read_text().splitlines()[0] == ",".join(energies.COLUMNS)
+    assert "target ratio < 0.5" in capsys.readouterr().out
+
+
+def test_smoke_runs_write_into_a_temporary_folder_and_leave_the_checkout_clean(tmp_path, monkeypatch, capsys):
+    """Each benchmark's smoke run (--quick; speed also with --sizes, a partial table), without --out,
+    writes into a new temporary folder of its own: `git status --porcelain` and benchmarks/results/
+    stay as they were (issue 26). reading_path writes no file (its test checks the same around it);
+    only a full run writes into benchmarks/results/."""
+    from benchmarks import energies, speed
+    before = checkout_state()
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))       # where tempfile.mkdtemp creates folders
+    assert error_vs_runtime.main(["--quick"]) == 0
+    energies.main(["--quick"])
+    assert speed.main(["--quick", "--sizes", "4"]) == 0
+    assert checkout_state() == before
+    written = {folder.name.split("-")[0]: sorted(os.listdir(folder)) for folder in tmp_path.iterdir()}
+    assert written == {"error_vs_runtime": ["error_vs_runtime.csv", "error_vs_runtime.png"],
+                       "energies": ["energies.csv"], "speed": ["speed.csv"]}
+    assert str(tmp_path) in capsys.readouterr().err                 # each says where it wrote
+    assert benchmarks.output_folder(None, True, "speed") == benchmarks.RESULTS
+    assert benchmarks.output_folder(str(tmp_path / "mine"), False, "speed") == str(tmp_path / "mine")
