@@ -20,5 +20,5 @@ def write(tracks, folder, stride, frames, frame_log, header):
         fps = 1.0 / (stride * min(tr.scene.h for tr in tracks))
         title = "Square on a slope: " + ", ".join(tr.label for tr in tracks)
         folder.write("index.html", page.page_html(title, [tr.label for tr in tracks], frame_log, fps, axis,
-                                                  surface.get_width(), note=" ".join(header),
+                                                  surface.get_width(), note="; ".join(header),
                                                   rest=[tr.rest_since for tr in tracks]))

@@ -180,9 +180,11 @@ def draw_plots(pygame, tracks):
 
 
 def mark_rest(ax, track, color):
-    """The time the track came to rest (recording.Track.rest_since), dashed, if it did."""
+    """The time the track came to rest (recording.Track.rest_since), dashed, or that it did not."""
     if track.rest_since is not None:
         ax.vline(track.rest_since, color, f"at rest from {track.rest_since:.2f} s")
+    else:                               # never at rest: said in its legend, no line
+        ax.legend(color, f"not at rest by {track.t:.2f} s")
 
 
 def _energy_panel(pygame, surface, font, top, t_max, d):
