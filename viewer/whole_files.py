@@ -3,7 +3,7 @@
 A new file is created with O_EXCL, which never opens an existing name, a symbolic link included
 (POSIX and Windows alike), and its descriptor is compared with an lstat of the name; an existing
 file is lstat-ed first, opened with O_NONBLOCK (where the platform has it) and its descriptor compared
-with that, so a FIFO or a link swapped in is refused, never followed or waited on. Where os.O_NOFOLLOW
+with that, so a FIFO or a link swapped in is refused, never followed or waited on. Where O_NOFOLLOW
 is missing (Windows) these comparisons keep the promise. A file's identity is (device, inode, size,
 mtime in ns): what tells the file a run wrote from any other.
 """
