@@ -12,13 +12,14 @@ def write(tracks, folder, stride, frames, frame_log, header):
     """Write the pictures of `tracks` into `folder` (files.OutputFolder): `header`, the lines of text
     summary.png and the page open with; `frame_log`, the frames.FrameInfo of each frame written."""
     pygame = draw.load_pygame()
-    header = header + [rest_words(tracks) + " (every contact below eps_v from then on)"]
-    folder.write("summary.png", draw.png_data(pygame, summary.draw_summary(pygame, tracks, header), exact=True))
+    rest = rest_words(tracks) + " (every contact below eps_v from then on)"
+    folder.write("summary.png", draw.png_data(pygame, summary.draw_summary(pygame, tracks, header + [rest]),
+                                              exact=True))
     surface, axis = plots.draw_plots(pygame, tracks)
     folder.write("plots.png", draw.png_data(pygame, surface, exact=True))
     if frames:
         fps = 1.0 / (stride * min(tr.scene.h for tr in tracks))
         title = "Square on a slope: " + ", ".join(tr.label for tr in tracks)
         folder.write("index.html", page.page_html(title, [tr.label for tr in tracks], frame_log, fps, axis,
-                                                  surface.get_width(), note="; ".join(header),
+                                                  surface.get_width(), note=" ".join(header) + "; " + rest,
                                                   rest=[tr.rest_since for tr in tracks]))
