@@ -13,7 +13,6 @@ same step one Newton iteration at a time, for a window to show.
 """
 import dataclasses
 from dataclasses import dataclass, field
-import functools
 import math
 
 import numpy as np
@@ -120,32 +119,26 @@ def slip_weakened_mu(scene, lagged, x, v=None):
 
 @dataclass(frozen=True)
 class Term:
-    """One potential energy term, declared once: its module; the arguments of its val/grad/hess in the
-    lecture's order, by name (x, v = (x - x^n) / h, mu_lambda and targets: the step's; any other: the
-    scene's, `hand.nodes` its hand's); whether it stores energy (friction's potential only dissipates)."""
+    """One potential energy term, declared once: its module; `args(scene, lagged, x, v)`, the arguments
+    of its val/grad/hess in the lecture's order, from the scene's arrays and the step's x, v = (x - x^n)
+    / h, mu*lambda and targets; whether it stores energy (friction's potential only dissipates)."""
     module: object
-    args: tuple
+    args: object
     stores_energy: bool
 
 
-TERMS = {"spring": Term(MassSpringEnergy, ("x", "e", "l2", "k"), True),
-         "gravity": Term(GravityEnergy, ("x", "m", "g"), True),
-         "barrier": Term(BarrierEnergy, ("x", "n", "o", "contact_area", "dhat", "kappa"), True),
-         "friction": Term(FrictionEnergy, ("v", "mu_lambda", "h", "n", "epsv"), False),
-         "hand": Term(HandEnergy, ("x", "hand.nodes", "targets", "hand.k_hand"), True)}   # targets of t^{n+1}
+TERMS = {"spring": Term(MassSpringEnergy, lambda s, lagged, x, v: (x, s.e, s.l2, s.k), True),
+         "gravity": Term(GravityEnergy, lambda s, lagged, x, v: (x, s.m, s.g), True),
+         "barrier": Term(BarrierEnergy, lambda s, lagged, x, v: (x, s.n, s.o, s.contact_area, s.dhat, s.kappa), True),
+         "friction": Term(FrictionEnergy, lambda s, lagged, x, v: (v, lagged.mu_lambda, s.h, s.n, s.epsv), False),
+         "hand": Term(HandEnergy, lambda s, lagged, x, v: (x, s.hand.nodes, lagged.targets, s.hand.k_hand), True)}
 
 
 def potential_terms(scene, lagged, x):
     """The scene's potential terms at x: (energy module, its arguments in the lecture's order), as TERMS
     declares them, for the terms the scene has (`scene.terms`)."""
-    step = {"x": x, "v": (x - lagged.x_n) / scene.h, "mu_lambda": lagged.mu_lambda, "targets": lagged.targets}
-    return [(TERMS[t].module, tuple(step[a] if a in step else scene_value(scene, a) for a in TERMS[t].args))
-            for t in scene.terms if t != "inertia"]
-
-
-def scene_value(scene, name):
-    """The scene's value of that name: scene.e for 'e', scene.hand.nodes for 'hand.nodes'."""
-    return functools.reduce(getattr, name.split("."), scene)
+    v = (x - lagged.x_n) / scene.h          # friction's argument: the velocity the step implies
+    return [(TERMS[t].module, TERMS[t].args(scene, lagged, x, v)) for t in scene.terms if t != "inertia"]
 
 
 def IP_val(scene, lagged, x):
@@ -179,9 +172,7 @@ def search_dir(scene, lagged, x, grad_E):
 
 def init_step_size(scene, x, p):
     """Algorithm 4, line 1: CCD against the slope; without a slope the full step is safe."""
-    if "barrier" not in scene.terms:
-        return 1.0
-    return BarrierEnergy.init_step_size_kernel(x, scene.n, scene.o, p)
+    return BarrierEnergy.init_step_size_kernel(x, scene.n, scene.o, p) if "barrier" in scene.terms else 1.0
 
 
 # --- the time step -----------------------------------------------------------------------------------

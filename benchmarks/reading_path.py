@@ -53,12 +53,17 @@ def code_lines(source):
 
 
 def function_extents(source):
-    """(first line, last line, name) of every function defined in `source`, decorators included."""
-    extents = []
-    for node in ast.walk(ast.parse(source)):
+    """(first line, last line, name) of every function defined in `source`, decorators included, and of
+    every lambda outside one (a table's, as time_integrator.TERMS: read as a function of its own)."""
+    tree, extents = ast.parse(source), []
+    for node in ast.walk(tree):
         if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
             first = min([node.lineno] + [d.lineno for d in node.decorator_list])
             extents.append((first, node.end_lineno, node.name))
+    inside = {id(n) for e in ast.walk(tree) if isinstance(e, (ast.FunctionDef, ast.AsyncFunctionDef))
+              for n in ast.walk(e)}
+    extents += [(node.lineno, node.end_lineno, "<lambda>") for node in ast.walk(tree)
+                if isinstance(node, ast.Lambda) and id(node) not in inside]
     return extents
 
 
