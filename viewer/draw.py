@@ -119,12 +119,17 @@ def draw_square(pygame, surface, scene, x, view, color=BLUE, nodes=True):
     """Springs as the mesh's polylines (one pygame call per row, column or diagonal), and the nodes
     as dots of a tenth of the spacing, when that is at least a pixel."""
     px = view(x)
-    for line in square_mesh.polylines(scene.n_seg):
+    for line in square_mesh.polylines(*scene.cells):
         pygame.draw.aalines(surface, color, False, px[line].tolist())
-    radius = int(0.1 * scene.side_len / scene.n_seg * view.scale)
+    radius = int(0.1 * spacing(scene) * view.scale)
     if nodes and radius >= 1:
         for q in px.tolist():
             pygame.draw.circle(surface, color, q, radius)
+
+
+def spacing(scene):
+    """The mesh's node spacing, m: the square's side_len / n_seg; else the shortest spring's rest length."""
+    return scene.side_len / scene.n_seg if scene.n_seg else float(np.sqrt(scene.l2.min()))
 
 
 def newton_per_metre(scene):

@@ -56,7 +56,7 @@ class FrameWriter:
         with self.folder.signals.held():
             self.folder.write(files.frame_png(j), draw.png_data(self.pygame, surface))
             for tr in tracks:
-                self.folder.write(files.frame_obj(j, tr.tag), square_mesh.obj_text(tr.x, tr.scene.n_seg))
+                self.folder.write(files.frame_obj(j, tr.tag), square_mesh.obj_text(tr.x, *tr.scene.cells))
             self.frame_log.append(FrameInfo(j, max(tr.t for tr in tracks), [page.figures(tr.row) for tr in tracks]))
 
 
