@@ -149,6 +149,10 @@ def draw_plots(pygame, tracks):
     data = [series(tr) for tr in tracks]
     t_max = max(float(d["t"][-1]) for d in data)
     epsv = tracks[0].scene.epsv
+    if len(tracks) == 1 and tracks[0].scene.hand is not None:
+        _energy_panel(pygame, surface, font, TOP, t_max, data[0])
+        _chalk_panels(pygame, surface, font, t_max, tracks[0], data[0])
+        return surface, (LEFT, RIGHT, t_max)
     if len(tracks) == 1:
         _energy_panel(pygame, surface, font, TOP, t_max, data[0])
         d = data[0]
@@ -181,6 +185,27 @@ def draw_plots(pygame, tracks):
         if len(tracks) > 1:
             ax.legend(tr.color, tr.label)
     return surface, (LEFT, RIGHT, t_max)
+
+
+def _chalk_panels(pygame, surface, font, t_max, track, d):
+    """The chalk's panels 2 and 3: the tip's speed along the board against the hand's drive speed (log, eps_v
+    marked: below it the tip sticks), and the board's normal force, whose saw-tooth is the stick-slip."""
+    speeds = np.concatenate([d["tip_speed"], d["drive_speed"]])
+    ax = Axes(pygame, surface, font, TOP + PANEL_HEIGHT, t_max, *speed_range(speeds, track.scene.epsv),
+              "the tip's speed along the board against the hand's drive (m/s, log): below eps_v it sticks",
+              "|v_tip| (m/s)", log=True)
+    ax.dots(d["t"], d["tip_speed"], track.color)
+    ax.legend(track.color, "tip speed")
+    ax.line(d["t"], np.maximum(d["drive_speed"], 10.0 ** ax.y_lo), (0, 150, 60), 2)
+    ax.legend((0, 150, 60), "drive speed")
+    ax.hline(track.scene.epsv, (200, 0, 0), f"eps_v = {track.scene.epsv:g} m/s")
+    ax = Axes(pygame, surface, font, TOP + 2 * PANEL_HEIGHT, t_max, 0.0, float(d["normal_force"].max()),
+              "the board's normal force on the chalk (N)", "N (N)")
+    ax.line(d["t"], d["normal_force"], NORMAL_FORCE_COLOR, 2)
+    ax.legend(NORMAL_FORCE_COLOR, "sum of lambda_k")
+
+
+NORMAL_FORCE_COLOR = (219, 0, 0)    # draw.NORMAL_COLOR, as the frames' arrows
 
 
 def mark_rest(ax, track, color):
