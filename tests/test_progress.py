@@ -31,10 +31,11 @@ def test_a_run_to_files_says_each_kind_of_warning_once(tmp_path):
 
 
 def test_rest_words_say_when_each_run_came_to_rest():
-    def track(label, rest_since, sliding, t=3.0):
-        return types.SimpleNamespace(label=label, rest_since=rest_since, t=t,
+    def track(label, rest_since, sliding, t=3.0, hand=None):
+        return types.SimpleNamespace(label=label, rest_since=rest_since, t=t, scene=types.SimpleNamespace(hand=hand),
                                      samples=types.SimpleNamespace(last=types.SimpleNamespace(sliding=sliding)))
     assert progress.rest_words([track("a", 5.534, 0)]) == "the square came to rest at t = 5.53 s"
+    assert progress.rest_words([track("a", None, 1, hand="a hand")]) == "the chalk's tip still sliding at t = 3.00 s"
     assert progress.rest_words([track("a", None, 2)]) == "the square still sliding at t = 3.00 s"
     assert progress.rest_words([track("mu = 0.1", None, 0), track("mu = 0.2", 2.8, 0)]) == \
         "mu = 0.1: not at rest at t = 3.00 s; mu = 0.2: came to rest at t = 2.80 s"

@@ -1,7 +1,8 @@
 """The command line, `python simulator.py [flags]`: its flags, comparisons by lists, and its errors.
 
-Every scene flag sets one of simulator.DEFAULTS (SCENE_FLAGS), and only the flags given reach
-`simulator.build_scene`. Any one scalar scene flag may take a comma-separated list (`--mu 0.1,0.11,0.2`)
+Every scene flag sets one of simulator.DEFAULTS (SCENE_FLAGS), or with `--scene chalk` one of
+simulator.CHALK (CHALK_FLAGS and the SCENE_FLAGS the chalk has, CHALK_SHARED), and only the flags
+given reach `simulator.build_scene` (`build_chalk_scene`). Any one scalar scene flag may take a comma-separated list (`--mu 0.1,0.11,0.2`)
 and a pair flag a ';'-separated list of pairs (`--v0 "1,0;-2,0"`): one run per value, compared side by
 side. A bad command line is one line on stderr naming the flag, and exit code 2, before anything is
 written; the run itself (viewer/run.py, viewer/window.py) ends in one line too.
@@ -17,6 +18,7 @@ from viewer import run
 
 DEFAULT_OUT = "output"      # the output folder without --out
 DURATION = 6.0      # s, a run's and a comparison's: long enough to see mu = 0.11 come to rest (about 5.5 s)
+CHALK_DURATION = 3.0    # s, the chalk's: about 17 stick-slip cycles of the pushed chalk
 FRAMES_PER_SECOND = 30      # at least this many frames per simulated second by default
 
 # (flags, scene parameter, what it is, metavar): every flag that sets a scene parameter
@@ -41,9 +43,17 @@ SCENE_FLAGS = [
      "fixed-point friction updates per step, fully implicit friction (Algorithm 5); 0: lagged", "N"),
     (("--max-newton",), "max_newton_iterations", "Newton iteration cap per solve", "N"),
 ]
+# the chalk's own flags (each sets one of simulator.CHALK; --drag below), and the SCENE_FLAGS it has too
+CHALK_FLAGS = [
+    (("--tilt",), "tilt", "--scene chalk: the chalk's angle from the board in degrees", "DEG"),
+    (("--grip",), "k_hand", "--scene chalk: the grip, each held node's spring stiffness in N/m", "N_PER_M"),
+    (("--mu-static",), "mu_s", "--scene chalk: static friction coefficient (equal to --mu: one coefficient)", "MU"),
+]
+CHALK_SHARED = ("mu", "h", "k", "rho", "gravity", "dhat", "kappa", "epsv", "tol", "friction_updates",
+                "max_newton_iterations")
 WINDOW_FLAGS = ("--size", "--speed")
 # the parameter a ValueError is about (utils.ParameterError.parameter) -> its flag
-FLAG_OF = {**{param: flags[0] for flags, param, _, _ in SCENE_FLAGS}, "slope_angle": "--slope-angle",
+FLAG_OF = {**{param: flags[0] for flags, param, _, _ in SCENE_FLAGS + CHALK_FLAGS}, "slope_angle": "--slope-angle",
            "steps": "--steps", "duration": "--duration", "frame-stride": "--frame-stride", "out": "--out",
            "size": "--size", "speed": "--speed"}
 
@@ -90,14 +100,19 @@ def make_parser():
         "flag a list: comma-separated values, or ';'-separated pairs, e.g. --mu 0.1,0.11,0.2 (the lecture's "
         f"comparison; {DURATION:g} s unless --duration or --steps says otherwise)."))
     g = ap.add_argument_group("scene (the lecture's numbers by default)")
-    for flags, param, what, metavar in SCENE_FLAGS:
-        shown = (",".join(f"{v:g}" for v in d[param]) if isinstance(d[param], tuple) else
-                 f"{d[param]:g}" if d[param] is not None else "density x side^2")
+    g.add_argument("--scene", choices=("square", "chalk"), default="square",
+                   help="square: the lecture's square on a slope (default); chalk: Rabinowicz's chalk pushed "
+                        f"across a board, stick-slip ({CHALK_DURATION:g} s unless --duration or --steps says otherwise)")
+    for flags, param, what, metavar in SCENE_FLAGS + CHALK_FLAGS:
+        value = d[param] if param in d else simulator.CHALK[param]
+        shown = (",".join(f"{v:g}" for v in value) if isinstance(value, tuple) else
+                 f"{value:g}" if value is not None else "density x side^2")
         g.add_argument(*flags, dest=param, type=pair if is_pair(metavar) else float, metavar=metavar,
                        default=argparse.SUPPRESS, help=f"{what} (default {shown})")
     g.add_argument("--slope-angle", type=float, metavar="DEGREES",
                    help="slope angle in degrees, descending to the right, instead of --slope-normal")
     g.add_argument("--no-slope", action="store_true", help="free fall: no slope, no contact")
+    g.add_argument("--drag", action="store_true", help="--scene chalk: drag the chalk (acute angle) instead of pushing it")
     r = ap.add_argument_group("run and output")
     r.add_argument("--duration", type=float, metavar="SECONDS",
                    help=f"simulated seconds (default {DURATION:g})")
@@ -131,7 +146,7 @@ def attach_negative_values(argv):
 
 def scene_flag_uses(argv):
     """(token index, flag, parameter, its value as typed, whether a pair flag) for each scene flag given."""
-    kinds = {flag: (param, is_pair(metavar)) for flags, param, _, metavar in SCENE_FLAGS for flag in flags}
+    kinds = {flag: (param, is_pair(metavar)) for flags, param, _, metavar in SCENE_FLAGS + CHALK_FLAGS for flag in flags}
     uses = []
     for i, token in enumerate(argv):
         flag, joined, value = token.partition("=")
@@ -175,8 +190,27 @@ def parse_command_line(argv):
     return runs
 
 
+def given_flags(args, table):
+    """The first flag of each entry of `table` the command line gave, by parameter."""
+    return {param: flags[0] for flags, param, _, _ in table if hasattr(args, param)}
+
+
 def scene_from_args(args):
-    """simulator.build_scene with the scene flags given (the rest keep DEFAULTS)."""
+    """simulator.build_scene (build_chalk_scene with --scene chalk) with the scene flags given (the
+    rest keep DEFAULTS, CHALK); a flag of the other scene is refused."""
+    square_only = {p: f for p, f in given_flags(args, SCENE_FLAGS).items() if p not in CHALK_SHARED}
+    square_only.update({"slope_angle": "--slope-angle"} if args.slope_angle is not None else {})
+    square_only.update({"slope": "--no-slope"} if args.no_slope else {})
+    chalk_only = list(given_flags(args, CHALK_FLAGS).values()) + ["--drag"] * args.drag
+    if args.scene == "chalk":
+        if square_only:
+            raise CommandLineError(f"{next(iter(square_only.values()))} applies only to the square; "
+                                   f"--scene chalk has no such parameter")
+        overrides = {param: getattr(args, param) for _, param, _, _ in SCENE_FLAGS + CHALK_FLAGS
+                     if hasattr(args, param)}
+        return simulator.build_chalk_scene(drag=args.drag, **overrides)
+    if chalk_only:
+        raise CommandLineError(f"{chalk_only[0]} applies only to the chalk; add --scene chalk, or leave it out")
     overrides = {param: getattr(args, param) for _, param, _, _ in SCENE_FLAGS if hasattr(args, param)}
     slopes = (("--slope-normal", "slope" in overrides), ("--slope-angle", args.slope_angle is not None),
               ("--no-slope", args.no_slope))
@@ -196,12 +230,12 @@ def scene_from_args(args):
 
 
 def steps_from_args(args, scene):
-    """--steps, or --duration (default DURATION) in steps of h."""
+    """--steps, or --duration (default DURATION, the chalk's CHALK_DURATION) in steps of h."""
     if args.steps is not None:
         if args.duration is not None:
             raise CommandLineError("--duration and --steps both set the run's length; give one")
         return utils.check_whole("steps", args.steps, 1)
-    duration = args.duration if args.duration is not None else DURATION
+    duration = args.duration if args.duration is not None else CHALK_DURATION if scene.hand else DURATION
     duration = utils.check_positive("duration", duration)
     if duration < scene.h:
         raise utils.ParameterError("duration", f"duration {duration:g} s is shorter than one time step h = {scene.h:g} s")
@@ -230,10 +264,17 @@ def plan_from_args(runs):
                                f"values (compare them without --window)")
     scenes = [scene_from_args(a) for a in runs]
     out = args.out if args.out is not None or args.window else DEFAULT_OUT
-    return run.Plan(scenes=scenes, labels=[a.label or f"mu = {s.mu:g}" for a, s in zip(runs, scenes)],
+    return run.Plan(scenes=scenes, labels=[a.label or default_label(s) for a, s in zip(runs, scenes)],
                     tags=[a.tag for a in runs],
                     steps=[steps_from_args(a, s) for a, s in zip(runs, scenes)],
                     out=out, stride=frame_stride(args, scenes), frames=not args.no_frames, forces=not args.no_forces)
+
+
+def default_label(scene):
+    """A single run's label: 'mu = 0.11'; the chalk's 'pushed, mu_s = 0.5, mu = 0.35'."""
+    if scene.hand is None:
+        return f"mu = {scene.mu:g}"
+    return f"{'dragged' if scene.params['drag'] else 'pushed'}, mu_s = {scene.mu_s:g}, mu = {scene.mu:g}"
 
 
 def flag_of(err):

@@ -11,21 +11,48 @@ import numpy as np
 
 import BarrierEnergy
 import FrictionEnergy
-import GravityEnergy
-import MassSpringEnergy
 import square_mesh
+import time_integrator
 
 
-def energies(scene, x, v):
-    """Mechanical energy by term: kinetic, gravity, spring, barrier (J), and their total."""
-    out = {"kinetic": 0.5 * float(np.sum(scene.m * np.einsum("ij,ij->i", v, v))),
-           "gravity": GravityEnergy.val(x, scene.m, scene.g),
-           "spring": MassSpringEnergy.val(x, scene.e, scene.l2, scene.k),
-           "barrier": 0.0}
-    if "barrier" in scene.terms:
-        out["barrier"] = BarrierEnergy.val(x, scene.n, scene.o, scene.contact_area, scene.dhat, scene.kappa)
+LECTURE_TERMS = ("gravity", "spring", "barrier")     # always in the budget (0 where a scene lacks one)
+
+
+def energy_terms(scene):
+    """The potential terms of the energy budget, as time_integrator.TERMS declares them: the lecture's
+    three (every square's log has the same columns) and every other term the scene has that stores
+    energy (the chalk's hand), in TERMS's order after them."""
+    return LECTURE_TERMS + tuple(t for t in time_integrator.TERMS if t not in LECTURE_TERMS and t in scene.terms
+                                 and time_integrator.TERMS[t].stores_energy)
+
+
+def term_energy(scene, name, x, t):
+    """One term's potential energy at the state (x at time t: the hand's targets of t), J; a lecture term
+    the scene lacks is 0, except gravity, whose scene value is always there ((0, 0) without gravity)."""
+    if name not in scene.terms and not (name == "gravity" and scene.g is not None):
+        return 0.0
+    targets = scene.hand.targets(t) if scene.hand is not None else None
+    term = time_integrator.TERMS[name]      # the kernel: the scene's arrays were checked when it was built
+    return term.module.val_kernel(*term.args(scene, time_integrator.Lagged(x, x, None, targets), x, None))
+
+
+def energies(scene, x, v, t=0.0):
+    """Mechanical energy by term (J): kinetic, then each term of energy_terms at the state (x, v) at
+    time t, and their total."""
+    out = {"kinetic": 0.5 * float(np.sum(scene.m * np.einsum("ij,ij->i", v, v)))}
+    out.update({name: term_energy(scene, name, x, t) for name in energy_terms(scene)})
     out["total"] = sum(out.values())
     return out
+
+
+def hand_work(scene, x, t0, t1):
+    """The work the hand's moving targets do on its springs over a step from x = x^n at t0 to t1:
+    P_hand(x^n, targets(t1)) - P_hand(x^n, targets(t0)) (J; 0 without a hand), the energy the step's
+    Incremental Potential (targets of t1) holds against x^n beyond E^n. With it the budget closes step
+    by step: E^{n+1} - E^n = W_hand + W_friction - (implicit Euler's dissipation)."""
+    if scene.hand is None or "hand" not in scene.terms:
+        return 0.0
+    return term_energy(scene, "hand", x, t1) - term_energy(scene, "hand", x, t0)
 
 
 def tangent(scene):
@@ -69,6 +96,36 @@ def normal_forces(scene, x):
     return lam[:, None] * scene.n
 
 
+def tip(scene, x):
+    """The tip: the index of the node nearest the board (the chalk's lowest node) and its distance, m."""
+    d = BarrierEnergy.distances(x, scene.n, scene.o)
+    k = int(np.argmin(d))
+    return k, float(d[k])
+
+
+def tip_mark(scene, x, v):
+    """The mark the tip leaves on the board at this state: (its position along the board, whether it is
+    stuck: its tangential speed below eps_v), or None where it is not within dhat of the board."""
+    k, d = tip(scene, x)
+    if not d < scene.dhat:
+        return None
+    t = tangent(scene)
+    return float(x[k] @ t), bool(abs(float(v[k] @ t)) < scene.epsv)
+
+
+def tip_figures(scene, x, v, t):
+    """The chalk's figures of a state at time t (recording.Sample's tip_x, tip_speed, drive_speed,
+    normal_force): the tip's position and speed along the board, the hand's targets' speed along it over
+    the last step (of h), the board's total normal force (N)."""
+    k, _ = tip(scene, x)
+    tangent_ = tangent(scene)
+    before = max(t - scene.h, 0.0)
+    drive = (scene.hand.displacement(t) - scene.hand.displacement(before)) @ tangent_ / scene.h if t > 0 else 0.0
+    normal = float((normal_forces(scene, x) @ scene.n).sum())
+    return {"tip_x": float(x[k] @ tangent_), "tip_speed": abs(float(v[k] @ tangent_)),
+            "drive_speed": float(drive), "normal_force": normal}
+
+
 def signed_areas(x, triangles):
     """Twice the signed area of each triangle (a, b, c): (b - a) x (c - a); > 0 as the mesh is built."""
     a, b, c = x[triangles[:, 0]], x[triangles[:, 1]], x[triangles[:, 2]]
@@ -77,8 +134,8 @@ def signed_areas(x, triangles):
 
 
 def mesh_triangles(scene):
-    """The mesh's triangles, two per cell (square_mesh.triangles)."""
-    return square_mesh.triangles(scene.n_seg)
+    """The mesh's triangles, two per cell of scene.cells (square_mesh.triangles)."""
+    return square_mesh.triangles(*scene.cells)
 
 
 def inverted_triangles(x, triangles):

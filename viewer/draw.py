@@ -33,6 +33,10 @@ MARK_SPACING = 0.5          # m between marks along the slope
 ARROW_PER_WEIGHT = 1.0      # m of arrow for a force equal to the weight of the (first) square, M |g|
 FRICTION_ZOOM = 5.0         # friction arrows drawn this much longer (|F| <= mu lambda, mu ~ 0.1)
 ARROW_MAX = 1.5             # m; longer arrows (the impact) are cut here
+# the chalk's: its hand (targets and springs) and the marks its tip leaves on the board, stuck and slipping
+# (Rabinowicz's dashed line); each at least 52 in CIELAB from every run and force colour and white
+HAND_COLOR, STUCK_COLOR, SLIP_COLOR = (73, 0, 85), (255, 146, 170), (219, 219, 0)
+MARK_HEIGHT = 0.06          # m (of the lecture's scale, times View.unit) a mark reaches below the board
 MIN_CAP_HEIGHT = 0.022      # of the picture's height: no capital letter drawn is shorter (16 arcminutes from
                             # 4 screen heights in the default window: docs/live-demo.md, "Readable")
 TITLE_SCALE = 1.2           # the title's capitals this much taller
@@ -51,17 +55,38 @@ def run_color(i):
     return RUN_COLORS[i % len(RUN_COLORS)]
 
 
+def zoom(scene):
+    """How much closer than the lecture's SCALE a scene is drawn: 1 for the square (metres), and for a
+    smaller body (the chalk) a round factor that draws it about 2 m of the lecture's scale across (20
+    for the 9 cm chalk: 4000 px/m, the chalk 360 px long)."""
+    if scene.n_seg is not None:
+        return 1.0
+    return nice_number(2.0 / float(np.hypot(*np.ptp(scene.x0, axis=0))))
+
+
 class View:
     """Maps world coordinates to pixels. Pans only once the followed point is `margin` m from the
-    view's centre, and zooms out (never in) when the points followed no longer fit."""
+    view's centre, and zooms out (never in) when the points followed no longer fit. `unit`: the metres
+    that stand for one of the lecture's (1 for the square, 1 / zoom for the chalk): margins, the
+    slope's marks and the arrows scale with it."""
 
-    def __init__(self, scale=SCALE, size=RESOLUTION, height=None):
-        self.scale, self.size, self.center = scale, size, np.zeros(2)
+    def __init__(self, scale=SCALE, size=RESOLUTION, height=None, unit=1.0):
+        self.scale, self.size, self.center, self.unit = scale, size, np.zeros(2), unit
         self.height = size if height is None else height
+
+    @classmethod
+    def of(cls, scene, size=RESOLUTION, height=None):
+        """The view of a scene at the lecture's SCALE times its zoom."""
+        z = zoom(scene)
+        view = cls(SCALE * z, size, height, 1.0 / z)
+        if scene.hand is not None:          # the board low in the picture, the chalk under the legends
+            view.center = np.array([float(scene.x0[:, 0].mean()), 0.25 * view.size / view.scale])
+        return view
 
     def follow(self, points, margin=1.2, room=1.5):
         """Keep the points (k, 2), e.g. the runs' centres of mass, in view, `room` m from the border:
         pan once their middle is `margin` m from the centre, and zoom out if they spread too far."""
+        margin, room = margin * self.unit, room * self.unit
         lo, hi = points.min(axis=0), points.max(axis=0)
         self.scale = min(self.scale, self.size / (float((hi - lo).max()) + 2 * room))
         offset = 0.5 * (lo + hi) - self.center
@@ -101,15 +126,18 @@ def draw_slope(pygame, surface, scene, view, color=BLUE, font=None, marks=True):
     if not marks:
         return
     tangent, s_lo, s_hi = slope_span(scene, view)
-    first = np.ceil(s_lo / MARK_SPACING)
-    s = MARK_SPACING * np.arange(first, first + (s_hi - s_lo) / MARK_SPACING + 1)
+    spacing = MARK_SPACING * view.unit
+    first = np.ceil(s_lo / spacing)
+    units = MARK_SPACING * np.arange(first, first + (s_hi - s_lo) / spacing + 1)    # in units: multiples of 0.5
+    s = units * view.unit
     feet = scene.o + s[:, None] * tangent
-    whole = np.remainder(s, 1.0) == 0.0         # s are multiples of 0.5, exact in binary
-    tick = np.where(whole, 0.08, 0.04)[:, None]  # m, longer at whole metres
-    for foot, end, metres in zip(view(feet).tolist(), view(feet - tick * scene.n).tolist(), s.tolist()):
+    whole = np.remainder(units, 1.0) == 0.0     # units are multiples of 0.5, exact in binary
+    tick = view.unit * np.where(whole, 0.08, 0.04)[:, None]  # m, longer at whole units
+    for foot, end, metres, u in zip(view(feet).tolist(), view(feet - tick * scene.n).tolist(), s.tolist(),
+                                    units.tolist()):
         pygame.draw.line(surface, color, foot, end, 2)
-        if font is not None and float(metres).is_integer():
-            label = font.render(f"{metres:g} m", True, color)
+        if font is not None and float(u).is_integer():
+            label = font.render(f"{metres:g} m" if view.unit == 1.0 else f"{round(metres * 100, 6):g} cm", True, color)
             left = end[0] - label.get_width() / 2
             if 0 <= left <= surface.get_width() - label.get_width():      # whole or not at all
                 surface.blit(label, (left, end[1] + 2))
@@ -119,18 +147,36 @@ def draw_square(pygame, surface, scene, x, view, color=BLUE, nodes=True):
     """Springs as the mesh's polylines (one pygame call per row, column or diagonal), and the nodes
     as dots of a tenth of the spacing, when that is at least a pixel."""
     px = view(x)
-    for line in square_mesh.polylines(scene.n_seg):
+    for line in square_mesh.polylines(*scene.cells):
         pygame.draw.aalines(surface, color, False, px[line].tolist())
-    radius = int(0.1 * scene.side_len / scene.n_seg * view.scale)
+    radius = int(0.1 * spacing(scene) * view.scale)
     if nodes and radius >= 1:
         for q in px.tolist():
             pygame.draw.circle(surface, color, q, radius)
 
 
+def spacing(scene):
+    """The mesh's node spacing, m: the square's side_len / n_seg; else the shortest spring's rest length."""
+    return scene.side_len / scene.n_seg if scene.n_seg else float(np.sqrt(scene.l2.min()))
+
+
+def reference_force(scene):
+    """The force an arrow of ARROW_PER_WEIGHT (lecture) m stands for, N, and its words: the square's weight
+    M |g| (|g| = 9.81 m/s^2 without gravity); with a hand (the chalk, whose weight is 1/700 of it), one
+    held node's press, k_hand times the press depth (1 N by default; the board's normal force is about 2 N)."""
+    if scene.hand is not None:
+        return scene.hand.k_hand * scene.params["press"], "one held node's press"
+    return float(scene.m.sum() * np.hypot(*scene.g)) or float(scene.m.sum() * 9.81), "the weight M|g|"
+
+
+def friction_zoom(scene):
+    """How much longer friction arrows are drawn: FRICTION_ZOOM for the square (mu ~ 0.1), 1 for the chalk."""
+    return FRICTION_ZOOM if scene.hand is None else 1.0
+
+
 def newton_per_metre(scene):
-    """The arrows' scale: the weight M |g| of the square per ARROW_PER_WEIGHT m (|g| = 9.81 m/s^2 without gravity)."""
-    weight = float(scene.m.sum() * np.hypot(*scene.g)) or float(scene.m.sum() * 9.81)
-    return weight / ARROW_PER_WEIGHT
+    """The arrows' scale: reference_force per ARROW_PER_WEIGHT m (divided by zoom for the chalk)."""
+    return reference_force(scene)[0] / (ARROW_PER_WEIGHT / zoom(scene))
 
 
 def arrow_heads(tail, head, length):
@@ -146,12 +192,38 @@ def draw_arrows(pygame, surface, view, x, forces, newton_per_metre, color):
     """An arrow from each node whose force is not zero, ARROW_PER_WEIGHT m per weight, cut at ARROW_MAX."""
     size = np.hypot(forces[:, 0], forces[:, 1])
     on = size > 0.0
-    length = np.minimum(size[on] / newton_per_metre, ARROW_MAX)
+    length = np.minimum(size[on] / newton_per_metre, ARROW_MAX * view.unit)
     direction = forces[on] / size[on, None]
     tail, head = view(x[on]), view(x[on] + length[:, None] * direction)
     for t, h, (c1, c2) in zip(tail.tolist(), head.tolist(), arrow_heads(tail, head, 8).tolist()):
         pygame.draw.line(surface, color, t, h, 2)
         pygame.draw.polygon(surface, color, [h, c1, c2])
+
+
+def draw_hand(pygame, surface, scene, x, t, view):
+    """The hand: each held node's spring to its target at time t as a line, each target a small square."""
+    targets = view(scene.hand.targets(t))
+    held = view(x[scene.hand.nodes])
+    for a, b in zip(held.tolist(), targets.tolist()):
+        pygame.draw.line(surface, HAND_COLOR, a, b, 1)
+    for q in targets.tolist():
+        pygame.draw.rect(surface, HAND_COLOR, (q[0] - 3, q[1] - 3, 7, 7))
+
+
+def draw_marks(pygame, surface, scene, marks, view):
+    """The marks the tip has left on the board (recording.Track.marks: (x along it, stuck)): a tick below
+    the board at each, 1 px wide, slipping ones half as deep, stuck ones drawn over them (Rabinowicz's
+    dashed line: a 1.5 mm slip is 6 px at the chalk's 4000 px/m)."""
+    if not marks:
+        return
+    s = np.array([m[0] for m in marks])
+    stuck = np.array([m[1] for m in marks])
+    tangent = FrictionEnergy.tangent(scene.n)
+    depth = MARK_HEIGHT * view.unit
+    for which, color, reach in ((~stuck, SLIP_COLOR, 0.5), (stuck, STUCK_COLOR, 1.0)):
+        feet = scene.o + s[which, None] * tangent
+        for a, b in zip(view(feet).tolist(), view(feet - reach * depth * scene.n).tolist()):
+            pygame.draw.line(surface, color, (round(a[0]), a[1] + 2), (round(a[0]), b[1]), 1)
 
 
 def draw_legend(pygame, surface, font, entries, top, left=12):
@@ -223,22 +295,34 @@ def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None):
     font, small = fonts
     draw_slope(pygame, surface, runs[0]["scene"], view, BLUE, small)
     for run in runs:
+        if run.get("marks") is not None:
+            draw_marks(pygame, surface, run["scene"], run["marks"], view)
+    for run in runs:
         draw_square(pygame, surface, run["scene"], run["x"], view, run["color"])
+        if run["scene"].hand is not None:
+            draw_hand(pygame, surface, run["scene"], run["x"], t, view)
     if newton_per_metre is not None:
         for run in runs:
             draw_arrows(pygame, surface, view, run["x"], run["normal"], newton_per_metre, NORMAL_COLOR)
-            draw_arrows(pygame, surface, view, run["x"], FRICTION_ZOOM * run["friction"], newton_per_metre,
-                        FRICTION_COLOR)
+            draw_arrows(pygame, surface, view, run["x"], friction_zoom(run["scene"]) * run["friction"],
+                        newton_per_metre, FRICTION_COLOR)
     title = f"t = {t:.2f} s" + (f"   {runs[0]['label']}" if len(runs) == 1 else "")
     surface.blit(font.render(title, True, (0, 0, 0)), (12, 10))
     top = 10 + font.get_linesize()
     if len(runs) > 1:
         top = draw_legend(pygame, surface, font, [(r["color"], r["label"]) for r in runs], top)
     if newton_per_metre is not None:
-        weight = newton_per_metre * ARROW_PER_WEIGHT
+        metres = ARROW_PER_WEIGHT * view.unit
+        force, words = reference_force(runs[0]["scene"])
         top = draw_legend(pygame, surface, small, [
-            (NORMAL_COLOR, "normal force lambda_k n"), (FRICTION_COLOR, f"friction force, drawn {FRICTION_ZOOM:g}x longer"),
-            ((255, 255, 255), f"{ARROW_PER_WEIGHT:g} m of arrow = {weight:.4g} N (the weight M|g|)")], top + 4)
+            (NORMAL_COLOR, "normal force lambda_k n"),
+            (FRICTION_COLOR, f"friction force, drawn {FRICTION_ZOOM:g}x longer" if runs[0]["scene"].hand is None
+             else "friction force"),
+            ((255, 255, 255), f"{metres:g} m of arrow = {newton_per_metre * metres:.4g} N ({words})")], top + 4)
+    if runs[0]["scene"].hand is not None:
+        top = draw_legend(pygame, surface, small, [
+            (HAND_COLOR, "the hand: its targets and springs"), (STUCK_COLOR, "marks of the tip: stuck (|v_t| < eps_v)"),
+            (SLIP_COLOR, "marks of the tip: slipping")], top + 4)
     return surface, top
 
 

@@ -43,7 +43,7 @@ class FrameWriter:
         self.tracks, self.folder, self.frame_log = tracks, folder, frame_log
         self.pygame = draw.load_pygame()
         self.fonts = draw.fonts(self.pygame)
-        self.view = draw.View()
+        self.view = draw.View.of(tracks[0].scene)
         self.newton_per_metre = draw.newton_per_metre(tracks[0].scene) if forces else None
 
     def write(self, j):
@@ -51,12 +51,14 @@ class FrameWriter:
         tracks, forces = self.tracks, self.newton_per_metre is not None
         self.view.follow(np.array([tr.samples.last.com for tr in tracks]))
         runs = [frame_run(tr.scene, tr.x, tr.samples.last.report, tr.label, tr.color, forces) for tr in tracks]
+        for run, tr in zip(runs, tracks):
+            run["marks"] = tr.marks if tr.scene.hand is not None else None
         surface, _ = draw.draw_frame(self.pygame, runs, max(tr.t for tr in tracks), self.view, self.fonts,
                                      self.newton_per_metre)
         with self.folder.signals.held():
             self.folder.write(files.frame_png(j), draw.png_data(self.pygame, surface))
             for tr in tracks:
-                self.folder.write(files.frame_obj(j, tr.tag), square_mesh.obj_text(tr.x, tr.scene.n_seg))
+                self.folder.write(files.frame_obj(j, tr.tag), square_mesh.obj_text(tr.x, *tr.scene.cells))
             self.frame_log.append(FrameInfo(j, max(tr.t for tr in tracks), [page.figures(tr.row) for tr in tracks]))
 
 

@@ -13,6 +13,8 @@ that fails part way (a full disk) is cut back to the last whole row (viewer.whol
 from dataclasses import dataclass
 from typing import Callable
 
+from viewer import diagnostics
+
 
 @dataclass(frozen=True)
 class Column:
@@ -25,6 +27,12 @@ class Column:
     meaning: str
     fmt: str
     value: Callable
+    applies: Callable = None    # which scenes log it (scene -> bool); None: every scene
+
+
+def with_hand(scene):
+    """Whether a scene has a hand (the chalk): its energy, its work and its tip are logged."""
+    return scene.hand is not None and "hand" in diagnostics.energy_terms(scene)
 
 
 def solver(figure, at_start):
@@ -72,22 +80,44 @@ COLUMN = {c.name: c for c in [
     Column("E_gravity", "J", "gravity", "gravity's potential energy", ".9g", lambda s: s.energies["gravity"]),
     Column("E_spring", "J", "spring energy", "the springs' energy", ".9g", lambda s: s.energies["spring"]),
     Column("E_barrier", "J", "barrier energy", "the barrier's energy", ".9g", lambda s: s.energies["barrier"]),
+    Column("E_hand", "J", "hand energy", "the hand's springs' energy, at the targets of the state's time (the "
+           "chalk)", ".9g", lambda s: s.energies["hand"], with_hand),
     Column("E_total", "J", "total energy", "their sum, E", ".9g", lambda s: s.energies["total"]),
     Column("W_friction", "J", "friction work",
            "the work friction has done since t = 0 (<= 0), summed over steps as -grad P_f . (x^{n+1} - x^n)",
            ".9g", lambda s: s.friction_work),
+    Column("W_hand", "J", "hand work",
+           "the work the hand's moving targets have done on its springs since t = 0, summed over steps as "
+           "P_hand(x^n, targets(t^{n+1})) - P_hand(x^n, targets(t^n)) (the chalk)", ".9g",
+           lambda s: s.hand_work, with_hand),
     Column("D_numerical", "J", "numerical dissipation",
-           "E(0) + W_friction - E: what implicit Euler's numerical dissipation has taken out", ".9g",
-           lambda s: s.numerical_dissipation),
+           "E(0) + W_friction - E (+ W_hand with a hand): what implicit Euler's numerical dissipation has taken out",
+           ".9g", lambda s: s.numerical_dissipation),
+    Column("tip_x", "m", "tip x", "the chalk's tip, its lowest node: x along the board", ".9f",
+           lambda s: s.tip_x, with_hand),
+    Column("tip_speed", "m/s", "tip speed", "the tip's speed along the board, |v_x|", ".6e",
+           lambda s: s.tip_speed, with_hand),
+    Column("drive_speed", "m/s", "drive speed", "the hand's targets' speed along the board over the last step",
+           ".6e", lambda s: s.drive_speed, with_hand),
+    Column("normal_force", "N", "normal force", "the board's normal force on the chalk, the sum of lambda_k",
+           ".6e", lambda s: s.normal_force, with_hand),
 ]}
-COLUMNS = list(COLUMN)          # log.csv's header, in order
 
 
-def values(sample):
-    """The named row of one Sample (recording.Sample): {column name: its figure, None where there is none}."""
-    return {name: column.value(sample) for name, column in COLUMN.items()}
+def columns(scene):
+    """The names of a scene's log.csv columns, in order: every column that applies to it."""
+    return [name for name, c in COLUMN.items() if c.applies is None or c.applies(scene)]
+
+
+COLUMNS = [name for name, c in COLUMN.items() if c.applies is None]     # the square's log.csv header
+
+
+def values(sample, names=COLUMNS):
+    """The named row of one Sample (recording.Sample): {column name: its figure, None where there is none},
+    for the columns `names` (a scene's: `columns`)."""
+    return {name: COLUMN[name].value(sample) for name in names}
 
 
 def line(row):
     """log.csv's line of a named row (`values`): each figure as its column writes it, empty where none."""
-    return ",".join("" if row[name] is None else format(row[name], column.fmt) for name, column in COLUMN.items())
+    return ",".join("" if value is None else format(value, COLUMN[name].fmt) for name, value in row.items())

@@ -19,7 +19,8 @@ def write(tracks, folder, stride, frames, frame_log, header):
     folder.write("plots.png", draw.png_data(pygame, surface, exact=True))
     if frames:
         fps = 1.0 / (stride * min(tr.scene.h for tr in tracks))
-        title = "Square on a slope: " + ", ".join(tr.label for tr in tracks)
+        title = ("Chalk on a board: " if tracks[0].scene.hand is not None else "Square on a slope: ") + \
+            ", ".join(tr.label for tr in tracks)
         folder.write("index.html", page.page_html(title, [tr.label for tr in tracks], frame_log, fps, axis,
                                                   surface.get_width(), note=" ".join(header) + "; " + rest,
                                                   rest=[tr.rest_since for tr in tracks]))

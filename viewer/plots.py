@@ -13,13 +13,13 @@ import math
 
 import numpy as np
 
-from viewer import draw, log
+from viewer import diagnostics, draw, log
 
 WIDTH, PANEL_HEIGHT, TOP = 900, 250, 10
 LEFT, RIGHT = 80, 700           # the time axis's pixel columns; the legends sit right of it
 ENERGY_COLORS = {"kinetic": (230, 120, 0), "gravity": (120, 80, 40), "spring": (0, 150, 60),
-                 "barrier": (200, 0, 160), "total": (0, 0, 0), "W_friction": (0, 0, 255),
-                 "-D_numerical": (200, 0, 0)}
+                 "barrier": (200, 0, 160), "hand": (0, 150, 200), "total": (0, 0, 0), "W_friction": (0, 0, 255),
+                 "W_hand": (120, 0, 200), "-D_numerical": (200, 0, 0)}
 
 
 def nice_ticks(lo, hi, count=5):
@@ -120,9 +120,13 @@ def series(track):
     def column(name):
         return np.array([log.COLUMN[name].value(x) for x in s])
     com = np.stack([column("com_x"), column("com_y")], axis=1)
+    terms = ("kinetic",) + diagnostics.energy_terms(track.scene) + ("total",)
+    hand = track.scene.hand is not None
     return {"t": column("t"),
-            "E": {k: column(f"E_{k}") for k in ("kinetic", "gravity", "spring", "barrier", "total")},
+            "E": {k: column(f"E_{k}") for k in terms},
             "W": column("W_friction"), "D": column("D_numerical"), "newton": column("newton_iterations"),
+            "W_hand": column("W_hand") if hand else None,
+            **({k: column(k) for k in ("tip_speed", "drive_speed", "normal_force")} if hand else {}),
             "along": np.array([(c - com[0]) @ track.tangent for c in com]),
             "speed_t": np.concatenate([np.full(len(x.speeds), x.t) for x in s]),
             "speed": np.concatenate([x.speeds for x in s]),
@@ -145,6 +149,10 @@ def draw_plots(pygame, tracks):
     data = [series(tr) for tr in tracks]
     t_max = max(float(d["t"][-1]) for d in data)
     epsv = tracks[0].scene.epsv
+    if len(tracks) == 1 and tracks[0].scene.hand is not None:
+        _energy_panel(pygame, surface, font, TOP, t_max, data[0])
+        _chalk_panels(pygame, surface, font, t_max, tracks[0], data[0])
+        return surface, (LEFT, RIGHT, t_max)
     if len(tracks) == 1:
         _energy_panel(pygame, surface, font, TOP, t_max, data[0])
         d = data[0]
@@ -179,6 +187,27 @@ def draw_plots(pygame, tracks):
     return surface, (LEFT, RIGHT, t_max)
 
 
+def _chalk_panels(pygame, surface, font, t_max, track, d):
+    """The chalk's panels 2 and 3: the tip's speed along the board against the hand's drive speed (log, eps_v
+    marked: below it the tip sticks), and the board's normal force, whose saw-tooth is the stick-slip."""
+    speeds = np.concatenate([d["tip_speed"], d["drive_speed"]])
+    ax = Axes(pygame, surface, font, TOP + PANEL_HEIGHT, t_max, *speed_range(speeds, track.scene.epsv),
+              "the tip's speed along the board against the hand's drive (m/s, log): below eps_v it sticks",
+              "|v_tip| (m/s)", log=True)
+    ax.dots(d["t"], d["tip_speed"], track.color)
+    ax.legend(track.color, "tip speed")
+    ax.line(d["t"], np.maximum(d["drive_speed"], 10.0 ** ax.y_lo), (0, 150, 60), 2)
+    ax.legend((0, 150, 60), "drive speed")
+    ax.hline(track.scene.epsv, (200, 0, 0), f"eps_v = {track.scene.epsv:g} m/s")
+    ax = Axes(pygame, surface, font, TOP + 2 * PANEL_HEIGHT, t_max, 0.0, float(d["normal_force"].max()),
+              "the board's normal force on the chalk (N)", "N (N)")
+    ax.line(d["t"], d["normal_force"], NORMAL_FORCE_COLOR, 2)
+    ax.legend(NORMAL_FORCE_COLOR, "sum of lambda_k")
+
+
+NORMAL_FORCE_COLOR = (219, 0, 0)    # draw.NORMAL_COLOR, as the frames' arrows
+
+
 def mark_rest(ax, track, color):
     """The time the track came to rest (recording.Track.rest_since), dashed, or that it did not."""
     if track.rest_since is not None:
@@ -188,13 +217,16 @@ def mark_rest(ax, track, color):
 
 
 def _energy_panel(pygame, surface, font, top, t_max, d):
-    curves = dict(d["E"], W_friction=d["W"], **{"-D_numerical": -d["D"]})
+    curves = dict(d["E"], W_friction=d["W"], **({} if d["W_hand"] is None else {"W_hand": d["W_hand"]}),
+                  **{"-D_numerical": -d["D"]})
     lo = min(float(c.min()) for c in curves.values())
     hi = max(float(c.max()) for c in curves.values())
     ax = Axes(pygame, surface, font, top, t_max, lo, hi,
-              "energy budget (J): E = E(0) + W_friction - D, D = implicit Euler's numerical dissipation", "E (J)")
-    names = {"kinetic": "kinetic", "gravity": "gravity", "spring": "spring", "barrier": "barrier",
-             "total": "total E", "W_friction": "friction work W", "-D_numerical": "-D, numerical dissip."}
+              "energy budget (J): E = E(0) + W_friction" + (" + W_hand" if d["W_hand"] is not None else "") +
+              " - D, D = implicit Euler's numerical dissipation", "E (J)")
+    names = {"kinetic": "kinetic", "gravity": "gravity", "spring": "spring", "barrier": "barrier", "hand": "hand",
+             "total": "total E", "W_friction": "friction work W", "W_hand": "hand work W_hand",
+             "-D_numerical": "-D, numerical dissip."}
     for key, values in curves.items():
         ax.line(d["t"], values, ENERGY_COLORS[key], 3 if key == "total" else 2)
         ax.legend(ENERGY_COLORS[key], names[key])

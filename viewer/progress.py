@@ -56,5 +56,5 @@ def rest_words(tracks):
             return f"{'still sliding' if track.samples.last.sliding else 'not at rest'} at t = {track.t:.2f} s"
         return f"came to rest at t = {track.rest_since:.2f} s"
     if len(tracks) == 1:
-        return "the square " + words(tracks[0])
+        return ("the chalk's tip " if tracks[0].scene.hand is not None else "the square ") + words(tracks[0])
     return "; ".join(f"{track.label}: {words(track)}" for track in tracks)

@@ -56,6 +56,11 @@ class Sample:
     sticking: int
     sliding: int
     inverted: int               # mesh triangles with negative signed area
+    hand_work: float = 0.0      # W_hand, summed over the steps so far (J; 0 without a hand)
+    tip_x: float = None         # with a hand (the chalk): the tip's x (its lowest node), m
+    tip_speed: float = None     # its speed along the board, m/s
+    drive_speed: float = None   # the hand's targets' speed along the board over the last step, m/s
+    normal_force: float = None  # the board's total normal force, N
 
 
 class Track:
@@ -70,10 +75,12 @@ class Track:
         self.tangent = diagnostics.tangent(scene)
         self.x = scene.x0
         self.v = scene.v0
-        self.step, self.friction_work = 0, 0.0
+        self.step, self.friction_work, self.hand_work = 0, 0.0, 0.0
+        self.columns = log.columns(scene)       # log.csv's columns for this scene (with a hand: E_hand, W_hand, tip)
+        self.marks = []             # with a hand: (x, stuck) of the tip on the board each state it is within dhat
         self.warned = set()         # the kinds of warning said so far (progress.step_warnings)
         self.rest_since = None      # t (s) from which every contact node has stayed below eps_v, so far
-        self.csv, self.logged = folder.open_log(files.log_csv(tag), ",".join(log.COLUMNS)), None
+        self.csv, self.logged = folder.open_log(files.log_csv(tag), ",".join(self.columns)), None
         self.samples = History(MAX_SAMPLES)
         self.snapshots = History(MAX_SNAPSHOTS)     # (t, x) every SNAPSHOT_EVERY s of simulated time
         self._add(None, 0.0, 0.0)
@@ -85,20 +92,28 @@ class Track:
     def _add(self, report, t, wall):
         """The Sample of the current state (after a step with `report`, or t = 0 without), logged at once."""
         scene, x, v = self.scene, self.x, self.v
-        E = diagnostics.energies(scene, x, v)
+        E = diagnostics.energies(scene, x, v, t)
         E0 = self.samples.items[0].energies["total"] if self.samples.items else E["total"]
+        D = E0 + self.friction_work - E["total"] if scene.hand is None else \
+            E0 + self.friction_work + self.hand_work - E["total"]
+        tip = {}
+        if scene.hand is not None:
+            tip = diagnostics.tip_figures(scene, x, v, t)
+            mark = diagnostics.tip_mark(scene, x, v)
+            if mark is not None:
+                self.marks.append(mark)
         speeds = diagnostics.contact_speeds(scene, x, v)
         sticking, sliding = diagnostics.sticking_sliding(speeds, scene.epsv)
         sample = Sample(step=self.step, t=t, wall=wall, com=np.average(x, axis=0, weights=scene.m),
                         v_tangential=float(np.average(v, axis=0, weights=scene.m) @ self.tangent), report=report,
                         min_distance=report.min_distance if report else diagnostics.min_distance(scene, x),
                         energies=E, friction_work=self.friction_work,
-                        numerical_dissipation=E0 + self.friction_work - E["total"], speeds=speeds,
+                        numerical_dissipation=D, speeds=speeds, hand_work=self.hand_work, **tip,
                         sticking=sticking, sliding=sliding,
                         inverted=diagnostics.inverted_triangles(x, self.triangles))
         resting = diagnostics.at_rest(sticking, sliding)
         self.rest_since = (t if self.rest_since is None else self.rest_since) if resting else None
-        self.row = log.values(sample)           # the state's named figures, as log.csv writes them
+        self.row = log.values(sample, self.columns)           # the state's named figures, as log.csv writes them
         with self.folder.signals.held():        # the row and its count: both or neither
             self.csv.append(log.line(self.row))
             self.logged = sample.step
@@ -114,6 +129,7 @@ class Track:
 
     def take(self, record, progress):
         """Log the StepRecord of the step from the current state (the live window hands them in)."""
+        self.hand_work += diagnostics.hand_work(self.scene, self.x, self.t, record.t)      # from x^n
         self.x, self.v, self.step = record.x, record.v, record.index + 1
         self.friction_work += record.report.friction_work
         sample = self._add(record.report, record.t, record.wall)

@@ -111,6 +111,14 @@ def write_error(err, out):
 def summary_header(plan):
     """The parameters the runs share, and for a comparison what differs: summary.png's and the page's text."""
     scene, p = plan.scenes[0], plan.scenes[0].params
+    if scene.hand is not None:
+        lines = [f"chalk {p['length'] * 100:g} x {p['width'] * 100:g} cm, {'dragged' if p['drag'] else 'pushed'} "
+                 f"at tilt = {p['tilt']:g} deg   grip k_hand = {p['k_hand']:g} N/m   drive = {p['drive']:g} m/s   "
+                 f"mu_s = {scene.mu_s:g}   mu = {scene.mu:g}   v_c = {scene.v_c:g} m/s",
+                 f"h = {scene.h:g} s   k = {p['k']:g} N/m   dhat = {scene.dhat:g} m   kappa = {scene.kappa:g}   "
+                 f"eps_v = {scene.epsv:g} m/s   tol = {scene.tol:g} m/s"]
+        return (["comparison: " + ", ".join(plan.labels) + "; otherwise as the first:"] if len(plan.scenes) > 1
+                else []) + lines
     lines = [f"mu = {scene.mu:g}   h = {scene.h:g} s   k = {p['k']:g} N/m   n_seg = {scene.n_seg}",
              f"slope normal = {None if scene.n is None else np.round(scene.n, 4).tolist()}   "
              f"dhat = {scene.dhat:g} m   kappa = {scene.kappa:g}   eps_v = {scene.epsv:g} m/s"]

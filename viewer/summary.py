@@ -97,21 +97,22 @@ def labelled(view, font, snapshots):
 def plan(pygame, tracks, header):
     """The layout of summary.png for `tracks` under `header` (lines of text)."""
     small = pygame.font.Font(None, 20)
+    z = draw.zoom(tracks[0].scene)      # 1 for the square; the chalk is drawn 20x closer
     boxes = []
     for tr in tracks:
         pts = np.concatenate([x for _, x in tr.snapshots.all()] + [np.array([s.com for s in tr.samples.all()])])
-        boxes.append((pts.min(axis=0) - MARGIN, pts.max(axis=0) + MARGIN))
+        boxes.append((pts.min(axis=0) - MARGIN / z, pts.max(axis=0) + MARGIN / z))
     label_w, label_h = small.size(time_label(max(tr.t for tr in tracks)))
     right_room = label_w + 12                   # px right of the motion, for the last state's label
     width_m = max(float(hi[0] - lo[0]) for lo, hi in boxes)
-    scale = SCALE if width_m * SCALE + right_room <= MAX_WIDTH else \
+    scale = SCALE * z if width_m * SCALE * z + right_room <= MAX_WIDTH else \
         draw.nice_number((MAX_WIDTH - right_room) / width_m, TWO_DIGITS)
     width = int(max(width_m * scale + right_room, MIN_WIDTH))
     top = 22 * len(header) + 34
     panels, row = [], top
     for tr, (lo, hi) in zip(tracks, boxes):
         height = int((hi[1] - lo[1]) * scale) + label_h + 4 + HEADER      # room for the labels on top
-        view = draw.View(scale, width, height - HEADER)
+        view = draw.View(scale, width, height - HEADER, unit=1.0 / z)
         view.center = np.array([lo[0] + width / scale / 2, 0.5 * (lo[1] + hi[1]) + (label_h + 4) / 2 / scale])
         candidates = labelled(view, small, tr.snapshots.all())
         kept = spaced([s.box for s in candidates])
@@ -133,16 +134,18 @@ def draw_summary(pygame, tracks, header):
     surface.fill((255, 255, 255))
     for row, text in enumerate(header):
         surface.blit(font.render(text, True, (0, 0, 0)), (12, 8 + 22 * row))
-    _scale_bar(pygame, surface, small, layout.scale, layout.top - 26)
+    _scale_bar(pygame, surface, small, layout.scale, layout.top - 26, 1.0 / draw.zoom(tracks[0].scene))
     for panel in layout.panels:
         _panel(pygame, surface, font, small, panel, layout.width)
     return surface
 
 
-def _scale_bar(pygame, surface, font, scale, row):
-    """A 1 m bar: every summary at SCALE px/m compares with every other."""
-    pygame.draw.line(surface, (0, 0, 0), (12, row + 8), (12 + scale, row + 8), 3)
-    surface.blit(font.render(f"1 m ({scale:.3g} pixels)", True, (0, 0, 0)), (20 + scale, row + 1))
+def _scale_bar(pygame, surface, font, scale, row, metres=1.0):
+    """A 1 m bar (`metres`: 5 cm for the chalk): every summary at SCALE px/m compares with every other."""
+    length = scale * metres
+    pygame.draw.line(surface, (0, 0, 0), (12, row + 8), (12 + length, row + 8), 3)
+    text = "1 m" if metres == 1.0 else f"{round(metres * 100, 6):g} cm"
+    surface.blit(font.render(f"{text} ({length:.3g} pixels)", True, (0, 0, 0)), (20 + length, row + 1))
 
 
 def _panel(pygame, surface, font, small, panel, width):

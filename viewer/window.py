@@ -257,7 +257,8 @@ def _demo(pygame, plan, speed, size, signals, clock, log):
     try:
         orchestration.warn(plan, log)
         screen = pygame.display.set_mode((window_size(size, pygame),) * 2)
-        pygame.display.set_caption(f"simulator.py: mu = {scene.mu:g}, n_seg = {scene.n_seg}")
+        pygame.display.set_caption(f"simulator.py: mu = {scene.mu:g}, " + (f"n_seg = {scene.n_seg}" if scene.n_seg
+                                   else f"chalk, grip {scene.hand.k_hand:g} N/m"))
         if folder is not None:
             output = live.Files(plan, folder, log)
         window = LiveWindow(pygame, screen, scene, plan.steps[0], speed, output, clock, log, plan.labels[0],
