@@ -5,10 +5,13 @@
     semi_implicit   the lagged (semi-implicit) friction against Algorithm 5's fully implicit friction, and
                     which is nearer a reference run at h/8
     fixed_point     Algorithm 5's line-3 measure per friction update: a step that converges, one that does not
+    stick_slip      Rabinowicz's chalk: the marks of the pushed chalk (dashed) and the dragged (continuous), the
+                    slip length against the grip, and with one coefficient sliding below, jamming above the
+                    self-locking angle 90 deg - atan mu
 
 Each figure is a module with `compute(...)` (the numbers, from the project's own functions; the tests
 run it on a small case) and `draw(result)` (a `page.Page` of viewer/plots.py panels). The lecture's mu
 comparison is `python simulator.py --mu 0.1,0.11,0.2`, not repeated here. This file imports nothing:
 `python -m figures` sets OPENBLAS_NUM_THREADS in __main__.py before numpy loads.
 """
-FIGURES = ("dissipation", "mollifier", "semi_implicit", "fixed_point")     # in the lecture's order
+FIGURES = ("dissipation", "mollifier", "semi_implicit", "fixed_point", "stick_slip")     # in the lecture's order

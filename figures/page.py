@@ -20,11 +20,11 @@ class Page:
         for i, line in enumerate(caption):
             self.surface.blit(pygame.font.Font(None, 20).render(line, True, BLACK), (12, top + i * LINE_HEIGHT))
 
-    def axes(self, panel, x_max, y_lo, y_hi, title, xlabel, ylabel, log=False):
-        """Panel number `panel` (0 at the top): x from 0 to x_max, y from y_lo to y_hi (log10 if log), the
-        axes labelled with their units."""
+    def axes(self, panel, x_max, y_lo, y_hi, title, xlabel, ylabel, log=False, x_lo=0.0, yticks=None):
+        """Panel number `panel` (0 at the top): x from x_lo (0 unless given) to x_max, y from y_lo to y_hi
+        (log10 if log; `yticks`, pairs (value, text), to name rows instead), the axes labelled with their units."""
         return plots.Axes(self.pygame, self.surface, self.font, TITLE_HEIGHT + panel * plots.PANEL_HEIGHT,
-                          x_max, y_lo, y_hi, title, ylabel, log, xlabel)
+                          x_max, y_lo, y_hi, title, ylabel, log, xlabel, x_lo, yticks)
 
     def markers(self, ax, x, y, color, radius=3):
         """A filled circle of `radius` pixels at each (x, y) of the panel `ax`: points that stand out on a line."""

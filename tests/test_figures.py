@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import figures.page
-from figures import cli, dissipation, fixed_point, mollifier, semi_implicit
+from figures import cli, dissipation, fixed_point, mollifier, semi_implicit, stick_slip
 from viewer import files, manifest, whole_files
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -102,6 +102,98 @@ def test_the_pressed_scene_starts_on_the_slope_and_its_lagged_step_brakes_with_t
     expected = 3.0 + scene.h * (scene.g @ t - mu_lambda.sum() / M)
     assert np.average(record.v, axis=0, weights=scene.m) @ t == pytest.approx(expected, abs=scene.tol)
     assert mu_lambda.sum() / scene.mu > 1.5 * M * -(scene.g @ scene.n)      # pressed: more than its weight
+
+
+@pytest.fixture(scope="module")
+def stick_slip_short():
+    """The stick_slip figure's numbers on a short case (about 15 s): 0.7 s for the marks and the four grips
+    (two cycles at the loosest grip, whose period is about 190 ms), tilts 66 and 67 degrees over 0.5 s, on
+    either side of the measured jam angle."""
+    return stick_slip.compute(duration=0.7, tilts=(66.0, 67.0), tilt_duration=0.5)
+
+
+def test_the_marks_are_stuck_where_the_tip_moves_less_than_eps_v_h_a_step(stick_slip_short):
+    """The marks join end to end along the tip's path, and a mark is stuck exactly where the tip's own
+    positions moved less than eps_v h in each of its steps (x^{n+1} = x^n + h v^{n+1}; round-off allowed)."""
+    r = stick_slip_short
+    for tr in (r.pushed, r.dragged):
+        h, epsv = tr.scene.h, tr.scene.epsv
+        marks = stick_slip.marks(tr)
+        assert np.array_equal(np.concatenate([marks[0][1]] + [x[1:] for _, x in marks[1:]]), tr.x)
+        assert all(a != b for (a, _), (b, _) in zip(marks, marks[1:]))          # the states alternate
+        for stuck, x in marks[1:]:                                             # the first: the start alone
+            speed = np.abs(np.diff(x)) / h
+            assert (speed < epsv * (1 + 1e-6)).all() if stuck else (speed > epsv * (1 - 1e-6)).all()
+        assert tr.tip_lowest
+
+
+def test_the_pushed_chalk_leaves_dots_a_slip_apart_and_the_dragged_a_line(stick_slip_short):
+    """Pushed: a stuck mark per stick, each a slip length after the one before; the slip about catches up
+    with the hand (slip = drive x period) and the period is that of the speed's peaks. Dragged: after its
+    start-up a single slipping mark to the end."""
+    r = stick_slip_short
+    push, drive = r.push, r.pushed.scene.params["drive"]
+    starts, lengths, peaks = map(np.array, zip(*push.slips))
+    assert len(push.slips) >= 3 and push.stuck > 0.5 and (peaks > 2 * drive).all()
+    assert push.length == pytest.approx(drive * push.period, rel=0.05)
+    dots = [x for stuck, x in stick_slip.marks(r.pushed) if stuck and len(x) > stick_slip.MIN_STICK]
+    assert [b[0] - a[-1] for a, b in zip(dots, dots[1:])] == pytest.approx(lengths, rel=1e-12)
+    u, t = np.abs(r.pushed.u), r.pushed.t
+    peak = (u[1:-1] > drive) & (u[1:-1] >= u[:-2]) & (u[1:-1] > u[2:])
+    assert np.diff(t[1:-1][peak]).mean() == pytest.approx(push.period, rel=0.02)
+    drag = r.drag
+    assert drag.slips == [] and drag.stuck_after == 0 and 0.2 < drag.start_up < 0.5
+    last_stuck, last = stick_slip.marks(r.dragged)[-1]
+    assert not last_stuck and len(last) == drag.after + 1                    # from the sample before the start
+
+
+def test_the_tighter_grip_slips_less_at_the_same_press_force(stick_slip_short):
+    r = stick_slip_short
+    assert [g.k_hand for g in r.grips] == list(stick_slip.GRIPS)
+    assert all(len(g.slips) >= 2 for g in r.grips)
+    lengths = [g.length for g in r.grips]
+    assert all(a > b for a, b in zip(lengths, lengths[1:])) and stick_slip.falls(r)
+    assert r.grips[1].length == r.push.length                                # the default grip is the pushed run
+    assert r.force == pytest.approx(1.0)                                     # 2000 N/m x 0.5 mm per held node
+
+
+def test_one_coefficient_slides_below_and_jams_above_the_measured_angle(stick_slip_short):
+    r = stick_slip_short
+    slides, jams = r.tilts
+    assert not slides.jams and slides.travel > 0.8 * slides.hand_travel
+    assert jams.jams and jams.travel < 0.01 * jams.hand_travel
+    assert r.bracket == (66.0, 67.0)
+    assert r.lock == pytest.approx(70.71, abs=0.01) and r.bracket[1] < r.lock
+
+
+def test_the_stick_slip_caption_says_the_computed_numbers_and_fits_the_page(stick_slip_short):
+    r = stick_slip_short
+    lines = stick_slip.caption(r)
+    text = "\n".join(lines)
+    push = r.push
+    assert (f"{len(push.slips)} cycles, period {1e3 * push.period:.0f} ms, slip {1e3 * push.length:.2f} mm"
+            in text)
+    assert f"stuck {100 * push.stuck:.0f} % of the drive" in text
+    assert f"starts at {r.drag.start_up:.3g} s, then stuck in 0 of its {r.drag.after} steps" in text
+    assert "slip " + " / ".join(f"{1e3 * g.length:.2f}" for g in r.grips) + " mm" in text
+    assert "between 66 and 67 deg, below the rigid strut's 90 - atan mu = 70.7 deg" in text
+    page = stick_slip.draw(r)
+    font = page.pygame.font.Font(None, 20)                                   # the caption's font (figures.page)
+    assert all(12 + font.size(line)[0] <= page.surface.get_width() for line in lines)
+    assert page.surface.get_height() == (figures.page.TITLE_HEIGHT + 4 * figures.page.plots.PANEL_HEIGHT
+                                         + figures.page.LINE_HEIGHT * (len(lines) + 1))
+    data = page.png()
+    assert data.startswith(PNG_SIGNATURE) and data.endswith(PNG_END)
+
+
+@pytest.mark.slow
+def test_the_stick_slip_figure_as_drawn():
+    """The figure's own runs (about a minute): at least 5 cycles pushed, none dragged after its start-up,
+    the slip falling over the four grips, and one tilt that separates sliding from jamming, below the
+    rigid strut's self-locking angle."""
+    r = stick_slip.compute()
+    assert len(r.push.slips) >= 5 and r.drag.stuck_after == 0 and stick_slip.falls(r)
+    assert r.bracket is not None and r.bracket[1] < r.lock
 
 
 def run_cli(*args):

@@ -31,12 +31,14 @@ def nice_ticks(lo, hi, count=5):
 class Axes:
     """One panel: maps (t, y) to pixels, linear or log10 in y, and draws its box, ticks, the axes'
     labels with their units (`xlabel` along the horizontal axis, "t (s)" by default, `ylabel` up the value
-    axis) and lines."""
+    axis) and lines. The horizontal axis runs from t_lo (0 unless given) to t_max; `yticks`, pairs
+    (value, text), replaces the value axis's numbers (rows named instead of measured)."""
 
-    def __init__(self, pygame, surface, font, top, t_max, y_lo, y_hi, title, ylabel, log=False, xlabel="t (s)"):
-        self.pygame, self.surface, self.font, self.log = pygame, surface, font, log
+    def __init__(self, pygame, surface, font, top, t_max, y_lo, y_hi, title, ylabel, log=False, xlabel="t (s)",
+                 t_lo=0.0, yticks=None):
+        self.pygame, self.surface, self.font, self.log, self.yticks = pygame, surface, font, log, yticks
         self.top, self.bottom = top + 24, top + PANEL_HEIGHT - 30
-        self.t_max = t_max if t_max > 0 else 1.0
+        self.t_lo, self.t_max = t_lo, t_max if t_max > t_lo else t_lo + 1.0
         if log:
             y_lo, y_hi = math.log10(y_lo), math.log10(y_hi)
         if not y_hi > y_lo:
@@ -56,18 +58,20 @@ class Axes:
         y = np.asarray(y, dtype=float)
         if self.log:
             y = np.log10(np.maximum(y, 10.0 ** self.y_lo))
-        col = LEFT + (RIGHT - LEFT) * np.asarray(t, dtype=float) / self.t_max
+        col = LEFT + (RIGHT - LEFT) * (np.asarray(t, dtype=float) - self.t_lo) / (self.t_max - self.t_lo)
         row = self.bottom - (self.bottom - self.top) * (y - self.y_lo) / (self.y_hi - self.y_lo)
         return col, row
 
     def _ticks(self):
         grey, black = (225, 225, 225), (0, 0, 0)
-        for t in nice_ticks(0.0, self.t_max, 6):
+        for t in nice_ticks(self.t_lo, self.t_max, 6):
             col = self.px(t, 0.0)[0]
             self.pygame.draw.line(self.surface, grey, (col, self.top + 1), (col, self.bottom - 1))
             label = self.font.render(f"{t:g}", True, black)
             self.surface.blit(label, (col - label.get_width() / 2, self.bottom + 3))
-        if self.log:
+        if self.yticks is not None:
+            values, texts = zip(*self.yticks)
+        elif self.log:
             values = 10.0 ** np.arange(math.ceil(self.y_lo), math.floor(self.y_hi) + 1)
             texts = [f"1e{int(round(math.log10(v)))}" for v in values]
         else:
