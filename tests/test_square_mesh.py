@@ -83,7 +83,8 @@ def test_rectangle_counts_order_and_spacing(nx, ny):
     assert covered == sorted(tuple(sorted(p)) for p in e.tolist())           # the polylines draw each spring once
     tri = square_mesh.triangles(nx, ny)
     assert tri.shape == (2 * nx * ny, 3) and tri.max() == len(x) - 1
-    area = 0.5 * np.cross(x[tri[:, 1]] - x[tri[:, 0]], x[tri[:, 2]] - x[tri[:, 0]])
+    ab, ac = x[tri[:, 1]] - x[tri[:, 0]], x[tri[:, 2]] - x[tri[:, 0]]
+    area = 0.5 * (ab[:, 0] * ac[:, 1] - ab[:, 1] * ac[:, 0])             # 2-D cross (numpy 2 refuses 2-vectors)
     assert np.allclose(area, dx * dy / 2, rtol=1e-9)                          # counter-clockwise, no overlap
     text = square_mesh.obj_text(x, nx, ny)
     assert text.count("v ") == len(x) and text.count("f ") == len(tri)
