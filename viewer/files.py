@@ -240,7 +240,7 @@ class OutputFolder:
     def _put(self, tmp, path, name):
         """Give the finished temporary file its name: linked, so it fails if the name is taken; replaced
         only over this run's own file (or, with keep, an earlier run's, which it removes first)."""
-        earlier = self.written.get(name, self.kept.pop(name, None))
+        earlier = self.written[name] if name in self.written else self.kept.pop(name, None)
         if earlier is not None:
             if not self._is_owned(name, earlier):
                 raise OSError(errno.EEXIST, "changed since this simulator wrote it", path)

@@ -88,7 +88,8 @@ class LiveRun:
     def _advance(self, x, v, report, wall):
         """The step is done: x^{n+1}, v^{n+1}; its record, with the seconds computing it took (those
         of its iterations too, when n took them one at a time)."""
-        record = StepRecord(self.index, (self.index + 1) * self.scene.h, x, v, report, wall + self.iterates_wall)
+        record = StepRecord(self.index, time_integrator.step_time(self.scene, self.index), x, v, report,
+                            wall + self.iterates_wall)
         self.index += 1
         self.report, self.x, self.v = report, x, v
         self.iterates, self.iterate, self.iteration, self.iterates_wall = None, None, 0, 0.0
