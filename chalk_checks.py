@@ -26,6 +26,7 @@ def check_params(defaults, overrides):
     for name, minimum in (("nx", 1), ("ny", 1), ("held_columns", 1), ("friction_updates", 0),
                           ("max_newton_iterations", 1), ("max_halvings", 1)):
         p[name] = utils.check_whole(name, p[name], minimum)
+    p["newton_start"] = utils.check_choice("newton_start", p["newton_start"], utils.NEWTON_STARTS)
     if p["held_columns"] > p["nx"]:
         raise utils.ParameterError("held_columns", f"held_columns must leave the tip free: at most nx = {p['nx']}, got {p['held_columns']}")
     if not isinstance(p["drag"], (bool, np.bool_)):

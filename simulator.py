@@ -47,6 +47,7 @@ DEFAULTS = types.MappingProxyType({
     "center": (0.0, 0.0),       # initial centre of the square, m
     "angle": 0.0,               # initial rotation of the square about its centre, radians
     "friction_updates": 0,      # fixed-point friction updates per step (Algorithm 5); 0: lagged, as the lecture
+    "newton_start": "x_n",      # where Newton starts: x^n, as the lecture; "x_tilde": x^n + h v^n, cut by CCD
     "max_newton_iterations": 1000,  # a safety cap: the hardest tested cases need about 320 (docs/limits.md)
     "max_halvings": 60,         # line-search halvings before Newton gives up on a direction
 })
@@ -76,6 +77,7 @@ class Scene:
     n_seg: int                  # the square's (None for the chalk: see cells)
     side_len: float             # the square's, m (None for the chalk)
     friction_updates: int
+    newton_start: str           # "x_n" or "x_tilde" (time_integrator.newton_start)
     max_newton_iterations: int
     max_halvings: int
     terms: tuple                # the energy terms the Incremental Potential sums
@@ -120,8 +122,8 @@ def build_scene(**overrides):
         g=_readonly(p["gravity"]), n=None if n is None else _readonly(n), o=None if o is None else _readonly(o),
         mu=p["mu"], dhat=p["dhat"], kappa=p["kappa"], epsv=p["epsv"], h=p["h"], tol=p["tol"],
         n_seg=p["n_seg"], side_len=p["side_len"], friction_updates=p["friction_updates"],
-        max_newton_iterations=p["max_newton_iterations"], max_halvings=p["max_halvings"],
-        terms=tuple(terms), warnings=square_checks.scene_warnings(p, x, n, d),
+        newton_start=p["newton_start"], max_newton_iterations=p["max_newton_iterations"],
+        max_halvings=p["max_halvings"], terms=tuple(terms), warnings=square_checks.scene_warnings(p, x, n, d),
         solver=utils.SPDSolver.for_mesh(len(x), e), cells=(p["n_seg"], p["n_seg"]))
 
 
@@ -145,6 +147,7 @@ CHALK = types.MappingProxyType({
     "press": 5e-4, "t_press": 0.1,  # the targets press this far into the board (m) over t_press (s),
     "t_hold": 0.1, "drive": 0.01,   # hold for t_hold (s), then move along the board at drive (m/s)
     "friction_updates": 0, "max_newton_iterations": 1000, "max_halvings": 60,
+    "newton_start": "x_tilde",  # Newton from x^n + h v^n cut by CCD: a sliding tip starts sliding (not at v = 0)
 })
 
 
@@ -173,8 +176,8 @@ def build_chalk_scene(**overrides):
         contact_area=_readonly(np.full(len(x), p["width"] / p["ny"])), g=_readonly(p["gravity"]),
         n=_readonly([0.0, 1.0]), o=_readonly([0.0, 0.0]), mu=p["mu"], dhat=p["dhat"], kappa=p["kappa"],
         epsv=p["epsv"], h=p["h"], tol=p["tol"], n_seg=None, side_len=None, friction_updates=p["friction_updates"],
-        max_newton_iterations=p["max_newton_iterations"], max_halvings=p["max_halvings"],
-        terms=tuple(terms + ["friction"] * (max(p["mu"], p["mu_s"]) > 0.0)), warnings=(),
+        newton_start=p["newton_start"], max_newton_iterations=p["max_newton_iterations"],
+        max_halvings=p["max_halvings"], terms=tuple(terms + ["friction"] * (max(p["mu"], p["mu_s"]) > 0.0)), warnings=(),
         solver=utils.SPDSolver.for_mesh(len(x), e, elements=[held[:, None]]),      # the hand: node blocks
         cells=(p["nx"], p["ny"]), hand=hand, mu_s=p["mu_s"], v_c=p["v_c"])
 

@@ -9,7 +9,8 @@ import os
 
 import numpy as np
 
-from utils import ParameterError, as_float, check_epsv, check_positive, check_vector, check_whole
+from utils import (NEWTON_STARTS, ParameterError, as_float, check_choice, check_epsv, check_positive, check_vector,
+                   check_whole)
 
 # ----------------------------------------------------------------------------------------------
 
@@ -50,6 +51,7 @@ def check_params(defaults, aliases, overrides):
     for name, minimum in (("n_seg", 1), ("friction_updates", 0), ("max_newton_iterations", 1), ("max_halvings", 1)):
         p[name] = check_whole(name, p[name], minimum)
     check_memory(p["n_seg"])
+    p["newton_start"] = check_choice("newton_start", p["newton_start"], NEWTON_STARTS)
     for name in ("mu", "angle"):
         p[name] = as_float(name, p[name], "must be a finite number")
         if not np.isfinite(p[name]):

@@ -170,6 +170,17 @@ def search_dir(scene, lagged, x, grad_E):
     return scene.solver.solve(IP_hess(scene, lagged, x), -grad_E.ravel()).reshape(-1, 2)
 
 
+def newton_start(scene, lagged):
+    """Where Newton starts: x^n, as the lecture; with scene.newton_start "x_tilde" (the chalk's), the
+    prediction x_tilde = x^n + h v^n cut back by CCD (Algorithm 4, line 1, along h v^n), so every node
+    stays above the board. Not in the lecture: from x^n a sliding contact starts at v = 0, in the
+    mollifier's stiff static branch, and Newton needs about 4 iterations to leave it (the dragged chalk)."""
+    if scene.newton_start == "x_n":
+        return lagged.x_n
+    prediction = lagged.x_tilde - lagged.x_n
+    return lagged.x_n + init_step_size(scene, lagged.x_n, prediction) * prediction
+
+
 def init_step_size(scene, x, p):
     """Algorithm 4, line 1: CCD against the slope; without a slope the full step is safe."""
     return BarrierEnergy.init_step_size_kernel(x, scene.n, scene.o, p) if "barrier" in scene.terms else 1.0
@@ -248,7 +259,7 @@ def newton_iterates(scene, x, v, *, step_index=0):
     try:
         targets = scene.hand.targets(step_time(scene, step_index)) if "hand" in scene.terms else None
         lagged = friction_update(scene, Lagged(x_n, x_n + scene.h * v_n, None, targets), x_n, v_n)  # mu*lambda^n
-        x = yield from newton(scene, lagged, x_n, report, step_index)
+        x = yield from newton(scene, lagged, newton_start(scene, lagged), report, step_index)
         if "friction" in scene.terms and scene.friction_updates > 0:                       # Algorithm 5
             for j in range(1, scene.friction_updates + 2):
                 lagged = friction_update(scene, lagged, x)                                 # lines 2, 5

@@ -156,6 +156,16 @@ def check_whole(name, value, minimum):
     return int(number)
 
 
+NEWTON_STARTS = ("x_n", "x_tilde")     # where Newton may start (time_integrator.newton_start)
+
+
+def check_choice(name, value, choices):
+    """Return `value` if it is one of the strings `choices`; a ValueError naming `name` otherwise."""
+    if not isinstance(value, str) or value not in choices:
+        raise ParameterError(name, f"{name} must be one of {', '.join(map(repr, choices))}, got {value!r}")
+    return value
+
+
 # eps_v below this makes f_hess_term's 1/eps_v^2 overflow float64 (1/eps_v^2 < 1.8e308 needs eps_v > 7.5e-155)
 EPSV_MIN = 1e-150
 

@@ -31,6 +31,8 @@ LIBRARY = [
     (dict(friction_updates=-1), "friction_updates must be a whole number >= 0, got -1"),
     (dict(max_newton_iterations=0), "max_newton_iterations must be a whole number >= 1, got 0"),
     (dict(colour="red"), "unknown scene parameter(s): colour"),
+    (dict(newton_start="x_tilda"), "newton_start must be one of 'x_n', 'x_tilde', got 'x_tilda'"),
+    (dict(newton_start=0), "newton_start must be one of 'x_n', 'x_tilde', got 0"),
 ] + [(dict([(name, value)]), f"{name} must be") for name in
      ("side_len", "rho", "k", "h", "dhat", "kappa", "epsv", "tol", "mu", "angle", "n_seg", "mass")
      for value in (float("nan"), float("inf"))] + [
@@ -84,6 +86,7 @@ CLI = [
     (["--frame-stride", "0"], "--frame-stride: frame-stride must be a whole number >= 1, got 0.0"),
     (["--friction-iterations", "-1"], "friction_updates must be a whole number >= 0, got -1.0"),
     (["--mu", "abc"], "argument --mu: invalid float value: 'abc'"),
+    (["--newton-start", "x0"], "argument --newton-start: invalid choice: 'x0'"),
 ] + [([flag, value], "must be") for flag in
      ("--mu", "--h", "--side", "--k", "--density", "--mass", "--dhat", "--kappa", "--epsv", "--tol", "--n-seg",
       "--duration", "--steps", "--frame-stride", "--slope-angle", "--friction-iterations", "--max-newton")

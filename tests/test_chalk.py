@@ -102,6 +102,7 @@ def test_the_chalk_scene_has_the_design_s_numbers_and_its_own_terms():
     (dict(held_columns=19), "held_columns must leave the tip free"), (dict(mu_s=-0.1), "mu_s must be a finite"),
     (dict(k_hand=0), "k_hand must be a finite number > 0"), (dict(drag="yes"), "drag must be True or False"),
     (dict(ny=1.5), "ny must be a whole number >= 1"),
+    (dict(newton_start="x"), "newton_start must be one of 'x_n', 'x_tilde', got 'x'"),
 ])
 def test_bad_chalk_parameters_are_refused_by_name(params, message):
     with pytest.raises(ValueError, match=message.replace("(", r"\(").replace(")", r"\)")):

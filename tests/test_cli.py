@@ -81,6 +81,10 @@ def test_flags_reach_the_scene():
     assert np.allclose(scene.n, [np.sin(np.radians(10)), np.cos(np.radians(10))])
     assert np.allclose(scene.v0, [1.0, -2.0])
     assert cli.steps_from_args(args, scene) == round(cli.DURATION / 0.005)      # the default duration
+    assert scene.newton_start == "x_n"          # the lecture's, unless asked
+    for argv, start in ((["--newton-start", "x_tilde"], "x_tilde"), (["--scene", "chalk"], "x_tilde"),
+                        (["--scene", "chalk", "--newton-start", "x_n"], "x_n")):
+        assert cli.scene_from_args(cli.parse_command_line(argv)[0]).newton_start == start
     no_slope = cli.scene_from_args(cli.parse_command_line(["--no-slope"])[0])
     assert no_slope.n is None and "barrier" not in no_slope.terms
 
@@ -109,7 +113,7 @@ def test_help_documents_every_scene_flag():
     text = run_cli("--help").stdout
     for flag in ("--mu", "--h", "--duration", "--steps", "--n-seg", "--k", "--density", "--slope-normal",
                  "--slope-angle", "--v0", "--dhat", "--kappa", "--epsv", "--tol", "--friction-iterations",
-                 "--out", "--frame-stride", "--window"):
+                 "--newton-start", "--out", "--frame-stride", "--window"):
         assert flag in text
 
 

@@ -55,7 +55,7 @@ WINDOW_FLAGS = ("--size", "--speed")
 # the parameter a ValueError is about (utils.ParameterError.parameter) -> its flag
 FLAG_OF = {**{param: flags[0] for flags, param, _, _ in SCENE_FLAGS + CHALK_FLAGS}, "slope_angle": "--slope-angle",
            "steps": "--steps", "duration": "--duration", "frame-stride": "--frame-stride", "out": "--out",
-           "size": "--size", "speed": "--speed"}
+           "size": "--size", "speed": "--speed", "newton_start": "--newton-start"}
 
 
 class CommandLineError(Exception):
@@ -109,6 +109,9 @@ def make_parser():
                  f"{value:g}" if value is not None else "density x side^2")
         g.add_argument(*flags, dest=param, type=pair if is_pair(metavar) else float, metavar=metavar,
                        default=argparse.SUPPRESS, help=f"{what} (default {shown})")
+    g.add_argument("--newton-start", choices=utils.NEWTON_STARTS, default=argparse.SUPPRESS,
+                   help="where each step's Newton starts: x_n, as the lecture (the square's default), or x_tilde = "
+                        "x^n + h v^n cut back by CCD (the chalk's)")
     g.add_argument("--slope-angle", type=float, metavar="DEGREES",
                    help="slope angle in degrees, descending to the right, instead of --slope-normal")
     g.add_argument("--no-slope", action="store_true", help="free fall: no slope, no contact")
@@ -198,6 +201,7 @@ def given_flags(args, table):
 def scene_from_args(args):
     """simulator.build_scene (build_chalk_scene with --scene chalk) with the scene flags given (the
     rest keep DEFAULTS, CHALK); a flag of the other scene is refused."""
+    both = {"newton_start": args.newton_start} if hasattr(args, "newton_start") else {}     # either scene's
     square_only = {p: f for p, f in given_flags(args, SCENE_FLAGS).items() if p not in CHALK_SHARED}
     square_only.update({"slope_angle": "--slope-angle"} if args.slope_angle is not None else {})
     square_only.update({"slope": "--no-slope"} if args.no_slope else {})
@@ -207,11 +211,11 @@ def scene_from_args(args):
             raise CommandLineError(f"{next(iter(square_only.values()))} applies only to the square; "
                                    f"--scene chalk has no such parameter")
         overrides = {param: getattr(args, param) for _, param, _, _ in SCENE_FLAGS + CHALK_FLAGS
-                     if hasattr(args, param)}
+                     if hasattr(args, param)} | both
         return simulator.build_chalk_scene(drag=args.drag, **overrides)
     if chalk_only:
         raise CommandLineError(f"{chalk_only[0]} applies only to the chalk; add --scene chalk, or leave it out")
-    overrides = {param: getattr(args, param) for _, param, _, _ in SCENE_FLAGS if hasattr(args, param)}
+    overrides = {param: getattr(args, param) for _, param, _, _ in SCENE_FLAGS if hasattr(args, param)} | both
     slopes = (("--slope-normal", "slope" in overrides), ("--slope-angle", args.slope_angle is not None),
               ("--no-slope", args.no_slope))
     given = [flag for flag, on in slopes if on]
