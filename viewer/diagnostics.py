@@ -26,21 +26,27 @@ def energy_terms(scene):
                                  and time_integrator.TERMS[t].stores_energy)
 
 
-def term_energy(scene, name, x, t):
-    """One term's potential energy at the state (x at time t: the hand's targets of t), J; a lecture term
-    the scene lacks is 0, except gravity, whose scene value is always there ((0, 0) without gravity)."""
+def term_energy(scene, name, x, targets=None):
+    """One term's potential energy at x (J), with the hand's `targets` (those of the state's time); a
+    lecture term the scene lacks is 0, except gravity, whose scene value is always there ((0, 0) without
+    gravity)."""
     if name not in scene.terms and not (name == "gravity" and scene.g is not None):
         return 0.0
-    targets = scene.hand.targets(t) if scene.hand is not None else None
     term = time_integrator.TERMS[name]      # the kernel: the scene's arrays were checked when it was built
     return term.module.val_kernel(*term.args(scene, time_integrator.Lagged(x, x, None, targets), x, None))
+
+
+def targets(scene, t):
+    """The hand's targets at time t, or None without a hand."""
+    return scene.hand.targets(t) if scene.hand is not None else None
 
 
 def energies(scene, x, v, t=0.0):
     """Mechanical energy by term (J): kinetic, then each term of energy_terms at the state (x, v) at
     time t, and their total."""
-    out = {"kinetic": 0.5 * float(np.sum(scene.m * np.einsum("ij,ij->i", v, v)))}
-    out.update({name: term_energy(scene, name, x, t) for name in energy_terms(scene)})
+    out = {"kinetic": 0.5 * float(scene.m @ np.einsum("ij,ij->i", v, v))}
+    at_t = targets(scene, t)
+    out.update({name: term_energy(scene, name, x, at_t) for name in energy_terms(scene)})
     out["total"] = sum(out.values())
     return out
 
@@ -52,7 +58,13 @@ def hand_work(scene, x, t0, t1):
     by step: E^{n+1} - E^n = W_hand + W_friction - (implicit Euler's dissipation)."""
     if scene.hand is None or "hand" not in scene.terms:
         return 0.0
-    return term_energy(scene, "hand", x, t1) - term_energy(scene, "hand", x, t0)
+    return term_energy(scene, "hand", x, targets(scene, t1)) - term_energy(scene, "hand", x, targets(scene, t0))
+
+
+def centre_of_mass(scene, a):
+    """The mass-weighted mean sum_i m_i a_i / sum_i m_i of per-node vectors a (N, 2): x gives the centre of
+    mass, v its velocity."""
+    return scene.m @ a / scene.m.sum()
 
 
 def tangent(scene):
@@ -89,10 +101,11 @@ def at_rest(sticking, sliding):
 
 
 def normal_forces(scene, x):
-    """lambda_k n at every node (N, 2), lambda_k = -w_k dP/dd (BarrierEnergy.compute_mu_lambda with mu = 1)."""
+    """lambda_k n at every node (N, 2), lambda_k = -w_k dP/dd (BarrierEnergy.compute_mu_lambda with mu = 1;
+    its kernel: the scene's arrays were checked when it was built)."""
     if "barrier" not in scene.terms:
         return np.zeros_like(x)
-    lam = BarrierEnergy.compute_mu_lambda(x, scene.n, scene.o, scene.contact_area, 1.0, scene.dhat, scene.kappa)
+    lam = BarrierEnergy.compute_mu_lambda_kernel(x, scene.n, scene.o, scene.contact_area, 1.0, scene.dhat, scene.kappa)
     return lam[:, None] * scene.n
 
 

@@ -104,8 +104,8 @@ class Track:
                 self.marks.append(mark)
         speeds = diagnostics.contact_speeds(scene, x, v)
         sticking, sliding = diagnostics.sticking_sliding(speeds, scene.epsv)
-        sample = Sample(step=self.step, t=t, wall=wall, com=np.average(x, axis=0, weights=scene.m),
-                        v_tangential=float(np.average(v, axis=0, weights=scene.m) @ self.tangent), report=report,
+        sample = Sample(step=self.step, t=t, wall=wall, com=diagnostics.centre_of_mass(scene, x),
+                        v_tangential=float(diagnostics.centre_of_mass(scene, v) @ self.tangent), report=report,
                         min_distance=report.min_distance if report else diagnostics.min_distance(scene, x),
                         energies=E, friction_work=self.friction_work,
                         numerical_dissipation=D, speeds=speeds, hand_work=self.hand_work, **tip,
