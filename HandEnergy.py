@@ -81,7 +81,7 @@ def val_kernel(x, nodes, target, k_hand):
 def grad_kernel(x, nodes, target, k_hand):
     """grad_i P_hand = k_hand (x_i - target_i) at the held nodes, zero elsewhere."""
     g = np.zeros(x.shape)
-    g[nodes] = np.reshape(k_hand, (-1, 1)) * (x.take(nodes, axis=0) - target)
+    g[nodes] = np.asarray(k_hand)[..., None] * (x.take(nodes, axis=0) - target)     # k_hand: one, or (H,)
     return g
 
 

@@ -38,7 +38,7 @@ def hess(x, e, l2, k, project_psd=True):
 def _edges(x, e):
     """diff = x_a - x_b (E, 2) of every edge, and ||diff||^2 (E,)."""
     diff = x.take(e[:, 0], axis=0) - x.take(e[:, 1], axis=0)        # (take: x[e[:, 0]], 4-7x faster)
-    return diff, np.einsum("ij,ij->i", diff, diff)
+    return diff, diff[:, 0] ** 2 + diff[:, 1] ** 2
 
 
 def val_kernel(x, e, l2, k):
@@ -68,7 +68,8 @@ def hess_kernel(x, e, l2, k, project_psd=True):
         lam_par, lam_perp = np.maximum(lam_par, 0.0), np.maximum(lam_perp, 0.0)
     w = (lam_par - lam_perp) / np.maximum(sq, np.finfo(float).tiny)
     H = (w[:, None] * diff)[:, :, None] * diff[:, None, :]
-    H[:, [0, 1], [0, 1]] += lam_perp[:, None]
+    H[:, 0, 0] += lam_perp
+    H[:, 1, 1] += lam_perp
     return e, np.tile(H, (1, 2, 2)) * _PAIR_SIGNS
 
 
