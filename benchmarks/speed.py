@@ -9,17 +9,20 @@ factorization and solve) against the rest (energies, line search, CCD, friction 
 
 This module is the table and the command line of the speed benchmarks; each other one is a module of
 its own: the comparison with an earlier commit (`--against REV`: benchmarks/speed_against.py), the live
-window's real time (`--window`: window_speed.py), the cost of the frames (`--frames`: frames_cost.py).
+window's real time (`--window`: window_speed.py), the cost of the frames (`--frames`: frames_cost.py),
+the chalk's wait (`--chalk`: chalk_speed.py).
 
     python -m benchmarks.speed                       # the table, n_seg 4 ... 64 (1-2 minutes)
     python -m benchmarks.speed --against c6bcae2     # and the comparison (3 min CPU, 5-7 min on a busy machine)
     python -m benchmarks.speed --quick [--against REV]   # a smoke run, a few seconds
     python -m benchmarks.speed --frames              # the default run with and without frames (frames_overhead)
     python -m benchmarks.speed --window              # the live window at n_seg 4, 8, 16 (on $DISPLAY too)
+    python -m benchmarks.speed --chalk               # the chalk's 3 s runs, pushed and dragged (about 2 minutes)
 
 Only the plain command writes into benchmarks/results/ (speed.csv, the table benchmarks/README.md
 quotes); a run with --quick, --sizes or --against writes speed.csv (and speed-against.csv) into a new
-temporary folder, and --out DIR into DIR. --window and --frames only print.
+temporary folder, and --out DIR into DIR. --window and --frames only print; --chalk writes chalk-speed.csv
+(into benchmarks/results/ unless --quick or --out).
 
 Timing on a shared machine: the figures to read are the CPU medians; a line is marked noisy as
 benchmarks/tables.noise says. BLAS runs on one thread unless OPENBLAS_NUM_THREADS says otherwise.
@@ -36,7 +39,7 @@ import tempfile
 import time
 
 import benchmarks
-from benchmarks import frames_cost, speed_against, tables, window_speed
+from benchmarks import chalk_speed, frames_cost, speed_against, tables, window_speed
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -140,12 +143,20 @@ def main(argv=None):
     ap.add_argument("--window", action="store_true",
                     help="only the live window's real-time figures (n_seg 4, 8, 16; on $DISPLAY too when there is one)")
     ap.add_argument("--frames", action="store_true", help="only the default run with frames against --no-frames")
+    ap.add_argument("--chalk", action="store_true", help="only the chalk's runs, pushed and dragged, from x_tilde "
+                                                         "and x^n (with --quick: 0.3 s runs, once)")
     args = ap.parse_args(argv)
     if args.window:
         print(window_speed.window_table())
         return 0
     if args.frames:
         return frames_cost.print_frames_overhead(3 if args.quick else 5)
+    if args.chalk:
+        rows = chalk_speed.print_chalk_table(1 if args.quick else 3, 0.3 if args.quick else None)
+        out = benchmarks.output_folder(args.out, not args.quick, "chalk-speed")
+        tables.write_csv(os.path.join(out, "chalk-speed.csv"), chalk_speed.COLUMNS, rows)
+        print(f"wrote chalk-speed.csv into {out}", file=sys.stderr)
+        return 0
     table = TABLE_QUICK if args.quick else TABLE
     sizes = [int(s) for s in args.sizes.split(",")] if args.sizes else list(table)
     rows = []

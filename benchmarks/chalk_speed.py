@@ -1,0 +1,96 @@
+"""The chalk's wait (`python -m benchmarks.speed --chalk`): `python simulator.py --scene chalk --no-frames`
+as a student runs it, pushed and dragged, with Newton starting at x_tilde (the chalk's default) and at
+x^n (the lecture's, `--newton-start x_n`), whole processes run alternately.
+
+For each run: the process's wall and CPU time (import, stepping, log, plots.png, summary.png), the
+stepping's own wall time as the closing line prints it, the wall time per simulated second against
+the target (issue 28: at most CHALK_TARGET s for the 3 s default), and Newton iterations per step from
+log.csv. The figures to read are the CPU medians on a busy machine, the wall medians on a quiet one.
+"""
+import csv
+import math
+import os
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+from benchmarks import tables
+
+try:
+    import resource         # POSIX: the CPU time of finished child processes
+except ImportError:         # Windows: no such figure, the CPU column is nan
+    resource = None
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+CHALK_TARGET = 3.0      # s of wall time per simulated second, the 3 s default with --no-frames (issue 28)
+RUNS = {"pushed": [], "dragged": ["--drag"], "pushed, from x^n": ["--newton-start", "x_n"],
+        "dragged, from x^n": ["--drag", "--newton-start", "x_n"]}
+COLUMNS = ["run", "simulated_s", "wall_s", "cpu_s", "stepping_wall_s", "wall_per_simulated_s", "newton_per_step",
+           "noise"]
+
+
+def children_cpu():
+    """CPU seconds (user + system) of the finished child processes so far (nan without `resource`)."""
+    if resource is None:
+        return math.nan
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+
+
+def run_once(folder, name, extra, duration):
+    """One `python simulator.py --scene chalk --no-frames` process: (wall s, CPU s, the stepping's wall s
+    from its closing line, Newton iterations per step and the simulated seconds from its log.csv)."""
+    out = os.path.join(folder, re.sub(r"\W+", "_", name))
+    command = [sys.executable, os.path.join(ROOT, "simulator.py"), "--scene", "chalk", "--no-frames", "--out", out,
+               *extra] + (["--duration", str(duration)] if duration is not None else [])
+    cpu, start = children_cpu(), time.perf_counter()
+    done = subprocess.run(command, cwd=ROOT, capture_output=True, text=True,
+                          env={**os.environ, "SDL_VIDEODRIVER": "dummy", "OPENBLAS_NUM_THREADS": "1"})
+    wall, cpu = time.perf_counter() - start, children_cpu() - cpu
+    if done.returncode != 0:
+        raise RuntimeError(f"{' '.join(command)} failed:\n{done.stderr}")
+    stepping = float(re.search(r"in ([0-9.]+) s wall", done.stderr).group(1))
+    with open(os.path.join(out, "log.csv")) as f:
+        rows = list(csv.DictReader(f))[1:]         # the steps (row 0 is t = 0)
+    return wall, cpu, stepping, statistics.mean(int(r["newton_iterations"]) for r in rows), float(rows[-1]["t"])
+
+
+def chalk_table(repeats=3, duration=None, runs=RUNS):
+    """The rows: for each of `runs` the medians over `repeats` processes, the runs taken in turn."""
+    times = {name: [] for name in runs}
+    with tempfile.TemporaryDirectory(prefix="chalk-speed-") as folder:
+        for _ in range(repeats):
+            for name, extra in runs.items():
+                times[name].append(run_once(folder, name, extra, duration))
+    rows = []
+    for name, results in times.items():
+        walls, cpus, steppings, newton, simulated = zip(*results)
+        wall = statistics.median(walls)
+        rows.append({"run": name, "simulated_s": simulated[0], "wall_s": wall, "cpu_s": statistics.median(cpus),
+                     "stepping_wall_s": statistics.median(steppings), "wall_per_simulated_s": wall / simulated[0],
+                     "newton_per_step": newton[0], "noise": tables.noise(walls, cpus)})
+    return rows
+
+
+def format_chalk_table(rows, repeats):
+    head = ["run", "simulated s", "wall s", "CPU s", "stepping wall s", "wall / simulated s", "Newton/step", "noise"]
+    cells = [head] + [[r["run"], f"{r['simulated_s']:g}", f"{r['wall_s']:.2f}", f"{r['cpu_s']:.2f}",
+                       f"{r['stepping_wall_s']:.2f}", f"{r['wall_per_simulated_s']:.2f}", f"{r['newton_per_step']:.2f}",
+                       r["noise"]] for r in rows]
+    default = rows[0]["wall_per_simulated_s"]
+    verdict = "met" if default <= CHALK_TARGET else "NOT met"
+    return "\n".join(tables.aligned(cells) + [
+        "python simulator.py --scene chalk --no-frames [flags]: whole processes (import, steps, log.csv, plots.png,",
+        f"summary.png), medians of {repeats} run alternately; stepping wall: the closing line's figure. Target for",
+        f"the pushed default: at most {CHALK_TARGET:g} s of wall time per simulated second: {verdict} "
+        f"({default:.2f} s)."])
+
+
+def print_chalk_table(repeats, duration=None):
+    rows = chalk_table(repeats, duration)
+    print(format_chalk_table(rows, repeats))
+    return rows
