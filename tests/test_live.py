@@ -9,9 +9,11 @@ import sys
 import numpy as np
 import pytest
 
+from helpers.command import recorded
+from helpers.fakes import chalk_at
 import simulator
 import time_integrator
-from viewer import live
+from viewer import diagnostics, live
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 H = simulator.DEFAULTS["h"]
@@ -141,3 +143,35 @@ def test_the_demo_needs_no_pygame():
     out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, timeout=120,
                          env={**os.environ, "OPENBLAS_NUM_THREADS": "1"})
     assert out.returncode == 0 and out.stdout.split() == ["11", "False"], out.stderr
+
+
+# ------------------------------------------------------------------------------------------------
+# The chalk: its marks and its figures, as a run to files keeps and logs them
+# ------------------------------------------------------------------------------------------------
+
+CHALK_STEPS = 240       # the pushed chalk sticks from step 2, slips over steps 230 to 243 (and at step 1)
+
+
+def test_the_chalks_marks_and_figures_are_those_a_run_to_files_keeps(tmp_path):
+    """LiveRun.marks after each step are recording.Track.marks of the same steps (diagnostics.tip_mark at
+    each state), stuck and slipping both by step 240; tip_lines says the figures log.csv has for the
+    state (tip_x, tip_speed, drive_speed, normal_force) and stuck or slipping as its mark. A restart
+    starts the marks afresh; a step completed one Newton iteration at a time leaves its mark too."""
+    run = chalk_at(CHALK_STEPS)
+    (track,) = recorded(tmp_path, [run.scene], CHALK_STEPS)
+    assert run.marks == track.marks and len(run.marks) == CHALK_STEPS
+    assert {stuck for _, stuck in run.marks} == {True, False} and not run.marks[-1][1]     # slipping now
+    last = track.samples.last
+    text = " ".join(live.tip_lines(run.scene, run.x, run.v, run.t))
+    assert f"tip at {last.tip_x * 100:.2f} cm, slipping: {last.tip_speed * 1e3:.3g} mm/s >= eps_v = 0.1 mm/s" in text
+    assert f"the hand's drive {last.drive_speed * 1e3:.3g} mm/s" in text and last.drive_speed == pytest.approx(0.01)
+    assert f"the board's normal force {last.normal_force:.3g} N" in text
+    stuck = chalk_at(200)
+    assert " stuck: " in live.tip_lines(stuck.scene, stuck.x, stuck.v, stuck.t)[0] and stuck.marks[-1][1]
+    start = live.LiveRun(run.scene, 10)
+    assert start.marks == [] and "off the board (d >= dhat)" in live.tip_lines(run.scene, start.x, start.v, 0.0)[0]
+    while start.newton_iteration() is None:
+        pass
+    assert start.marks == [diagnostics.tip_mark(run.scene, start.x, start.v)] and start.index == 1
+    run.restart()
+    assert run.marks == [] and run.index == 0

@@ -6,8 +6,9 @@ import pytest
 
 import BarrierEnergy
 from helpers import legibility
+from helpers.fakes import chalk_at
 import simulator
-from viewer import draw, newton_view, window
+from viewer import diagnostics, draw, newton_view, window
 
 SIZE = 652      # the window's default side on a 1024x768 projector
 
@@ -140,3 +141,49 @@ def test_the_inset_says_which_lines_are_springs_and_where_the_slope_is(monkeypat
     for note, _ in newton_view.inset_notes(w.scene, it):
         for row in draw.wrap(w.fonts[1], note, width - 16):
             assert w.fonts[1].size(row)[0] <= width - 16 or " " not in row, row
+
+
+def chalk_paused(steps, drag, iteration=1, size=SIZE):
+    """A LiveWindow of the chalk paused in step `steps` + 1 after `iteration` presses of n, drawn once."""
+    run = chalk_at(steps, drag)
+    pg = window.open_display()
+    w = window.LiveWindow(pg, pg.display.set_mode((size, size)), run.scene, run.steps)
+    w.run, w.playing = run, False
+    for _ in range(iteration):
+        assert w.run.newton_iteration() is None
+    w.draw()
+    return w
+
+
+@pytest.mark.parametrize("steps, drag", [(235, False), (300, False), (20, True)])
+def test_the_chalks_inset_magnifies_its_tip_against_the_board(steps, drag):
+    """For the chalk (pushed, slipping at step 236 and stuck at 301; dragged, pressed onto the board at
+    step 21) the inset magnifies the tip, the node nearest the board, as computed: its markers are
+    x^i + alpha p through one view (the board, about 0.9 mm below, out of frame where p is microns,
+    and said so); the tip's label sits on the board beside the chalk, off its marks and numbers, the
+    chalk's nodes and the inset; the direction arrows are no longer than a node spacing (5 mm)."""
+    w = chalk_paused(steps, drag)
+    inset, it, scene = w.inset, w.run.iterate, w.scene
+    k, d = diagnostics.tip(scene, it.x)
+    assert inset.node == k and inset.why == "nearest the board" and inset.distance == pytest.approx(d)
+    for name, alpha in (("x^i + p", 1.0), ("x^i + alpha p", it.alpha)):
+        offset = inset.markers[name] - inset.markers["x^i"]
+        assert offset == pytest.approx(alpha * it.p[k] * [inset.view.scale, -inset.view.scale], abs=1e-6), name
+    assert (inset.slope is None) == (d > newton_view.SLOPE_REACH * np.hypot(*it.p[k]))
+    notes = [text for text, _ in newton_view.inset_notes(scene, it)]
+    out_of_frame = f"the board: {newton_view.length_text(d)} below x^i, out of frame"
+    assert notes[0] == "(nearest the board)" and (inset.slope is not None or out_of_frame in notes)
+    px = w.view(it.x)
+    size = w.fonts[1].size(f"node {k}")
+    left, top = newton_view.label_corner(scene, w.view, px, px[k], size, inset.rect)
+    right, low = left + size[0], top + size[1]
+    assert low < w.view(scene.o)[1]                                             # above the board's line
+    assert not ((px[:, 0] > left) & (px[:, 0] < right) & (px[:, 1] > top) & (px[:, 1] < low)).any()
+    a, b, c, e = inset.rect
+    assert right <= a or left >= a + c or low <= b or top >= b + e
+    assert 0 <= left and right <= w.size
+    import pygame
+    red = np.all(pygame.surfarray.array3d(w.screen) == draw.RED, axis=2)
+    red[a:a + c, b:b + e] = False
+    reach = np.hypot(*(np.argwhere(red)[:, None, :] - px[None, :, :]).T).min(axis=0)     # px to the nearest node
+    assert red.sum() > 100 and reach.max() <= draw.spacing(scene) * w.view.scale + 2     # 14.5 px, not HINT's 23

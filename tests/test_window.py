@@ -15,10 +15,10 @@ import numpy as np
 import pytest
 
 import simulator
-from helpers.fakes import fill_disk_after
+from helpers.fakes import chalk_at, fill_disk_after
 from helpers import legibility
 import time_integrator
-from viewer import cli, draw, files, live, run, window
+from viewer import cli, diagnostics, draw, files, frames, live, run, window
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 H = simulator.DEFAULTS["h"]
@@ -136,10 +136,13 @@ def test_close_button_esc_and_q_end_the_run_with_exit_0_and_files_intact(tmp_pat
     assert [frame["runs"][0]["step"] for frame in page["frames"]] == [stride * j for j in range(len(frames))]
 
 
-def test_the_window_writes_the_files_a_run_without_it_writes(tmp_path):
+@pytest.mark.parametrize("flags, frame_count", [(["--steps", "20", "--mu", "0.2"], 8),
+                                               (["--scene", "chalk", "--steps", "240"], 9)])
+def test_the_window_writes_the_files_a_run_without_it_writes(tmp_path, flags, frame_count):
     """--window --out played to the end writes what `simulator.py --out` writes, by the same code:
     the same file names, log.csv the same but the wall times, the frames and OBJs byte for byte
-    (one computation: the same steps, drawn the same way)."""
+    (one computation: the same steps, drawn the same way). The square, and the chalk (its frames
+    with the tip's marks, stuck and slipping by step 240, from the files' own Track)."""
     def script():
         yield from frames_until(lambda: w_run.finished)
 
@@ -154,13 +157,13 @@ def test_the_window_writes_the_files_a_run_without_it_writes(tmp_path):
         clock.script = script()
         return real_loop(self)
 
-    flags = ["--steps", "20", "--mu", "0.2"]
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr(window.LiveWindow, "loop", loop)
         assert run_window(["--window", *flags, "--out", str(windowed)], clock=clock) == 0
     assert cli.main([*flags, "--out", str(plain)]) == 0
     names = sorted(p.name for p in plain.iterdir() if p.name not in files.OWN)
-    assert sorted(p.name for p in windowed.iterdir() if p.name not in files.OWN) == names and len(names) == 2 * 8 + 4
+    assert sorted(p.name for p in windowed.iterdir() if p.name not in files.OWN) == names
+    assert len(names) == 2 * frame_count + 4
     drop_wall = [{k: v for k, v in r.items() if k != "wall_s"} for r in read_log(plain)]
     assert [{k: v for k, v in r.items() if k != "wall_s"} for r in read_log(windowed)] == drop_wall
     for name in names:
@@ -566,13 +569,17 @@ def test_bad_window_flags_are_one_line_and_exit_code_2(capsys, flags, message):
 # ------------------------------------------------------------------------------------------------
 
 @needs_newton_hook
-@pytest.mark.parametrize("overrides, index", [({}, 31), ({}, 40), ({"h": 0.03}, 17), ({"friction_updates": 3}, 31)])
+@pytest.mark.parametrize("overrides, index", [({}, 31), ({}, 40), ({"h": 0.03}, 17), ({"friction_updates": 3}, 31),
+                                              ({"chalk": True}, 235), ({"chalk": True, "drag": True}, 20)])
 def test_n_advances_exactly_one_newton_iteration_and_completes_the_step(overrides, index):
     """While paused, each n takes the next iterate of time_integrator.newton_iterates for the current
     step and shows it; the n after the last iterate completes the step, with the x^{n+1} of step().
-    Steps at the impact (the CCD bound below 1), sliding, at h = 0.03 where alpha is halved, and with
-    the fixed-point friction updates of Algorithm 5."""
-    scene = simulator.build_scene(**overrides)
+    Steps at the impact (the CCD bound below 1), sliding, at h = 0.03 where alpha is halved, with
+    the fixed-point friction updates of Algorithm 5, and the chalk's: pushed, slipping (step 236),
+    and dragged, pressed onto the board (step 21); a chalk step that ends leaves its mark."""
+    overrides = dict(overrides)
+    chalk = overrides.pop("chalk", False)
+    scene = simulator.build_chalk_scene(**overrides) if chalk else simulator.build_scene(**overrides)
 
     def script():
         press("K_SPACE")                                            # paused at once,
@@ -607,6 +614,8 @@ def test_n_advances_exactly_one_newton_iteration_and_completes_the_step(override
         assert "friction_updates" not in overrides or 1 in updates  # (measured: the impact's step 32 re-solves)
         assert np.array_equal(w.run.x, x_next) and np.array_equal(w.run.v, v_next)
         assert np.array_equal(w.run.x, time_integrator.step(scene, x, v, step_index=index)[0])
+        if chalk:
+            assert len(w.run.marks) == index + 1 and w.run.marks[-1] == diagnostics.tip_mark(scene, x_next, v_next)
 
     w, clock = live_window(scene)
     clock.script = script()
@@ -672,3 +681,134 @@ def test_the_window_says_what_a_run_to_files_warns_about(overrides, steps, words
     assert len(on_screen) == 1 and on_screen[0].startswith("warning: ")
     if "impacts" not in words:                       # a scene's warnings are printed when the run starts
         assert log.getvalue().count(words) == 1 and log.getvalue().startswith("simulator.py: warning: ")
+
+
+# ------------------------------------------------------------------------------------------------
+# The chalk (--scene chalk): its view, its hand, forces and marks, its figures
+# ------------------------------------------------------------------------------------------------
+
+PUSHED, DRAGGED = (False, 240), (True, 400)     # (drag, steps): marks stuck and slipping both drawn by then
+
+
+def chalk_window(steps, drag=False, size=652):
+    """A LiveWindow of the chalk paused after `steps` steps (helpers.fakes.chalk_at), drawn once."""
+    run_ = chalk_at(steps, drag)
+    w, _ = live_window(run_.scene, steps=run_.steps, size=size)
+    w.run, w.playing = run_, False
+    w.draw()
+    return w
+
+
+def key_hints_top(w):
+    """The first row of pixels of the key hints at the bottom."""
+    rows = [row for text in w.help_lines() for row in draw.wrap(w.font, text, w.size - 24)]
+    return w.size - 6 - len(rows) * w.font.get_linesize()
+
+
+def chalk_top(w):
+    """The highest row of pixels of the chalk and its hand's targets (7 px squares) in the window."""
+    return min(w.view(w.run.shown_x)[:, 1].min(), w.view(w.scene.hand.targets(w.run.t))[:, 1].min() - 3)
+
+
+def mark_columns(w, color):
+    """The columns of the window holding marks of `color`, under the board."""
+    board = int(round(float(w.view(w.scene.o)[1])))
+    depth = round(draw.MARK_HEIGHT * w.view.unit * w.view.scale)                   # px
+    pixels = pygame().surfarray.array3d(w.screen)[:, board + 2:board + 2 + depth]
+    return set(np.nonzero(np.all(pixels == color, axis=2).any(axis=1))[0].tolist())
+
+
+@pytest.mark.parametrize("drag, steps", [PUSHED, DRAGGED])
+def test_the_chalk_window_draws_the_frame_of_the_chalk_its_hand_forces_and_marks(drag, steps):
+    """The window shows the chalk as its frames do, zoomed as they zoom it (draw.View.of, at the
+    window's size): below the status lines, the window is the frame draw.draw_frame draws of the state
+    (the board, the chalk, the hand's targets and springs, the contact forces, the tip's marks); the
+    hand's targets are there, and the marks in both colours, under the board where the tip has been."""
+    w = chalk_window(steps, drag)
+    scene, size, frame_view = w.scene, w.size, draw.View.of(w.scene)
+    assert w.view.scale == pytest.approx(frame_view.scale * size / draw.RESOLUTION) and w.view.unit == frame_view.unit
+    run_ = frames.frame_run(scene, w.run.x, w.run.report, w.label, draw.BLUE, True)
+    run_["marks"] = w.run.marks
+    frame, _ = draw.draw_frame(pygame(), [run_], w.run.t, w.view, w.fonts, w.newton_per_metre)
+    shown, drawn = pygame().surfarray.array3d(w.screen), pygame().surfarray.array3d(frame)
+    top, bottom = w.text_bottom, key_hints_top(w)
+    assert np.array_equal(shown[:, top:bottom], drawn[:, top:bottom])
+    px = w.view(w.run.x)
+    assert px[:, 0].min() > 0 and px[:, 0].max() < size and top < px[:, 1].min() and px[:, 1].max() < bottom
+    box = shown[int(px[:, 0].min()):int(px[:, 0].max()) + 1, int(px[:, 1].min()):int(px[:, 1].max()) + 1]
+    bluish = box[:, :, 2].astype(int) - box[:, :, :2].max(axis=2) > 60              # the chalk's springs, anti-aliased
+    assert bluish.sum() > 2000                                                      # (3300 at 652 px)
+    for q in np.rint(w.view(scene.hand.targets(w.run.t))).astype(int):
+        assert tuple(shown[q[0], q[1]]) == draw.HAND_COLOR                            # the hand's targets
+    assert np.all(shown[:, top:bottom] == draw.NORMAL_COLOR, axis=2).sum() > 20      # the board's push
+    s = w.view(np.array([[m[0], 0.0] for m in w.run.marks]))[:, 0]
+    for color, stuck in ((draw.STUCK_COLOR, True), (draw.SLIP_COLOR, False)):
+        columns = mark_columns(w, color)
+        assert columns and min(columns) >= s.min() - 1 and max(columns) <= s.max() + 1, color
+        assert any(m[1] == stuck for m in w.run.marks)
+
+
+def test_the_chalks_marks_grow_as_the_run_goes_and_start_afresh_at_r():
+    """Stuck, the tip leaves its marks in one place; slipping, it draws a line on (steps 230-243,
+    1.3 mm): the marks drawn at step 250 hold those of step 200 and more, slipping ones beyond them,
+    and stuck ones where it stopped; r clears them."""
+    before = chalk_window(200)
+    old = mark_columns(before, draw.STUCK_COLOR) | mark_columns(before, draw.SLIP_COLOR)     # (one screen:
+    after = chalk_window(250)                                                               # read it first)
+    stuck, slipping = mark_columns(after, draw.STUCK_COLOR), mark_columns(after, draw.SLIP_COLOR)
+    assert old < stuck | slipping and max(slipping) > max(old) and max(stuck) > max(old)
+    after.restart()
+    after.draw()
+    assert not mark_columns(after, draw.STUCK_COLOR) and not mark_columns(after, draw.SLIP_COLOR)
+
+
+def test_the_chalk_windows_status_says_the_chalks_figures_and_no_slope(monkeypatch):
+    """Under the caption, the chalk's figures of the state shown (live.tip_lines: the tip's place and
+    speed, stuck or slipping, the hand's drive, the board's normal force), as drawn; the Newton view
+    says its iterate's figures instead, of the board (its inset's node the nearest to it): no text says
+    'slope'."""
+    drawn = legibility.record_text(monkeypatch)
+    slipping, stuck = chalk_window(240), chalk_window(300)
+    for w, state in ((slipping, "slipping: "), (stuck, "stuck: ")):
+        lines = [text for text, _ in w.status_lines()]
+        assert lines == [f"paused before step {w.run.index + 1}"] + live.tip_lines(w.scene, w.run.x, w.run.v, w.run.t)
+        assert lines[1].startswith("tip at ") and state in lines[1] and "the hand's drive 10 mm/s" in lines[2]
+    texts = [text for text, _, _ in drawn]
+    assert set(live.tip_lines(stuck.scene, stuck.run.x, stuck.run.v, stuck.run.t)) <= set(texts)
+    stuck.one_newton_iteration()
+    stuck.draw()
+    lines = [text for text, _ in stuck.status_lines()]
+    assert lines[0] == "paused in step 301" and lines[1] == "step 301, Newton iteration 1 (lagged friction)"
+    assert "inset: one node and the board magnified together, p (red) to scale" in lines
+    assert stuck.inset.why == "nearest the board" and stuck.inset.node == diagnostics.tip(stuck.scene, stuck.run.x)[0]
+    texts = " ".join(text for text, _, _ in drawn)
+    assert "(nearest the board)" in texts and "the board: " in texts and "slope" not in texts
+
+
+@pytest.mark.parametrize("size", [600, 652, 900])
+def test_no_text_in_the_chalk_window_is_small_faint_or_over_the_chalk(monkeypatch, size):
+    """The chalk's window is as legible as the square's: every text (the legends of the forces, the
+    hand and the marks, the board's numbers in cm, the chalk's figures, the Newton view's lines and
+    inset) with capitals at least draw.MIN_CAP_HEIGHT of the window tall, in a colour of contrast at
+    least 4.5:1 on white; the legends' swatches on their labels' rows. The board is low enough that
+    the status lines end above the chalk and its hand, and its numbers above the key hints (the
+    Newton view's lines too from 652 px; at 600 they wrap onto a row more, over the hand)."""
+    drawn = legibility.record_text(monkeypatch)
+    w = chalk_window(240, size=size)
+    assert w.text_bottom < chalk_top(w)
+    pixels = pygame().surfarray.array3d(w.screen)
+    for color in (draw.HAND_COLOR, draw.STUCK_COLOR, draw.SLIP_COLOR):
+        top, low, first, last, gap = legibility.swatch_and_label_rows(pixels, color, w.text_bottom)
+        assert first <= top and low <= last and gap <= draw.cap_height(w.font)
+    numbers = [text for text, _, color in drawn if text.endswith(" cm") and color == draw.BLUE]
+    assert "0 cm" in numbers
+    ink = np.nonzero((pixels[:, int(w.view(w.scene.o)[1]) + 2:] == draw.BLUE).all(axis=2).any(axis=0))[0]
+    assert int(w.view(w.scene.o)[1]) + 2 + ink.max() < key_hints_top(w)      # the numbers' blue, above the hints
+    w.one_newton_iteration()
+    w.draw()
+    assert w.inset is not None and (size == 600 or w.text_bottom < chalk_top(w))
+    texts = {text for text, _, _ in drawn}
+    assert {"the hand: its targets and springs", "marks of the tip: stuck (|v_t| < eps_v)",
+            "marks of the tip: slipping", "normal force lambda_k n", "paused before step 241", "(nearest the board)", "thin lines: springs"} <= texts
+    assert min(cap for _, cap, _ in drawn) >= draw.MIN_CAP_HEIGHT * size
+    assert min(legibility.contrast_ratio(color) for _, _, color in drawn) >= 4.5

@@ -76,9 +76,10 @@ class View:
 
     @classmethod
     def of(cls, scene, size=RESOLUTION, height=None):
-        """The view of a scene at the lecture's SCALE times its zoom."""
+        """The view of a scene at the lecture's SCALE times its zoom, in a picture `size` px across: the
+        frames' view (RESOLUTION px), or the live window's, which shows what a frame shows at its size."""
         z = zoom(scene)
-        view = cls(SCALE * z, size, height, 1.0 / z)
+        view = cls(SCALE * z * size / RESOLUTION, size, height, 1.0 / z)
         if scene.hand is not None:          # the board low in the picture, the chalk under the legends
             view.center = np.array([float(scene.x0[:, 0].mean()), 0.25 * view.size / view.scale])
         return view

@@ -46,6 +46,8 @@ class LiveRun:
         self.iterate = None         # its last NewtonIterate
         self.iteration = 0          # how many it has yielded
         self.iterates_wall = 0.0    # the seconds computing them took
+        self.marks = []             # with a hand (the chalk): the tip's marks on the board so far, as
+        self._mark()                # recording.Track.marks keeps them (diagnostics.tip_mark each state)
 
     @property
     def t(self):
@@ -93,7 +95,26 @@ class LiveRun:
         self.index += 1
         self.report, self.x, self.v = report, x, v
         self.iterates, self.iterate, self.iteration, self.iterates_wall = None, None, 0, 0.0
+        self._mark()
         return record
+
+    def _mark(self):
+        """The mark the tip leaves at the state (x, v), if it is on the board (only with a hand)."""
+        mark = diagnostics.tip_mark(self.scene, self.x, self.v) if self.scene.hand is not None else None
+        if mark is not None:
+            self.marks.append(mark)
+
+
+def tip_lines(scene, x, v, t):
+    """The chalk's figures of the state (x, v) at time t, for the window's status, as its log.csv has
+    them (diagnostics.tip_figures): the tip's place along the board and its speed, stuck or slipping as
+    its mark there (diagnostics.tip_mark), the hand's drive speed and the board's normal force."""
+    f, mark = diagnostics.tip_figures(scene, x, v, t), diagnostics.tip_mark(scene, x, v)
+    speed, epsv = f"{f['tip_speed'] * 1e3:.3g} mm/s", f"eps_v = {scene.epsv * 1e3:g} mm/s"
+    state = (f"off the board (d >= dhat): {speed}" if mark is None else
+             f"stuck: {speed} < {epsv}" if mark[1] else f"slipping: {speed} >= {epsv}")
+    return [f"tip at {f['tip_x'] * 100:.2f} cm, {state}",
+            f"the hand's drive {f['drive_speed'] * 1e3:.3g} mm/s, the board's normal force {f['normal_force']:.3g} N"]
 
 
 # ------------------------------------------------------------------------------------------------

@@ -2,7 +2,7 @@
 computed it. In the window, x^i in grey under x^i + alpha p in blue and the direction of p at each
 node; beside the square, an inset with one node and the slope magnified together, so that p, the
 CCD bound alpha_CCD and the accepted alpha are seen at their true size against the slope; in the
-status, the iterate's figures (iterate_lines).
+status, the iterate's figures (iterate_lines). The chalk's the same, against its board (ground).
 """
 import math
 from dataclasses import dataclass
@@ -54,7 +54,12 @@ def focus_node(scene, it):
         return int(np.argmin(it.x[:, 1])), "the lowest"
     if it.alpha_ccd < 1.0:
         return int(np.argmax(BarrierEnergy.approach_rates(it.x, scene.n, scene.o, it.p))), "sets alpha_CCD"
-    return int(np.argmin(BarrierEnergy.distances(it.x, scene.n, scene.o))), "nearest the slope"
+    return int(np.argmin(BarrierEnergy.distances(it.x, scene.n, scene.o))), f"nearest {ground(scene)}"
+
+
+def ground(scene):
+    """What the barrier keeps the body above, in the window's words: the chalk's board, the square's slope."""
+    return "the board" if scene.hand is not None else "the slope"
 
 
 def newton_inset(scene, it, view, rect, header=0, footer=0):
@@ -108,7 +113,7 @@ def inset_notes(scene, it):
     d = slope_distance(scene, it.x[k])
     notes = [(f"({why})", draw.BLACK)]
     if math.isfinite(d) and not frames_slope(d, it.p[k]):
-        notes.append((f"the slope: {length_text(d)} below x^i, out of frame", draw.BLUE))
+        notes.append((f"{ground(scene)}: {length_text(d)} below x^i, out of frame", draw.BLUE))
     return notes + [("thin lines: springs", draw.BLACK)]
 
 
@@ -166,22 +171,24 @@ def iterate_lines(run, scene):
             f"CCD bound alpha_CCD = {it.alpha_ccd:.4g} (black ring: x^i + alpha_CCD p)",
             f"accepted alpha = alpha_CCD / 2^{it.halvings} = {it.alpha:.4g} (green dot: x^i + alpha p)",
             "grey: x^i; blue: x^i + alpha p; red: the direction of p at each node",
-            "inset: one node and the slope magnified together, p (red) to scale"]
+            f"inset: one node and {ground(scene)} magnified together, p (red) to scale"]
 
 
 def draw_iterate(pygame, surface, scene, it, view):
     """The main view of a Newton iterate: x^i in grey under x^{i+1} = x^i + alpha p in blue, and
     at each node an arrow of fixed length in the direction of p (where |p_k| is at least
-    HINT_FLOOR of the largest): a hint of direction only, p itself is too short to see here."""
+    HINT_FLOOR of the largest): a hint of direction only, p itself is too short to see here. The
+    arrows are HINT of the window long, at most a node spacing (the chalk's nodes are closer)."""
     size = view.size
+    reach = min(HINT * size, draw.spacing(scene) * view.scale)         # px
     draw.draw_square(pygame, surface, scene, it.x, view, draw.GREY, nodes=False)
     draw.draw_square(pygame, surface, scene, it.x_next, view)
     length = np.hypot(it.p[:, 0], it.p[:, 1])
     shown = (length > 0.0) & (length >= HINT_FLOOR * length.max())
     tail = view(it.x[shown])
     direction = it.p[shown] / length[shown, None] * [1.0, -1.0]        # y grows downwards on screen
-    tip = tail + HINT * size * direction
-    heads = draw.arrow_heads(tail, tip, 0.012 * size)
+    tip = tail + reach * direction
+    heads = draw.arrow_heads(tail, tip, min(0.012 * size, 0.5 * reach))
     for a, b, (w1, w2) in zip(tail.tolist(), tip.tolist(), heads.tolist()):
         pygame.draw.line(surface, draw.RED, a, b, 2)
         pygame.draw.polygon(surface, draw.RED, [b, w1, w2])
@@ -205,10 +212,29 @@ def place_inset(pygame, surface, scene, it, view, fonts, top, bottom):
     inset = newton_inset(scene, it, view, rect, header, footer)
     node = px[inset.node]
     label = small.render(f"node {inset.node}", True, draw.BLACK, (255, 255, 255))    # on white: over a number too
-    width_px, height_px = label.get_size()
-    out = np.where(node >= px.mean(axis=0), 1, -1)           # the label off the node, away from the square
     pygame.draw.circle(surface, draw.BLACK, node.tolist(), 9, 1)
-    surface.blit(label, (node[0] + out[0] * (6 + width_px / 2) - width_px / 2,
-                         node[1] + out[1] * (14 + height_px / 2) - height_px / 2))
+    surface.blit(label, label_corner(scene, view, px, node, label.get_size(), inset.rect))
     draw_inset(pygame, surface.subsurface(inset.rect), scene, it, inset, fonts, notes)
     return inset
+
+
+def label_corner(scene, view, px, node, size, inset):
+    """The top-left corner (px) of the label, `size` (w, h), of the circled node at `node` (`px`: the
+    body's nodes): off the node diagonally, away from the body's middle; for the chalk, whose tip has
+    the board's marks and numbers under it, on the board beside the body. Away from the body on the
+    other side where the `inset` (left, top, width, height) would cover it."""
+    w, h = size
+    out = np.where(node >= px.mean(axis=0), 1, -1)
+    for side in (out[0], -out[0]):
+        if scene.hand is None:
+            left, top = node[0] + side * (6 + w / 2) - w / 2, node[1] + out[1] * (14 + h / 2) - h / 2
+        else:
+            top = min(float(view(scene.o)[1]), node[1] + h / 2) - 2 - h      # resting on the (flat) board
+            level = px[(px[:, 1] >= top) & (px[:, 1] <= top + h), 0]         # the body's nodes beside it
+            left = (max(level.max(initial=node[0]), node[0] + 4) + 8 if side > 0 else
+                    min(level.min(initial=node[0]), node[0] - 4) - 8 - w)
+            left = min(max(left, 0), view.size - w)
+        a, b, c, d = inset
+        if not (left < a + c and a < left + w and top < b + d and b < top + h):
+            break
+    return left, top

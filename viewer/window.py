@@ -9,7 +9,8 @@ stays open on the last frame until closed.
 
 Here: the window's loop (the keys, the status lines, drawing), opening the display and the command
 line's entry point. What the keys do, the pacing and the files are viewer.live's (no pygame); the
-frames are drawn by viewer.draw, as in the files (the slope's marks, the contact forces); a Newton
+frames are drawn by viewer.draw, as in the files (the slope's marks, the contact forces; the chalk
+zoomed as its frames zoom it, its hand and the marks its tip leaves, live.LiveRun.marks); a Newton
 iterate by viewer.newton_view. Files are written only when --out is given: then those of a run
 without the window, by the same code, each step once.
 """
@@ -31,6 +32,7 @@ MIN_SIZE, MAX_SIZE = 300, 16384   # px; 16384 is the largest texture common grap
 # SDL's drivers that draw into memory only: it falls back to one of them when it finds no display
 MEMORY_DRIVERS = ("dummy", "offscreen")
 KEYS = (100, 100, 100)    # the key hints at the bottom (contrast 5.9:1 on white, as draw.BLACK ... are above 4.5)
+BOARD_ROW = 0.85          # the chalk's board this far down the window (the frames': 0.75), the status above it
 
 
 class LiveWindow(live.LiveDemo):
@@ -44,13 +46,16 @@ class LiveWindow(live.LiveDemo):
         self.size = screen.get_width()
         self.label = label or f"mu = {scene.mu:g}"
         self.newton_per_metre = draw.newton_per_metre(scene) if forces else None
-        self.view = draw.View(draw.SCALE * self.size / draw.RESOLUTION, self.size)   # the lecture's 4.5 m across
+        self.view = draw.View.of(scene, self.size)      # the frames' view at the window's size (the square:
+        if scene.hand is not None:                      # the lecture's 4.5 m across; the chalk zoomed as they zoom it)
+            self.view.center[1] = (BOARD_ROW - 0.5) * self.size / self.view.scale
         self.fonts = draw.fonts(pygame, self.size)      # the frames' (title, text), at the window's size
         self.font = self.fonts[1]                       # the status lines and the key hints
         self.slow_frames = 0        # frames drawn with the "slower than real time" note
         self.frames = 0
         self.drawn_at = -math.inf   # when the last frame was drawn
         self.inset = None           # the Newton view's Inset, as last drawn
+        self.text_bottom = 0        # the first row of pixels below the status lines, as last drawn
 
     # -- the loop -------------------------------------------------------------------------------
 
@@ -95,14 +100,16 @@ class LiveWindow(live.LiveDemo):
 
     def draw(self):
         """The frame a run without the window writes (viewer.draw: the slope with its marks, the
-        square, the contact forces), or the Newton iterate in progress instead of the forces; the
-        window's status under the title and legend, the keys at the bottom; within a Newton step, the
-        inset (self.inset) in the room between them."""
+        square, the contact forces; the chalk's board, hand and tip's marks), or the Newton iterate in
+        progress instead of the forces; the window's status under the title and legend (ending at
+        self.text_bottom), the keys at the bottom; within a Newton step, the inset (self.inset) in the
+        room between them."""
         run, pg = self.run, self.pygame
         x = run.shown_x
         self.view.follow(np.average(x, axis=0, weights=self.scene.m)[None])
         forces = self.newton_per_metre is not None and run.iterate is None
         runs = [frames.frame_run(self.scene, x, run.report, self.label, draw.BLUE, forces)]
+        runs[0]["marks"] = run.marks if self.scene.hand is not None else None      # as frames.FrameWriter
         surface, top = draw.draw_frame(pg, runs, run.t, self.view, self.fonts,
                                        self.newton_per_metre if forces else None)
         if run.iterate is not None:
@@ -114,10 +121,10 @@ class LiveWindow(live.LiveDemo):
         bottom = [row for text in self.help_lines() for row in draw.wrap(self.font, text, width)]
         for row, text in enumerate(reversed(bottom), start=1):
             surface.blit(self.font.render(text, True, KEYS), (12, self.size - 6 - row * line))
-        self.inset = None
+        self.inset, self.text_bottom = None, top + len(rows) * line
         if run.iterate is not None:
             self.inset = newton_view.place_inset(pg, surface, self.scene, run.iterate, self.view, self.fonts,
-                                                 top + len(rows) * line + 8, self.size - 6 - len(bottom) * line - 8)
+                                                 self.text_bottom + 8, self.size - 6 - len(bottom) * line - 8)
         self.screen.blit(surface, (0, 0))
         pg.display.flip()
         self.frames += 1
@@ -142,6 +149,8 @@ class LiveWindow(live.LiveDemo):
         if self.message:
             lines.append((self.message, draw.GREEN))
         lines += [(f"warning: {text}", draw.RED) for kind, text in self.warnings.items() if kind != "slow"]
+        if self.scene.hand is not None and run.iterate is None:    # the chalk's figures of the state x^n
+            lines += [(text, draw.BLACK) for text in live.tip_lines(self.scene, run.x, run.v, run.t)]
         if run.iterate is not None:
             lines += [(text, draw.BLACK) for text in newton_view.iterate_lines(run, self.scene)]
         return lines

@@ -1,8 +1,10 @@
-"""Failures the tests stage on purpose."""
+"""Failures the tests stage on purpose, and runs fast-forwarded for them."""
+import copy
 import errno
 import os
 
-from viewer import whole_files
+import simulator
+from viewer import live, whole_files
 
 
 def fill_disk_after(monkeypatch, writes):
@@ -16,3 +18,22 @@ def fill_disk_after(monkeypatch, writes):
             raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), path)
         return real(path, data)
     monkeypatch.setattr(whole_files, "write_temporary", fill_up)
+
+
+_RUNS = {}      # drag -> {index: the chalk's live.LiveRun after that many steps}
+
+
+def chalk_at(index, drag=False, steps=3000):
+    """A live.LiveRun of the chalk (pushed, or dragged) after `index` steps, marks and all, in a run of
+    `steps`: a copy of one stepped once per test session from the nearest state kept (a chalk step costs
+    about 5 ms), to put in a window (`window.run = ...`; its scene is `run.scene`, the same each call)."""
+    kept = _RUNS.setdefault(drag, {})
+    if not kept:
+        kept[0] = live.LiveRun(simulator.build_chalk_scene(drag=drag), steps)
+    run = copy.copy(kept[max(i for i in kept if i <= index)])
+    run.marks = list(run.marks)
+    while run.index < index:
+        run.step()
+    kept[index] = copy.copy(run)
+    run.marks, run.steps = list(run.marks), steps
+    return run
