@@ -7,8 +7,10 @@ stick-slip: pushed below the self-locking angle (a rigid strut's 90 deg - atan m
 hand, above it it jams.
 
 The tip is the chalk's lowest node at the start; at each step it is stuck where its tangential speed is
-below eps_v, slipping elsewhere. Every run stops before the hand passes over the tip: the chalk stays on
-the side it started (past vertical, a jammed chalk oscillates on its other corner: issue 28).
+below eps_v, slipping elsewhere, and its stick-slip cycles are counted as viewer/stick_slip.py defines them
+(a run's closing line and the chalk's tests count the same way). Every run stops before the hand passes
+over the tip: the chalk stays on the side it started (past vertical, a jammed chalk oscillates on its other
+corner: issue 28).
 
 Durations: DURATION for the marks and each grip (0.2 s of pressing and holding, then 1.3 s of drive: 6
 cycles at the loosest grip, whose period is about 190 ms), TILT_DURATION for each tilt (the hand moves
@@ -22,14 +24,14 @@ import numpy as np
 import FrictionEnergy
 import simulator
 from figures.page import BLACK, GREY, RED, Page
-from viewer import plots
+from viewer import plots, stick_slip as counting
+from viewer.stick_slip import MIN_STICK, runs     # the one definition of a cycle (MIN_STICK: tests read it here)
 from viewer.draw import BLUE, run_color
 
 DURATION = 1.5              # s, the pushed and the dragged chalk and each grip
 GRIPS = (1000.0, 2000.0, 4000.0, 8000.0)            # k_hand, N/m, each at the default's press force
 TILTS = (60.0, 64.0, 66.0, 67.0, 68.0, 71.0, 75.0)  # degrees, with one coefficient mu_s = mu
 TILT_DURATION = 1.0         # s
-MIN_STICK = 10              # steps (10 ms): a shorter stick is not counted as one (as tests/test_chalk.py)
 STUCK, SLIPPING = RED, BLUE
 
 
@@ -49,12 +51,7 @@ def track(duration, **params):
     t, x, u = np.array(t), np.array(x), np.array(u)
     return SimpleNamespace(scene=scene, t=t, x=x, u=u, stuck=np.abs(u) < scene.epsv,
                            hand=np.array([scene.hand.displacement(s) @ tangent for s in t]),
-                           drive_start=scene.params["t_press"] + scene.params["t_hold"], tip_lowest=lowest)
-
-
-def runs(stuck):
-    """The sample indices split into runs of one state, all stuck or all slipping, in order."""
-    return np.split(np.arange(len(stuck)), np.flatnonzero(np.diff(stuck.astype(int))) + 1)
+                           drive_start=counting.drive_start(scene), tip_lowest=lowest)
 
 
 def marks(tr):
@@ -64,35 +61,12 @@ def marks(tr):
     return [(bool(tr.stuck[r[0]]), tr.x[max(r[0] - 1, 0):r[-1] + 1]) for r in runs(tr.stuck)]
 
 
-def cycles(tr):
-    """The stick-slip cycles once the hand drives (t > drive_start), counted as tests/test_chalk.py does: a
-    stick, the tip stuck for at least MIN_STICK steps, then a slip whose peak speed exceeds the drive's;
-    here only a slip that ends (a stick follows) before the run does. Each as (its start time, its length:
-    the tip's travel from the stick's last sample to the slip's, its peak speed)."""
-    driven = tr.t > tr.drive_start
-    t, x, u, stuck = tr.t[driven], tr.x[driven], tr.u[driven], tr.stuck[driven]
-    parts, slips = runs(stuck), []
-    for stick, slip, _ in zip(parts, parts[1:], parts[2:]):
-        if stuck[stick[0]] and len(stick) >= MIN_STICK and np.abs(u[slip]).max() > tr.scene.params["drive"]:
-            slips.append((float(t[slip[0]]), float(x[slip[-1]] - x[stick[-1]]), float(np.abs(u[slip]).max())))
-    return slips
-
-
 def measure(tr):
-    """What the caption says of a run: its cycles, their mean period (between slip starts, s), mean slip
-    length (m) and largest peak speed (m/s; nan without a cycle, the period without two), the fraction of
-    the drive stuck, the largest creep of a stuck mark (m) and the start-up: the first time the tip slips
-    once the hand drives (None if never), with the samples from it on and how many of them are stuck."""
-    slips = cycles(tr)
-    starts, lengths, peaks = (np.array(a) for a in zip(*slips)) if slips else ([np.nan],) * 3
-    moving = np.flatnonzero((tr.t > tr.drive_start) & ~tr.stuck)
-    return SimpleNamespace(slips=slips, period=float(np.mean(np.diff(starts))) if len(slips) > 1 else np.nan,
-                           length=float(np.mean(lengths)), peak=float(np.max(peaks)),
-                           stuck=float(tr.stuck[tr.t > tr.drive_start].mean()),
-                           creep=max((np.ptp(x) for stuck, x in marks(tr) if stuck), default=0.0),
-                           start_up=float(tr.t[moving[0]]) if len(moving) else None,
-                           stuck_after=int(tr.stuck[moving[0]:].sum()) if len(moving) else None,
-                           after=int(len(tr.t) - moving[0]) if len(moving) else 0)
+    """What the caption says of a run: viewer.stick_slip's measure of its tip once the hand drives (the cycles,
+    their mean period and slip length, the largest peak speed, the fraction stuck, the start-up), and the
+    largest creep of a stuck mark (m)."""
+    counted = counting.measure(tr.t, tr.x, tr.u, tr.scene.epsv, tr.scene.params["drive"], tr.drive_start)
+    return SimpleNamespace(**vars(counted), creep=max((np.ptp(x) for stuck, x in marks(tr) if stuck), default=0.0))
 
 
 def one_coefficient(tilt, duration):

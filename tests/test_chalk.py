@@ -17,8 +17,7 @@ import FrictionEnergy
 import HandEnergy
 import simulator
 import time_integrator
-
-MIN_STICK = 10          # steps (10 ms): a stick shorter than this is not counted as one
+from viewer import stick_slip as cycles
 
 
 @dataclasses.dataclass(frozen=True)
@@ -52,21 +51,12 @@ def run(seconds, **params):
 
 
 def stick_slip(track, start=0.2):
-    """The cycles after `start` (the drive's start): a stick, the tip below eps_v for at least MIN_STICK
-    steps, then a slip whose peak tip speed exceeds the drive. Returns (stuck fraction after start, the
+    """The cycles after `start` (the drive's start), counted as viewer/stick_slip.py defines them (as the figure
+    and a run's closing line do): a stick, the tip below eps_v for at least cycles.MIN_STICK steps, then a slip whose
+    peak tip speed exceeds the drive and which ends before the run. Returns (stuck fraction after start, the
     slips as (start time, slip length, peak speed))."""
-    after = track.t > start
-    u, t, x = track.u_tip[after], track.t[after], track.x_tip[after]
-    stuck = np.abs(u) < track.scene.epsv
-    change = np.flatnonzero(np.diff(stuck.astype(int))) + 1         # where a run of stuck or slipping ends
-    runs = np.split(np.arange(len(u)), change)
-    slips = []
-    for before, run_ in zip(runs, runs[1:]):
-        if stuck[before[0]] and len(before) >= MIN_STICK and not stuck[run_[0]]:
-            peak = float(np.abs(u[run_]).max())
-            if peak > track.scene.params["drive"]:
-                slips.append((t[run_[0]], x[run_[-1]] - x[before[-1]], peak))
-    return float(stuck.mean()), slips
+    counted = cycles.measure(track.t, track.x_tip, track.u_tip, track.scene.epsv, track.scene.params["drive"], start)
+    return counted.stuck, counted.slips
 
 
 # --- the scene is data -----------------------------------------------------------------------------

@@ -1,6 +1,10 @@
-"""`python simulator.py --scene chalk`: its flags, what it writes, its log's budget, the tip's marks."""
+"""`python simulator.py --scene chalk`: its flags, what it writes, its log's budget, the tip's marks, and what
+a run says it showed: its stick-slip, per run, in the closing line, the page and summary.png."""
 import csv
+import html
+import json
 import os
+import re
 import subprocess
 import sys
 
@@ -8,8 +12,9 @@ import numpy as np
 import pytest
 
 import simulator
+from helpers import legibility
 from helpers.command import run_main
-from viewer import cli, diagnostics, log
+from viewer import cli, diagnostics, log, stick_slip
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -85,3 +90,75 @@ def test_a_mark_is_stuck_below_eps_v_slipping_above_and_none_off_the_board():
     assert diagnostics.tip_mark(scene, x, v) == (pytest.approx(x[k, 0]), False)
     x[:, 1] += scene.dhat
     assert diagnostics.tip_mark(scene, x, v) is None
+
+
+# --- what a chalk run showed: its stick-slip, per run -----------------------------------------------
+
+@pytest.fixture(scope="module")
+def compared(tmp_path_factory):
+    """`--scene chalk --mu-static 0.35,0.5 --duration 0.6`, in this process: one coefficient (it slides with
+    the hand) against the default's mu_s 0.5 (stick-slip, 3 cycles of 134 ms after the drive starts at 0.2 s);
+    its closing line, its folder and every text its pictures rendered."""
+    out = tmp_path_factory.mktemp("compared")
+    with pytest.MonkeyPatch.context() as monkeypatch:
+        texts = legibility.record_text(monkeypatch)
+        code, lines = run_main("--scene", "chalk", "--mu-static", "0.35,0.5", "--duration", "0.6", "--out", str(out))
+    assert code == 0, lines
+    return lines[-1], out, [text for text, _, _ in texts]
+
+
+def counted_from_log(path):
+    """The stick-slip of a chalk run as its log.csv has it: the count of viewer/stick_slip.py on the columns
+    t, tip_x, tip_speed and step, with the chalk's eps_v, drive and drive start."""
+    with open(path) as f:
+        rows = list(csv.DictReader(f))
+    column = {k: np.array([float(r[k]) for r in rows]) for k in ("t", "tip_x", "tip_speed", "step")}
+    chalk = simulator.CHALK
+    return stick_slip.measure(column["t"], column["tip_x"], column["tip_speed"], chalk["epsv"], chalk["drive"],
+                              chalk["t_press"] + chalk["t_hold"], column["step"].astype(int))
+
+
+RUNS = {"mu-static = 0.35": "log_mu-static0.35.csv", "mu-static = 0.5": "log_mu-static0.5.csv"}
+
+
+def test_a_chalk_comparison_closes_with_each_runs_stick_slip(compared):
+    """Not when the tip was last stuck: each run's stick-slip, counted on the whole of its log. The default
+    chalk stick-slips, each slip about catching up with the hand (slip = drive x period); with one coefficient
+    the tip slides with the hand from the drive's start."""
+    line, out, _ = compared
+    counted = {label: counted_from_log(out / name) for label, name in RUNS.items()}
+    said = "; ".join(f"{label}: {stick_slip.words(r)}" for label, r in counted.items())
+    assert line.startswith(f"simulated 600 steps (0.60 s) x 2 runs in ") and f" wall; {said}; frames, " in line
+    assert not re.search(r"\brest\b", line)
+    pushed, sliding = counted["mu-static = 0.5"], counted["mu-static = 0.35"]
+    assert len(pushed.slips) >= 2 and pushed.length == pytest.approx(simulator.CHALK["drive"] * pushed.period, rel=0.2)
+    assert "stick-slip: " in line and sliding.slips == [] and sliding.stuck_after == 0 and "slid without a stick" in line
+
+
+def test_the_page_and_summary_say_each_runs_stick_slip_and_no_rest(compared):
+    _, out, texts = compared
+    data = json.loads(re.search(r"const run = (\{.*\});", (out / "index.html").read_text()).group(1))
+    counted = [counted_from_log(out / name) for name in RUNS.values()]
+    rows = {row["header"]: row["cells"] for row in data["rows"]}
+    assert data["labels"] == list(RUNS) and data["rest"] is None            # no "came to rest" row
+    assert rows["stick-slip cycles"] == [str(len(r.slips)) for r in counted]
+    assert rows["mean slip (mm)"] == ["-", f"{1e3 * counted[1].length:.2f}"]
+    assert rows["period (ms)"] == ["-", f"{1e3 * counted[1].period:.0f}"]
+    assert rows["tip stuck (% of the drive)"] == [f"{100 * r.stuck:.0f}" for r in counted]
+    assert rows["tip first slips at t (s)"] == [f"{r.start_up:.2f}" for r in counted]
+    page = (out / "index.html").read_text()
+    for label, r in zip(RUNS, counted):
+        assert html.escape(f"{label}: {stick_slip.words(r)}") in page        # the note under the table
+        assert stick_slip.words(r) in texts                                   # summary.png's panel of the run
+    first, second = stick_slip.definition(simulator.build_chalk_scene())
+    assert {"stick-slip, " + first, second} <= set(texts)
+    assert not [text for text in texts if re.search(r"\brest\b", text)]
+
+
+def test_one_chalk_run_closes_with_its_stick_slip(tmp_path):
+    """0.35 s: one slip (at 0.23 s), the next would start at 0.36 s."""
+    code, lines = run_main("--scene", "chalk", "--duration", "0.35", "--no-frames", "--out", str(tmp_path))
+    assert code == 0, lines
+    r = counted_from_log(tmp_path / "log.csv")
+    assert len(r.slips) == 1 and f"wall; {stick_slip.words(r)}; log.csv, " in lines[-1]
+    assert stick_slip.words(r).startswith("stick-slip: 1 slip, slip ")

@@ -3,10 +3,12 @@
 import io
 import types
 
+import numpy as np
+
 import simulator
 import time_integrator
 from helpers.command import recorded
-from viewer import progress
+from viewer import progress, stick_slip
 
 
 def test_step_warnings_name_the_step_and_what_to_do():
@@ -31,14 +33,43 @@ def test_a_run_to_files_says_each_kind_of_warning_once(tmp_path):
 
 
 def test_rest_words_say_when_each_run_came_to_rest():
-    def track(label, rest_since, sliding, t=3.0, hand=None):
-        return types.SimpleNamespace(label=label, rest_since=rest_since, t=t, scene=types.SimpleNamespace(hand=hand),
+    def track(label, rest_since, sliding, t=3.0):
+        return types.SimpleNamespace(label=label, rest_since=rest_since, t=t, scene=simulator.build_scene(),
                                      samples=types.SimpleNamespace(last=types.SimpleNamespace(sliding=sliding)))
     assert progress.rest_words([track("a", 5.534, 0)]) == "the square came to rest at t = 5.53 s"
-    assert progress.rest_words([track("a", None, 1, hand="a hand")]) == "the chalk's tip still sliding at t = 3.00 s"
     assert progress.rest_words([track("a", None, 2)]) == "the square still sliding at t = 3.00 s"
     assert progress.rest_words([track("mu = 0.1", None, 0), track("mu = 0.2", 2.8, 0)]) == \
         "mu = 0.1: not at rest at t = 3.00 s; mu = 0.2: came to rest at t = 2.80 s"
+    runs = [track("mu = 0.1", None, 1), track("mu = 0.2", 2.8, 0)]
+    assert progress.closing_words(runs) == progress.rest_words(runs)           # the square's closing words
+    assert progress.closing_note(runs) == progress.rest_words(runs) + " (every contact below eps_v from then on)"
+
+
+def chalk_track(label, speeds, **scene):
+    """A chalk run's track as the closing words read it: its scene and its kept states, the tip at rest while
+    the hand presses and holds, then at `speeds` (m/s), one a step (x^{n+1} = x^n + h u^{n+1})."""
+    scene = simulator.build_chalk_scene(**scene)
+    u = np.r_[np.zeros(int(round(stick_slip.drive_start(scene) / scene.h)) + 1), speeds]
+    x = np.cumsum(scene.h * u)
+    states = [types.SimpleNamespace(step=k, t=k * scene.h, tip_x=x[k], tip_speed=abs(u[k])) for k in range(len(u))]
+    return types.SimpleNamespace(label=label, scene=scene, samples=types.SimpleNamespace(all=lambda: states))
+
+
+def test_the_chalks_closing_words_are_its_stick_slip():
+    """Not when the tip was last stuck (the hand moves on) but what the tip did: the pushed chalk's cycles, a
+    sliding one's start-up, in each run's words for a comparison."""
+    stick, slip, drive = [1e-5] * 40, [0.1] * 6, simulator.CHALK["drive"]      # 40 ms stuck, a 0.6 mm slip
+    pushed = chalk_track("mu-static = 0.5", (stick + slip) * 4 + stick)
+    sliding = chalk_track("mu-static = 0.35", [drive] * 200, mu_s=0.35)
+    said = progress.closing_words([pushed])
+    assert said == (f"stick-slip: 4 slips, mean slip {6 * 1e-3 * 0.1 * 1e3:.2f} mm, period {46:.0f} ms, tip stuck "
+                    f"{100 * 200 / 224:.0f} % of the drive") and "rest" not in said
+    assert progress.closing_words([sliding]) == "the tip slid without a stick after its start-up at t = 0.20 s"
+    assert progress.closing_words([sliding, pushed]) == \
+        f"mu-static = 0.35: {progress.closing_words([sliding])}; mu-static = 0.5: {said}"
+    note = progress.closing_note([pushed])
+    first, second = stick_slip.definition(pushed.scene)
+    assert note == f"{said} ({first} {second})" and "stick of at least 10 steps (10 ms)" in note
 
 
 def test_progress_lines_come_every_tenth_of_the_run():

@@ -8,7 +8,7 @@ import pytest
 
 import simulator
 from helpers.command import recorded as tracks_of
-from viewer import draw, summary
+from viewer import draw, progress, stick_slip, summary
 
 
 def overlap(a, b, gap):
@@ -45,3 +45,25 @@ def test_the_scale_is_a_round_number_of_pixels_per_metre(tmp_path):
     scale = summary.plan(pygame, tracks_of(tmp_path, [simulator.build_scene(v0=(20.0, 0.0))], 150), []).scale
     assert scale < summary.SCALE and f"{scale:.3g}" == f"{scale:g}" and scale == draw.nice_number(scale, summary.TWO_DIGITS)
     assert [draw.nice_number(v, summary.TWO_DIGITS) for v in (38.79, 0.5432, 99.99, 1234.0)] == [38.0, 0.54, 99.0, 1200.0]
+
+
+def test_every_line_of_text_fits_and_the_chalk_says_its_stick_slip_not_rest(tmp_path):
+    """The header's lines (the chalk's parameters are long) and each panel's line are whole inside the
+    picture: it is as wide as the widest. The square's header ends with when it came to rest; the chalk's
+    with how its stick-slip is counted, each run's figures in its panel."""
+    pygame = draw.load_pygame()
+    font, small = pygame.font.Font(None, 24), pygame.font.Font(None, 20)
+    square = tracks_of(tmp_path / "square", [simulator.build_scene()], 20)
+    assert summary.header_lines(square, ["h"]) == ["h", progress.closing_note(square)]
+    assert summary.panel_words(square[0]) is None
+    chalks = tracks_of(tmp_path / "chalk", [simulator.build_chalk_scene(), simulator.build_chalk_scene(drag=True)], 150)
+    plan = summary.plan(pygame, chalks, ["chalk 9 x 1 cm, pushed at tilt = 60 deg   grip k_hand = 2000 N/m   "
+                                         "drive = 0.01 m/s   mu_s = 0.5   mu = 0.35   v_c = 0.001 m/s"])
+    first, second = stick_slip.definition(chalks[0].scene)
+    assert plan.lines[1:] == ["stick-slip, " + first, second] and not [h for h in plan.lines if "rest" in h.split()]
+    assert plan.width >= max(font.size(text)[0] for text in plan.lines) + 12
+    for panel in plan.panels:
+        words = summary.panel_words(panel.track)
+        assert words == stick_slip.words(stick_slip.of_track(panel.track)) == \
+            "not driven yet at t = 0.15 s (the hand drives from t = 0.2 s)"
+        assert plan.width >= small.size(words)[0] + 12

@@ -10,11 +10,14 @@ stays in the flat files). Imports point down: viewer -> simulator -> time_integr
                     sliding nodes, the contact forces (from the energies' public functions), inverted cells
     log.py          log.csv: one row per step, appended and flushed as the step ends
     recording.py    the run driver: steps one or more scenes side by side, a log row as each step ends
-    progress.py     what a run says as it goes: progress lines, warnings about a step, when it came to rest
+    progress.py     what a run says as it goes: progress lines, warnings about a step, what it showed (when
+                    the square came to rest, the chalk's stick-slip)
+    stick_slip.py   the chalk's stick-slip cycles counted on its tip, once for the run, figures and tests
     frames.py       when each frame is due; writing it (PNG, OBJs, the page's figures)
     draw.py         one frame: the slope with distance marks, the squares, the forces, a legend; PNG
                     files; the drawing helpers (arrowheads, text wrapping, round numbers)
-    plots.py        plots.png: energy budget, contact speeds, Newton iterations (or a comparison of runs)
+    plots.py        plots.png: energy budget, contact speeds, Newton iterations (or a comparison of runs);
+                    the chalk's tip against the drive, normal force, stick-slip cycles
     summary.py      summary.png: spaced, time-labelled snapshots at a fixed scale
     page.py         index.html: plays the frames from the file system, with the plots and a time cursor
     pictures.py     the pictures written at a run's end: summary.png, plots.png, index.html

@@ -4,7 +4,8 @@ It opens from the output folder in any current browser (file://...): the frames 
 pygame rendered beside it, and the figures of every frame are written into the page itself as
 JavaScript data (a page opened from the file system may not read other files, but it may show
 images). Play/pause, one frame back or forward, a time slider, the playback speed; beside the frame,
-the figures of that step for each run; below it plots.png with a cursor at the current time.
+the figures of that step for each run, then those of each whole run (when the square came to rest, the
+chalk's stick-slip: run_figures); below it plots.png with a cursor at the current time.
 
 The figures are log.csv's columns, picked by name (FIGURES) from each state's named row (log.values):
 the data holds, for every frame, each run's figures as an object by column name, and the list of
@@ -14,7 +15,7 @@ import html
 import json
 import math
 
-from viewer import draw, log
+from viewer import draw, log, stick_slip
 
 # the figures beside each frame: log.csv's columns by name (viewer/log.py), each shown as log.csv writes
 # it (the format given here where it is not: min_distance to 5 digits instead of 9)
@@ -35,6 +36,7 @@ TEMPLATE = """<!DOCTYPE html>
   #clock { display: inline-block; white-space: pre; font-variant-numeric: tabular-nums; text-align: left; }
   table { border-collapse: collapse; }
   td, th { border: 1px solid #ccc; padding: 3px 8px; text-align: right; }
+  th.heading { text-align: left; background: #eee; }
   #plotbox { position: relative; display: inline-block; margin-top: 12px; }
   #cursor { position: absolute; top: 0; bottom: 0; width: 2px; background: rgba(255, 0, 0, 0.6); }
 </style>
@@ -87,8 +89,15 @@ function showFigures(frame) {
     rows += "<tr><th>" + figure.header + "</th>" + frame.runs.map(
       r => "<td>" + (r[figure.name] === null ? "-" : r[figure.name]) + "</td>").join("") + "</tr>";
   });
-  rows += "<tr><th>came to rest at t (s)</th>" +
-    run.rest.map(t => "<td>" + (t === null ? "not by the end" : t.toFixed(2)) + "</td>").join("") + "</tr>";
+  if (run.rest !== null) {
+    rows += "<tr><th>came to rest at t (s)</th>" +
+      run.rest.map(t => "<td>" + (t === null ? "not by the end" : t.toFixed(2)) + "</td>").join("") + "</tr>";
+  }
+  run.rows.forEach(row => {
+    rows += row.cells === null ? '<tr><th colspan="' + (run.labels.length + 1) + '" class="heading">' +
+      row.header + "</th></tr>" :
+      "<tr><th>" + row.header + "</th>" + row.cells.map(c => "<td>" + c + "</td>").join("") + "</tr>";
+  });
   document.getElementById("figures").innerHTML = rows;
 }
 
@@ -149,12 +158,34 @@ def header(name):
     return f"{column.label} ({column.unit})" if column.unit else column.label
 
 
-def page_html(title, labels, frame_log, fps, axis, plot_width, note="", rest=None):
+def run_figures(tracks):
+    """What the page's table says of each whole run, below the figures of the frame, as page_html's keywords:
+    for the square when it came to rest (`rest`); for the chalk its tip's stick-slip (viewer/stick_slip.py),
+    a row per figure (`rows`)."""
+    if tracks[0].scene.hand is None:
+        return {"rest": [track.rest_since for track in tracks]}
+    counted = [stick_slip.of_track(track) for track in tracks]
+
+    def row(header, text):
+        return header, [text(r) for r in counted]
+    return {"rows": [
+        (f"the whole run's stick-slip, from t = {counted[0].start:g} s", None),
+        row("stick-slip cycles", lambda r: str(len(r.slips)) if r.driven else "-"),
+        row("mean slip (mm)", lambda r: f"{1e3 * r.length:.2f}" if r.slips else "-"),
+        row("period (ms)", lambda r: f"{1e3 * r.period:.0f}" if len(r.slips) > 1 else "-"),
+        row("tip stuck (% of the drive)", lambda r: f"{100 * r.stuck:.0f}" if r.driven else "-"),
+        row("tip first slips at t (s)", lambda r: "never" if r.start_up is None else f"{r.start_up:.2f}")]}
+
+
+def page_html(title, labels, frame_log, fps, axis, plot_width, note="", rest=None, rows=()):
     """The page's text: `frame_log` (frames.FrameInfo per frame: each run's figures), `fps` frames per
-    simulated second, `axis` = (left px, right px, t_max) of plots.png's time axis (None: no plots),
-    `rest` the time each run came to rest (None: it did not)."""
-    rest = [None if t is None else round(t, 6) for t in (rest or [None] * len(labels))]
+    simulated second, `axis` = (left px, right px, t_max) of plots.png's time axis (None: no plots);
+    the whole runs' figures below the frame's (run_figures): `rest` the time each run came to rest (None:
+    it did not), or none, and `rows`, pairs (header, a text per run; None: a heading across the table)."""
+    rest = None if rest is None else [None if t is None else round(t, 6) for t in rest]
     data = {"labels": [html.escape(label) for label in labels], "fps": fps, "rest": rest,
+            "rows": [{"header": html.escape(name), "cells": None if cells is None else [html.escape(c) for c in cells]}
+                     for name, cells in rows],
             "figures": [{"name": name, "header": html.escape(header(name))} for name in FIGURES],
             "frames": [{"t": round(f.t, 6), "runs": f.runs} for f in frame_log],
             "axis": dict(zip(("left", "right", "tMax"), axis)) if axis else None, "plotWidth": plot_width}

@@ -3,24 +3,23 @@ plots.png and, when frames were written, index.html to play them. viewer.run.end
 the run ended (done, a failed step, a signal), each whole as it is done.
 """
 from viewer import draw, page, plots, summary
-from viewer.progress import rest_words
+from viewer.progress import closing_note
 
 NAMES = ("summary.png", "plots.png", "index.html")      # in the order they are written
 
 
 def write(tracks, folder, stride, frames, frame_log, header):
     """Write the pictures of `tracks` into `folder` (files.OutputFolder): `header`, the lines of text
-    summary.png and the page open with; `frame_log`, the frames.FrameInfo of each frame written."""
+    summary.png and the page open with (each then says what the run showed: progress.closing_note);
+    `frame_log`, the frames.FrameInfo of each frame written."""
     pygame = draw.load_pygame()
-    rest = rest_words(tracks) + " (every contact below eps_v from then on)"
-    folder.write("summary.png", draw.png_data(pygame, summary.draw_summary(pygame, tracks, header + [rest]),
-                                              exact=True))
+    folder.write("summary.png", draw.png_data(pygame, summary.draw_summary(pygame, tracks, header), exact=True))
     surface, axis = plots.draw_plots(pygame, tracks)
     folder.write("plots.png", draw.png_data(pygame, surface, exact=True))
     if frames:
         fps = 1.0 / (stride * min(tr.scene.h for tr in tracks))
         title = ("Chalk on a board: " if tracks[0].scene.hand is not None else "Square on a slope: ") + \
             ", ".join(tr.label for tr in tracks)
+        note = " ".join(header) + "; " + closing_note(tracks)
         folder.write("index.html", page.page_html(title, [tr.label for tr in tracks], frame_log, fps, axis,
-                                                  surface.get_width(), note=" ".join(header) + "; " + rest,
-                                                  rest=[tr.rest_since for tr in tracks]))
+                                                  surface.get_width(), note=note, **page.run_figures(tracks)))

@@ -7,19 +7,27 @@ Euler's numerical dissipation took out (mostly at the impact), so that E = E(0) 
 sticks, above it slides; (3) Newton iterations per step.
 Several runs (a comparison): (1) displacement of the centre of mass along the slope, (2) the
 largest tangential speed of a contact node, (3) Newton iterations per step, one colour per run.
+The chalk (_chalk_panels), one run: the energy budget (with the hand's energy and work), the tip's speed
+against the hand's drive, the board's normal force, and each stick-slip cycle's slip (viewer/stick_slip.py);
+a comparison: the last three, one colour per run, and the friction work, a step down at each slip.
 The panels share their time axis, so the page (page.py) draws one cursor across all of them.
 """
 import math
 
 import numpy as np
 
-from viewer import diagnostics, draw, log
+from viewer import diagnostics, draw, log, stick_slip
 
 WIDTH, PANEL_HEIGHT, TOP = 900, 250, 10
 LEFT, RIGHT = 80, 700           # the time axis's pixel columns; the legends sit right of it
+LEGEND_TEXT = RIGHT + 34        # the column where a legend's text starts
 ENERGY_COLORS = {"kinetic": (230, 120, 0), "gravity": (120, 80, 40), "spring": (0, 150, 60),
                  "barrier": (200, 0, 160), "hand": (0, 150, 200), "total": (0, 0, 0), "W_friction": (0, 0, 255),
                  "W_hand": (120, 0, 200), "-D_numerical": (200, 0, 0)}
+CHALK_PANELS = 4                    # the chalk's: one run's and a comparison's (_chalk_panels)
+NORMAL_FORCE_COLOR = (219, 0, 0)    # draw.NORMAL_COLOR, as the frames' arrows
+DRIVE_COLOR, BLACK = (0, 150, 60), (0, 0, 0)    # the drive speed: one run's (green), a comparison's (black)
+SPREAD = 10                         # a comparison's normal forces on a log axis where the runs' peaks differ more
 
 
 def nice_ticks(lo, hi, count=5):
@@ -110,9 +118,18 @@ class Axes:
             self.pygame.draw.line(self.surface, color, (col, top), (col, min(top + 4, self.bottom - 2)), 2)
         self.legend(color, text)
 
+    def markers(self, t, y, color, radius=3):
+        """A filled circle of `radius` pixels at each (t, y): points that stand alone."""
+        for col, row in zip(*self.px(t, y)):
+            self.pygame.draw.circle(self.surface, color, (round(col), round(row)), radius)
+
     def legend(self, color, text):
         self.pygame.draw.rect(self.surface, color, (RIGHT + 12, self.legend_row + 5, 16, 6))
-        self.surface.blit(self.font.render(text, True, (0, 0, 0)), (RIGHT + 34, self.legend_row))
+        self.note(text)
+
+    def note(self, text):
+        """A legend row of text alone, under the last one's text (what the row above it measured)."""
+        self.surface.blit(self.font.render(text, True, (0, 0, 0)), (LEGEND_TEXT, self.legend_row))
         self.legend_row += 18
 
 
@@ -148,14 +165,14 @@ def speed_range(speeds, epsv):
 def draw_plots(pygame, tracks):
     """plots.png's surface, and the time axis as the page needs it: (left px, right px, t_max)."""
     font = pygame.font.Font(None, 18)
-    surface = pygame.Surface((WIDTH, TOP + 3 * PANEL_HEIGHT))
+    chalk = tracks[0].scene.hand is not None
+    surface = pygame.Surface((WIDTH, TOP + (CHALK_PANELS if chalk else 3) * PANEL_HEIGHT))
     surface.fill((255, 255, 255))
     data = [series(tr) for tr in tracks]
     t_max = max(float(d["t"][-1]) for d in data)
     epsv = tracks[0].scene.epsv
-    if len(tracks) == 1 and tracks[0].scene.hand is not None:
-        _energy_panel(pygame, surface, font, TOP, t_max, data[0])
-        _chalk_panels(pygame, surface, font, t_max, tracks[0], data[0])
+    if chalk:
+        _chalk_panels(pygame, surface, font, t_max, tracks, data)
         return surface, (LEFT, RIGHT, t_max)
     if len(tracks) == 1:
         _energy_panel(pygame, surface, font, TOP, t_max, data[0])
@@ -191,25 +208,85 @@ def draw_plots(pygame, tracks):
     return surface, (LEFT, RIGHT, t_max)
 
 
-def _chalk_panels(pygame, surface, font, t_max, track, d):
-    """The chalk's panels 2 and 3: the tip's speed along the board against the hand's drive speed (log, eps_v
-    marked: below it the tip sticks), and the board's normal force, whose saw-tooth is the stick-slip."""
-    speeds = np.concatenate([d["tip_speed"], d["drive_speed"]])
-    ax = Axes(pygame, surface, font, TOP + PANEL_HEIGHT, t_max, *speed_range(speeds, track.scene.epsv),
+def _chalk_panels(pygame, surface, font, t_max, tracks, data):
+    """The chalk's panels. One run: the energy budget; the tip's speed along the board against the hand's
+    drive speed (log, eps_v marked: below it the tip sticks); the board's normal force, whose saw-tooth is the
+    stick-slip; each stick-slip cycle's slip (_cycles_panel). A comparison, one colour per run: the last three,
+    the normal forces on a log axis where the runs' peaks differ more than SPREAD-fold, then instead of the
+    energy budget (nine curves a run, which would not read for several) its friction work, a step down at
+    each slip."""
+    one = len(tracks) == 1
+    rows = iter(TOP + k * PANEL_HEIGHT for k in range(CHALK_PANELS))
+    if one:
+        _energy_panel(pygame, surface, font, next(rows), t_max, data[0])
+    speeds = np.concatenate([np.concatenate([d["tip_speed"], d["drive_speed"]]) for d in data])
+    epsv = tracks[0].scene.epsv
+    ax = Axes(pygame, surface, font, next(rows), t_max, *speed_range(speeds, epsv),
               "the tip's speed along the board against the hand's drive (m/s, log): below eps_v it sticks",
               "|v_tip| (m/s)", log=True)
-    ax.dots(d["t"], d["tip_speed"], track.color)
-    ax.legend(track.color, "tip speed")
-    ax.line(d["t"], np.maximum(d["drive_speed"], 10.0 ** ax.y_lo), (0, 150, 60), 2)
-    ax.legend((0, 150, 60), "drive speed")
-    ax.hline(track.scene.epsv, (200, 0, 0), f"eps_v = {track.scene.epsv:g} m/s")
-    ax = Axes(pygame, surface, font, TOP + 2 * PANEL_HEIGHT, t_max, 0.0, float(d["normal_force"].max()),
-              "the board's normal force on the chalk (N)", "N (N)")
-    ax.line(d["t"], d["normal_force"], NORMAL_FORCE_COLOR, 2)
-    ax.legend(NORMAL_FORCE_COLOR, "sum of lambda_k")
+    drive = DRIVE_COLOR if one else BLACK
+    for d in data:                  # under the tip's dots: a tip sliding with the hand stays in sight
+        ax.line(d["t"], np.maximum(d["drive_speed"], 10.0 ** ax.y_lo), drive, 2)
+    for tr, d in zip(tracks, data):
+        ax.dots(d["t"], d["tip_speed"], tr.color)
+        ax.legend(tr.color, "tip speed" if one else tr.label)
+    ax.legend(drive, "drive speed")
+    ax.hline(epsv, (200, 0, 0), f"eps_v = {epsv:g} m/s")
+    peaks = [float(d["normal_force"].max()) for d in data]
+    if min(peaks) > 0 and max(peaks) > SPREAD * min(peaks):         # the runs' forces would not read on one scale
+        ax = Axes(pygame, surface, font, next(rows), t_max, 10.0 ** math.floor(math.log10(min(peaks)) - 1),
+                  max(peaks), f"the board's normal force on the chalk (N, log: the runs' peaks differ more than "
+                  f"{SPREAD}-fold)", "N (N)", log=True)
+    else:
+        ax = Axes(pygame, surface, font, next(rows), t_max, 0.0, max(peaks),
+                  "the board's normal force on the chalk (N)", "N (N)")
+    for tr, d in zip(tracks, data):
+        ax.line(d["t"], d["normal_force"], NORMAL_FORCE_COLOR if one else tr.color, 2 if one else 1)
+        ax.legend(NORMAL_FORCE_COLOR if one else tr.color, "sum of lambda_k" if one else tr.label)
+    _cycles_panel(pygame, surface, font, next(rows), t_max, tracks)
+    if not one:
+        ax = Axes(pygame, surface, font, next(rows), t_max, min(float(d["W"].min()) for d in data), 0.0,
+                  "the work friction has done, W_friction (J, <= 0): a step down at each slip", "W (J)")
+        for tr, d in zip(tracks, data):
+            ax.line(d["t"], d["W"], tr.color, 2)
+            ax.legend(tr.color, tr.label)
 
 
-NORMAL_FORCE_COLOR = (219, 0, 0)    # draw.NORMAL_COLOR, as the frames' arrows
+def _cycles_panel(pygame, surface, font, top, t_max, tracks):
+    """Each stick-slip cycle of each run (viewer/stick_slip.py) as a dot: its slip length (mm) at the time the
+    slip starts; the legend gives each run's count, mean slip, period and the fraction of the drive stuck."""
+    counted = [stick_slip.of_track(tr) for tr in tracks]
+    lengths = [1e3 * length for r in counted for _, length, _ in r.slips]
+    ax = Axes(pygame, surface, font, top, t_max, 0.0, 1.2 * max(lengths, default=1.0),
+              "each stick-slip cycle's slip (mm) at its start; legend: cycles, mean slip, period, % of the drive "
+              "stuck", "slip (mm)")
+    for tr, r in zip(tracks, counted):
+        if r.slips:
+            t, length, _ = (np.array(a) for a in zip(*r.slips))
+            ax.markers(t, 1e3 * length, tr.color)
+        first, second = cycles_legend(r)
+        if len(tracks) == 1:
+            ax.legend(tr.color, first)
+        elif font.size(f"{tr.label}: {first}")[0] <= WIDTH - LEGEND_TEXT:
+            ax.legend(tr.color, f"{tr.label}: {first}")
+        else:                                   # a long label: on its own row
+            ax.legend(tr.color, tr.label)
+            ax.note(first)
+        ax.note(second)
+
+
+def cycles_legend(r):
+    """A run's stick_slip.StickSlip in the two short rows of a legend: ('21 slips', '1.33 mm, 134 ms, 90 %'),
+    or ('no cycle', what the tip did instead)."""
+    if not r.driven:
+        return "no cycle", f"the drive starts at {r.start:g} s"
+    if r.slips:
+        n = len(r.slips)
+        period = f", {1e3 * r.period:.0f} ms" if n > 1 else ""
+        return f"{n} slip{'s' if n > 1 else ''}", f"{1e3 * r.length:.2f} mm{period}, {100 * r.stuck:.0f} %"
+    if r.start_up is None:
+        return "no cycle", "jammed: tip stuck"
+    return "no cycle", f"slid from {r.start_up:.2f} s, {100 * r.stuck:.0f} %"
 
 
 def mark_rest(ax, track, color):

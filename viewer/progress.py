@@ -1,10 +1,10 @@
-"""What a run says on stderr as it goes: progress lines, warnings about its steps, and when it came
-to rest. The words of each are here once; a run to files (recording.Track) and the window
-(live.LiveDemo) say them, each warning the first time it applies.
+"""What a run says on stderr as it goes: progress lines, warnings about its steps, and what it showed
+(when the square came to rest, the chalk's stick-slip). The words of each are here once; a run to files
+(recording.Track) and the window (live.LiveDemo) say them, each warning the first time it applies.
 """
 import time
 
-from viewer import diagnostics
+from viewer import diagnostics, stick_slip
 
 PROGRESS_EVERY = 2.0        # s of wall time: a progress line at least this often, whatever the run's length
 
@@ -56,5 +56,28 @@ def rest_words(tracks):
             return f"{'still sliding' if track.samples.last.sliding else 'not at rest'} at t = {track.t:.2f} s"
         return f"came to rest at t = {track.rest_since:.2f} s"
     if len(tracks) == 1:
-        return ("the chalk's tip " if tracks[0].scene.hand is not None else "the square ") + words(tracks[0])
+        return "the square " + words(tracks[0])
     return "; ".join(f"{track.label}: {words(track)}" for track in tracks)
+
+
+def stick_slip_words(tracks):
+    """What each chalk run's tip did once the hand drove (viewer/stick_slip.py), in words: 'stick-slip: 21
+    slips, mean slip 1.33 mm, period 134 ms, tip stuck 90 % of the drive'; for a comparison each run's,
+    after its label."""
+    said = [stick_slip.words(stick_slip.of_track(track)) for track in tracks]
+    if len(tracks) == 1:
+        return said[0]
+    return "; ".join(f"{track.label}: {words}" for track, words in zip(tracks, said))
+
+
+def closing_words(tracks):
+    """What the run showed, as its closing line says it: for the square when it came to rest (rest_words),
+    for the chalk its tip's stick-slip (stick_slip_words)."""
+    return stick_slip_words(tracks) if tracks[0].scene.hand is not None else rest_words(tracks)
+
+
+def closing_note(tracks):
+    """closing_words with what they count, as the page (and the square's summary.png) says them."""
+    if tracks[0].scene.hand is not None:
+        return f"{stick_slip_words(tracks)} ({' '.join(stick_slip.definition(tracks[0].scene))})"
+    return rest_words(tracks) + " (every contact below eps_v from then on)"

@@ -20,7 +20,7 @@ import simulator
 import time_integrator
 from viewer import draw, files, pictures, recording
 from viewer.frames import frame_count
-from viewer.progress import rest_words
+from viewer.progress import closing_words
 from viewer.startup import EXIT_CODES, REASONS
 
 class Stopped(BaseException):
@@ -203,7 +203,7 @@ def to_files(plan, signals, messages=None):
     except ENDINGS as err:
         failure = failure_of(err, plan)
     wall = time.perf_counter() - start
-    rest = f"; {rest_words(tracks)}" if tracks else ""
+    rest = f"; {closing_words(tracks)}" if tracks else ""
     return end(plan, signals, folder, tracks, frame_log, failure, messages,
                f"simulated {simulated(plan)} in {wall:.2f} s wall{rest}; {written(plan)} in {plan.out}/")
 

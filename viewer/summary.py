@@ -7,13 +7,15 @@ of are left out, but the first: so no two drawn snapshots or labels overlap, exc
 the last when the body ends within its own size of where it started. The centre-of-mass path is
 drawn in red, and a 1 m bar gives the scale: SCALE pixels per metre, unless the motion is too long
 for MAX_WIDTH pixels (then a round number of pixels, two digits). A comparison draws one panel per
-run, one above the other, all at the same scale. Everything drawn is placed by `plan`.
+run, one above the other, all at the same scale. The header says what the runs showed: when the square
+came to rest; for the chalk how its stick-slip is counted, each run's figures in its own panel. The
+picture is as wide as its widest line of text (up to MAX_WIDTH). Everything drawn is placed by `plan`.
 """
 from dataclasses import dataclass
 
 import numpy as np
 
-from viewer import draw
+from viewer import draw, progress, stick_slip
 
 SCALE = 100.0       # pixels per metre
 MAX_WIDTH = 2400    # pixels; beyond, the scale shrinks (the same for every panel)
@@ -54,6 +56,7 @@ class Plan:
     top: int            # the first panel's top row, below the header lines and the scale bar
     scale: float
     panels: list
+    lines: list         # the header's lines of text (header_lines)
 
 
 def spaced(boxes, gap=GAP):
@@ -94,9 +97,27 @@ def labelled(view, font, snapshots):
     return out
 
 
+def header_lines(tracks, header):
+    """summary.png's lines of text above the scale bar: `header`, then what the runs showed: when the square
+    came to rest (progress.closing_note, each run's); for the chalk what its stick-slip counts, each run's
+    own figures in its panel (panel_words)."""
+    if tracks[0].scene.hand is not None:
+        first, second = stick_slip.definition(tracks[0].scene)
+        return header + ["stick-slip, " + first, second]
+    return header + [progress.closing_note(tracks)]
+
+
+def panel_words(track):
+    """The line a run's panel adds under its label and steps: the chalk's stick-slip (stick_slip.words, as
+    the closing line says it), or none (the square's rest is in the header)."""
+    return stick_slip.words(stick_slip.of_track(track)) if track.scene.hand is not None else None
+
+
 def plan(pygame, tracks, header):
-    """The layout of summary.png for `tracks` under `header` (lines of text)."""
-    small = pygame.font.Font(None, 20)
+    """The layout of summary.png for `tracks` under `header` (lines of text, followed by what the runs
+    showed: header_lines): as wide as the motion at the scale, and as its widest line of text."""
+    small, font = pygame.font.Font(None, 20), pygame.font.Font(None, 24)
+    header = header_lines(tracks, header)
     z = draw.zoom(tracks[0].scene)      # 1 for the square; the chalk is drawn 20x closer
     boxes = []
     for tr in tracks:
@@ -107,7 +128,8 @@ def plan(pygame, tracks, header):
     width_m = max(float(hi[0] - lo[0]) for lo, hi in boxes)
     scale = SCALE * z if width_m * SCALE * z + right_room <= MAX_WIDTH else \
         draw.nice_number((MAX_WIDTH - right_room) / width_m, TWO_DIGITS)
-    width = int(max(width_m * scale + right_room, MIN_WIDTH))
+    texts = [font.size(text)[0] for text in header] + [small.size(w)[0] for w in map(panel_words, tracks) if w]
+    width = int(max(width_m * scale + right_room, MIN_WIDTH, min(max(texts, default=0) + 24, MAX_WIDTH)))
     top = 22 * len(header) + 34
     panels, row = [], top
     for tr, (lo, hi) in zip(tracks, boxes):
@@ -118,7 +140,7 @@ def plan(pygame, tracks, header):
         kept = spaced([s.box for s in candidates])
         panels.append(Panel(tr, row, height, view, [candidates[i] for i in kept]))
         row += height
-    return Plan(width, row, top, scale, panels)
+    return Plan(width, row, top, scale, panels, header)
 
 
 def lighten(color):
@@ -127,12 +149,13 @@ def lighten(color):
 
 
 def draw_summary(pygame, tracks, header):
-    """summary.png's surface: `header` (lines of text), the 1 m bar, then one panel per track."""
+    """summary.png's surface: `header` (lines of text) and what the runs showed (header_lines), the 1 m bar,
+    then one panel per track."""
     font, small = pygame.font.Font(None, 24), pygame.font.Font(None, 20)
     layout = plan(pygame, tracks, header)
     surface = pygame.Surface((layout.width, layout.height))
     surface.fill((255, 255, 255))
-    for row, text in enumerate(header):
+    for row, text in enumerate(layout.lines):
         surface.blit(font.render(text, True, (0, 0, 0)), (12, 8 + 22 * row))
     _scale_bar(pygame, surface, small, layout.scale, layout.top - 26, 1.0 / draw.zoom(tracks[0].scene))
     for panel in layout.panels:
@@ -166,3 +189,6 @@ def _panel(pygame, surface, font, small, panel, width):
     area.blit(font.render(track.label, True, track.color), (12, 8))
     area.blit(small.render(f"red: centre-of-mass path; {track.step} steps, t = {track.t:.2f} s",
                            True, (0, 0, 0)), (12, 32))
+    words = panel_words(track)
+    if words:
+        area.blit(small.render(words, True, (0, 0, 0)), (12, 50))
