@@ -139,7 +139,7 @@ CHALK = types.MappingProxyType({
     "v_c": 1e-3,                # slip speed over which mu falls from mu_s to mu, m/s
     "dhat": 1e-3, "kappa": 1e3,     # barrier activation distance (m) and stiffness
     "epsv": 1e-4,               # friction's eps_v, m/s
-    "tol": 1e-5,                # Newton tolerance on ||p||_inf / h, m/s
+    "tol": 1e-6,                # Newton tolerance on ||p||_inf / h, m/s: eps_v / 100 (docs/chalk.md)
     "tilt": 60.0,               # degrees between the chalk and the board
     "drag": False,              # False: pushed (the hand behind the tip, obtuse angle); True: dragged (acute)
     "k_hand": 2000.0,           # the grip: stiffness of each held node's spring, N/m

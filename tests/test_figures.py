@@ -107,9 +107,9 @@ def test_the_pressed_scene_starts_on_the_slope_and_its_lagged_step_brakes_with_t
 @pytest.fixture(scope="module")
 def stick_slip_short():
     """The stick_slip figure's numbers on a short case (about 15 s): 0.7 s for the marks and the four grips
-    (two cycles at the loosest grip, whose period is about 190 ms), tilts 66 and 67 degrees over 0.5 s, on
-    either side of the measured jam angle."""
-    return stick_slip.compute(duration=0.7, tilts=(66.0, 67.0), tilt_duration=0.5)
+    (two cycles at the loosest grip), tilts 66 and 68 degrees over 0.5 s, on either side of the measured jam
+    angle (measured: 66 deg slides 2.94 of the hand's 3 mm, 68 deg 0.023 mm)."""
+    return stick_slip.compute(duration=0.7, tilts=(66.0, 68.0), tilt_duration=0.5)
 
 
 def test_the_marks_are_stuck_where_the_tip_moves_less_than_eps_v_h_a_step(stick_slip_short):
@@ -136,7 +136,9 @@ def test_the_pushed_chalk_leaves_dots_a_slip_apart_and_the_dragged_a_line(stick_
     starts, lengths, peaks = map(np.array, zip(*push.slips))
     assert len(push.slips) >= 3 and push.stuck > 0.5 and (peaks > 2 * drive).all()
     assert push.length == pytest.approx(drive * push.period, rel=0.05)
-    dots = [x for stuck, x in stick_slip.marks(r.pushed) if stuck and len(x) > stick_slip.MIN_STICK]
+    driven = r.pushed.t > r.pushed.drive_start          # the cycles count from the drive's start
+    stuck, x = r.pushed.stuck[driven], r.pushed.x[driven]
+    dots = [x[max(p[0] - 1, 0):p[-1] + 1] for p in stick_slip.runs(stuck) if stuck[p[0]] and len(p) >= stick_slip.MIN_STICK]
     assert [b[0] - a[-1] for a, b in zip(dots, dots[1:])] == pytest.approx(lengths, rel=1e-12)
     u, t = np.abs(r.pushed.u), r.pushed.t
     peak = (u[1:-1] > drive) & (u[1:-1] >= u[:-2]) & (u[1:-1] > u[2:])
@@ -162,7 +164,7 @@ def test_one_coefficient_slides_below_and_jams_above_the_measured_angle(stick_sl
     slides, jams = r.tilts
     assert not slides.jams and slides.travel > 0.8 * slides.hand_travel
     assert jams.jams and jams.travel < 0.01 * jams.hand_travel
-    assert r.bracket == (66.0, 67.0)
+    assert r.bracket == (66.0, 68.0)
     assert r.lock == pytest.approx(70.71, abs=0.01) and r.bracket[1] < r.lock
 
 
@@ -176,7 +178,7 @@ def test_the_stick_slip_caption_says_the_computed_numbers_and_fits_the_page(stic
     assert f"stuck {100 * push.stuck:.0f} % of the drive" in text
     assert f"starts at {r.drag.start_up:.3g} s, then stuck in 0 of its {r.drag.after} steps" in text
     assert "slip " + " / ".join(f"{1e3 * g.length:.2f}" for g in r.grips) + " mm" in text
-    assert "between 66 and 67 deg, below the rigid strut's 90 - atan mu = 70.7 deg" in text
+    assert "between 66 and 68 deg, below the rigid strut's 90 - atan mu = 70.7 deg" in text
     page = stick_slip.draw(r)
     font = page.pygame.font.Font(None, 20)                                   # the caption's font (figures.page)
     assert all(12 + font.size(line)[0] <= page.surface.get_width() for line in lines)
