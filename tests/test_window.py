@@ -18,7 +18,7 @@ import simulator
 from helpers.fakes import chalk_at, fill_disk_after
 from helpers import legibility
 import time_integrator
-from viewer import cli, diagnostics, draw, files, frames, live, run, window
+from viewer import cli, diagnostics, draw, files, frames, live, marks, run, window
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 H = simulator.DEFAULTS["h"]
@@ -570,13 +570,14 @@ def test_bad_window_flags_are_one_line_and_exit_code_2(capsys, flags, message):
 
 @needs_newton_hook
 @pytest.mark.parametrize("overrides, index", [({}, 31), ({}, 40), ({"h": 0.03}, 17), ({"friction_updates": 3}, 31),
-                                              ({"chalk": True}, 235), ({"chalk": True, "drag": True}, 20)])
+                                              ({"chalk": True}, 210), ({"chalk": True, "drag": True}, 20)])
 def test_n_advances_exactly_one_newton_iteration_and_completes_the_step(overrides, index):
     """While paused, each n takes the next iterate of time_integrator.newton_iterates for the current
     step and shows it; the n after the last iterate completes the step, with the x^{n+1} of step().
     Steps at the impact (the CCD bound below 1), sliding, at h = 0.03 where alpha is halved, with
-    the fixed-point friction updates of Algorithm 5, and the chalk's: pushed, slipping (step 236),
-    and dragged, pressed onto the board (step 21); a chalk step that ends leaves its mark."""
+    the fixed-point friction updates of Algorithm 5, and the chalk's: pushed, slipping (step 211, in
+    its first slip), and dragged, pressed onto the board (step 21); a chalk step that ends leaves its
+    mark, slipping where it is pushed."""
     overrides = dict(overrides)
     chalk = overrides.pop("chalk", False)
     scene = simulator.build_chalk_scene(**overrides) if chalk else simulator.build_scene(**overrides)
@@ -616,6 +617,7 @@ def test_n_advances_exactly_one_newton_iteration_and_completes_the_step(override
         assert np.array_equal(w.run.x, time_integrator.step(scene, x, v, step_index=index)[0])
         if chalk:
             assert len(w.run.marks) == index + 1 and w.run.marks[-1] == diagnostics.tip_mark(scene, x_next, v_next)
+            assert w.run.marks[-1][1] == bool(overrides.get("drag"))           # pushed, slipping; dragged, pressed
 
     w, clock = live_window(scene)
     clock.script = script()
@@ -713,7 +715,7 @@ def chalk_top(w):
 def mark_columns(w, color):
     """The columns of the window holding marks of `color`, under the board."""
     board = int(round(float(w.view(w.scene.o)[1])))
-    depth = round(draw.MARK_HEIGHT * w.view.unit * w.view.scale)                   # px
+    depth = round(marks.MARK_HEIGHT * w.view.unit * w.view.scale)                  # px
     pixels = pygame().surfarray.array3d(w.screen)[:, board + 2:board + 2 + depth]
     return set(np.nonzero(np.all(pixels == color, axis=2).any(axis=1))[0].tolist())
 
@@ -722,16 +724,18 @@ def mark_columns(w, color):
 def test_the_chalk_window_draws_the_frame_of_the_chalk_its_hand_forces_and_marks(drag, steps):
     """The window shows the chalk as its frames do, zoomed as they zoom it (draw.View.of, at the
     window's size): below the status lines, the window is the frame draw.draw_frame draws of the state
-    (the board, the chalk, the hand's targets and springs, the contact forces, the tip's marks); the
-    hand's targets are there, and the marks in both colours, under the board where the tip has been."""
+    (the board, the chalk, the hand's targets and springs, the contact forces, the tip's marks and their
+    strip, kept off the rows of the status lines and the key hints); the hand's targets are there, and
+    the marks in both colours, under the board where the tip has been."""
     w = chalk_window(steps, drag)
     scene, size, frame_view = w.scene, w.size, draw.View.of(w.scene)
     assert w.view.scale == pytest.approx(frame_view.scale * size / draw.RESOLUTION) and w.view.unit == frame_view.unit
     run_ = frames.frame_run(scene, w.run.x, w.run.report, w.label, draw.BLUE, True)
     run_["marks"] = w.run.marks
-    frame, _ = draw.draw_frame(pygame(), [run_], w.run.t, w.view, w.fonts, w.newton_per_metre)
-    shown, drawn = pygame().surfarray.array3d(w.screen), pygame().surfarray.array3d(frame)
     top, bottom = w.text_bottom, key_hints_top(w)
+    frame, legends = draw.draw_frame(pygame(), [run_], w.run.t, w.view, w.fonts, w.newton_per_metre, w.reserve)
+    assert w.reserve == (top - legends, size - bottom)
+    shown, drawn = pygame().surfarray.array3d(w.screen), pygame().surfarray.array3d(frame)
     assert np.array_equal(shown[:, top:bottom], drawn[:, top:bottom])
     px = w.view(w.run.x)
     assert px[:, 0].min() > 0 and px[:, 0].max() < size and top < px[:, 1].min() and px[:, 1].max() < bottom
@@ -742,33 +746,39 @@ def test_the_chalk_window_draws_the_frame_of_the_chalk_its_hand_forces_and_marks
         assert tuple(shown[q[0], q[1]]) == draw.HAND_COLOR                            # the hand's targets
     assert np.all(shown[:, top:bottom] == draw.NORMAL_COLOR, axis=2).sum() > 20      # the board's push
     s = w.view(np.array([[m[0], 0.0] for m in w.run.marks]))[:, 0]
-    for color, stuck in ((draw.STUCK_COLOR, True), (draw.SLIP_COLOR, False)):
+    for color, stuck in ((marks.STUCK_COLOR, True), (marks.SLIP_COLOR, False)):
         columns = mark_columns(w, color)
         assert columns and min(columns) >= s.min() - 1 and max(columns) <= s.max() + 1, color
         assert any(m[1] == stuck for m in w.run.marks)
 
 
 def test_the_chalks_marks_grow_as_the_run_goes_and_start_afresh_at_r():
-    """Stuck, the tip leaves its marks in one place; slipping, it draws a line on (steps 230-243,
-    1.3 mm): the marks drawn at step 250 hold those of step 200 and more, slipping ones beyond them,
-    and stuck ones where it stopped; r clears them."""
+    """Stuck, the tip leaves its marks in one place; slipping, it draws a line on (the first slip, about
+    1 mm, comes between steps 200 and 250): the marks drawn at step 250 hold those of step 200 and
+    more, slipping ones beyond them, and stuck ones where it stopped; r clears them."""
     before = chalk_window(200)
-    old = mark_columns(before, draw.STUCK_COLOR) | mark_columns(before, draw.SLIP_COLOR)     # (one screen:
+    old = mark_columns(before, marks.STUCK_COLOR) | mark_columns(before, marks.SLIP_COLOR)     # (one screen:
     after = chalk_window(250)                                                               # read it first)
-    stuck, slipping = mark_columns(after, draw.STUCK_COLOR), mark_columns(after, draw.SLIP_COLOR)
+    stuck, slipping = mark_columns(after, marks.STUCK_COLOR), mark_columns(after, marks.SLIP_COLOR)
     assert old < stuck | slipping and max(slipping) > max(old) and max(stuck) > max(old)
     after.restart()
     after.draw()
-    assert not mark_columns(after, draw.STUCK_COLOR) and not mark_columns(after, draw.SLIP_COLOR)
+    assert not mark_columns(after, marks.STUCK_COLOR) and not mark_columns(after, marks.SLIP_COLOR)
 
 
 def test_the_chalk_windows_status_says_the_chalks_figures_and_no_slope(monkeypatch):
     """Under the caption, the chalk's figures of the state shown (live.tip_lines: the tip's place and
     speed, stuck or slipping, the hand's drive, the board's normal force), as drawn; the Newton view
     says its iterate's figures instead, of the board (its inset's node the nearest to it): no text says
-    'slope'."""
+    'slope'. The slipping state: the middle of the first slip after the press, as the marks of the
+    first 300 states have it (one a state from the first on: marks[i] is state i + 1's), not a fixed
+    step (step 240, slipping when this test was written, is stuck in today's run); the stuck one: 300."""
     drawn = legibility.record_text(monkeypatch)
-    slipping, stuck = chalk_window(215), chalk_window(300)     # measured: slipping over steps 206 to 220
+    flags = [stuck for _, stuck in chalk_at(300).marks]
+    assert len(flags) == 300 and flags[-1]
+    first_slip = next(i for i in range(1, 300) if flags[i - 1] and not flags[i])
+    slip_end = next(i for i in range(first_slip, 300) if flags[i])
+    slipping, stuck = chalk_window((first_slip + slip_end) // 2 + 1), chalk_window(300)
     for w, state in ((slipping, "slipping: "), (stuck, "stuck: ")):
         lines = [text for text, _ in w.status_lines()]
         assert lines == [f"paused before step {w.run.index + 1}"] + live.tip_lines(w.scene, w.run.x, w.run.v, w.run.t)
@@ -788,8 +798,8 @@ def test_the_chalk_windows_status_says_the_chalks_figures_and_no_slope(monkeypat
 @pytest.mark.parametrize("size", [600, 652, 900])
 def test_no_text_in_the_chalk_window_is_small_faint_or_over_the_chalk(monkeypatch, size):
     """The chalk's window is as legible as the square's: every text (the legends of the forces, the
-    hand and the marks, the board's numbers in cm, the chalk's figures, the Newton view's lines and
-    inset) with capitals at least draw.MIN_CAP_HEIGHT of the window tall, in a colour of contrast at
+    hand and the marks, the board's numbers in cm, the chalk's figures, the marks' strip's title and
+    scale bar, the Newton view's lines and inset) with capitals at least draw.MIN_CAP_HEIGHT of the window tall, in a colour of contrast at
     least 4.5:1 on white; the legends' swatches on their labels' rows. The board is low enough that
     the status lines end above the chalk and its hand, and its numbers above the key hints (the
     Newton view's lines too from 652 px; at 600 they wrap onto a row more, over the hand)."""
@@ -797,7 +807,7 @@ def test_no_text_in_the_chalk_window_is_small_faint_or_over_the_chalk(monkeypatc
     w = chalk_window(240, size=size)
     assert w.text_bottom < chalk_top(w)
     pixels = pygame().surfarray.array3d(w.screen)
-    for color in (draw.HAND_COLOR, draw.STUCK_COLOR, draw.SLIP_COLOR):
+    for color in (draw.HAND_COLOR, marks.STUCK_COLOR, marks.SLIP_COLOR):
         top, low, first, last, gap = legibility.swatch_and_label_rows(pixels, color, w.text_bottom)
         assert first <= top and low <= last and gap <= draw.cap_height(w.font)
     numbers = [text for text, _, color in drawn if text.endswith(" cm") and color == draw.BLUE]
@@ -809,6 +819,43 @@ def test_no_text_in_the_chalk_window_is_small_faint_or_over_the_chalk(monkeypatc
     assert w.inset is not None and (size == 600 or w.text_bottom < chalk_top(w))
     texts = {text for text, _, _ in drawn}
     assert {"the hand: its targets and springs", "marks of the tip: stuck (|v_t| < eps_v)",
-            "marks of the tip: slipping", "normal force lambda_k n", "paused before step 241", "(nearest the board)", "thin lines: springs"} <= texts
+            "marks of the tip: slipping", "normal force lambda_k n", "paused before step 241", "(nearest the board)",
+            "thin lines: springs", marks.title(), marks.bar_label()} <= texts
     assert min(cap for _, cap, _ in drawn) >= draw.MIN_CAP_HEIGHT * size
     assert min(legibility.contrast_ratio(color) for _, _, color in drawn) >= 4.5
+
+
+def strip_of(w):
+    """The Strip of the marks draw.draw_frame drew in the window `w` (marks.layout on the window's rows)."""
+    run_ = {"scene": w.scene, "x": w.run.shown_x, "marks": w.run.marks, "color": draw.BLUE}
+    below = draw.draw_slope(pygame(), pygame().Surface((w.size, w.size)), w.scene, w.view, draw.BLUE, w.font)
+    return marks.layout([run_], w.run.t, w.view, w.font, w.text_bottom, key_hints_top(w), below)
+
+
+@pytest.mark.parametrize("size", [600, 652, 900])
+@pytest.mark.parametrize("drag, steps", [PUSHED, DRAGGED])
+def test_the_windows_strip_sits_beside_the_chalk_over_nothing_and_goes_for_the_newton_view(size, drag, steps):
+    """No room under the window's board (its numbers, then the key hints): the marks' strip stands above
+    the board beside the chalk, on the side with more room, clear of the chalk and its hand's targets,
+    under the status lines and above the board, inside the window, at x8 of the window's own scale
+    (the frames' times size / 900), its title and border drawn; its marks are the window's (stuck and
+    slipping both, at 240 and 400 steps). In the Newton view (n) the Newton inset takes that room:
+    no strip, so nothing of the marks' colours above the board."""
+    w = chalk_window(steps, drag, size)
+    strip = strip_of(w)
+    left, top, width, height = strip.rect
+    body = np.vstack([w.view(w.run.x), w.view(w.scene.hand.targets(w.run.t))])
+    board = int(w.view(w.scene.o)[1])
+    assert strip.where == "beside the chalk" and strip.scale == pytest.approx(8 * 4000.0 * size / draw.RESOLUTION)
+    assert left + width < body[:, 0].min() - 3 or left > body[:, 0].max() + 3
+    assert w.text_bottom < top and top + height < board and 0 <= left and left + width <= size
+    shown = pygame().surfarray.array3d(w.screen)
+    assert np.all(shown[left:left + width, top] == 0) and np.all(shown[left, top:top + height] == 0)      # its border
+    inside = shown[left:left + width, top:top + height]
+    for color in (marks.STUCK_COLOR, marks.SLIP_COLOR):
+        assert np.all(inside == color, axis=2).any()
+    w.one_newton_iteration()
+    w.draw()
+    above = pygame().surfarray.array3d(w.screen)[:, w.text_bottom:board]         # under the legends' swatches
+    assert w.reserve is None and w.inset is not None
+    assert not np.all(above == marks.STUCK_COLOR, axis=2).any() and not np.all(above == marks.SLIP_COLOR, axis=2).any()

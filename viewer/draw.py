@@ -16,6 +16,7 @@ import numpy as np
 
 import FrictionEnergy
 import square_mesh
+from viewer import marks as tip_marks
 
 RESOLUTION = 900            # pixels, square frames
 SCALE = 200.0               # pixels per metre, the lecture's
@@ -33,10 +34,7 @@ MARK_SPACING = 0.5          # m between marks along the slope
 ARROW_PER_WEIGHT = 1.0      # m of arrow for a force equal to the weight of the (first) square, M |g|
 FRICTION_ZOOM = 5.0         # friction arrows drawn this much longer (|F| <= mu lambda, mu ~ 0.1)
 ARROW_MAX = 1.5             # m; longer arrows (the impact) are cut here
-# the chalk's: its hand (targets and springs) and the marks its tip leaves on the board, stuck and slipping
-# (Rabinowicz's dashed line); each at least 52 in CIELAB from every run and force colour and white
-HAND_COLOR, STUCK_COLOR, SLIP_COLOR = (73, 0, 85), (255, 146, 170), (219, 219, 0)
-MARK_HEIGHT = 0.06          # m (of the lecture's scale, times View.unit) a mark reaches below the board
+HAND_COLOR = (73, 0, 85)    # the chalk's hand, its targets and springs (its marks' colours: viewer.marks)
 MIN_CAP_HEIGHT = 0.022      # of the picture's height: no capital letter drawn is shorter (16 arcminutes from
                             # 4 screen heights in the default window: docs/live-demo.md, "Readable")
 TITLE_SCALE = 1.2           # the title's capitals this much taller
@@ -119,13 +117,14 @@ def slope_ends(scene, view):
 def draw_slope(pygame, surface, scene, view, color=BLUE, font=None, marks=True):
     """The slope as a line through the view, with a tick every MARK_SPACING m of arc length from o
     (a number every metre when a font is given, where it fits whole; no ticks unless `marks`), so
-    motion stays visible when the view follows."""
+    motion stays visible when the view follows. Returns the lowest row of pixels drawn (None without a slope)."""
     if scene.n is None:
-        return
+        return None
     a, b = slope_ends(scene, view)
     pygame.draw.aaline(surface, color, a.tolist(), b.tolist())
+    lowest = max(a[1], b[1])
     if not marks:
-        return
+        return lowest
     tangent, s_lo, s_hi = slope_span(scene, view)
     spacing = MARK_SPACING * view.unit
     first = np.ceil(s_lo / spacing)
@@ -137,11 +136,14 @@ def draw_slope(pygame, surface, scene, view, color=BLUE, font=None, marks=True):
     for foot, end, metres, u in zip(view(feet).tolist(), view(feet - tick * scene.n).tolist(), s.tolist(),
                                     units.tolist()):
         pygame.draw.line(surface, color, foot, end, 2)
+        lowest = max(lowest, end[1])
         if font is not None and float(u).is_integer():
             label = font.render(f"{metres:g} m" if view.unit == 1.0 else f"{round(metres * 100, 6):g} cm", True, color)
             left = end[0] - label.get_width() / 2
             if 0 <= left <= surface.get_width() - label.get_width():      # whole or not at all
                 surface.blit(label, (left, end[1] + 2))
+                lowest = max(lowest, end[1] + 2 + label.get_height())
+    return lowest
 
 
 def draw_square(pygame, surface, scene, x, view, color=BLUE, nodes=True):
@@ -211,22 +213,6 @@ def draw_hand(pygame, surface, scene, x, t, view):
         pygame.draw.rect(surface, HAND_COLOR, (q[0] - 3, q[1] - 3, 7, 7))
 
 
-def draw_marks(pygame, surface, scene, marks, view):
-    """The marks the tip has left on the board (recording.Track.marks: (x along it, stuck)): a tick below
-    the board at each, 1 px wide, slipping ones half as deep, stuck ones drawn over them (Rabinowicz's
-    dashed line: a 1.5 mm slip is 6 px at the chalk's 4000 px/m)."""
-    if not marks:
-        return
-    s = np.array([m[0] for m in marks])
-    stuck = np.array([m[1] for m in marks])
-    tangent = FrictionEnergy.tangent(scene.n)
-    depth = MARK_HEIGHT * view.unit
-    for which, color, reach in ((~stuck, SLIP_COLOR, 0.5), (stuck, STUCK_COLOR, 1.0)):
-        feet = scene.o + s[which, None] * tangent
-        for a, b in zip(view(feet).tolist(), view(feet - reach * depth * scene.n).tolist()):
-            pygame.draw.line(surface, color, (round(a[0]), a[1] + 2), (round(a[0]), b[1]), 1)
-
-
 def draw_legend(pygame, surface, font, entries, top, left=12):
     """Colour swatches with their text, one per line from `top` down, laid out from the font's
     measured size: a line apart, each swatch as tall as the capitals of its text and level with them
@@ -284,20 +270,19 @@ def fonts(pygame, height=RESOLUTION):
     return font_with_caps(pygame, TITLE_SCALE * cap), font_with_caps(pygame, cap)
 
 
-def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None):
+def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None, reserve=(0, 0)):
     """One frame: the slope, every run's square in its colour, the forces of each (when given), the
-    time, a legend for the runs (when there are several) and for the arrows. Returns the frame and
-    the first row of pixels below its text.
-
-    `runs`: list of dicts with keys scene, x, label, color and optionally normal, friction ((N, 2) forces).
-    """
+    time, a legend for the runs (when there are several) and for the arrows; the chalk's hand, marks
+    and the strip magnifying them (viewer.marks), off `reserve`: (rows under the legends, rows at the
+    bottom) the caller writes in (None: no strip). Returns the frame and the first row below its text.
+    `runs`: dicts of scene, x, label, color, and normal, friction ((N, 2) forces), marks (the chalk's)."""
     surface = pygame.Surface((view.size, view.size))
     surface.fill((255, 255, 255))
     font, small = fonts
-    draw_slope(pygame, surface, runs[0]["scene"], view, BLUE, small)
-    for run in runs:
-        if run.get("marks") is not None:
-            draw_marks(pygame, surface, run["scene"], run["marks"], view)
+    below = draw_slope(pygame, surface, runs[0]["scene"], view, BLUE, small)
+    chalks = [run for run in runs if run.get("marks") is not None]
+    for run in chalks:
+        tip_marks.draw_marks(pygame, surface, run["scene"], run["marks"], view)
     for run in runs:
         draw_square(pygame, surface, run["scene"], run["x"], view, run["color"])
         if run["scene"].hand is not None:
@@ -322,8 +307,11 @@ def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None):
             ((255, 255, 255), f"{metres:g} m of arrow = {newton_per_metre * metres:.4g} N ({words})")], top + 4)
     if runs[0]["scene"].hand is not None:
         top = draw_legend(pygame, surface, small, [
-            (HAND_COLOR, "the hand: its targets and springs"), (STUCK_COLOR, "marks of the tip: stuck (|v_t| < eps_v)"),
-            (SLIP_COLOR, "marks of the tip: slipping")], top + 4)
+            (HAND_COLOR, "the hand: its targets and springs"),
+            (tip_marks.STUCK_COLOR, "marks of the tip: stuck (|v_t| < eps_v)"),
+            (tip_marks.SLIP_COLOR, "marks of the tip: slipping")], top + 4)
+    if chalks and reserve is not None:
+        tip_marks.place_strip(pygame, surface, chalks, t, view, small, (top + reserve[0], view.height - reserve[1]), below)
     return surface, top
 
 

@@ -10,9 +10,10 @@ stays open on the last frame until closed.
 Here: the window's loop (the keys, the status lines, drawing), opening the display and the command
 line's entry point. What the keys do, the pacing and the files are viewer.live's (no pygame); the
 frames are drawn by viewer.draw, as in the files (the slope's marks, the contact forces; the chalk
-zoomed as its frames zoom it, its hand and the marks its tip leaves, live.LiveRun.marks); a Newton
-iterate by viewer.newton_view. Files are written only when --out is given: then those of a run
-without the window, by the same code, each step once.
+zoomed as its frames zoom it, its hand and the marks its tip leaves, live.LiveRun.marks, with their
+magnified strip beside the chalk: viewer.marks); a Newton iterate by viewer.newton_view. Files are
+written only when --out is given: then those of a run without the window, by the same code, each
+step once.
 """
 import contextlib
 import math
@@ -56,6 +57,7 @@ class LiveWindow(live.LiveDemo):
         self.drawn_at = -math.inf   # when the last frame was drawn
         self.inset = None           # the Newton view's Inset, as last drawn
         self.text_bottom = 0        # the first row of pixels below the status lines, as last drawn
+        self.reserve = None         # the rows draw.draw_frame kept for the status and the keys, as last drawn
 
     # -- the loop -------------------------------------------------------------------------------
 
@@ -102,23 +104,25 @@ class LiveWindow(live.LiveDemo):
         """The frame a run without the window writes (viewer.draw: the slope with its marks, the
         square, the contact forces; the chalk's board, hand and tip's marks), or the Newton iterate in
         progress instead of the forces; the window's status under the title and legend (ending at
-        self.text_bottom), the keys at the bottom; within a Newton step, the inset (self.inset) in the
-        room between them."""
+        self.text_bottom), the keys at the bottom, the chalk's marks' strip (viewer.marks) off both;
+        within a Newton step, its inset (self.inset) in the room between them instead."""
         run, pg = self.run, self.pygame
         x = run.shown_x
         self.view.follow(np.average(x, axis=0, weights=self.scene.m)[None])
         forces = self.newton_per_metre is not None and run.iterate is None
         runs = [frames.frame_run(self.scene, x, run.report, self.label, draw.BLUE, forces)]
         runs[0]["marks"] = run.marks if self.scene.hand is not None else None      # as frames.FrameWriter
-        surface, top = draw.draw_frame(pg, runs, run.t, self.view, self.fonts,
-                                       self.newton_per_metre if forces else None)
-        if run.iterate is not None:
-            newton_view.draw_iterate(pg, surface, self.scene, run.iterate, self.view)
         line, width = self.font.get_linesize(), self.size - 24
         rows = [(row, color) for text, color in self.status_lines() for row in draw.wrap(self.font, text, width)]
+        bottom = [row for text in self.help_lines() for row in draw.wrap(self.font, text, width)]
+        # the chalk's marks' strip off the status lines and the key hints (and none beside the Newton view's inset)
+        self.reserve = (len(rows) * line, 6 + len(bottom) * line) if run.iterate is None else None
+        surface, top = draw.draw_frame(pg, runs, run.t, self.view, self.fonts,
+                                       self.newton_per_metre if forces else None, self.reserve)
+        if run.iterate is not None:
+            newton_view.draw_iterate(pg, surface, self.scene, run.iterate, self.view)
         for row, (text, color) in enumerate(rows):
             surface.blit(self.font.render(text, True, color), (12, top + row * line))
-        bottom = [row for text in self.help_lines() for row in draw.wrap(self.font, text, width)]
         for row, text in enumerate(reversed(bottom), start=1):
             surface.blit(self.font.render(text, True, KEYS), (12, self.size - 6 - row * line))
         self.inset, self.text_bottom = None, top + len(rows) * line
