@@ -85,6 +85,9 @@ def test_flags_reach_the_scene():
     for argv, start in ((["--newton-start", "x_tilde"], "x_tilde"), (["--scene", "chalk"], "x_tilde"),
                         (["--scene", "chalk", "--newton-start", "x_n"], "x_n")):
         assert cli.scene_from_args(cli.parse_command_line(argv)[0]).newton_start == start
+    compared = cli.parse_command_line(["--scene", "chalk", "--newton-start", "x_n,x_tilde"])     # a comparison
+    assert [a.label for a in compared] == ["newton-start = x_n", "newton-start = x_tilde"]
+    assert [cli.scene_from_args(a).newton_start for a in compared] == ["x_n", "x_tilde"]
     no_slope = cli.scene_from_args(cli.parse_command_line(["--no-slope"])[0])
     assert no_slope.n is None and "barrier" not in no_slope.terms
 

@@ -42,7 +42,10 @@ SCENE_FLAGS = [
     (("--friction-iterations",), "friction_updates",
      "fixed-point friction updates per step, fully implicit friction (Algorithm 5); 0: lagged", "N"),
     (("--max-newton",), "max_newton_iterations", "Newton iteration cap per solve", "N"),
+    (("--newton-start",), "newton_start", "where each step's Newton starts: x_n, as the lecture, or x_tilde = "
+     "x^n + h v^n cut back by CCD (the chalk's default)", "START"),
 ]
+CHOICES = {"newton_start": utils.NEWTON_STARTS}      # the flags that take a word, not a number
 # the chalk's own flags (each sets one of simulator.CHALK; --drag below), and the SCENE_FLAGS it has too
 CHALK_FLAGS = [
     (("--tilt",), "tilt", "--scene chalk: the chalk's angle from the board in degrees", "DEG"),
@@ -50,12 +53,12 @@ CHALK_FLAGS = [
     (("--mu-static",), "mu_s", "--scene chalk: static friction coefficient (equal to --mu: one coefficient)", "MU"),
 ]
 CHALK_SHARED = ("mu", "h", "k", "rho", "gravity", "dhat", "kappa", "epsv", "tol", "friction_updates",
-                "max_newton_iterations")
+                "max_newton_iterations", "newton_start")
 WINDOW_FLAGS = ("--size", "--speed")
 # the parameter a ValueError is about (utils.ParameterError.parameter) -> its flag
 FLAG_OF = {**{param: flags[0] for flags, param, _, _ in SCENE_FLAGS + CHALK_FLAGS}, "slope_angle": "--slope-angle",
            "steps": "--steps", "duration": "--duration", "frame-stride": "--frame-stride", "out": "--out",
-           "size": "--size", "speed": "--speed", "newton_start": "--newton-start"}
+           "size": "--size", "speed": "--speed"}
 
 
 class CommandLineError(Exception):
@@ -105,13 +108,11 @@ def make_parser():
                         f"across a board, stick-slip ({CHALK_DURATION:g} s unless --duration or --steps says otherwise)")
     for flags, param, what, metavar in SCENE_FLAGS + CHALK_FLAGS:
         value = d[param] if param in d else simulator.CHALK[param]
-        shown = (",".join(f"{v:g}" for v in value) if isinstance(value, tuple) else
-                 f"{value:g}" if value is not None else "density x side^2")
-        g.add_argument(*flags, dest=param, type=pair if is_pair(metavar) else float, metavar=metavar,
-                       default=argparse.SUPPRESS, help=f"{what} (default {shown})")
-    g.add_argument("--newton-start", choices=utils.NEWTON_STARTS, default=argparse.SUPPRESS,
-                   help="where each step's Newton starts: x_n, as the lecture (the square's default), or x_tilde = "
-                        "x^n + h v^n cut back by CCD (the chalk's)")
+        shown = (",".join(f"{v:g}" for v in value) if isinstance(value, tuple) else value if isinstance(value, str)
+                 else f"{value:g}" if value is not None else "density x side^2")
+        kind = {"choices": CHOICES[param]} if param in CHOICES else {"type": pair if is_pair(metavar) else float}
+        g.add_argument(*flags, dest=param, metavar=metavar, default=argparse.SUPPRESS, help=f"{what} (default {shown})",
+                       **kind)
     g.add_argument("--slope-angle", type=float, metavar="DEGREES",
                    help="slope angle in degrees, descending to the right, instead of --slope-normal")
     g.add_argument("--no-slope", action="store_true", help="free fall: no slope, no contact")
@@ -201,7 +202,6 @@ def given_flags(args, table):
 def scene_from_args(args):
     """simulator.build_scene (build_chalk_scene with --scene chalk) with the scene flags given (the
     rest keep DEFAULTS, CHALK); a flag of the other scene is refused."""
-    both = {"newton_start": args.newton_start} if hasattr(args, "newton_start") else {}     # either scene's
     square_only = {p: f for p, f in given_flags(args, SCENE_FLAGS).items() if p not in CHALK_SHARED}
     square_only.update({"slope_angle": "--slope-angle"} if args.slope_angle is not None else {})
     square_only.update({"slope": "--no-slope"} if args.no_slope else {})
@@ -211,11 +211,11 @@ def scene_from_args(args):
             raise CommandLineError(f"{next(iter(square_only.values()))} applies only to the square; "
                                    f"--scene chalk has no such parameter")
         overrides = {param: getattr(args, param) for _, param, _, _ in SCENE_FLAGS + CHALK_FLAGS
-                     if hasattr(args, param)} | both
+                     if hasattr(args, param)}
         return simulator.build_chalk_scene(drag=args.drag, **overrides)
     if chalk_only:
         raise CommandLineError(f"{chalk_only[0]} applies only to the chalk; add --scene chalk, or leave it out")
-    overrides = {param: getattr(args, param) for _, param, _, _ in SCENE_FLAGS if hasattr(args, param)} | both
+    overrides = {param: getattr(args, param) for _, param, _, _ in SCENE_FLAGS if hasattr(args, param)}
     slopes = (("--slope-normal", "slope" in overrides), ("--slope-angle", args.slope_angle is not None),
               ("--no-slope", args.no_slope))
     given = [flag for flag, on in slopes if on]
