@@ -9,13 +9,14 @@ hand, above it it jams.
 The tip is the chalk's lowest node at the start; at each step it is stuck where its tangential speed is
 below eps_v, slipping elsewhere, and its stick-slip cycles are counted as viewer/stick_slip.py defines them
 (a run's closing line and the chalk's tests count the same way). Every run stops before the hand passes
-over the tip: the chalk stays on the side it started (past vertical, a jammed chalk oscillates on its other
-corner: issue 28).
+over the tip: the chalk stays on the side it started (past vertical, a jammed chalk rests on its other
+corner, and with Newton from x^n at tol eps_v / 10 cycles there: issue 28, docs/chalk.md).
 
-Durations: DURATION for the marks and each grip (0.2 s of pressing and holding, then 1.3 s of drive: 6
-cycles at the loosest grip, whose period is about 190 ms), TILT_DURATION for each tilt (the hand moves
-8 mm: a jammed tip stays stuck, a sliding one follows). The figure's 12 chalk runs take about 55 s on
-this project's 2-core machine, under the two minutes issue 28 allows; 3 s runs would double that."""
+Durations: DURATION for the marks and each grip (0.2 s of pressing and holding, then 1.3 s of drive: 9
+cycles at the loosest grip, whose period is about 150 ms), TILT_DURATION for each tilt (the hand moves
+8 mm: a jammed tip stays stuck, a sliding one follows). The figure's 12 chalk runs take about 27 s on
+this project's 2-core machine (`python -m figures stick_slip`, Newton from x_tilde at the chalk's tol
+1e-6), under the two minutes issue 28 allows; 3 s runs would double that."""
 import math
 from types import SimpleNamespace
 

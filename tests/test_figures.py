@@ -107,8 +107,9 @@ def test_the_pressed_scene_starts_on_the_slope_and_its_lagged_step_brakes_with_t
 @pytest.fixture(scope="module")
 def stick_slip_short():
     """The stick_slip figure's numbers on a short case (about 15 s): 0.7 s for the marks and the four grips
-    (two cycles at the loosest grip), tilts 66 and 68 degrees over 0.5 s, on either side of the measured jam
-    angle (measured: 66 deg slides 2.94 of the hand's 3 mm, 68 deg 0.023 mm)."""
+    (measured: 3 / 4 / 8 / 13 cycles, the loosest grip's period 149 ms), tilts 66 and 68 degrees over 0.5 s,
+    on either side of the measured jam angle (measured: 66 deg slides 2.94 of the hand's 3 mm, 68 deg
+    0.023 mm; 67 deg slides 2.39 mm, so the bracket is between 67 and 68 deg in the figure)."""
     return stick_slip.compute(duration=0.7, tilts=(66.0, 68.0), tilt_duration=0.5)
 
 

@@ -29,7 +29,7 @@ def test_every_panel_labels_its_time_axis_and_its_value_axis(tmp_path):
 
 @pytest.fixture(scope="module")
 def chalks(tmp_path_factory):
-    """Two chalks side by side for 0.6 s (3 cycles of the default's 134 ms after the 0.2 s start): one
+    """Two chalks side by side for 0.6 s (3 cycles of the default's 107 ms after the 0.2 s start): one
     coefficient (mu_s = mu, it slides with the hand) and the default's mu_s = 0.5 > mu (stick-slip)."""
     return tracks_of(tmp_path_factory.mktemp("chalks"), [simulator.build_chalk_scene(mu_s=0.35),
                                                          simulator.build_chalk_scene()], 600)
