@@ -82,11 +82,12 @@ def format_chalk_table(rows, repeats):
                        f"{r['stepping_wall_s']:.2f}", f"{r['wall_per_simulated_s']:.2f}", f"{r['newton_per_step']:.2f}",
                        r["noise"]] for r in rows]
     default = rows[0]["wall_per_simulated_s"]
-    verdict = "met" if default <= CHALK_TARGET else "NOT met"
+    verdict = ("met" if default <= CHALK_TARGET else "NOT met") if rows[0]["simulated_s"] == 3.0 else \
+        "not judged: a short run's start-up weighs more per simulated second"
     return "\n".join(tables.aligned(cells) + [
         "python simulator.py --scene chalk --no-frames [flags]: whole processes (import, steps, log.csv, plots.png,",
         f"summary.png), medians of {repeats} run alternately; stepping wall: the closing line's figure. Target for",
-        f"the pushed default: at most {CHALK_TARGET:g} s of wall time per simulated second: {verdict} "
+        f"the pushed 3 s default: at most {CHALK_TARGET:g} s of wall time per simulated second: {verdict} "
         f"({default:.2f} s)."])
 
 

@@ -276,7 +276,7 @@ def _cycles_panel(pygame, surface, font, top, t_max, tracks):
 
 
 def cycles_legend(r):
-    """A run's stick_slip.StickSlip in the two short rows of a legend: ('21 slips', '1.33 mm, 134 ms, 90 %'),
+    """A run's stick_slip.StickSlip in the two short rows of a legend: ('25 slips', '1.06 mm, 107 ms, 86 %'),
     or ('no cycle', what the tip did instead)."""
     if not r.driven:
         return "no cycle", f"the drive starts at {r.start:g} s"

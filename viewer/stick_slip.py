@@ -98,7 +98,7 @@ def of_track(track):
 
 
 def words(r):
-    """A run's StickSlip in words: 'stick-slip: 21 slips, mean slip 1.33 mm, period 134 ms, tip stuck 90 % of
+    """A run's StickSlip in words: 'stick-slip: 25 slips, mean slip 1.06 mm, period 107 ms, tip stuck 86 % of
     the drive' (pushed); 'the tip slid without a stick after its start-up at t = 0.29 s' (dragged); 'the tip
     jammed, stuck throughout the drive'; a run of sticks and slips that makes no cycle, or one that ended
     before the drive started."""
