@@ -16,6 +16,7 @@ stays in the flat files). Imports point down: viewer -> simulator -> time_integr
     frames.py       when each frame is due; writing it (PNG, OBJs, the page's figures)
     draw.py         one frame: the slope with distance marks, the squares, the forces, a legend; PNG
                     files; the drawing helpers (arrowheads, text wrapping, round numbers)
+    marks.py        the chalk's marks on the board, stuck and slipping, and their strip magnified x8
     plots.py        plots.png: energy budget, contact speeds, Newton iterations (or a comparison of runs);
                     the chalk's tip against the drive, normal force, stick-slip cycles
     summary.py      summary.png: spaced, time-labelled snapshots at a fixed scale
