@@ -95,7 +95,7 @@ def hess_kernel(x, n, o, contact_area, dhat, kappa):
     for the nodes with d_i < dhat; written (d + dhat) / d / d, since d^2 underflows first."""
     i, d = _active(x, n, o, dhat)
     curvature = contact_area.take(i) * kappa / 2.0 * (d + dhat) / d / d
-    return i[:, None], curvature[:, None, None] * np.outer(n, n)
+    return i[:, None], curvature[:, None, None] * (n[:, None] * n)      # n n^T
 
 
 def init_step_size(x, n, o, p):

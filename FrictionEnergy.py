@@ -117,4 +117,4 @@ def hess_kernel(v, mu_lambda, hhat, n, epsv, project_psd=True):
     along_t = f_hess_term(vbarnorm, epsv) * vbarnorm + f1_div_vbarnorm(vbarnorm, epsv)
     if project_psd:
         along_t = np.maximum(along_t, 0.0)
-    return k[:, None], (mu_lambda * along_t / hhat)[:, None, None] * np.outer(t, t)
+    return k[:, None], (mu_lambda * along_t / hhat)[:, None, None] * (t[:, None] * t)      # t t^T

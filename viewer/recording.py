@@ -129,7 +129,8 @@ class Track:
 
     def take(self, record, progress):
         """Log the StepRecord of the step from the current state (the live window hands them in)."""
-        self.hand_work += diagnostics.hand_work(self.scene, self.x, self.t, record.t)      # from x^n
+        self.hand_work += diagnostics.hand_work(self.scene, self.x, self.t, record.t,      # from x^n, whose
+                                                self.samples.last.energies.get("hand"))     # E_hand is known
         self.x, self.v, self.step = record.x, record.v, record.index + 1
         self.friction_work += record.report.friction_work
         sample = self._add(record.report, record.t, record.wall)
