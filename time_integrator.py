@@ -272,12 +272,13 @@ def newton_iterates(scene, x, v, *, step_index=0):
                 report.friction_updates = j
     except (ValueError, np.linalg.LinAlgError) as err:      # an energy overflowed, or H could not be factored
         raise NonFiniteState(f"the step's numbers broke down ({err})", step_index) from err
+    v_next = (x - x_n) / scene.h        # v^{n+1}
     if "friction" in scene.terms:       # the step's friction force -grad P_f(v^{n+1}), its last mu*lambda and T
-        report.friction_force = -FrictionEnergy.grad_kernel(*dict(potential_terms(scene, lagged, x))[FrictionEnergy])
+        report.friction_force = -FrictionEnergy.grad_kernel(*TERMS["friction"].args(scene, lagged, x, v_next))
         report.friction_work = float(np.vdot(report.friction_force, x - x_n))     # its work over the step
     if "barrier" in scene.terms:
         report.min_distance = float(BarrierEnergy.distances(x, scene.n, scene.o).min())
-    return x, (x - x_n) / scene.h, report
+    return x, v_next, report
 
 
 def run_out(iterates):

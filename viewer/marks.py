@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 import square_mesh
-from viewer import diagnostics
+from viewer import diagnostics, stick_slip
 
 # the two kinds of mark: the stuck one dark, the slipping one mid-grey in luminance (WCAG contrast on
 # white 16.4 and 3.3, 4.9 between them: apart in grey-scale too), each at least 39 in CIELAB from
@@ -42,8 +42,8 @@ def stretches(marks):
         return np.zeros(0), np.zeros(0), np.zeros(0, bool)
     a = np.asarray(marks, float)
     s, stuck = a[:, 0], a[:, 1] > 0.5
-    starts = np.flatnonzero(np.r_[True, stuck[1:] != stuck[:-1]])
-    ends = np.r_[starts[1:], len(s)] - 1
+    parts = stick_slip.runs(stuck)              # the runs of one kind, as the stick-slip count splits them
+    starts, ends = np.array([p[0] for p in parts]), np.array([p[-1] for p in parts])
     kind = stuck[starts]
     before, after = s[np.where(kind, starts, np.maximum(starts - 1, 0))], s[np.where(kind, ends, np.minimum(ends + 1, len(s) - 1))]
     lo = np.minimum(np.minimum.reduceat(s, starts), np.minimum(before, after))
