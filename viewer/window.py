@@ -20,10 +20,8 @@ import math
 import os
 import sys
 
-import numpy as np
-
 import utils
-from viewer import draw, files, frames, live, newton_view, run as orchestration
+from viewer import diagnostics, draw, files, frames, live, newton_view, run as orchestration
 
 FPS = 60                  # frames drawn per second at most
 MIN_FPS = 20              # ... and at least, when the steps fall behind (the other frames are dropped)
@@ -108,7 +106,7 @@ class LiveWindow(live.LiveDemo):
         within a Newton step, its inset (self.inset) in the room between them instead."""
         run, pg = self.run, self.pygame
         x = run.shown_x
-        self.view.follow(np.average(x, axis=0, weights=self.scene.m)[None])
+        self.view.follow(diagnostics.centre_of_mass(self.scene, x)[None])     # as the frames follow it
         forces = self.newton_per_metre is not None and run.iterate is None
         runs = [frames.frame_run(self.scene, x, run.report, self.label, draw.BLUE, forces)]
         runs[0]["marks"] = run.marks if self.scene.hand is not None else None      # as frames.FrameWriter
