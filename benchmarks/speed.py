@@ -18,11 +18,12 @@ the chalk's wait (`--chalk`: chalk_speed.py).
     python -m benchmarks.speed --frames              # the default run with and without frames (frames_overhead)
     python -m benchmarks.speed --window              # the live window at n_seg 4, 8, 16 (on $DISPLAY too)
     python -m benchmarks.speed --chalk               # the chalk's 3 s runs, pushed and dragged (about 2 minutes)
+    python -m benchmarks.speed --chalk --python A,B  # the same, under the interpreters at the paths A and B
 
 Only the plain command writes into benchmarks/results/ (speed.csv, the table benchmarks/README.md
 quotes); a run with --quick, --sizes or --against writes speed.csv (and speed-against.csv) into a new
 temporary folder, and --out DIR into DIR. --window and --frames only print; --chalk writes chalk-speed.csv
-(into benchmarks/results/ unless --quick or --out).
+(into benchmarks/results/ unless --quick, --python or --out).
 
 Timing on a shared machine: the figures to read are the CPU medians; a line is marked noisy as
 benchmarks/tables.noise says. BLAS runs on one thread unless OPENBLAS_NUM_THREADS says otherwise.
@@ -133,6 +134,12 @@ def format_table(rows):
         "utils.SPDSolver.solve (band assembly, factorization, triangular solves), rest: everything else"])
 
 
+def usage_error(message):
+    """Bad input: one line naming the option, exit status 2, before anything is run or written."""
+    print(f"python -m benchmarks.speed: error: {message}", file=sys.stderr)
+    return 2
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="python -m benchmarks.speed", description=__doc__.split("\n\n")[0])
     ap.add_argument("--quick", action="store_true", help="smoke run: n_seg 4 and 8, few steps (comparison: n_seg 4)")
@@ -145,15 +152,24 @@ def main(argv=None):
     ap.add_argument("--frames", action="store_true", help="only the default run with frames against --no-frames")
     ap.add_argument("--chalk", action="store_true", help="only the chalk's runs, pushed and dragged, from x_tilde "
                                                          "and x^n (with --quick: 0.3 s runs, once)")
+    ap.add_argument("--python", metavar="EXE[,EXE]",
+                    help="with --chalk: the interpreters whose processes run, in turn (default: this one)")
     args = ap.parse_args(argv)
+    if args.python is not None and not args.chalk:
+        return usage_error("--python needs --chalk: it names the interpreters the chalk's processes run in")
     if args.window:
         print(window_speed.window_table())
         return 0
     if args.frames:
         return frames_cost.print_frames_overhead(3 if args.quick else 5)
     if args.chalk:
-        rows = chalk_speed.print_chalk_table(1 if args.quick else 3, 0.3 if args.quick else None)
-        out = benchmarks.output_folder(args.out, not args.quick, "chalk-speed")
+        pythons = [sys.executable] if args.python is None else [p.strip() for p in args.python.split(",")]
+        try:
+            versions = {python: chalk_speed.python_version(python) for python in pythons}
+        except ValueError as err:
+            return usage_error(str(err))
+        rows = chalk_speed.print_chalk_table(1 if args.quick else 3, 0.3 if args.quick else None, versions)
+        out = benchmarks.output_folder(args.out, not (args.quick or args.python), "chalk-speed")
         tables.write_csv(os.path.join(out, "chalk-speed.csv"), chalk_speed.COLUMNS, rows)
         print(f"wrote chalk-speed.csv into {out}", file=sys.stderr)
         return 0
