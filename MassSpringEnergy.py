@@ -41,6 +41,12 @@ def _edges(x, e):
     return diff, diff[:, 0] ** 2 + diff[:, 1] ** 2
 
 
+def squared_lengths(x, e):
+    """||x_a - x_b||^2 of every edge (E,): a scene's rest lengths l2, measured with the operations P_e
+    measures the springs with, so a spring at rest has strain 0.0 exactly."""
+    return _edges(np.asarray(x, dtype=float), np.asarray(e))[1]
+
+
 def val_kernel(x, e, l2, k):
     """P_e = sum_e 1/2 k l2 (||diff||^2 / l2 - 1)^2."""
     strain = _edges(x, e)[1] / l2 - 1.0

@@ -22,6 +22,7 @@ import numpy as np
 
 import BarrierEnergy
 import HandEnergy
+import MassSpringEnergy
 import chalk_checks
 import square_checks
 import square_mesh
@@ -108,7 +109,6 @@ def build_scene(**overrides):
         d = BarrierEnergy.distances(x, n, o)
     square_checks.check_start(p, DEFAULTS, x, n, o, d)
 
-    diff = x[e[:, 0]] - x[e[:, 1]]
     total_mass = square_checks.total_mass(p)                            # mass, or rho side_len^2
     terms = ["inertia", "spring"] + ["gravity"] * any(p["gravity"])
     if n is not None:
@@ -116,7 +116,7 @@ def build_scene(**overrides):
     return Scene(
         params=types.MappingProxyType(p), x0=_readonly(x), v0=_readonly(np.tile(p["v0"], (len(x), 1))),
         e=_readonly(np.asfortranarray(e)),      # column by column: e[:, 0] and e[:, 1] gather fast
-        l2=_readonly(np.einsum("ij,ij->i", diff, diff)), k=_readonly(np.full(len(e), p["k"])),
+        l2=_readonly(MassSpringEnergy.squared_lengths(x, e)), k=_readonly(np.full(len(e), p["k"])),
         m=_readonly(np.full(len(x), total_mass / len(x))),
         contact_area=_readonly(np.full(len(x), p["side_len"] / p["n_seg"])),
         g=_readonly(p["gravity"]), n=None if n is None else _readonly(n), o=None if o is None else _readonly(o),
@@ -166,11 +166,10 @@ def build_chalk_scene(**overrides):
     hand = HandEnergy.Hand(nodes=_readonly(held), rest=_readonly(x[held]), k_hand=p["k_hand"],
                            key_t=_readonly([0.0, t1, t2, t2 + 1.0]),       # then on at drive
                            key_d=_readonly([[0.0, 0.0], [0.0, down], [0.0, down], [p["drive"], down]]))
-    diff = x[e[:, 0]] - x[e[:, 1]]
     terms = ["inertia", "spring"] + ["gravity"] * any(p["gravity"]) + ["hand", "barrier"]
     return Scene(
         params=types.MappingProxyType(p), x0=_readonly(x), v0=_readonly(np.zeros_like(x)),
-        e=_readonly(np.asfortranarray(e)), l2=_readonly(np.einsum("ij,ij->i", diff, diff)),
+        e=_readonly(np.asfortranarray(e)), l2=_readonly(MassSpringEnergy.squared_lengths(x, e)),
         k=_readonly(np.full(len(e), p["k"])),
         m=_readonly(np.full(len(x), p["rho"] * p["length"] * p["width"] / len(x))),
         contact_area=_readonly(np.full(len(x), p["width"] / p["ny"])), g=_readonly(p["gravity"]),
