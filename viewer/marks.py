@@ -117,8 +117,8 @@ def layout(runs, t, view, font, top, bottom, below):
     scene = runs[0]["scene"]
     board = float(view(board_point(scene, 0.0))[0, 1])
     fit = (lambda room, width: min(want, int(room - header(font, width, view.scale) - PAD) // len(runs)))
-    if fit(bottom - below - 2 * PAD, size - 24) >= least:
-        row = fit(bottom - below - 2 * PAD, size - 24)
+    row = fit(bottom - below - 2 * PAD, size - 24)
+    if row >= least:
         rect = (12, int(below) + PAD, size - 24, header(font, size - 24, view.scale) + len(runs) * row + PAD)
         where = "below the board"
     else:
