@@ -163,9 +163,9 @@ def main(argv=None):
     if args.frames:
         return frames_cost.print_frames_overhead(3 if args.quick else 5)
     if args.chalk:
-        pythons = [sys.executable] if args.python is None else [p.strip() for p in args.python.split(",")]
-        try:
-            versions = {python: chalk_speed.python_version(python) for python in pythons}
+        try:            # each interpreter given, checked before anything runs (None: this one)
+            versions = None if args.python is None else {
+                python: chalk_speed.python_version(python) for python in (p.strip() for p in args.python.split(","))}
         except ValueError as err:
             return usage_error(str(err))
         rows = chalk_speed.print_chalk_table(1 if args.quick else 3, 0.3 if args.quick else None, versions)
