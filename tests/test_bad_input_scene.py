@@ -86,6 +86,10 @@ CLI = [
     (["--frame-stride", "0"], "--frame-stride: frame-stride must be a whole number >= 1, got 0.0"),
     (["--friction-iterations", "-1"], "friction_updates must be a whole number >= 0, got -1.0"),
     (["--mu", "abc"], "argument --mu: invalid float value: 'abc'"),
+    (["--steps", "abc"], "argument --steps: invalid int value: 'abc'"),
+    (["--n-seg", "four"], "argument --n-seg: invalid int value: 'four'"),
+    (["--frame-stride", "x"], "argument --frame-stride: invalid int value: 'x'"),
+    (["--max-newton", "1,x"], "argument --max-newton: invalid int value: 'x'"),
     (["--newton-start", "x0"], "argument --newton-start: invalid choice: 'x0'"),
 ] + [([flag, value], "must be") for flag in
      ("--mu", "--h", "--side", "--k", "--density", "--mass", "--dhat", "--kappa", "--epsv", "--tol", "--n-seg",

@@ -131,8 +131,8 @@ def test_runs_without_any_display_settings(tmp_path):
 
 def test_output_files_have_the_usual_permissions(tmp_path):
     """Written whole via a temporary file, yet readable by others as with a plain open() (umask 022)."""
-    result = subprocess.run(["sh", "-c", f"umask 022 && {sys.executable} {os.path.join(ROOT, 'simulator.py')} "
-                             f"--steps 1 --out {tmp_path}"], capture_output=True, text=True, timeout=120,
+    command = [sys.executable, os.path.join(ROOT, "simulator.py"), "--steps", "1", "--out", str(tmp_path)]
+    result = subprocess.run(command, umask=0o022, capture_output=True, text=True, timeout=120,
                             env={**os.environ, "SDL_VIDEODRIVER": "dummy"})
     assert result.returncode == 0, result.stderr
     for name in ("frame_00001.png", "frame_00001.obj", "log.csv", "summary.png"):
@@ -172,3 +172,22 @@ def test_an_errors_flag_comes_from_its_parameter_not_its_words(monkeypatch):
         monkeypatch.setattr(simulator, "build_scene", refuse(parameter, words))
         code, lines = run_main("--steps", "3")
         assert code == 2 and len(lines) == 1 and f"simulator.py: error: {shown}" in lines[0], lines
+
+
+@pytest.mark.parametrize("args, said", [
+    (["--mu", "0,11"], "comparing mu = 0 and mu = 11 (a list; a decimal is written 0.11)"),
+    (["--tilt", "60,70", "--scene", "chalk"], "comparing tilt = 60 and tilt = 70 (a list; a decimal is "
+                                               "written 60.70)"),
+])
+def test_a_list_that_reads_like_a_decimal_comma_is_said_first(args, said, tmp_path):
+    """A two-value list of whole numbers to a flag of decimals may be a decimal comma: the run's first
+    line says what it compares, and the run goes on."""
+    code, lines = run_main(*args, "--steps", "2", "--no-frames", "--out", str(tmp_path))
+    assert code == 0 and lines[0] == said
+
+
+@pytest.mark.parametrize("args", [["--mu", "0.1,0.11"], ["--mu", "0,0.11,1"], ["--n-seg", "4,8"],
+                                  ["--k", "2e4,4e4"], ["--v0", "1,0;2,0"]])
+def test_other_lists_say_nothing_about_decimals(args, tmp_path):
+    code, lines = run_main(*args, "--steps", "2", "--no-frames", "--out", str(tmp_path))
+    assert code == 0 and not [line for line in lines if "decimal" in line]

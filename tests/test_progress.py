@@ -1,13 +1,15 @@
 """viewer/progress.py: what a run says as it goes. The warnings about a step are worded in one place
 (step_warnings), for a run to files and the window alike; a run says each kind once."""
+import csv
 import io
+import re
 import types
 
 import numpy as np
 
 import simulator
 import time_integrator
-from helpers.command import recorded
+from helpers.command import recorded, run_main
 from viewer import progress, stick_slip
 
 
@@ -37,9 +39,9 @@ def test_rest_words_say_when_each_run_came_to_rest():
         return types.SimpleNamespace(label=label, rest_since=rest_since, t=t, scene=simulator.build_scene(),
                                      samples=types.SimpleNamespace(last=types.SimpleNamespace(sliding=sliding)))
     assert progress.rest_words([track("a", 5.534, 0)]) == "the square came to rest at t = 5.53 s"
-    assert progress.rest_words([track("a", None, 2)]) == "the square still sliding at t = 3.00 s"
+    assert progress.rest_words([track("a", None, 2)]) == "the square was still sliding at t = 3.00 s"
     assert progress.rest_words([track("mu = 0.1", None, 0), track("mu = 0.2", 2.8, 0)]) == \
-        "mu = 0.1: not at rest at t = 3.00 s; mu = 0.2: came to rest at t = 2.80 s"
+        "mu = 0.1: had not come to rest by t = 3.00 s; mu = 0.2: came to rest at t = 2.80 s"
     runs = [track("mu = 0.1", None, 1), track("mu = 0.2", 2.8, 0)]
     assert progress.closing_words(runs) == progress.rest_words(runs)           # the square's closing words
     assert progress.closing_note(runs) == progress.rest_words(runs) + " (every contact below eps_v from then on)"
@@ -75,7 +77,7 @@ def test_the_chalks_closing_words_are_its_stick_slip():
 def test_progress_lines_come_every_tenth_of_the_run():
     log = io.StringIO()
     report = time_integrator.StepReport(residual=2e-3, alphas=[1.0, 1.0])
-    tr = types.SimpleNamespace(label="run", steps=100, step=0, t=0.0,
+    tr = types.SimpleNamespace(label="run", steps=100, step=0, t=0.0, scene=simulator.build_scene(),
                                samples=types.SimpleNamespace(last=types.SimpleNamespace(report=report, min_distance=0.5)))
     lines = progress.Progress([tr], log)
     for step in range(1, 101):
@@ -83,3 +85,36 @@ def test_progress_lines_come_every_tenth_of_the_run():
         lines.tick(tr)
     rows = log.getvalue().splitlines()
     assert len(rows) == 10 and rows[0] == "step 10/100  t=0.10s  newton=2  residual=2.0e-03  min_d=5.00e-01"
+
+
+def test_a_comparisons_progress_lines_give_each_runs_own_step_as_its_log(tmp_path):
+    """Runs advance in turn, a frame's steps at a time: the line for step N waits until every run has
+    logged step N, and gives each run's figures of that step, as its log.csv has them (runs of
+    another h too: the h = 0.005 run's step N is its own, at another t)."""
+    code, lines = run_main("--mu", "0.1,0.11", "--steps", "60", "--no-frames", "--out", str(tmp_path))
+    assert code == 0
+    check_lines_against_logs(tmp_path, ["mu0.1", "mu0.11"], lines, expected=6)
+    code, lines = run_main("--h", "0.01,0.005", "--duration", "0.6", "--no-frames",
+                           "--out", str(tmp_path / "h"))
+    assert code == 0
+    check_lines_against_logs(tmp_path / "h", ["h0.01", "h0.005"], lines, expected=12)
+
+
+def check_lines_against_logs(folder, tags, lines, expected):
+    """Each progress line's figures, run by run, are the log rows of its step."""
+    said = [line for line in lines if line.startswith("step ")]
+    assert len(said) >= expected
+    logs = []
+    for tag in tags:
+        with open(folder / f"log_{tag}.csv", newline="") as f:
+            logs.append({int(row["step"]): row for row in csv.DictReader(f)})
+    for line in said:
+        step = int(line.split()[1].split("/")[0])
+        runs = re.findall(r"newton=(\d+)\s+residual=(\S+)\s+min_d=(\S+)", line)
+        present = [log for log in logs if step in log]
+        assert len(runs) == len(present) >= 1, line
+        for (newton, residual, min_d), log in zip(runs, present):
+            row = log[step]
+            assert int(newton) == int(row["newton_iterations"]), line
+            assert residual == f"{float(row['residual']):.1e}", line
+            assert min_d == f"{float(row['min_distance']):.2e}", line

@@ -305,7 +305,7 @@ def test_the_closing_line_and_the_page_say_when_the_square_came_to_rest(tmp_path
     if duration == "0.3":
         assert rest is not None and 0.0 < rest < 0.2 and f"; the square came to rest at t = {rest:.2f} s;" in lines[-1]
     else:
-        assert rest is None and "; the square still sliding at t = 0.05 s;" in lines[-1]
+        assert rest is None and "; the square was still sliding at t = 0.05 s;" in lines[-1]
     assert page_data(tmp_path)["rest"] == [rest]
 
 
@@ -388,7 +388,7 @@ def test_the_lectures_comparison_in_one_command(tmp_path):
     assert 3.0 < last_sliding["0.11"] < cli.DURATION - 0.2
     assert last_sliding["0.2"] < last_sliding["0.11"]
     rest = {mu: rest_from_log(read_csv(tmp_path / f"log_mu{mu}.csv")) for mu in ("0.1", "0.11", "0.2")}
-    assert rest["0.1"] is None and "mu = 0.1: still sliding at t = 6.00 s" in lines[-1]
+    assert rest["0.1"] is None and "mu = 0.1: was still sliding at t = 6.00 s" in lines[-1]
     for mu in ("0.11", "0.2"):
         assert rest[mu] == pytest.approx(last_sliding[mu] + 0.01) and f"mu = {mu}: came to rest at t = {rest[mu]:.2f} s" in lines[-1]
 

@@ -81,6 +81,14 @@ def pair(text):
     return tuple(values)
 
 
+def whole(text):
+    """A count flag's value (N): a number, checked to be whole where the scene or run is built."""
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"invalid int value: {text!r}") from None
+
+
 def as_number(text, pair_flag):
     """A list value as the number (or pair) its flag parses it to, so '0.1' and '0.10' compare equal; the
     text itself where it does not parse (argparse then names it)."""
@@ -110,7 +118,8 @@ def make_parser():
         value = d[param] if param in d else simulator.CHALK[param]
         shown = (",".join(f"{v:g}" for v in value) if isinstance(value, tuple) else value if isinstance(value, str)
                  else f"{value:g}" if value is not None else "density x side^2")
-        kind = {"choices": CHOICES[param]} if param in CHOICES else {"type": pair if is_pair(metavar) else float}
+        kind = ({"choices": CHOICES[param]} if param in CHOICES else
+                {"type": pair if is_pair(metavar) else whole if metavar == "N" else float})
         g.add_argument(*flags, dest=param, metavar=metavar, default=argparse.SUPPRESS, help=f"{what} (default {shown})",
                        **kind)
     g.add_argument("--slope-angle", type=float, metavar="DEGREES",
@@ -120,10 +129,10 @@ def make_parser():
     r = ap.add_argument_group("run and output")
     r.add_argument("--duration", type=float, metavar="SECONDS",
                    help=f"simulated seconds (default {DURATION:g})")
-    r.add_argument("--steps", type=float, metavar="N", help="number of time steps, instead of --duration")
+    r.add_argument("--steps", type=whole, metavar="N", help="number of time steps, instead of --duration")
     r.add_argument("--out", metavar="FOLDER", help=f"output folder (default {DEFAULT_OUT}; with --window, "
                    f"files only when given)")
-    r.add_argument("--frame-stride", type=float, metavar="N",
+    r.add_argument("--frame-stride", type=whole, metavar="N",
                    help=f"write a frame every N steps (default: {FRAMES_PER_SECOND} or more a simulated second)")
     r.add_argument("--no-forces", action="store_true", help="draw no force arrows in the frames")
     r.add_argument("--no-frames", action="store_true",
@@ -168,7 +177,7 @@ def parse_command_line(argv):
     lists = [u for u in uses if (";" if u[4] else ",") in u[3]]
     if not lists:
         args = parser.parse_args(argv)
-        args.label, args.tag = "", ""
+        args.label, args.tag, args.said = "", "", None
         return [args]
     if len(lists) > 1:
         raise CommandLineError(f"only one scene flag may take a list of values, got {lists[0][1]} and {lists[1][1]}")
@@ -185,13 +194,25 @@ def parse_command_line(argv):
             raise CommandLineError(f"{flag}: the list {text} repeats a value: {values[numbers.index(number)]} "
                                    f"and {values[j]} are equal")
     runs, skip = [], i + (1 if "=" in argv[i] else 2)
+    said = None if pair_flag else decimal_comma(flag, values)
     for value in values:
         args = parser.parse_args(argv[:i] + [f"{flag}={value}"] + argv[skip:])
         name = flag.lstrip("-")
-        args.label = f"{name} = {value}"
+        args.label, args.said = f"{name} = {value}", said
         args.tag = f"{name}_{value.replace(',', '_')}" if pair_flag else f"{name}{value}"
         runs.append(args)
     return runs
+
+
+def decimal_comma(flag, values):
+    """A list of two whole numbers given to a flag of decimals reads like a decimal comma ('--mu 0,11'):
+    what it compares, said out loud as the run's first line; None for any other list."""
+    counts = [flags[0] for flags, _, _, metavar in SCENE_FLAGS + CHALK_FLAGS if metavar == "N"]
+    if flag in counts or len(values) != 2 or not all(re.fullmatch(r"-?[0-9]+", v) for v in values):
+        return None
+    name = flag.lstrip("-")
+    return (f"comparing {name} = {values[0]} and {name} = {values[1]} (a list; a decimal is written "
+            f"{values[0]}.{values[1]})")
 
 
 def given_flags(args, table):
@@ -271,7 +292,8 @@ def plan_from_args(runs):
     return run.Plan(scenes=scenes, labels=[a.label or default_label(s) for a, s in zip(runs, scenes)],
                     tags=[a.tag for a in runs],
                     steps=[steps_from_args(a, s) for a, s in zip(runs, scenes)],
-                    out=out, stride=frame_stride(args, scenes), frames=not args.no_frames, forces=not args.no_forces)
+                    out=out, stride=frame_stride(args, scenes), frames=not args.no_frames, forces=not args.no_forces,
+                    said=args.said)
 
 
 def default_label(scene):

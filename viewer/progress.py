@@ -10,22 +10,48 @@ PROGRESS_EVERY = 2.0        # s of wall time: a progress line at least this ofte
 
 
 class Progress:
-    """Progress lines on `log`: every tenth of the first run and at least every PROGRESS_EVERY s of
-    wall time, whatever the run's length (a run of 1e308 steps says how far it got)."""
+    """Progress lines on `log`: at every tenth of the first run and at least every PROGRESS_EVERY s
+    of wall time, whatever the run's length (a run of 1e308 steps says how far it got). A line for
+    step N gives each run's figures of its own step N, as its log.csv has them: runs advance in turn,
+    so a line waits until every run has reached step N or ended before it."""
 
     def __init__(self, tracks, log):
         self.log, self.tracks = log, tracks
         self.last = time.perf_counter()
         self.tenth = max(1, tracks[0].steps // 10)
+        self.due = {}               # step N -> {track index: its figures at step N}, not yet said
 
     def tick(self, track):
+        """`track` has just logged its step `track.step`."""
         now = time.perf_counter()
-        if (track is self.tracks[0] and track.step % self.tenth == 0) or now - self.last > PROGRESS_EVERY:
+        if track.step % self.tenth == 0:
+            self.due.setdefault(track.step, {})
+        going = [tr.step for tr in self.tracks if tr.step < tr.steps]
+        if now - self.last > PROGRESS_EVERY and going:      # the next step the runs going all reach
             self.last = now
-            parts = [f"{tr.label + ': ' if len(self.tracks) > 1 else ''}newton={tr.samples.last.report.newton_iterations}"
-                     f"  residual={tr.samples.last.report.residual:.1e}  min_d={tr.samples.last.min_distance:.2e}"
-                     for tr in self.tracks if tr.samples.last.report is not None]
-            print(f"step {track.step}/{track.steps}  t={track.t:.2f}s  " + "  ".join(parts), file=self.log, flush=True)
+            self.due.setdefault(1 + max(going), {})
+        if track.step in self.due:
+            self.due[track.step][self.tracks.index(track)] = self.words(track)
+        for n in sorted(self.due):          # said once every run has logged step n, or has ended
+            if all(k in self.due[n] or tr.step == tr.steps for k, tr in enumerate(self.tracks)):
+                self.say(n, self.due.pop(n))
+
+    def words(self, track):
+        """One run's figures of the step it has just logged, as the progress line says them."""
+        last, t = track.samples.last, ""
+        if len({tr.scene.h for tr in self.tracks}) > 1:       # runs of different h: step N, other t
+            t = f"t={track.t:.2f}s "
+        return (f"{t}newton={last.report.newton_iterations}  residual={last.report.residual:.1e}  "
+                f"min_d={last.min_distance:.2e}")
+
+    def say(self, n, runs):
+        """The line of step n: the first run's step count and time, each run's figures."""
+        if runs:
+            first = self.tracks[min(runs)]
+            parts = [f"{self.tracks[k].label}: {text}" if len(self.tracks) > 1 else text
+                     for k, text in sorted(runs.items())]
+            print(f"step {n}/{first.steps}  t={n * first.scene.h:.2f}s  " + "  ".join(parts),
+                  file=self.log, flush=True)
 
     def warn(self, track, text):
         who = f"{track.label}: " if len(self.tracks) > 1 else ""
@@ -50,10 +76,13 @@ def step_warnings(scene, step, t, report, inverted):
 
 def rest_words(tracks):
     """When each run came to rest (every contact node below eps_v from then on, as log.csv's
-    contacts_sliding says), in words: 'came to rest at t = 5.53 s', or 'still sliding at t = 3.00 s'."""
+    contacts_sliding says), as a sentence after its subject: 'came to rest at t = 5.53 s', 'was still
+    sliding at t = 3.00 s', or (no contact slides: in the air) 'had not come to rest by t = 0.60 s'."""
     def words(track):
         if track.rest_since is None:
-            return f"{'still sliding' if track.samples.last.sliding else 'not at rest'} at t = {track.t:.2f} s"
+            if track.samples.last.sliding:
+                return f"was still sliding at t = {track.t:.2f} s"
+            return f"had not come to rest by t = {track.t:.2f} s"
         return f"came to rest at t = {track.rest_since:.2f} s"
     if len(tracks) == 1:
         return "the square " + words(tracks[0])

@@ -83,6 +83,7 @@ class Plan:
     stride: int
     frames: bool
     forces: bool
+    said: str = None        # what the run says first (cli.decimal_comma), or None
 
     def names(self):
         """The names this run writes into `out` (files.RunNames)."""
@@ -194,6 +195,8 @@ def to_files(plan, signals, messages=None):
     folder = files.OutputFolder.claim(plan.out, plan.names(), signals)       # ValueError: refused, nothing written
     tracks, frame_log, failure, start = [], [], None, time.perf_counter()
     try:
+        if plan.said:
+            print(plan.said, file=messages, flush=True)
         warn(plan, messages)
         load_pygame(signals)
         for k, (scene, steps, label, tag) in enumerate(zip(plan.scenes, plan.steps, plan.labels, plan.tags)):
