@@ -34,8 +34,8 @@ def jupyter():
     return nbformat, nbclient
 
 
-def execute(nb):
-    """Run every cell of `nb` (in place) in a kernel of this interpreter, started in notebooks/.
+def execute(nb, folder=FOLDER):
+    """Run every cell of `nb` (in place) in a kernel of this interpreter, started in `folder`.
 
     The notebook names the kernel "python3", as Jupyter does; here that name is resolved through a
     kernelspec written for sys.executable, first on JUPYTER_PATH, so a "python3" spec of another Python
@@ -51,7 +51,7 @@ def execute(nb):
         os.environ["JUPYTER_PATH"] = path if saved_path is None else os.pathsep.join([path, saved_path])
         try:
             nbclient.NotebookClient(nb, timeout=CELL_TIMEOUT, record_timing=False,
-                                    resources={"metadata": {"path": FOLDER}}).execute()
+                                    resources={"metadata": {"path": folder}}).execute()
         finally:
             if saved_path is None:
                 del os.environ["JUPYTER_PATH"]
@@ -108,7 +108,9 @@ def tolerance(mu):
     return simulator.DEFAULTS["tol"] / (g * (mu * cos - sin)) + simulator.DEFAULTS["h"]
 
 
-def test_the_notebook_runs_in_a_kernel_and_gives_its_saved_numbers():
+def test_the_notebook_runs_in_a_kernel_and_gives_its_saved_numbers(monkeypatch):
+    """From its own folder, with nothing set: its first cell finds the repository above it."""
+    monkeypatch.delenv("PYTHONPATH", raising=False)
     saved = read()
     nbformat, nbclient = jupyter()
     nb = copy.deepcopy(saved)
@@ -133,3 +135,21 @@ if __name__ == "__main__":          # python tests/test_notebook.py: execute the
     nb = execute(read())
     jupyter()[0].write(nb, NOTEBOOK)
     print(f"{NOTEBOOK}: executed and saved, {os.path.getsize(NOTEBOOK)} bytes, rest times {rest_times(nb)}")
+
+
+def test_a_copy_elsewhere_runs_with_the_repository_on_pythonpath(tmp_path, monkeypatch):
+    """README: a copy of the notebook in another folder (here one with a space and a non-ASCII letter)
+    runs once PYTHONPATH names the repository, and writes nothing into either folder."""
+    folder = tmp_path / "my notes é"
+    folder.mkdir()
+    nbformat, nbclient = jupyter()
+    nbformat.write(read(), str(folder / "lecture.ipynb"))
+    monkeypatch.setenv("PYTHONPATH", ROOT)
+    before = listing()
+    try:
+        nb = execute(nbformat.read(str(folder / "lecture.ipynb"), as_version=4), str(folder))
+    except nbclient.exceptions.CellExecutionError as err:
+        pytest.fail(f"a cell of the copy failed:\n{err}")
+    assert os.path.samefile(folder / text(nb.cells[2]).split(": ", 1)[1].strip(), ROOT)
+    assert set(rest_times(nb)) == {0.1, 0.11, 0.2}
+    assert listing() == before and os.listdir(folder) == ["lecture.ipynb"]
