@@ -66,9 +66,17 @@ def _as_array(name, a):
 
 
 def _real_array(name, a):
-    """`a` as a float64 array; ValueError naming `name` unless its dtype is of real numbers (int, float):
-    booleans, text, complex numbers (even with zero imaginary parts) and objects are refused."""
+    """`a` as a float64 array; ValueError naming `name` unless it holds real numbers: a dtype of int or
+    float, or objects that are each one real number (_real: Decimal, Fraction, an int beyond int64),
+    converted as float() converts each. Booleans, text and complex numbers (even with zero imaginary
+    parts) are refused, as objects too."""
     a = _as_array(name, a)
+    if a.dtype.kind == "O":                 # item by item: only an object array takes this path
+        try:
+            return np.array([_real(item) for item in a.ravel()], dtype=np.float64).reshape(a.shape)
+        except (TypeError, ValueError, OverflowError):
+            raise ParameterError(name, f"{name} must hold real numbers, got an object array that holds "
+                                       f"another kind of object") from None
     if a.dtype.kind not in "iuf":
         raise ParameterError(name, f"{name} must hold real numbers, got dtype {a.dtype}")
     return a.astype(np.float64, copy=False)
@@ -108,7 +116,7 @@ def check_per_item(name, a, count, what="node", must_be=None):
 def check_vector(name, a):
     """Return `a` as a finite float64 2-vector; ValueError unless it is two real numbers: an array of an
     int or float dtype, or a sequence of two real numbers each (see _real: no text, booleans or complex
-    numbers, even where they convert)."""
+    numbers, even where they convert; an object array of such numbers converts)."""
     try:
         shape = np.shape(a)
     except ValueError:                      # a ragged nesting of lists
@@ -116,8 +124,6 @@ def check_vector(name, a):
     if shape != (2,):
         raise ParameterError(name, f"{name} must be a 2-vector, got " + (f"shape {shape}" if shape is not None else repr(a)))
     try:
-        if isinstance(a, np.ndarray) and a.dtype.kind not in "iuf":
-            raise TypeError
         a = np.array([_real(c) for c in a])
     except OverflowError:
         raise ParameterError(name, f"{name} must be a 2-vector of numbers, got ({', '.join(map(_typed, a))}), beyond "

@@ -42,12 +42,14 @@ def parse(argv):
 
 
 def write(names, folder):
-    """Compute, draw and write each figure, saying so on stdout."""
+    """Compute, draw and write each figure, saying so on stdout, then the time they took in all."""
+    begin = time.perf_counter()
     for name in names:
         start = time.perf_counter()
         module = importlib.import_module(f"figures.{name}")
         folder.write(f"{name}.png", module.draw(module.compute()).png())
         print(f"figures: wrote {folder.path(name + '.png')} ({time.perf_counter() - start:.1f} s)")
+    print(f"figures: {len(names)} figure{'s' * (len(names) > 1)} in {time.perf_counter() - begin:.1f} s")
 
 
 def main(argv=None):

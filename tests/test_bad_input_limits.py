@@ -2,6 +2,8 @@
 first step would overflow or whose Newton matrix float64 cannot resolve, meshes too large for memory,
 and the library's parameter names. Refused at scene build with a ValueError naming the parameter and
 its value; on the command line in one line, exit code 2, with nothing written."""
+import csv
+import decimal
 import math
 import os
 import re
@@ -11,6 +13,8 @@ import sys
 import numpy as np
 import pytest
 
+import BarrierEnergy
+import MassSpringEnergy
 import simulator
 import square_checks
 import time_integrator
@@ -278,9 +282,10 @@ def test_an_int_beyond_float64_is_refused_naming_the_parameter(name, value):
                                           ((1j, 0.0), r"\(1j, 0\.0\)"), ((0.0, 2 + 0j), r"\(0\.0, \(2\+0j\)\)"),
                                           ((True, 0.5), r"\(True, 0\.5\)"), ((None, 0.0), r"\(None, 0\.0\)"),
                                           (np.array([1.0, 0.0], dtype=complex), r"array\(\[1\.\+0\.j, 0\.\+0\.j\]\)"),
-                                          (np.array([1.0, 0.0], dtype=object),
-                                           r"array\(\[1\.0, 0\.0\], dtype=object\)")],
-                         ids=["10**400", "-10**400", "1j", "2+0j", "True", "None", "complex array", "object array"])
+                                          (np.array(["1", 0.0], dtype=object),
+                                           r"array\(\['1', 0\.0\], dtype=object\)")],
+                         ids=["10**400", "-10**400", "1j", "2+0j", "True", "None", "complex array",
+                              "object array of text"])
 def test_a_vector_of_no_real_numbers_is_refused_naming_the_parameter(name, value, shown):
     """A complex component (even 2+0j, or a complex array with zero imaginary parts, which numpy would
     convert dropping them), a bool, None, an int beyond float64: a ValueError naming the parameter."""
@@ -309,41 +314,68 @@ def test_real_numbers_of_other_types_are_taken():
     assert scene.params["center"] == (0.0, 1.0) and scene.params["v0"] == (1.0, 0.0)
 
 
-# ---- a slope normal float64 cannot normalize (issue 25, item 6) ---------------------------------------
+# ---- a slope normal of any float64 components (issue 33, item 7) ----------------------------------------
 
-@pytest.mark.parametrize("slope", [(1e-320, 1e-319), (1e-310, 1e-310), (-3e-322, 5e-323)], ids=str)
-def test_a_slope_normal_that_cannot_be_normalized_is_refused(slope):
-    """Subnormal components carry fewer digits: slope / |slope| is not of unit length within
-    UNIT_LENGTH_EPS eps (the lecture's normalization, computed here, says by how much); refused naming it."""
-    n = np.array(slope) / np.hypot(*slope)
-    off = abs(np.hypot(*n) - 1.0)
-    assert off > square_checks.UNIT_LENGTH_EPS * EPS
-    shown = re.escape(f"{list(slope)} is beyond float64: normalized, its length is 1 ") + "[+-]" + \
-        re.escape(f" {off:.2g} ({off / EPS:.3g} eps), not 1 within {square_checks.UNIT_LENGTH_EPS} eps")
-    with pytest.raises(ValueError, match=f"^slope normal {shown}"):
-        simulator.build_scene(slope=slope)
+@pytest.mark.parametrize("slope", [(1e-320, 1e-319), (1e-310, 1e-310), (-3e-322, 5e-323), (1e308, 1e308)],
+                         ids=str)
+def test_a_slope_normal_of_any_size_is_normalized_exactly(slope):
+    """Scaled by its largest component first, a subnormal slope (1e-320 is 2024 of float64's smallest
+    step) normalizes as the same direction in whole numbers of that step does, bit for bit (one code
+    path: each division by a power of two is exact); 1e308 components (|slope| beyond float64) too."""
+    unit = 5e-324 if max(map(abs, slope)) < 1e-300 else 2.0 ** 1000      # exact powers of two
+    whole = tuple(c / unit for c in slope)
+    assert all(float(c).is_integer() for c in whole) or unit > 1.0
+    n = square_checks.slope_normal(slope)
+    assert n.tobytes() == square_checks.slope_normal(whole).tobytes()
+    assert abs(np.hypot(*n) - 1.0) <= EPS
+    assert np.sign(n).tolist() == np.sign(slope).tolist()
 
 
 @pytest.mark.parametrize("scale", [1.0, 1e-300, 1e-306, 1e300, 1e307])
 def test_a_slope_normal_of_normal_float64_components_builds_a_unit_normal(scale):
-    """At any scale of normal (not subnormal) components the normal comes out of unit length within
-    UNIT_LENGTH_EPS eps, in the slope's direction: no scene of such a slope is refused."""
+    """At any scale the normal comes out of unit length within 1 eps, in the slope's direction."""
     rng = np.random.default_rng(25)
     for slope in rng.uniform(0.1, 1.0, (50, 2)) * scale * np.array([[1.0, 3.0]]):
         n = square_checks.slope_normal(tuple(slope))
-        assert abs(np.hypot(*n) - 1.0) <= square_checks.UNIT_LENGTH_EPS * EPS
+        assert abs(np.hypot(*n) - 1.0) <= EPS
         assert n[0] * slope[1] == pytest.approx(n[1] * slope[0], rel=1e-15)
     scene = simulator.build_scene(slope=(0.1 * scale, scale), center=(0.0, 0.0))
     assert scene.n == pytest.approx(simulator.build_scene().n, rel=1e-15)
 
 
-def test_cli_subnormal_slope_normal_writes_nothing(tmp_path):
-    """python simulator.py --slope-normal 1e-320,1e-319: the one line names the flag, exit 2, and the
-    output folder stays empty (it used to remove an earlier run, write log.csv, then fail with exit 1)."""
-    result = cli("--slope-normal", "1e-320,1e-319", "--out", str(tmp_path), "--steps", "3")
-    lines = result.stderr.strip().splitlines()
-    assert result.returncode == 2 and len(lines) == 1, result.stderr
-    assert lines[0].startswith("simulator.py: error: --slope-normal: slope normal [1e-320, 1e-319] is beyond float64")
-    assert os.listdir(tmp_path) == []
-    line = refused_in_one_line(["--slope-normal", "1e-310,1e-310"], tmp_path / "out")
-    assert line.startswith("simulator.py: error: --slope-normal: slope normal [1e-310, 1e-310] is beyond float64")
+def test_the_lectures_slope_is_normalized_as_the_lecture_does():
+    """(0.1, 1) / |(0.1, 1)|: its largest component is 1, so scaling first changes no bit."""
+    slope = np.array(simulator.DEFAULTS["slope"])
+    assert simulator.build_scene().n.tobytes() == (slope / np.hypot(*slope)).tobytes()
+
+
+def test_cli_subnormal_slope_normal_runs_as_the_lectures(tmp_path):
+    """python simulator.py --slope-normal 1e-320,1e-319 is the lecture's slope, (0.1, 1) in other units:
+    the same run, bit for bit, where it used to be refused."""
+    rows = []
+    for k, slope in enumerate(("1e-320,1e-319", "0.1,1")):
+        result = cli("--slope-normal", slope, "--out", str(tmp_path / str(k)), "--steps", "3", "--no-frames")
+        assert result.returncode == 0, result.stderr
+        with open(tmp_path / str(k) / "log.csv", newline="") as f:
+            rows.append([{**row, "wall_s": None} for row in csv.DictReader(f)])
+    assert rows[0] == rows[1] and len(rows[0]) == 4
+
+
+def test_an_object_array_of_numbers_converts_as_float_does():
+    """An object array of decimal.Decimal (or Fraction) converts item by item as float() does, wherever
+    a float64 array is taken: a scene's vectors, an energy's positions, a per-node array; one that holds
+    text, a bool or a complex number is refused as any other array of no real numbers."""
+    D = decimal.Decimal
+    objects = np.array([D("0.1"), D("0.25")], dtype=object)
+    assert simulator.build_scene(center=objects).params["center"] == (0.1, 0.25)
+    x = np.array([[D(0), D(0)], [D("0.5"), D(0)]], dtype=object)
+    e, l2 = np.array([[0, 1]]), np.array([0.16])
+    assert MassSpringEnergy.val(x, e, l2, 1e3) == MassSpringEnergy.val(x.astype(float), e, l2, 1e3)
+    up, origin, area = np.array([0.0, 1.0]), np.zeros(2), np.array([D(1), D(1)], dtype=object)
+    w = BarrierEnergy.compute_mu_lambda(x + [0, D("0.003")], up, origin, area, 0.2)
+    assert w.dtype == np.float64 and w[0] > 0.0
+    for bad in (np.array([[D(0), "0"], [D(1), D(0)]], dtype=object),
+                np.array([[D(0), True], [D(1), D(0)]], dtype=object),
+                np.array([[D(0), 1j], [D(1), D(0)]], dtype=object)):
+        with pytest.raises(ValueError, match="^x must hold real numbers, got an object array"):
+            MassSpringEnergy.val(bad, e, l2, 1e3)
