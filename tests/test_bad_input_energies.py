@@ -125,11 +125,14 @@ ARGS = {
 
 def not_real(value):
     """`value` made complex (with zero imaginary parts: the old checks dropped them silently), text that
-    float() would parse, booleans, and Python objects: each is no real number."""
+    float() would parse, booleans, and Python objects that are no number (an object array of numbers
+    converts, test_bad_input_limits): each is no real number."""
     if np.ndim(value) == 0:
         return [complex(value), np.complex128(value), str(value), True, np.True_, np.array(1.0 + 0j), None]
     a = np.asarray(value)
-    return [a.astype(complex), a.astype(str), a.astype(bool), a.astype(object), a.tolist() + [[1j, 0]]]
+    objects = a.astype(object)
+    objects.flat[0] = str(objects.flat[0])
+    return [a.astype(complex), a.astype(str), a.astype(bool), objects, a.tolist() + [[1j, 0]]]
 
 
 NOT_REAL = [(module, name, bad) for module, args in ARGS.items() for name, value in args.items()
