@@ -43,25 +43,41 @@ def compute(params=PARAMS, steps=STEPS):
                            farthest=max(converged, key=lambda f: f[2][0]), failed=len(found) - len(converged))
 
 
+def shown(r):
+    """The steps drawn: the converging one, and the failing one if any."""
+    return [f for f in (r.converging, r.failing) if f is not None]
+
+
+def caption(r):
+    """The caption's lines: the scene, line 3's test, each step drawn, how close is close enough."""
+    p = r.scene.params
+    lines = [(f"Scene: mu {p['mu']:g}, h {p['h']:g} s, v0 {p['v0']} m/s, friction_updates "
+              f"{p['friction_updates']} (at most that many re-solves a step);"),
+             f"{r.failed} of its first {r.steps} steps did not converge.",
+             ("After each FrictionUpdate (lines 2, 5: mu*lambda at the new x), line 3 measures "
+              "||p||_inf / h at it;"),
+             ("below tol the step ends (report.friction_converged True), else Newton re-solves "
+              "(line 4) and it repeats.")]
+    for i, report, m in shown(r):
+        lines.append(f"step {i} (t = {i * p['h']:g} s): {len(m)} tests ({len(m) - 1} re-solves), "
+                     f"measure {m[0]:.3g} -> {m[-1]:.3g} m/s, "
+                     f"report.friction_converged {report.friction_converged}")
+    i, _, m = r.farthest
+    return lines + [(f"How close is close enough is not line 3's first measure: step {i} starts at "
+                     f"{m[0]:.3g} m/s and converges.")]
+
+
 def draw(r):
     """The two steps' measures on a log axis against the friction update, with tol."""
-    shown = [f for f in (r.converging, r.failing) if f is not None]
-    updates = max(len(f[2]) for f in shown)
-    measures = np.concatenate([f[2] for f in shown])
-    p = r.scene.params
-    page = Page("Algorithm 5: the fixed-point iteration converges only when starting sufficiently close", 1, [
-        f"Scene: mu {p['mu']:g}, h {p['h']:g} s, v0 {p['v0']} m/s, friction_updates {p['friction_updates']} "
-        f"(at most that many re-solves a step); {r.failed} of its first {r.steps} steps did not converge.",
-        "After each FrictionUpdate (lines 2, 5: mu*lambda at the new x), line 3 measures ||p||_inf / h at it;",
-        "below tol the step ends (report.friction_converged True), else Newton re-solves (line 4) and it repeats."] + [
-        f"step {i} (t = {i * p['h']:g} s): {len(m)} tests ({len(m) - 1} re-solves), measure {m[0]:.3g} -> {m[-1]:.3g} "
-        f"m/s, report.friction_converged {report.friction_converged}" for i, report, m in shown] + [
-        f"How close is close enough is not line 3's first measure: step {r.farthest[0]} starts at "
-        f"{r.farthest[2][0]:.3g} m/s and converges."])
+    steps = shown(r)
+    updates = max(len(f[2]) for f in steps)
+    measures = np.concatenate([f[2] for f in steps])
+    title = "Algorithm 5: the fixed-point iteration converges only when starting sufficiently close"
+    page = Page(title, 1, caption(r))
     ax = page.axes(0, updates + 1, min(measures.min(), r.scene.tol) / 2, measures.max() * 2,
                    "line 3's measure ||p||_inf / h (m/s, log) at its j-th test in the step (after j - 1 re-solves)",
                    "j", "||p||/h (m/s)", log=True)
-    for k, (i, report, m) in enumerate(shown):
+    for k, (i, report, m) in enumerate(steps):
         j = np.arange(1, len(m) + 1)
         ax.line(j, m, run_color(k))
         page.markers(ax, j, m, run_color(k))

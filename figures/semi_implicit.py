@@ -23,6 +23,8 @@ FRICTION_UPDATES = 20       # Algorithm 5's cap per step
 REFERENCE_DIVISOR, CHECK_DIVISOR, REFERENCE_TOL = 8, 4, 1e-6    # the reference: h/8, checked at h/4; tol in m/s
 CHECK = f"h/{CHECK_DIVISOR}"     # the check run's name
 REFERENCE_COLOR, CHECK_COLOR = (0, 0, 0), (150, 150, 150)
+WIDTHS = {"lagged": 6, CHECK: 1}    # px (else 2): lagged wide under Algorithm 5, seen either side
+COINCIDE = 0.01     # lagged and Algorithm 5 coincide: this fraction of the top panel's span apart
 
 
 def sliding_start(d0, speed, **params):
@@ -97,6 +99,21 @@ def compute(scenes=SCENES, duration=DURATION, friction_updates=FRICTION_UPDATES)
     return SimpleNamespace(scenes=out, friction_updates=friction_updates)
 
 
+def span(s):
+    """The range of a scene's top panel, m: from the lowest to the highest s of its four runs."""
+    return max(a.max() for a in s.along.values()) - min(a.min() for a in s.along.values())
+
+
+def apart(s):
+    """A caption line: how far apart lagged and Algorithm 5 come over the run, and whether they
+    coincide in the top panel (at most COINCIDE of its span apart)."""
+    most, share = s.gap.max(), s.gap.max() / span(s)
+    if share <= COINCIDE:
+        return (f"    lagged and Algorithm 5 coincide to within {1e3 * most:.3g} mm over the run "
+                f"({100 * share:.2g} % of the top panel's span; lagged drawn wide, under).")
+    return f"    lagged and Algorithm 5 come up to {1e3 * most:.3g} mm apart over the run."
+
+
 def caption(r):
     """The caption's lines: what the reference is, then per scene the distances at the end and the verdict."""
     lines = [f"Black: the reference, Algorithm 5 at h/{REFERENCE_DIVISOR} with Newton tol {REFERENCE_TOL:g} m/s; grey: "
@@ -113,7 +130,7 @@ def caption(r):
                   f"the {CHECK} run {mm[CHECK]:.3g} mm (lagged and Algorithm 5: {1e3 * s.gap[-1]:.3g} mm apart);",
                   f"    {nearer} is nearer by {1e3 * margin:.3g} mm, " + (
                       "more than the reference's own error." if measured else
-                      "less than the reference's own error: not a measured difference.")]
+                      "less than the reference's own error: not a measured difference."), apart(s)]
         if min(mm["lagged"], mm["Algorithm 5"]) > 1e3 * s.gap[-1]:
             lines.append("    Both are farther from the reference than from each other: the time step's error outweighs"
                          " the lagging's.")
@@ -135,13 +152,13 @@ def draw(r):
         ax = page.axes(2 * i, s.t[-1], lo, hi, f"{s.label}: centre of mass along the slope (m) against time (s)",
                        "t (s)", "s (m)")
         for name in (CHECK, "reference", "lagged", "Algorithm 5"):      # the runs at h drawn on top
-            ax.line(times[name], s.along[name], looks[name], 1 if name == CHECK else 2)
+            ax.line(times[name], s.along[name], looks[name], WIDTHS.get(name, 2))
         for name in ("lagged", "Algorithm 5", "reference", CHECK):
             ax.legend(looks[name], {"reference": f"reference (h/{REFERENCE_DIVISOR})"}.get(name, name))
         ax = page.axes(2 * i + 1, s.t[-1], 0.0, 1e3 * max(far.max() for far in s.from_reference.values()),
                        f"{s.label}: distance from the reference (mm) against time (s)", "t (s)", "mm")
         for name in (CHECK, "lagged", "Algorithm 5"):
-            ax.line(s.t, 1e3 * s.from_reference[name], looks[name], 1 if name == CHECK else 2)
+            ax.line(s.t, 1e3 * s.from_reference[name], looks[name], WIDTHS.get(name, 2))
         for name in ("lagged", "Algorithm 5", CHECK):
             ax.legend(looks[name], f"{CHECK}: own error" if name == CHECK else name)
     return page

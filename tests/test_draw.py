@@ -39,6 +39,47 @@ def test_wrap_breaks_at_spaces_within_the_width():
     assert draw.wrap(Font(), "a_very_long_word fits", 50) == ["a_very_long_word", "fits"]
 
 
+def test_the_arrows_scale_coarsens_at_the_impact_so_no_arrow_is_longer_than_arrow_fit(monkeypatch):
+    """The default run's first 60 steps drawn as frames.FrameWriter draws them (one view): no arrow
+    (normal, or friction drawn FRICTION_ZOOM longer) is longer than ARROW_FIT m, 3/4 of the square's
+    side (at the impact, steps 31 to 34, they reached 1.39 m at 1 m per weight, through the square);
+    the scale is 1 m per weight until an arrow would be longer, then the smallest of 2, 5, 10, ...
+    times it that fits, kept from then on; the legend says the scale drawn; and the red ink of the
+    normal forces lies within ARROW_FIT m (in pixels) of the contact nodes."""
+    pygame = draw.load_pygame()
+    drawn = legibility.record_text(monkeypatch)
+    scene = simulator.build_scene()
+    view, fonts = draw.View.of(scene), draw.fonts(pygame)
+    per_weight = draw.newton_per_metre(scene)                 # N per m of arrow at factor 1
+    weight = float(scene.m.sum() * np.hypot(*scene.g))
+    assert per_weight == pytest.approx(weight / draw.ARROW_PER_WEIGHT)
+    factors, longest_at_1 = [], []
+    for record in simulator.simulate(scene, 60):
+        run = frames.frame_run(scene, record.x, record.report, "mu = 0.11", draw.BLUE, True)
+        view.follow(diagnostics.centre_of_mass(scene, record.x)[None])
+        start = len(drawn)
+        surface, top = draw.draw_frame(pygame, [run], record.t, view, fonts, per_weight)
+        factor = view.arrow_factor
+        friction = draw.FRICTION_ZOOM * np.hypot(*run["friction"].T).max(initial=0.0)
+        longest = max(np.hypot(*run["normal"].T).max(initial=0.0), friction) / per_weight   # m, x1
+        assert longest / factor <= draw.ARROW_FIT
+        assert draw.nice_number(factor) == factor and factor >= max(factors, default=1.0)
+        if factor > max(factors, default=1.0):              # raised here: the smallest that fits
+            assert longest / draw.nice_number(0.99 * factor) > draw.ARROW_FIT
+        words = "the weight M|g|" if factor == 1 else f"{factor:g} x the weight M|g|"
+        scale = f"{draw.ARROW_PER_WEIGHT:g} m of arrow = {factor * weight:.5g} N ({words})"
+        assert scale in [text for text, _, _ in drawn[start:]]
+        factors.append(factor)
+        longest_at_1.append(longest)
+        pixels = pygame.surfarray.array3d(surface)[:, top:]
+        red = np.argwhere(np.all(pixels == draw.NORMAL_COLOR, axis=2)) + [0, top]
+        nodes = view(record.x[np.hypot(*run["normal"].T) > 0.0])
+        if len(red):
+            reach = np.hypot(*(red[:, None, :] - nodes[None, :, :]).T).min(axis=0)   # px to a node
+            assert reach.max() <= draw.ARROW_FIT * view.scale + 2
+    assert max(longest_at_1) > 1.3 and factors[0] == 1.0 < factors[-1]       # (measured: 1.39, x2)
+
+
 # ------------------------------------------------------------------------------------------------
 # The chalk's marks (viewer/marks.py): at the picture's scale, and in the strip magnified about the tip
 # ------------------------------------------------------------------------------------------------

@@ -44,6 +44,22 @@ def test_fixed_point_reports_a_step_that_does_not_converge():
     assert len(measures) == report.friction_updates + 1 > 1
 
 
+def caption_fits(page, lines):
+    """Every caption line, in the caption's font (figures.page), ends inside the page."""
+    font = page.pygame.font.Font(None, 20)
+    return all(12 + font.size(line)[0] <= page.surface.get_width() for line in lines)
+
+
+def test_the_fixed_point_caption_fits_the_page():
+    r = fixed_point.compute()
+    lines = fixed_point.caption(r)
+    page = fixed_point.draw(r)
+    assert caption_fits(page, lines)
+    assert f"{r.failed} of its first {r.steps} steps did not converge." in lines
+    assert page.surface.get_height() == (figures.page.TITLE_HEIGHT + figures.page.plots.PANEL_HEIGHT
+                                         + figures.page.LINE_HEIGHT * (len(lines) + 1))
+
+
 @pytest.fixture(scope="module")
 def semi_implicit_short():
     """The semi_implicit figure's numbers, its two scenes over their first 0.4 s."""
@@ -75,9 +91,28 @@ def test_the_caption_calls_nearer_the_run_the_distances_put_nearer(semi_implicit
         assert (f"{nearer} is nearer by {1e3 * abs(lagged - implicit):.3g} mm, "
                 f"{'more' if abs(lagged - implicit) > own else 'less'} than the reference's own error") in text
         assert f"lagged {1e3 * lagged:.3g} mm, Algorithm 5 {1e3 * implicit:.3g} mm" in text
+        most = s.gap.max()
+        said = f"lagged and Algorithm 5 coincide to within {1e3 * most:.3g} mm over the run" in text
+        assert said == (most <= semi_implicit.COINCIDE * semi_implicit.span(s))
+        assert said or f"Algorithm 5 come up to {1e3 * most:.3g} mm apart over the run" in text
     default, pressed = semi_implicit_short.scenes
     assert pressed.verdict[0] == "Algorithm 5" and pressed.verdict[2]        # lagging the start's push is measured
     assert default.start_load == 0.0 and pressed.start_load > 1.5
+
+
+def test_both_friction_curves_show_and_the_caption_fits(semi_implicit_short):
+    """Lagged (blue) is drawn wider, under Algorithm 5 (orange): in every panel both colours are
+    seen in most columns of the time axis, where they coincide too (the default scene: within 1 %
+    of the top panel's span; before, orange hid blue). The caption's lines end inside the page."""
+    page = semi_implicit.draw(semi_implicit_short)
+    assert caption_fits(page, semi_implicit.caption(semi_implicit_short))
+    pixels = page.pygame.surfarray.array3d(page.surface)                      # [x, y, rgb]
+    plots = figures.page.plots
+    for panel in range(2 * len(semi_implicit_short.scenes)):
+        top = figures.page.TITLE_HEIGHT + panel * plots.PANEL_HEIGHT
+        area = pixels[plots.LEFT + 1:plots.RIGHT, top + 24:top + plots.PANEL_HEIGHT - 30]
+        for color in (semi_implicit.run_color(0), semi_implicit.run_color(1)):
+            assert np.all(area == color, axis=2).any(axis=1).mean() > 0.9, (panel, color)
 
 
 def test_the_pressed_scene_starts_on_the_slope_and_its_lagged_step_brakes_with_the_starts_push():

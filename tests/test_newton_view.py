@@ -1,6 +1,8 @@
 """The live window's Newton view (key n): one node of the iterate and the slope magnified together,
 so that what is drawn where is what Algorithm 4 computed, at the impact (where the CCD bound cuts
 the step) and in the halving demo (`--h 0.03`, step 18, README's Live demo)."""
+import itertools
+
 import numpy as np
 import pytest
 
@@ -141,7 +143,7 @@ def test_the_inset_says_which_lines_are_springs_and_where_the_slope_is(monkeypat
     tinted = np.all(pixels == newton_view.GROUND, axis=2).mean()      # a few pixels of anti-aliased lines have it too
     assert (tinted > 0.01) == (inset.slope is not None)
     for note, _ in newton_view.inset_notes(w.scene, it):
-        for row in draw.wrap(w.fonts[1], note, width - 16):
+        for row in newton_view.phrase_rows(w.fonts[1], note, width - 16):
             assert w.fonts[1].size(row)[0] <= width - 16 or " " not in row, row
 
 
@@ -189,3 +191,81 @@ def test_the_chalks_inset_magnifies_its_tip_against_the_board(steps, drag):
     red[a:a + c, b:b + e] = False
     reach = np.hypot(*(np.argwhere(red)[:, None, :] - px[None, :, :]).T).min(axis=0)     # px to the nearest node
     assert red.sum() > 100 and reach.max() <= draw.spacing(scene) * w.view.scale + 2     # 14.5 px, not HINT's 23
+
+
+class TenPixelFont:
+    """A font 10 px a character, for phrase_rows."""
+    def size(self, text):
+        return 10 * len(text), 12
+
+
+def test_phrase_rows_break_between_phrases_before_words():
+    """A line that does not fit breaks where its phrases meet, the strongest break first: between
+    the key hints (three spaces), after a semicolon, before a parenthesis, after a comma; only a
+    phrase still too wide breaks between words. A line that fits stays whole."""
+    font, rows = TenPixelFont(), newton_view.phrase_rows
+    assert rows(font, "CCD bound alpha_CCD = 0.71 (black ring: x^i + alpha_CCD p)", 400) == [
+        "CCD bound alpha_CCD = 0.71", "(black ring: x^i + alpha_CCD p)"]     # not "..." / "p)"
+    assert rows(font, "space: play   r: restart   q, Esc: quit", 250) == [
+        "space: play   r: restart", "q, Esc: quit"]
+    assert rows(font, "grey: x^i; blue: x^i + alpha p; red: p", 330) == [
+        "grey: x^i; blue: x^i + alpha p;", "red: p"]
+    assert rows(font, "the slope: 8.99 mm below x^i, out of frame", 200) == [
+        "the slope: 8.99 mm", "below x^i,", "out of frame"]
+    assert rows(font, "a_very_long_word fits", 50) == ["a_very_long_word", "fits"]
+    assert rows(font, "fits (whole)", 120) == ["fits (whole)"]
+
+
+def phrase_break(text, first, second):
+    """Do the rows `first` and `second` of `text` meet at one of newton_view.BREAKS but a word's?"""
+    return any(first + joined + second in text for joined in ("   ", " ")) and (
+        second.startswith("(") or first.endswith((";", ",")) or f"{first}   {second}" in text)
+
+
+@pytest.mark.parametrize("size", [510, 600, 652, 680, 900])
+@pytest.mark.parametrize("overrides, step, iteration", IMPACT[:1] + HALVING[:1])
+def test_the_newton_view_keeps_its_phrases_and_labels_apart(monkeypatch, size, overrides, step,
+                                                             iteration):
+    """At 800x600 (510 px), 600, 652, 680 and 900 px, at the impact and in the halving demo: every
+    status row and key hint fits the window and a line breaks only between phrases (at 510 px the
+    caption broke into "p)" and "node"); the node's label lies off every number of the slope (it
+    covered "0 m" at 510 px and "-1 m" at 680), off the inset, inside the window between the status
+    and the key hints; and the inset's border cuts no number of the slope (it hides one whole or
+    ends above it)."""
+    corners = []
+    real = newton_view.label_corner
+
+    def noting(*args, **kw):
+        corners.append(real(*args, **kw))
+        return corners[-1]
+    monkeypatch.setattr(newton_view, "label_corner", noting)
+    w = paused_at(overrides, step, iteration, size)
+    width = size - 24
+    for text in [t for t, _ in w.status_lines()] + w.help_lines():
+        rows = w.rows(text, width)
+        assert all(w.font.size(row)[0] <= width for row in rows), rows
+        assert all(phrase_break(text, a, b) for a, b in itertools.pairwise(rows)), rows
+    import pygame
+    from scipy import ndimage
+    small = w.fonts[1]
+    ink = []
+    for font in (small, None):                       # the slope's numbers: what its font adds
+        scratch = pygame.Surface((size, size))
+        scratch.fill((255, 255, 255))
+        draw.draw_slope(pygame, scratch, w.scene, w.view, draw.BLUE, font)
+        ink.append(pygame.surfarray.array3d(scratch).min(axis=2) < 255)
+    numbers = ink[0] & ~ink[1]
+    (left, top), (w_label, h_label) = corners[-1], small.size(f"node {w.inset.node}")
+    left, top = int(left), int(top)
+    assert not numbers[left:left + w_label, top:top + h_label].any()
+    a, b, c, d = w.inset.rect
+    assert left + w_label <= a or left >= a + c or top + h_label <= b or top >= b + d
+    hint_rows = [row for text in w.help_lines() for row in w.rows(text, width)]
+    hints = size - 6 - len(hint_rows) * w.font.get_linesize()        # the key hints' first row
+    assert 0 <= left and left + w_label <= size and w.text_bottom <= top and top + h_label <= hints
+    near = np.ones((small.get_height(), 1), bool)          # one number's glyphs: closer than a line
+    labels, _ = ndimage.label(ndimage.binary_dilation(numbers, near))
+    for x, y in ndimage.find_objects(np.where(numbers, labels, 0)):
+        within = a <= x.start and x.stop <= a + c and b <= y.start and y.stop <= b + d
+        apart = x.stop <= a or x.start >= a + c or y.stop <= b or y.start >= b + d
+        assert within or apart, (x, y)

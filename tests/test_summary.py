@@ -67,3 +67,35 @@ def test_every_line_of_text_fits_and_the_chalk_says_its_stick_slip_not_rest(tmp_
         assert words == stick_slip.words(stick_slip.of_track(panel.track)) == \
             "not driven yet at t = 0.15 s (the hand drives from t = 0.2 s)"
         assert plan.width >= small.size(words)[0] + 12
+
+
+@pytest.mark.parametrize("build, overrides, steps", [
+    ("square", [{"mu": 0.1}, {"mu": 0.2}], 300),            # the header is wider than the motion
+    ("square", [{"slope": (0.5, 1.0)}], 100),               # a steeper slope
+    ("chalk", [{}], 300)])                                   # the chalk: the header is wider still
+def test_the_slope_and_its_numbers_span_the_motion_and_are_whole(tmp_path, build, overrides, steps):
+    """Each panel draws the slope (its ticks and numbers, draw.draw_slope) across the motion alone:
+    as wide as the motion with MARGIN either side and the last label, whatever the header's width
+    (the chalk's numbers spanned -5 to 38 cm for 3 cm of motion); and tall enough that every number
+    is whole (a comparison's were cut at the panel's bottom, where the slope runs down to the
+    right)."""
+    pygame = draw.load_pygame()
+    make = simulator.build_chalk_scene if build == "chalk" else simulator.build_scene
+    tracks = tracks_of(tmp_path, [make(**o) for o in overrides], steps)
+    plan = summary.plan(pygame, tracks, ["a header line " * 8])
+    small = pygame.font.Font(None, 20)                  # the numbers' font (summary.draw_summary)
+    label_w = small.size(summary.time_label(max(tr.t for tr in tracks)))[0]
+    z = draw.zoom(tracks[0].scene)
+    motion = max(np.ptp(np.concatenate([x for _, x in tr.snapshots.all()])[:, 0]) for tr in tracks)
+    for panel in plan.panels:
+        view = panel.view
+        across = (motion + 2 * summary.MARGIN / z) * view.scale + label_w + 12     # px
+        assert view.size <= across + 1 < plan.width
+        ink = []
+        for font in (small, None):          # the numbers: what a font adds, on a taller surface
+            scratch = pygame.Surface((view.size, 3 * view.height))
+            scratch.fill((255, 255, 255))
+            draw.draw_slope(pygame, scratch, panel.track.scene, view, (0, 0, 0), font)
+            ink.append(pygame.surfarray.array3d(scratch).min(axis=2) < 128)
+        rows = np.nonzero((ink[0] & ~ink[1]).any(axis=0))[0]
+        assert len(rows) and rows.max() < view.height                           # drawn, and whole

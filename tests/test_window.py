@@ -455,14 +455,15 @@ def test_window_fits_the_display_or_takes_size():
 
 @pytest.mark.parametrize("size", [window.MIN_SIZE, 652, 900])
 def test_every_line_of_text_fits_the_window(size):
-    """The caption and every status line (a long failure message too) wrapped within the window."""
+    """The caption and every status line (a long failure message too) in rows within the window, as
+    the window breaks them (between phrases, else words)."""
     w, _ = live_window(size=size)
     w.failure = time_integrator.NewtonNotConverged("Newton did not converge", 12, iterations=1000,
                                                    residual=0.5, tol=0.01, h=0.01)
     width = size - 24
     texts = [f"t = {999.99:.2f} s   mu = {w.scene.mu:g}"] + [t for t, _ in w.status_lines()] + w.help_lines()
     for text in texts:
-        for row in draw.wrap(w.font, text, width):
+        for row in w.rows(text, width):
             assert w.font.size(row)[0] <= width or " " not in row.strip(), row
     w.draw()
     assert w.screen.get_size() == (size, size)
@@ -703,7 +704,7 @@ def chalk_window(steps, drag=False, size=652):
 
 def key_hints_top(w):
     """The first row of pixels of the key hints at the bottom."""
-    rows = [row for text in w.help_lines() for row in draw.wrap(w.font, text, w.size - 24)]
+    rows = [row for text in w.help_lines() for row in w.rows(text, w.size - 24)]
     return w.size - 6 - len(rows) * w.font.get_linesize()
 
 
@@ -789,7 +790,7 @@ def test_the_chalk_windows_status_says_the_chalks_figures_and_no_slope(monkeypat
     stuck.draw()
     lines = [text for text, _ in stuck.status_lines()]
     assert lines[0] == "paused in step 301" and lines[1] == "step 301, Newton iteration 1 (lagged friction)"
-    assert "inset: one node and the board magnified together, p (red) to scale" in lines
+    assert "inset: one node and the board magnified together; p (red) to scale" in lines
     assert stuck.inset.why == "nearest the board" and stuck.inset.node == diagnostics.tip(stuck.scene, stuck.run.x)[0]
     texts = " ".join(text for text, _, _ in drawn)
     assert "(nearest the board)" in texts and "the board: " in texts and "slope" not in texts

@@ -33,7 +33,7 @@ NORMAL_COLOR, FRICTION_COLOR = (219, 0, 0), (0, 0, 0)
 MARK_SPACING = 0.5          # m between marks along the slope
 ARROW_PER_WEIGHT = 1.0      # m of arrow for a force equal to the weight of the (first) square, M |g|
 FRICTION_ZOOM = 5.0         # friction arrows drawn this much longer (|F| <= mu lambda, mu ~ 0.1)
-ARROW_MAX = 1.5             # m; longer arrows (the impact) are cut here
+ARROW_FIT = 0.75            # m: no arrow longer (3/4 of the square); the scale coarsens instead
 HAND_COLOR = (73, 0, 85)    # the chalk's hand, its targets and springs (its marks' colours: viewer.marks)
 MIN_CAP_HEIGHT = 0.022      # of the picture's height: no capital letter drawn is shorter (16 arcminutes from
                             # 4 screen heights in the default window: docs/live-demo.md, "Readable")
@@ -71,6 +71,7 @@ class View:
     def __init__(self, scale=SCALE, size=RESOLUTION, height=None, unit=1.0):
         self.scale, self.size, self.center, self.unit = scale, size, np.zeros(2), unit
         self.height = size if height is None else height
+        self.arrow_factor = 1.0     # the arrows' scale, coarsened as they need (arrow_factor)
 
     @classmethod
     def of(cls, scene, size=RESOLUTION, height=None):
@@ -191,11 +192,26 @@ def arrow_heads(tail, head, length):
     return np.stack([corner + 0.5 * length * side, corner - 0.5 * length * side], axis=1)
 
 
+def arrow_factor(runs, newton_per_metre, view):
+    """How many times more newtons a metre of arrow stands for than newton_per_metre
+    (ARROW_PER_WEIGHT m per reference force) in this frame: 1, or where an arrow of `runs` (normal;
+    friction drawn friction_zoom longer) would be longer than ARROW_FIT m (times view.unit), the
+    smallest of 2, 5, 10, 20, ... that brings it within (the impact: 2). Kept in view.arrow_factor:
+    as the view's zoom, it coarsens and never refines, so the frames after the impact compare."""
+    longest = max(max(np.hypot(*run["normal"].T).max(initial=0.0),
+                      friction_zoom(run["scene"]) * np.hypot(*run["friction"].T).max(initial=0.0))
+                  for run in runs) / newton_per_metre                       # m of arrow at factor 1
+    needed = longest / (ARROW_FIT * view.unit)
+    if needed > view.arrow_factor:
+        view.arrow_factor = nice_number(needed, up=True)
+    return view.arrow_factor
+
+
 def draw_arrows(pygame, surface, view, x, forces, newton_per_metre, color):
-    """An arrow from each node whose force is not zero, ARROW_PER_WEIGHT m per weight, cut at ARROW_MAX."""
+    """An arrow from each node whose force is not zero, 1 m (in the world) per newton_per_metre."""
     size = np.hypot(forces[:, 0], forces[:, 1])
     on = size > 0.0
-    length = np.minimum(size[on] / newton_per_metre, ARROW_MAX * view.unit)
+    length = size[on] / newton_per_metre
     direction = forces[on] / size[on, None]
     tail, head = view(x[on]), view(x[on] + length[:, None] * direction)
     for t, h, (c1, c2) in zip(tail.tolist(), head.tolist(), arrow_heads(tail, head, 8).tolist()):
@@ -288,6 +304,8 @@ def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None, reserve=(0, 
         if run["scene"].hand is not None:
             draw_hand(pygame, surface, run["scene"], run["x"], t, view)
     if newton_per_metre is not None:
+        factor = arrow_factor(runs, newton_per_metre, view)
+        newton_per_metre *= factor                  # this frame's scale, as its legend says
         for run in runs:
             draw_arrows(pygame, surface, view, run["x"], run["normal"], newton_per_metre, NORMAL_COLOR)
             draw_arrows(pygame, surface, view, run["x"], friction_zoom(run["scene"]) * run["friction"],
@@ -300,11 +318,13 @@ def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None, reserve=(0, 
     if newton_per_metre is not None:
         metres = ARROW_PER_WEIGHT * view.unit
         force, words = reference_force(runs[0]["scene"])
+        words = words if factor == 1 else f"{factor:g} x {words}"
+        scale = f"{metres:g} m of arrow = {newton_per_metre * metres:.5g} N ({words})"
         top = draw_legend(pygame, surface, small, [
             (NORMAL_COLOR, "normal force lambda_k n"),
             (FRICTION_COLOR, f"friction force, drawn {FRICTION_ZOOM:g}x longer" if runs[0]["scene"].hand is None
              else "friction force"),
-            ((255, 255, 255), f"{metres:g} m of arrow = {newton_per_metre * metres:.4g} N ({words})")], top + 4)
+            ((255, 255, 255), scale)], top + 4)
     if runs[0]["scene"].hand is not None:
         top = draw_legend(pygame, surface, small, [
             (HAND_COLOR, "the hand: its targets and springs"),

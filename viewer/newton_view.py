@@ -8,6 +8,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy import ndimage, spatial
 
 import BarrierEnergy
 from viewer import draw
@@ -23,6 +24,7 @@ SLOPE_REACH = 1.5         # ... the slope framed where the node is within this m
 MAX_ZOOM = 1e4            # ... magnified at most this much (p_k = 0 would ask for infinitely much)
 ZOOMS = (1, 2, 3, 5)      # ... by one of these times a power of ten
 GROUND = (219, 219, 255)  # the inset's tint below the slope
+BREAKS = ("   ", "; ", " (", ", ", " ")    # where a line of text may break, the strongest first
 
 
 @dataclass(frozen=True)
@@ -62,12 +64,12 @@ def ground(scene):
     return "the board" if scene.hand is not None else "the slope"
 
 
-def newton_inset(scene, it, view, rect, header=0, footer=0):
+def newton_inset(scene, it, view, rect, header=0, footer=0, whole=False):
     """The Inset of a Newton iterate in `rect` (its height cut to what the framed points need, at
-    least half its width): its focus node's x^i, x^i + p, x^i + alpha_CCD p, x^i + alpha p and the
-    slope (where the node is within SLOPE_REACH |p_k| of it), framed to fill INSET_FILL of the inset's
-    rows between `header` and `footer` pixels from its top and bottom, at a magnification of `view`'s
-    scale of one of ZOOMS times a power of ten, at most MAX_ZOOM."""
+    least half its width, unless `whole`): its focus node's x^i, x^i + p, x^i + alpha_CCD p,
+    x^i + alpha p and the slope (where the node is within SLOPE_REACH |p_k| of it), framed to fill
+    INSET_FILL of the inset's rows between `header` and `footer` pixels from its top and bottom, at
+    a magnification of `view`'s scale of one of ZOOMS times a power of ten, at most MAX_ZOOM."""
     k, why = focus_node(scene, it)
     x, p = it.x[k], it.p[k]
     points = {"x^i": x, "x^i + p": x + p, "x^i + alpha_CCD p": x + it.alpha_ccd * p,
@@ -82,7 +84,8 @@ def newton_inset(scene, it, view, rect, header=0, footer=0):
     extent = (hi - lo) * view.scale                            # px, at the window's scale
     fit = min((INSET_FILL * room[extent > 0] / extent[extent > 0]).tolist(), default=MAX_ZOOM)
     magnification = draw.nice_number(min(fit, MAX_ZOOM), ZOOMS)
-    room[1] = min(room[1], max(0.5 * width, extent[1] * magnification / INSET_FILL))
+    if not whole:
+        room[1] = min(room[1], max(0.5 * width, extent[1] * magnification / INSET_FILL))
     height = int(header + room[1] + footer)                   # no taller than the framed points need
     rect = (*rect[:3], height)
     inset_view = draw.View(view.scale * magnification, width, height)
@@ -171,7 +174,7 @@ def iterate_lines(run, scene):
             f"CCD bound alpha_CCD = {it.alpha_ccd:.4g} (black ring: x^i + alpha_CCD p)",
             f"accepted alpha = alpha_CCD / 2^{it.halvings} = {it.alpha:.4g} (green dot: x^i + alpha p)",
             "grey: x^i; blue: x^i + alpha p; red: the direction of p at each node",
-            f"inset: one node and {ground(scene)} magnified together, p (red) to scale"]
+            f"inset: one node and {ground(scene)} magnified together; p (red) to scale"]
 
 
 def draw_iterate(pygame, surface, scene, it, view):
@@ -197,44 +200,129 @@ def draw_iterate(pygame, surface, scene, it, view):
 def place_inset(pygame, surface, scene, it, view, fonts, top, bottom):
     """The inset of a Newton iterate between rows `top` and `bottom`, beside the square on the
     side with more room (over it only where that room is under MIN_INSET of the window), its node
-    circled and labelled in the main view; returns its Inset (None where the text leaves no room)."""
+    circled and labelled in the main view (label_corner); its border cuts no number of the slope
+    (slope_numbers): the inset covers it whole, else ends above it. Returns its Inset (None where
+    the text leaves no room)."""
     size, px = view.size, view(it.x)
     room_left, room_right = px[:, 0].min(), size - px[:, 0].max()
     width = int(min(INSET * size, max(max(room_left, room_right) - 24, MIN_INSET * size)))
     height = int(min(INSET_TALL * size, bottom - top))
     big, small = fonts
-    notes = [(row, color) for text, color in inset_notes(scene, it) for row in draw.wrap(small, text, width - 16)]
+    notes = [(row, color) for text, color in inset_notes(scene, it)
+             for row in phrase_rows(small, text, width - 16)]
     line = small.get_linesize()
     header, footer = 8 + big.get_linesize() + len(notes) * line, 12 + line
     if height < header + footer + line:                    # no room left under the text
         return None
     rect = (12 if room_left > room_right else size - 12 - width, int(top), width, height)
     inset = newton_inset(scene, it, view, rect, header, footer)
+    numbers = slope_numbers(pygame, scene, view, small)
+    for _ in numbers:           # a slope's number its border cuts: covered whole, else ended above
+        cut = [box for box in numbers if overlap(box, inset.rect) and not inside(box, inset.rect)]
+        if not cut:
+            break
+        box = min(cut, key=lambda box: box[1])
+        if box[3] + 2 - rect[1] <= height and rect[0] <= box[0] and box[2] <= rect[0] + width:
+            taller = (*rect[:3], box[3] + 2 - rect[1])
+            inset = newton_inset(scene, it, view, taller, header, footer, whole=True)
+        elif box[1] - 2 - rect[1] >= header + footer + line:
+            inset = newton_inset(scene, it, view, (*rect[:3], box[1] - 2 - rect[1]), header, footer)
+        else:
+            break
     node = px[inset.node]
-    label = small.render(f"node {inset.node}", True, draw.BLACK, (255, 255, 255))    # on white: over a number too
+    label = small.render(f"node {inset.node}", True, draw.BLACK, (255, 255, 255))    # on white
     pygame.draw.circle(surface, draw.BLACK, node.tolist(), 9, 1)
-    surface.blit(label, label_corner(scene, view, px, node, label.get_size(), inset.rect))
+    corner = label_corner(scene, view, px, node, label.get_size(), inset.rect, (top, bottom),
+                          numbers)
+    surface.blit(label, corner)
     draw_inset(pygame, surface.subsurface(inset.rect), scene, it, inset, fonts, notes)
     return inset
 
 
-def label_corner(scene, view, px, node, size, inset):
+def overlap(box, rect, gap=0):
+    """Do the box (left, top, right, bottom) and the rect (left, top, width, height) overlap, or
+    come closer than `gap` px?"""
+    a, b, c, d = rect
+    return box[0] < a + c + gap and a < box[2] + gap and box[1] < b + d + gap and b < box[3] + gap
+
+
+def inside(box, rect):
+    """Is the box (left, top, right, bottom) inside the rect (left, top, width, height)?"""
+    a, b, c, d = rect
+    return a <= box[0] and box[2] <= a + c and b <= box[1] and box[3] <= b + d
+
+
+def phrase_rows(font, text, width, breaks=BREAKS):
+    """`text` in rows at most `width` px wide, broken where its phrases meet: between the key hints
+    (three spaces), else after a semicolon, else before a parenthesis, else after a comma, and only
+    then between words (a word wider than `width` stays whole): no row a stray fragment ("p)")."""
+    if font.size(text)[0] <= width or not breaks:
+        return [text]
+    sep, weaker = breaks[0], breaks[1:]
+    pieces = text.split(sep)
+    if sep == " (":
+        pieces = pieces[:1] + ["(" + piece for piece in pieces[1:]]
+    else:
+        pieces = [piece + sep.strip() for piece in pieces[:-1]] + pieces[-1:]
+    joiner, rows = "   " if sep == "   " else " ", []
+    for piece in pieces:
+        if rows and font.size(rows[-1] + joiner + piece)[0] <= width:
+            rows[-1] += joiner + piece
+        else:
+            rows.append(piece)
+    return [part for row in rows for part in phrase_rows(font, row, width, weaker)]
+
+
+def label_corner(scene, view, px, node, size, inset, rows=None, numbers=()):
     """The top-left corner (px) of the label, `size` (w, h), of the circled node at `node` (`px`: the
-    body's nodes): off the node diagonally, away from the body's middle; for the chalk, whose tip has
-    the board's marks and numbers under it, on the board beside the body. Away from the body on the
-    other side where the `inset` (left, top, width, height) would cover it."""
+    body's nodes): off the node diagonally, away from the body's middle, else on its other sides,
+    then a row further off; for the chalk, whose tip has the board's marks and numbers under it, on
+    the board beside the body, either side. The first of these that is clear of the `inset` (left,
+    top, width, height), inside the window between `rows` (top, bottom; default the whole window),
+    a fifth of its height off the slope's `numbers` (boxes: slope_numbers) and off the body (its
+    convex hull, at 5 x 3 points of the label); else the first that is all that but off the body;
+    else the first clear of the inset."""
     w, h = size
     out = np.where(node >= px.mean(axis=0), 1, -1)
-    for side in (out[0], -out[0]):
+    top_row, bottom_row = (0, view.height) if rows is None else rows
+    corners = []
+    turns = ((out[0], out[1]), (out[0], -out[1]), (-out[0], out[1]), (-out[0], -out[1]))
+    for further, (side, up) in [(f, turn) for f in (0, h + 4) for turn in turns]:
         if scene.hand is None:
-            left, top = node[0] + side * (6 + w / 2) - w / 2, node[1] + out[1] * (14 + h / 2) - h / 2
-        else:
+            corners.append((node[0] + side * (6 + w / 2) - w / 2,
+                            node[1] + up * (14 + further + h / 2) - h / 2))
+        elif up == out[1] and not further:
             top = min(float(view(scene.o)[1]), node[1] + h / 2) - 2 - h      # resting on the (flat) board
             level = px[(px[:, 1] >= top) & (px[:, 1] <= top + h), 0]         # the body's nodes beside it
             left = (max(level.max(initial=node[0]), node[0] + 4) + 8 if side > 0 else
                     min(level.min(initial=node[0]), node[0] - 4) - 8 - w)
-            left = min(max(left, 0), view.size - w)
-        a, b, c, d = inset
-        if not (left < a + c and a < left + w and top < b + d and b < top + h):
-            break
-    return left, top
+            corners.append((min(max(left, 0), view.size - w), top))
+    boxes = {corner: (corner[0], corner[1], corner[0] + w, corner[1] + h) for corner in corners}
+    clear = [corner for corner in corners if not overlap(boxes[corner], inset)]
+    free = [corner for corner in clear
+            if inside(boxes[corner], (0, top_row, view.size, bottom_row - top_row))
+            and not any(overlap(number, (*corner, w, h), h // 5) for number in numbers)]
+    hull = spatial.ConvexHull(px, qhull_options="QJ").equations      # n . q + c <= 0 inside
+    grid = np.stack(np.meshgrid(np.linspace(0, w, 5), np.linspace(0, h, 3)), -1).reshape(-1, 2)
+
+    def over_body(corner):
+        return ((corner + grid) @ hull[:, :2].T + hull[:, 2] <= 0).all(axis=1).any()
+    return next((corner for corner in free if not over_body(corner)), (free or clear or corners)[0])
+
+
+def slope_numbers(pygame, scene, view, font):
+    """The boxes (left, top, right, bottom; px) of the slope's numbers in the window: the pixels
+    draw.draw_slope draws with `font` and not without, each number's glyphs together (none without
+    a slope)."""
+    if scene.n is None:
+        return []
+    ink = []
+    for with_font in (font, None):
+        surface = pygame.Surface((view.size, view.height))
+        surface.fill((255, 255, 255))
+        draw.draw_slope(pygame, surface, scene, view, draw.BLUE, with_font)
+        ink.append(pygame.surfarray.array3d(surface).min(axis=2) < 255)
+    glyphs, word = ink[0] & ~ink[1], font.get_height()     # px: one number's glyphs are closer
+    numbers, _ = ndimage.label(ndimage.binary_dilation(glyphs, np.ones((word, 1), bool)))
+    boxes = ndimage.find_objects(np.where(glyphs, numbers, 0))
+    return [(x.start, y.start, x.stop, y.stop) for x, y in boxes]

@@ -6,10 +6,12 @@ before; the last state is always drawn, its label to its right, and the snapshot
 of are left out, but the first: so no two drawn snapshots or labels overlap, except the first and
 the last when the body ends within its own size of where it started. The centre-of-mass path is
 drawn in red, and a 1 m bar gives the scale: SCALE pixels per metre, unless the motion is too long
-for MAX_WIDTH pixels (then a round number of pixels, two digits). A comparison draws one panel per
-run, one above the other, all at the same scale. The header says what the runs showed: when the square
-came to rest; for the chalk how its stick-slip is counted, each run's figures in its own panel. The
-picture is as wide as its widest line of text (up to MAX_WIDTH). Everything drawn is placed by `plan`.
+for MAX_WIDTH pixels (then a round number of pixels, two digits). The slope and its numbers are
+drawn across the motion only (with MARGIN), each panel tall enough for them. A comparison draws one
+panel per run, one above the other, all at the same scale. The header says what the runs showed:
+when the square came to rest; for the chalk how its stick-slip is counted, each run's figures in its
+own panel. The picture is as wide as its widest line of text (up to MAX_WIDTH). Everything drawn is
+placed by `plan`.
 """
 from dataclasses import dataclass
 
@@ -97,6 +99,17 @@ def labelled(view, font, snapshots):
     return out
 
 
+def slope_room(scene, lo, hi, unit, scale, label_h):
+    """The box (lo, hi), m, grown to hold the slope between the columns lo[0] and hi[0] (a straight
+    line, highest and lowest at those ends) and under it, its ticks (at most 0.08 `unit` m) and
+    numbers (`label_h` px and 2 px either side, at `scale` px/m), as draw.draw_slope draws them."""
+    if scene.n is None or scene.n[1] == 0.0:
+        return lo, hi
+    y = scene.o[1] - scene.n[0] / scene.n[1] * (np.array([lo[0], hi[0]]) - scene.o[0])
+    return (np.array([lo[0], min(lo[1], y.min() - 0.08 * unit - (label_h + 4) / scale)]),
+            np.array([hi[0], max(hi[1], y.max())]))
+
+
 def header_lines(tracks, header):
     """summary.png's lines of text above the scale bar: `header`, then what the runs showed: when the square
     came to rest (progress.closing_note, each run's); for the chalk what its stick-slip counts, each run's
@@ -131,11 +144,15 @@ def plan(pygame, tracks, header):
     texts = [font.size(text)[0] for text in header] + [small.size(w)[0] for w in map(panel_words, tracks) if w]
     width = int(max(width_m * scale + right_room, MIN_WIDTH, min(max(texts, default=0) + 24, MAX_WIDTH)))
     top = 22 * len(header) + 34
+    across = int(width_m * scale + right_room)          # px: the motion, and the last state's label
     panels, row = [], top
     for tr, (lo, hi) in zip(tracks, boxes):
+        hi = lo + [across / scale, hi[1] - lo[1]]
+        lo, hi = slope_room(tr.scene, lo, hi, 1.0 / z, scale, label_h)
         height = int((hi[1] - lo[1]) * scale) + label_h + 4 + HEADER      # room for the labels on top
-        view = draw.View(scale, width, height - HEADER, unit=1.0 / z)
-        view.center = np.array([lo[0] + width / scale / 2, 0.5 * (lo[1] + hi[1]) + (label_h + 4) / 2 / scale])
+        view = draw.View(scale, across, height - HEADER, unit=1.0 / z)
+        middle = 0.5 * (lo[1] + hi[1]) + (label_h + 4) / 2 / scale
+        view.center = np.array([lo[0] + across / scale / 2, middle])
         candidates = labelled(view, small, tr.snapshots.all())
         kept = spaced([s.box for s in candidates])
         panels.append(Panel(tr, row, height, view, [candidates[i] for i in kept]))
@@ -176,7 +193,7 @@ def _panel(pygame, surface, font, small, panel, width):
     times, the centre-of-mass path."""
     track, view = panel.track, panel.view
     area = surface.subsurface((0, panel.top, width, panel.height))
-    sub = area.subsurface((0, HEADER, width, panel.height - HEADER))
+    sub = area.subsurface((0, HEADER, view.size, panel.height - HEADER))     # across the motion
     draw.draw_slope(pygame, sub, track.scene, view, (0, 0, 0), small)
     light = lighten(track.color)
     for i, snap in enumerate(panel.snapshots):

@@ -111,8 +111,9 @@ class LiveWindow(live.LiveDemo):
         runs = [frames.frame_run(self.scene, x, run.report, self.label, draw.BLUE, forces)]
         runs[0]["marks"] = run.marks if self.scene.hand is not None else None      # as frames.FrameWriter
         line, width = self.font.get_linesize(), self.size - 24
-        rows = [(row, color) for text, color in self.status_lines() for row in draw.wrap(self.font, text, width)]
-        bottom = [row for text in self.help_lines() for row in draw.wrap(self.font, text, width)]
+        rows = [(row, color) for text, color in self.status_lines()
+                for row in self.rows(text, width)]
+        bottom = [row for text in self.help_lines() for row in self.rows(text, width)]
         # the chalk's marks' strip off the status lines and the key hints (and none beside the Newton view's inset)
         self.reserve = (len(rows) * line, 6 + len(bottom) * line) if run.iterate is None else None
         surface, top = draw.draw_frame(pg, runs, run.t, self.view, self.fonts,
@@ -132,6 +133,11 @@ class LiveWindow(live.LiveDemo):
         self.frames += 1
         self.slow_frames += self.slow is not None
         self.drawn_at = self.clock.now()
+
+    def rows(self, text, width):
+        """A line of the status or the key hints in rows within `width` px, broken between its
+        phrases (newton_view.phrase_rows: "CCD bound ... = 0.7115" over "(black ring: ...)")."""
+        return newton_view.phrase_rows(self.font, text, width)
 
     def status_lines(self):
         """(text, colour) under the caption: what the window is doing, the Newton iterate's figures."""
