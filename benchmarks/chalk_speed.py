@@ -65,7 +65,7 @@ def run_once(folder, name, extra, duration, python=sys.executable):
     """One `python simulator.py --scene chalk --no-frames` process of the interpreter `python`: (wall s,
     CPU s, the stepping's wall s from its closing line, Newton iterations per step and the simulated
     seconds from its log.csv)."""
-    out = os.path.join(folder, re.sub(r"\W+", "_", name))
+    out = tempfile.mkdtemp(prefix=re.sub(r"\W+", "_", name) + "-", dir=folder)    # a new folder each run
     command = [python, os.path.join(ROOT, "simulator.py"), "--scene", "chalk", "--no-frames", "--out", out,
                *extra] + (["--duration", str(duration)] if duration is not None else [])
     cpu, start = children_cpu(), time.perf_counter()

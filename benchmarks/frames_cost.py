@@ -22,9 +22,9 @@ def frames_overhead(repeats=5, extra=()):
     import tempfile
     times = {"frames": [], "no-frames": []}
     with tempfile.TemporaryDirectory() as folder:
-        for _ in range(repeats):
+        for i in range(repeats):
             for kind in times:
-                out = os.path.join(folder, kind)
+                out = os.path.join(folder, f"{kind}-{i}")       # each run writes a new folder
                 command = [sys.executable, os.path.join(ROOT, "simulator.py"), "--out", out, *extra]
                 start = time.perf_counter()
                 done = subprocess.run(command + (["--no-frames"] if kind == "no-frames" else []), cwd=ROOT,
@@ -32,8 +32,8 @@ def frames_overhead(repeats=5, extra=()):
                 times[kind].append(time.perf_counter() - start)
                 if done.returncode != 0:
                     raise RuntimeError(f"simulator.py failed:\n{done.stderr}")
-        frames = len([f for f in os.listdir(os.path.join(folder, "frames")) if f.endswith(".png") and f.startswith("frame_")])
-        with open(os.path.join(folder, "frames", "log.csv")) as f:
+        frames = len([f for f in os.listdir(os.path.join(folder, "frames-0")) if f.endswith(".png") and f.startswith("frame_")])
+        with open(os.path.join(folder, "frames-0", "log.csv")) as f:
             simulated = float(list(csv.DictReader(f))[-1]["t"])
     with_frames, without = statistics.median(times["frames"]), statistics.median(times["no-frames"])
     return {"frames_s": with_frames, "no_frames_s": without, "ratio": with_frames / without,

@@ -1,14 +1,12 @@
 """The command line of `python -m figures [NAME ...] [--out DIR]`: which figures, where, and how it ends.
 
-It writes NAME.png for the figures asked for into the folder, as a run of simulator.py writes its
-files (viewer.files.OutputFolder): each whole, never over a file it did not write nor through a
-symbolic link (refused before anything is computed), the other figures written earlier kept. Bad
-input is one line on stderr, `figures: error: ...`, exit code 2; Ctrl+C one line, exit code 130
+It writes NAME.png for the figures asked for into a new folder, output/figures-<date>-<time>/ or
+the new or empty one --out names, as a run of simulator.py writes its files (viewer.files.RunFolder):
+each whole, never over another file nor through a symbolic link. Bad input is one line on stderr, `figures: error: ...`, exit code 2; Ctrl+C one line, exit code 130
 (SIGTERM: 143); a failed write or step one line, exit code 1.
 """
 import argparse
 import importlib
-import os
 import sys
 import time
 
@@ -16,7 +14,6 @@ import figures
 import time_integrator
 from viewer import files, run
 
-DEFAULT_OUT = os.path.join("output", "figures")
 
 
 class UsageError(Exception):
@@ -33,7 +30,8 @@ def parse(argv):
     parser = Parser(prog="python -m figures", description="Write the lecture's claims as pictures.")
     parser.add_argument("names", nargs="*", metavar="NAME",
                         help=f"a figure: {', '.join(figures.FIGURES)} (default: all of them)")
-    parser.add_argument("--out", default=DEFAULT_OUT, help=f"the folder to write NAME.png into (default {DEFAULT_OUT})")
+    parser.add_argument("--out", help="a new or empty folder to write NAME.png into (default: a new "
+                                      "one, output/figures-<date>-<time>)")
     args = parser.parse_args(argv)
     unknown = [name for name in args.names if name not in figures.FIGURES]
     if unknown:
@@ -57,7 +55,7 @@ def main(argv=None):
     with run.Signals() as signals:
         try:
             names, out = parse(sys.argv[1:] if argv is None else argv)
-            folder = files.OutputFolder.claim(out, {f"{name}.png" for name in names}, signals, keep=True)
+            folder = files.RunFolder.make(out, "figures", [f"{name}.png" for name in names], signals)
         except (UsageError, ValueError) as err:
             print(f"figures: error: {err}", file=sys.stderr)
             return 2
@@ -75,4 +73,3 @@ def main(argv=None):
             return 1
         finally:
             signals.close()
-            folder.close()

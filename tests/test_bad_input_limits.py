@@ -115,12 +115,12 @@ def test_absurd_value_is_one_line_naming_flag_and_value(args, message, tmp_path)
 
 
 @pytest.mark.skipif(not os.path.isdir("/proc/self"), reason="needs Linux's /proc")
-def test_out_folder_where_no_file_can_be_created(tmp_path):
-    """/proc/self is a folder no file can be created in: refused in one line, naming --out."""
-    result = cli("--steps", "2", "--out", "/proc/self")
+def test_out_folder_that_cannot_be_made(tmp_path):
+    """/proc holds no folder a run can make: refused in one line, naming --out."""
+    result = cli("--steps", "2", "--out", "/proc/self/run")
     lines = result.stderr.strip().splitlines()
     assert result.returncode == 2 and len(lines) == 1
-    assert lines[0].startswith("simulator.py: error: --out: out folder '/proc/self' cannot be written: ")
+    assert lines[0].startswith("simulator.py: error: --out: out folder '/proc/self/run' cannot be created: ")
 
 
 LIBRARY_OVERFLOW = [

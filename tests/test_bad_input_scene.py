@@ -7,7 +7,6 @@ import sys
 import pytest
 
 import simulator
-import viewer.files
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -139,4 +138,4 @@ def test_failure_mid_run_keeps_every_file_whole(tmp_path):
     assert {f"frame_{i:05d}.png" for i in range(completed + 1)} <= files
     assert {f"frame_{i:05d}.obj" for i in range(completed + 1)} <= files
     assert f"frame_{completed + 1:05d}.png" not in files and "summary.png" in files
-    assert not [f for f in files if f.startswith(".") and f not in viewer.files.OWN]
+    assert not [f for f in files if f.startswith(".")]

@@ -32,7 +32,7 @@ def test_twenty_steps_write_frames_objs_csv_and_summary(tmp_path):
         [f"frame_{i:05d}.png" for i in range(21)]
     assert len([f for f in files if f.endswith(".obj")]) == 21
     assert "summary.png" in files and "log.csv" in files
-    assert not [f for f in files if f.startswith(".") and f not in viewer.files.OWN]     # no temporaries left
+    assert not [f for f in files if f.startswith(".")]     # no temporaries left
     with open(out / "log.csv") as f:
         rows = list(csv.DictReader(f))
     assert len(rows) == 21 and set(viewer.log.COLUMNS) <= set(rows[0])           # t = 0 and 20 steps

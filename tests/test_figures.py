@@ -1,6 +1,7 @@
 """figures/: each figure's numbers on a small case (the lecture's claims), and `python -m figures` as a
 user runs it: whole PNGs, one-line errors with exit code 2, no symlink followed, Ctrl+C ends in 130."""
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -10,7 +11,7 @@ import pytest
 
 import figures.page
 from figures import cli, dissipation, fixed_point, mollifier, semi_implicit, stick_slip
-from viewer import files, manifest, whole_files
+from viewer import whole_files
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 PNG_SIGNATURE, PNG_END = b"\x89PNG\r\n\x1a\n", b"IEND\xaeB`\x82"
@@ -248,13 +249,13 @@ def one_error_line(result, code=2):
 def test_one_figure_is_written_whole(tmp_path):
     result = run_cli("mollifier", "--out", str(tmp_path / "figs"))
     assert result.returncode == 0, result.stderr
-    assert sorted(os.listdir(tmp_path / "figs")) == [files.MANIFEST, "mollifier.png"]   # no temporary left
+    assert sorted(os.listdir(tmp_path / "figs")) == ["mollifier.png"]   # no temporary left
     data = (tmp_path / "figs" / "mollifier.png").read_bytes()
     assert data.startswith(PNG_SIGNATURE) and data.endswith(PNG_END)
 
 
-def test_no_name_means_every_figure_into_the_default_folder():
-    assert cli.parse([]) == (list(figures.FIGURES), cli.DEFAULT_OUT)
+def test_no_name_means_every_figure_into_a_new_folder():
+    assert cli.parse([]) == (list(figures.FIGURES), None)
     assert cli.parse(["fixed_point", "mollifier", "mollifier"])[0] == ["mollifier", "fixed_point"]
 
 
@@ -262,20 +263,21 @@ def test_bad_input_is_one_line_and_exit_code_2(tmp_path):
     assert one_error_line(run_cli("no_such_figure", "--out", str(tmp_path)))
     (tmp_path / "a_file").write_text("x")
     assert one_error_line(run_cli("mollifier", "--out", str(tmp_path / "a_file" / "figs")))
-    assert os.listdir(tmp_path) == ["a_file"]
+    assert one_error_line(run_cli("mollifier", "--out", str(tmp_path / "a_file")))
+    assert os.listdir(tmp_path) == ["a_file"] and (tmp_path / "a_file").read_text() == "x"
 
 
-def test_a_users_file_symlink_or_folder_in_the_way_is_refused(tmp_path, capsys):
+def test_a_folder_that_holds_anything_is_refused_and_left_as_it_is(tmp_path, capsys):
+    """--out names a new or empty folder: one that holds a file, a link or a folder is refused whole,
+    before anything is computed."""
     (tmp_path / "precious.png").write_bytes(b"not ours")
     os.symlink(tmp_path / "precious.png", tmp_path / "mollifier.png")
-    os.mkdir(tmp_path / "fixed_point.png")
-    (tmp_path / "dissipation.png").write_bytes(b"the user's own")
-    for name in ("mollifier", "fixed_point", "dissipation"):
-        assert cli.main([name, "--out", str(tmp_path)]) == 2
-        error = capsys.readouterr().err
-        assert error.startswith(f"figures: error: out folder {str(tmp_path)!r} already holds {name}.png"), error
+    before = sorted(os.listdir(tmp_path))
+    assert cli.main(["mollifier", "--out", str(tmp_path)]) == 2
+    error = capsys.readouterr().err
+    assert error.startswith(f"figures: error: out folder {str(tmp_path)!r} is not empty"), error
+    assert sorted(os.listdir(tmp_path)) == before
     assert (tmp_path / "precious.png").read_bytes() == b"not ours"
-    assert (tmp_path / "dissipation.png").read_bytes() == b"the user's own"
 
 
 def test_ctrl_c_ends_in_one_line_with_130(tmp_path, capsys, monkeypatch):
@@ -283,7 +285,7 @@ def test_ctrl_c_ends_in_one_line_with_130(tmp_path, capsys, monkeypatch):
         os.kill(os.getpid(), signal.SIGINT)
     monkeypatch.setattr(mollifier, "compute", interrupted)
     assert cli.main(["mollifier", "--out", str(tmp_path)]) == 130
-    assert capsys.readouterr().err.count("\n") == 1 and os.listdir(tmp_path) == [files.MANIFEST]
+    assert capsys.readouterr().err.count("\n") == 1 and os.listdir(tmp_path) == []
 
 
 def test_ctrl_c_while_writing_lands_after_the_file_is_whole(tmp_path, capsys, monkeypatch):
@@ -292,30 +294,34 @@ def test_ctrl_c_while_writing_lands_after_the_file_is_whole(tmp_path, capsys, mo
     real = whole_files.write_temporary
 
     def write_interrupted(path, data):
-        os.kill(os.getpid(), signal.SIGINT)
+        if path.endswith("-mollifier.png"):
+            os.kill(os.getpid(), signal.SIGINT)
         return real(path, data)
     monkeypatch.setattr(whole_files, "write_temporary", write_interrupted)
     assert cli.main(["mollifier", "--out", str(tmp_path)]) == 130
     assert capsys.readouterr().err.count("\n") == 1
-    assert sorted(os.listdir(tmp_path)) == [files.MANIFEST, "mollifier.png"]
+    assert sorted(os.listdir(tmp_path)) == ["mollifier.png"]
     data = (tmp_path / "mollifier.png").read_bytes()
     assert data.startswith(PNG_SIGNATURE) and data.endswith(PNG_END)
 
 
-
-def test_writing_one_figure_keeps_the_others(tmp_path, monkeypatch):
-    """The figures written earlier stay, still owned (a later run may replace them); the one asked for
-    is replaced. fixed_point's numbers are stubbed here: only the files are under test."""
+def test_each_run_writes_a_new_folder_of_its_own(tmp_path, monkeypatch, capsys):
+    """Without --out, each run makes output/figures-<date>-<time>/ (a suffix where that is taken): two
+    runs, two folders, and a file the user left in output/ untouched. fixed_point's numbers are
+    stubbed here: only the files are under test."""
     class Stub:
         def png(self):
             return b"a stub page"
     monkeypatch.setattr(fixed_point, "compute", lambda: None)
     monkeypatch.setattr(fixed_point, "draw", lambda result: Stub())
-    assert cli.main(["mollifier", "--out", str(tmp_path)]) == 0
-    first = (tmp_path / "mollifier.png").read_bytes()
-    assert cli.main(["fixed_point", "--out", str(tmp_path)]) == 0
-    assert (tmp_path / "mollifier.png").read_bytes() == first
-    assert (tmp_path / "fixed_point.png").read_bytes() == b"a stub page"
-    assert sorted(manifest.read_manifest(str(tmp_path))) == ["fixed_point.png", "mollifier.png"]
-    (tmp_path / "fixed_point.png").unlink()
-    assert cli.main(["fixed_point", "--out", str(tmp_path)]) == 0          # still its own name to write
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "output").mkdir()
+    (tmp_path / "output" / "notes.txt").write_text("mine")
+    assert cli.main(["fixed_point"]) == 0 and cli.main(["fixed_point"]) == 0
+    runs = sorted(p for p in (tmp_path / "output").iterdir() if p.is_dir())
+    assert len(runs) == 2 and all(re.fullmatch(r"figures-\d{8}-\d{6}(-\d+)?", p.name) for p in runs)
+    assert all(os.listdir(p) == ["fixed_point.png"] for p in runs)
+    assert (tmp_path / "output" / "notes.txt").read_text() == "mine"
+    said = [line for line in capsys.readouterr().out.splitlines() if line.startswith("figures: wrote")]
+    assert [line.split()[2] for line in said] == [str(p.relative_to(tmp_path) / "fixed_point.png")
+                                                  for p in runs]

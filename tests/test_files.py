@@ -1,11 +1,11 @@
-"""viewer/files.py: a run's folder is its own, tried as an attacker would: a name taken between the
-check and the write, two runs at once, a user's new content under an owned name, another user's
-manifest, a FIFO, a folder or manifest removed mid-run, names too long, and a platform without
-POSIX-only names (os.O_NOFOLLOW, fcntl, file owners)."""
+"""viewer/files.py: a run writes only into a new folder it made (or an empty one --out names), tried
+as an attacker would: a name taken between the check and the write, two runs at once, a folder that
+holds files or is another user's, a folder removed mid-run, names too long, and a platform without
+POSIX-only names (os.O_NOFOLLOW, file owners)."""
 import errno
 import os
+import re
 import shutil
-import signal
 import subprocess
 import sys
 import time
@@ -13,7 +13,7 @@ import time
 import pytest
 
 from helpers.command import run_main as main
-from viewer import files, folder_lock, manifest, run, whole_files
+from viewer import whole_files
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SIMULATOR = os.path.join(ROOT, "simulator.py")
@@ -21,7 +21,7 @@ SIMULATOR = os.path.join(ROOT, "simulator.py")
 
 def start(*args, **kwargs):
     """python simulator.py ARGS as a child process."""
-    return subprocess.Popen([sys.executable, SIMULATOR, *args], cwd=ROOT, stdout=subprocess.PIPE,
+    return subprocess.Popen([sys.executable, SIMULATOR, *args], stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True, **kwargs)
 
 
@@ -68,148 +68,91 @@ def test_a_folder_removed_mid_run_is_named_by_its_output(tmp_path, monkeypatch):
     assert os.path.basename(calls[-1])[len(".tmp-12345678-"):] in lines[-1]
 
 
-def test_a_manifest_removed_mid_run_is_written_again_whole(tmp_path, monkeypatch):
-    """The manifest deleted during a run: the run writes it again from what it knows, so the next run
-    still owns every file (and removes the stale frames)."""
-    real, calls = whole_files.write_temporary, []
+# ---- a new folder for each run ------------------------------------------------------------------
 
-    def remove_manifest(path, data):
-        calls.append(path)
-        if len(calls) == 4:
-            os.remove(tmp_path / files.MANIFEST)
-        return real(path, data)
-    monkeypatch.setattr(whole_files, "write_temporary", remove_manifest)
-    assert main("--steps", "8", "--frame-stride", "1", "--out", str(tmp_path))[0] == 0
-    listed = manifest.read_manifest(str(tmp_path))
-    on_disk = set(os.listdir(tmp_path)) - set(files.OWN)
-    assert set(listed) == on_disk and all(ident is not None for ident in listed.values())
-    monkeypatch.undo()
-    assert main("--steps", "3", "--frame-stride", "1", "--out", str(tmp_path))[0] == 0
-    assert not (tmp_path / "frame_00005.png").exists()       # the longer run's frame: owned, removed
+def test_two_runs_at_once_write_two_folders_and_leave_the_users_files(tmp_path):
+    """Without --out each run makes output/<scene>-<date>-<time>/ (a suffix where that is taken), so
+    two runs started together never share a folder; a file the user left in output/ is untouched."""
+    (tmp_path / "output").mkdir()
+    (tmp_path / "output" / "notes.txt").write_text("mine")
+    first = start("--steps", "60", "--no-frames", cwd=tmp_path)
+    second = start("--steps", "60", "--no-frames", cwd=tmp_path)
+    for child in (first, second):
+        assert child.wait(timeout=300) == 0, child.stderr.read()
+    runs = sorted(p for p in (tmp_path / "output").iterdir() if p.is_dir())
+    assert len(runs) == 2 and all(re.fullmatch(r"square-\d{8}-\d{6}(-\d+)?", p.name) for p in runs)
+    for folder in runs:
+        assert len((folder / "log.csv").read_text().splitlines()) == 62
+    assert (tmp_path / "output" / "notes.txt").read_text() == "mine"
 
 
-# ---- one run per folder -----------------------------------------------------------------------------
-
-def test_a_second_claim_of_a_held_folder_is_refused_naming_the_holder(tmp_path):
-    first = files.OutputFolder.claim(str(tmp_path), {"a.png"}, run.Signals())
-    try:
-        with pytest.raises(ValueError, match=rf"in use by another run \(pid {os.getpid()}\)"):
-            files.OutputFolder.claim(str(tmp_path), {"b.png"}, run.Signals())
-    finally:
-        first.close()
-    files.OutputFolder.claim(str(tmp_path), {"b.png"}, run.Signals()).close()      # free again
-    assert os.listdir(tmp_path) == [files.MANIFEST]            # the lock goes with its run
+def test_the_closing_line_names_the_folder_and_its_page(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    code, lines = main("--steps", "3")
+    folder = next((tmp_path / "output").iterdir())
+    assert code == 0 and lines[-1].endswith(f"in output/{folder.name}/: {(folder / 'index.html').as_uri()}")
 
 
-def test_two_runs_into_one_folder_at_once(tmp_path):
-    """The second run is refused before it touches anything (exit 2, the holder's pid); the first
-    finishes as if alone, and the folder is usable afterwards."""
+def test_a_second_run_into_the_same_out_is_refused_and_changes_nothing(tmp_path):
+    """--out names a new or empty folder: a second run there, during the first or after it, is refused
+    in one line, exit 2, and the first run's files are as it wrote them."""
     out = tmp_path / "o"
-    first = start("--steps", "400", "--out", str(out))
+    first = start("--steps", "300", "--out", str(out), cwd=ROOT)
     wait_for(out / "frame_00002.png")
     second = subprocess.run([sys.executable, SIMULATOR, "--steps", "20", "--out", str(out)], cwd=ROOT,
                             capture_output=True, text=True, timeout=120)
-    assert second.returncode == 2 and f"in use by another run (pid {first.pid})" in second.stderr, second.stderr
-    assert second.stderr.count("\n") == 1
+    assert second.returncode == 2 and second.stderr.count("\n") == 1
+    assert "is not empty" in second.stderr, second.stderr
     figures = subprocess.run([sys.executable, "-m", "figures", "mollifier", "--out", str(out)], cwd=ROOT,
                              capture_output=True, text=True, timeout=120)
-    assert figures.returncode == 2 and f"pid {first.pid}" in figures.stderr
+    assert figures.returncode == 2 and "is not empty" in figures.stderr
     assert first.wait(timeout=300) == 0, first.stderr.read()
     rows = (out / "log.csv").read_text().splitlines()
-    assert len(rows) == 402 and (out / "index.html").exists() and not (out / "mollifier.png").exists()
-    assert main("--steps", "3", "--out", str(out))[0] == 0
+    assert len(rows) == 302 and (out / "index.html").exists() and not (out / "mollifier.png").exists()
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+    assert main("--steps", "3", "--out", str(out))[0] == 2
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before
 
 
-def test_a_run_killed_with_sigkill_leaves_a_folder_the_next_run_takes_over(tmp_path):
-    if not hasattr(signal, "SIGKILL"):
-        pytest.skip("no SIGKILL on this platform")
-    out = tmp_path / "o"
-    child = start("--steps", "2000", "--out", str(out))
-    wait_for(out / "frame_00003.png")
-    child.kill()
-    child.wait(timeout=60)
-    assert (out / files.LOCK).exists()              # left behind, but no longer locked by anyone
-    code, lines = main("--steps", "3", "--out", str(out))
-    assert code == 0, lines
-    assert not (out / "frame_00004.png").exists() and not (out / files.LOCK).exists()
-
-
-def test_a_stale_lock_file_is_taken_over_where_the_file_is_the_lock(tmp_path, monkeypatch):
-    """Where the platform has no lock of its own (lock() gives None), the file is the lock: held while
-    its pid runs, taken over once it no longer does."""
-    monkeypatch.setattr(folder_lock, "lock", lambda fd: None)
-    (tmp_path / files.LOCK).write_text(f"{os.getpid()} now\n")
-    with pytest.raises(ValueError, match=rf"pid {os.getpid()}"):
-        files.OutputFolder.claim(str(tmp_path), {"a.png"}, run.Signals())
-    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True)
-    (tmp_path / files.LOCK).write_text(f"{dead.stdout.strip()} earlier\n")
-    folder = files.OutputFolder.claim(str(tmp_path), {"a.png"}, run.Signals())
-    assert (tmp_path / files.LOCK).read_text().split()[0] == str(os.getpid())
-    folder.close()
-
-
-# ---- ownership by identity -------------------------------------------------------------------------
-
-def test_a_users_new_content_under_an_owned_name_is_never_removed(tmp_path):
-    assert main("--steps", "3", "--out", str(tmp_path))[0] == 0
-    (tmp_path / "log.csv").write_text("mine\n")            # the same inode, new content
-    code, lines = main("--steps", "3", "--out", str(tmp_path))
-    assert code == 2 and "log.csv, changed since this simulator wrote it" in lines[0]
-    assert (tmp_path / "log.csv").read_text() == "mine\n"
-
-
-def test_a_changed_file_the_run_would_only_remove_is_refused_too(tmp_path):
-    """A frame of a longer earlier run, edited by the user: the shorter run would remove it as stale;
-    it refuses instead, naming it."""
-    assert main("--steps", "9", "--frame-stride", "1", "--out", str(tmp_path))[0] == 0
-    (tmp_path / "frame_00008.obj").write_text("my edit\n")
-    code, lines = main("--steps", "3", "--frame-stride", "1", "--out", str(tmp_path))
-    assert code == 2 and "frame_00008.obj, changed since" in lines[0]
-    assert (tmp_path / "frame_00008.obj").read_text() == "my edit\n" and (tmp_path / "frame_00002.png").exists()
+def test_an_empty_folder_is_taken_and_a_file_is_not(tmp_path):
+    (tmp_path / "empty").mkdir()
+    assert main("--steps", "3", "--no-frames", "--out", str(tmp_path / "empty"))[0] == 0
+    (tmp_path / "a_file").write_text("mine")
+    code, lines = main("--steps", "3", "--out", str(tmp_path / "a_file"))
+    assert code == 2 and "is not a folder" in lines[0] and (tmp_path / "a_file").read_text() == "mine"
 
 
 @pytest.mark.skipif(not whole_files.HAS_OWNERS, reason="no file owners on this platform")
-def test_a_manifest_others_may_write_is_refused_and_nothing_removed(tmp_path):
-    assert main("--steps", "3", "--out", str(tmp_path))[0] == 0
-    before = sorted(os.listdir(tmp_path))
-    os.chmod(tmp_path / files.MANIFEST, 0o622)
-    code, lines = main("--steps", "3", "--out", str(tmp_path))
-    assert code == 2 and files.MANIFEST in lines[0] and sorted(os.listdir(tmp_path)) == before
-
-
-@pytest.mark.skipif(not whole_files.HAS_OWNERS, reason="no file owners on this platform")
-def test_a_manifest_planted_by_another_user_is_refused(tmp_path):
-    """In a folder others may write to, another user's manifest listing the user's file: refused, the
-    file kept. Planting it needs another uid: the test runs as root, or says why it cannot."""
+def test_a_folder_others_may_write_to_or_another_users_is_refused(tmp_path):
+    """Others could plant names in it while the run writes: refused, nothing made. Another user's
+    folder needs another uid to make: as root here, or skipped saying why."""
+    shared = tmp_path / "shared"
+    shared.mkdir()
+    os.chmod(shared, 0o777)
+    code, lines = main("--steps", "3", "--out", str(shared))
+    assert code == 2 and "others may write to it" in lines[0] and os.listdir(shared) == []
     if os.geteuid() != 0:
-        pytest.skip("planting a file owned by another uid needs root")
-    os.chmod(tmp_path, 0o1777)
+        pytest.skip("a folder owned by another uid needs root to make")
+    os.chmod(shared, 0o755)
+    os.chown(shared, 65534, 65534)
+    code, lines = main("--steps", "3", "--out", str(shared))
+    assert code == 2 and "another user's" in lines[0] and os.listdir(shared) == []
+
+
+def test_a_symbolic_link_planted_under_an_outputs_name_is_never_written_through(tmp_path, monkeypatch):
+    """A link to a user's file planted mid-run under the name of the next output: the run's link
+    fails, the user's file is untouched, one line names the output."""
+    real = whole_files.write_temporary
     (tmp_path / "thesis.tex").write_text("years of work")
-    st = os.stat(tmp_path / "thesis.tex")
-    (tmp_path / files.MANIFEST).write_text(
-        f"{manifest.HEADER}\nthesis.tex\t{st.st_dev}\t{st.st_ino}\t{st.st_size}\t{st.st_mtime_ns}\n")
-    os.chmod(tmp_path / files.MANIFEST, 0o600)
-    os.chown(tmp_path / files.MANIFEST, 65534, 65534)
-    code, lines = main("--steps", "3", "--out", str(tmp_path))
-    assert code == 2 and "another user could have written" in lines[0]
+
+    def plant(path, data):
+        real(path, data)
+        if path.endswith("plots.png"):
+            os.symlink(tmp_path / "thesis.tex", tmp_path / "o" / "plots.png")
+    monkeypatch.setattr(whole_files, "write_temporary", plant)
+    code, lines = main("--steps", "5", "--no-frames", "--out", str(tmp_path / "o"))
+    assert code == 1 and "plots.png: a file of that name appeared" in lines[-1]
     assert (tmp_path / "thesis.tex").read_text() == "years of work"
-
-
-@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs on this platform")
-@pytest.mark.parametrize("name", [files.MANIFEST, files.LOCK])
-def test_a_fifo_in_place_of_the_folders_own_files_is_refused_at_once(tmp_path, name):
-    out = tmp_path / "o"
-    out.mkdir()
-    os.mkfifo(tmp_path / "fifo")
-    os.symlink(tmp_path / "fifo", out / name)
-    began = time.monotonic()
-    done = subprocess.run([sys.executable, SIMULATOR, "--steps", "3", "--out", str(out)], cwd=ROOT,
-                          capture_output=True, text=True, timeout=60)
-    assert done.returncode == 2 and name in done.stderr and time.monotonic() - began < 20
-    os.remove(out / name)
-    os.mkfifo(out / name)
-    began = time.monotonic()
-    assert main("--steps", "3", "--out", str(out))[0] == 2 and time.monotonic() - began < 1.0
 
 
 # ---- refused before claimed ---------------------------------------------------------------------------
@@ -249,35 +192,26 @@ import os, runpy, sys
 for name in ("O_NOFOLLOW", "O_NONBLOCK", "geteuid", "getuid", "pathconf", "fchmod", "mkfifo"):
     if hasattr(os, name):
         delattr(os, name)
-sys.modules["fcntl"] = None             # import fcntl fails, as on Windows (and msvcrt is not there)
 sys.argv = [sys.argv[1]] + sys.argv[2:]
 runpy.run_path(sys.argv[0], run_name="__main__")
 """
 
 
 def without_posix(*args):
-    return subprocess.run([sys.executable, "-c", WITHOUT_POSIX, SIMULATOR, *args], cwd=ROOT, capture_output=True,
-                          text=True, timeout=300)
+    return subprocess.run([sys.executable, "-c", WITHOUT_POSIX, SIMULATOR, *args], cwd=ROOT,
+                          capture_output=True, text=True, timeout=300)
 
 
 def test_the_main_job_and_its_refusals_without_posix_only_names(tmp_path):
-    """The main job, then a symbolic link under an output's name, a user's file, and a held folder: each
-    kept as on POSIX, with no O_NOFOLLOW, no fcntl (the lock file is the lock), no file owners."""
+    """The main job, then a run into its folder, now not empty: refused as on POSIX, with no
+    O_NOFOLLOW and no file owners."""
     out = tmp_path / "o"
     done = without_posix("--steps", "12", "--frame-stride", "3", "--out", str(out))
     assert done.returncode == 0, done.stderr
     assert (out / "index.html").exists() and len((out / "log.csv").read_text().splitlines()) == 14
-    (out / "frame_00002.png").unlink()
-    (tmp_path / "target").write_text("mine")
-    os.symlink(tmp_path / "target", out / "frame_00002.png")
+    before = sorted(os.listdir(out))
     done = without_posix("--steps", "12", "--frame-stride", "3", "--out", str(out))
-    assert done.returncode == 2 and "frame_00002.png, a symbolic link" in done.stderr
-    assert (tmp_path / "target").read_text() == "mine" and (out / "frame_00002.png").is_symlink()
-    (out / "frame_00002.png").unlink()
-    (out / files.LOCK).write_text(f"{os.getpid()} now\n")          # a live holder
-    done = without_posix("--steps", "12", "--out", str(out))
-    assert done.returncode == 2 and f"pid {os.getpid()}" in done.stderr
-    assert (out / files.LOCK).read_text().startswith(str(os.getpid()))
+    assert done.returncode == 2 and "is not empty" in done.stderr and sorted(os.listdir(out)) == before
 
 
 # ---- reporting never stops the work ----------------------------------------------------------------

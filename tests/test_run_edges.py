@@ -16,7 +16,7 @@ import simulator
 import time_integrator
 import viewer.log
 from helpers.command import run_main as main
-from viewer import cli, draw, files, plots, whole_files
+from viewer import cli, draw, plots, whole_files
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -30,69 +30,35 @@ def log_steps(path):
 
 
 def leftovers(folder):
-    """Temporary files left in the folder (names starting with '.', but the manifest)."""
-    return [name for name in os.listdir(folder) if name.startswith(".") and name not in files.OWN]
+    """Temporary files left in the folder (names starting with '.')."""
+    return [name for name in os.listdir(folder) if name.startswith(".")]
 
 
-# ---- a run owns its files ---------------------------------------------------------------------------
+# ---- a run writes only into a new or empty folder -------------------------------------------------
 
-USERS = ["log.csv", "index.html", "plots.png", "summary.png", "frame_00003.png", "frame_00001.obj"]
+USERS = ["log.csv", "index.html", "plots.png", "summary.png", "frame_00003.png", "notes.txt"]
 
 
 @pytest.mark.parametrize("name", USERS)
-def test_a_users_file_with_an_outputs_name_is_never_touched(tmp_path, name):
-    """The user's own file named like an output: refused before anything is written, in one line that
-    names the file and says how to go on; the folder is as it was."""
+def test_a_users_file_in_the_out_folder_is_never_touched(tmp_path, name):
+    """Whatever the user's file is called: refused before anything is written, in one line that says
+    how to go on; the folder is as it was."""
     (tmp_path / name).write_text("the user's own")
     code, lines = main("--steps", "3", "--frame-stride", "1", "--out", str(tmp_path))
     assert code == 2 and len(lines) == 1, lines
-    assert lines[0].startswith("simulator.py: error: --out: ") and name in lines[0] and "move it away" in lines[0]
+    assert lines[0].startswith("simulator.py: error: --out: ") and "is not empty" in lines[0]
+    assert "choose another --out" in lines[0]
     assert os.listdir(tmp_path) == [name] and (tmp_path / name).read_text() == "the user's own"
 
 
-def test_files_a_run_does_not_write_are_left_alone(tmp_path):
-    """A frame number beyond this run's frames, another file: kept, and not refused."""
-    (tmp_path / "frame_00099.png").write_text("mine")
-    (tmp_path / "notes.txt").write_text("mine too")
-    assert main("--steps", "3", "--out", str(tmp_path))[0] == 0
-    assert (tmp_path / "frame_00099.png").read_text() == "mine" and (tmp_path / "notes.txt").read_text() == "mine too"
-    assert main("--steps", "3", "--out", str(tmp_path))[0] == 0           # a re-run: still theirs
-    assert (tmp_path / "frame_00099.png").read_text() == "mine"
-
-
-@pytest.mark.parametrize("name", ["log.csv", "frame_00001.png", "summary.png"])
-def test_a_symbolic_link_is_never_written_through(tmp_path, name):
-    """A dangling link, and one to a file elsewhere, with an output's name: refused, nothing written
-    where they point."""
+def test_a_symbolic_link_in_the_out_folder_is_never_written_through(tmp_path):
+    """A dangling link with an output's name: refused, nothing written where it points."""
     out, target = tmp_path / "out", tmp_path / "elsewhere"
     out.mkdir()
-    (out / name).symlink_to(target)
+    (out / "log.csv").symlink_to(target)
     code, lines = main("--steps", "3", "--frame-stride", "1", "--out", str(out))
-    assert code == 2 and "a symbolic link" in lines[0] and not target.exists()
-    target.write_text("kept")
-    assert main("--steps", "3", "--frame-stride", "1", "--out", str(out))[0] == 2
-    assert target.read_text() == "kept" and os.listdir(out) == [name]
-
-
-def test_a_rerun_replaces_its_own_earlier_run_and_nothing_else(tmp_path):
-    """The second run removes the first's frames (no stale frame 5), except one the user has since
-    replaced by a link of their own, which is refused instead of deleted."""
-    assert main("--steps", "30", "--frame-stride", "1", "--out", str(tmp_path))[0] == 0
-    assert main("--steps", "3", "--frame-stride", "1", "--out", str(tmp_path))[0] == 0
-    names = set(os.listdir(tmp_path))
-    assert "frame_00003.png" in names and "frame_00004.png" not in names and "frame_00030.obj" not in names
-    (tmp_path / "frame_00002.png").unlink()
-    (tmp_path / "frame_00002.png").symlink_to(tmp_path / "frame_00001.png")
-    code, lines = main("--steps", "3", "--frame-stride", "1", "--out", str(tmp_path))
-    assert code == 2 and "frame_00002.png, a symbolic link" in lines[0]
-    assert (tmp_path / "frame_00002.png").is_symlink() and (tmp_path / "frame_00001.png").exists()
-
-
-def test_a_manifest_it_did_not_write_is_refused(tmp_path):
-    (tmp_path / files.MANIFEST).write_text("log.csv\nnotes.txt\n")
-    (tmp_path / "notes.txt").write_text("mine")
-    code, lines = main("--steps", "3", "--out", str(tmp_path))
-    assert code == 2 and files.MANIFEST in lines[0] and (tmp_path / "notes.txt").read_text() == "mine"
+    assert code == 2 and "is not empty" in lines[0] and not target.exists()
+    assert os.listdir(out) == ["log.csv"]
 
 
 # ---- a signal in each phase ---------------------------------------------------------------------
@@ -125,11 +91,9 @@ def test_a_signal_while_a_frame_is_written_keeps_every_file_whole(tmp_path, monk
     """The frame being written is finished, whole; no temporary is left; the steps kept are the last
     step in log.csv, and the last pictures are written for them."""
     real = whole_files.write_temporary
-    calls = []
 
     def write(path, data):
-        calls.append(path)
-        if len(calls) == 7:                     # frame 3's PNG: the signal arrives as it is written
+        if path.endswith("-frame_00003.png"):     # the signal arrives as frame 3's PNG is written
             os.kill(os.getpid(), signum)
         return real(path, data)
     monkeypatch.setattr(whole_files, "write_temporary", write)
@@ -283,6 +247,7 @@ def fill(folder):
 
 
 def test_a_run_refused_on_a_full_disk_leaves_nothing_behind(small_disk):
+    """The folders it made for the run are removed again when no file can be written in them."""
     fill(small_disk)
     before = sorted(os.listdir(small_disk))
     code, lines = main("--steps", "3", "--out", str(small_disk / "new" / "out"))
@@ -290,17 +255,15 @@ def test_a_run_refused_on_a_full_disk_leaves_nothing_behind(small_disk):
     assert sorted(os.listdir(small_disk)) == before
 
 
-def test_a_read_only_folder_is_refused_and_its_files_kept(small_disk):
-    """An earlier run's folder that can no longer be written: one line, exit 2, nothing removed."""
-    assert main("--steps", "3", "--frame-stride", "1", "--out", str(small_disk))[0] == 0
-    before = {name: (small_disk / name).read_bytes() for name in os.listdir(small_disk)}
+def test_an_empty_read_only_folder_is_refused(small_disk):
+    """An empty folder on a read-only disk: one line, exit 2, before anything else."""
     subprocess.run(["mount", "-o", "remount,ro", str(small_disk)], check=True)
     try:
         code, lines = main("--steps", "2", "--out", str(small_disk))
     finally:
         subprocess.run(["mount", "-o", "remount,rw", str(small_disk)], check=True)
-    assert code == 2 and len(lines) == 1 and lines[0].startswith("simulator.py: error: --out: "), lines
-    assert {name: (small_disk / name).read_bytes() for name in os.listdir(small_disk)} == before
+    assert code == 2 and len(lines) == 1 and "cannot be written: Read-only file system" in lines[0], lines
+    assert os.listdir(small_disk) == []
 
 
 def test_a_disk_filling_mid_run_keeps_a_true_count(small_disk):

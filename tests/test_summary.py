@@ -3,7 +3,6 @@ cut by the picture's border, none overlaps another but the first and the last, a
 as a round number of pixels per metre."""
 import itertools
 
-import numpy as np
 import pytest
 
 import simulator
@@ -41,8 +40,8 @@ def test_the_scale_is_a_round_number_of_pixels_per_metre(tmp_path):
     """SCALE pixels per metre where the motion fits; beyond, two significant digits, so that the bar's
     text ("1 m (37 pixels)") is the scale drawn."""
     pygame = draw.load_pygame()
-    assert summary.plan(pygame, tracks_of(tmp_path, [simulator.build_scene()], 20), []).scale == summary.SCALE
-    scale = summary.plan(pygame, tracks_of(tmp_path, [simulator.build_scene(v0=(20.0, 0.0))], 150), []).scale
+    assert summary.plan(pygame, tracks_of(tmp_path / "a", [simulator.build_scene()], 20), []).scale == summary.SCALE
+    scale = summary.plan(pygame, tracks_of(tmp_path / "b", [simulator.build_scene(v0=(20.0, 0.0))], 150), []).scale
     assert scale < summary.SCALE and f"{scale:.3g}" == f"{scale:g}" and scale == draw.nice_number(scale, summary.TWO_DIGITS)
     assert [draw.nice_number(v, summary.TWO_DIGITS) for v in (38.79, 0.5432, 99.99, 1234.0)] == [38.0, 0.54, 99.0, 1200.0]
 

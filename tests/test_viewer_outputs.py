@@ -227,17 +227,6 @@ def test_forces_are_the_energies_forces_at_rest():
     assert np.abs(records[-1].report.friction_force).max() < 1e-6 * weight
 
 
-def test_a_rerun_removes_only_the_files_of_an_earlier_run(tmp_path):
-    assert run_main("--steps", "30", "--frame-stride", "1", "--out", str(tmp_path))[0] == 0
-    (tmp_path / "notes.txt").write_text("mine")
-    (tmp_path / "frame_notes.png").write_bytes(b"mine too")
-    assert run_main("--steps", "3", "--out", str(tmp_path))[0] == 0
-    names = set(os.listdir(tmp_path))
-    assert frame_indices(tmp_path) == [0, 1] and "frame_00005.obj" not in names
-    assert {"notes.txt", "frame_notes.png", "log.csv", "index.html", "plots.png", "summary.png"} <= names
-    assert len(read_csv(tmp_path / "log.csv")) == 4
-
-
 # ------------------------------------------------------------------------------------------------
 # plots.png, summary.png, index.html
 # ------------------------------------------------------------------------------------------------

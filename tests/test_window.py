@@ -18,7 +18,7 @@ import simulator
 from helpers.fakes import chalk_at, fill_disk_after
 from helpers import legibility
 import time_integrator
-from viewer import cli, diagnostics, draw, files, frames, live, marks, run, window
+from viewer import cli, diagnostics, draw, frames, live, marks, run, window
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 H = simulator.DEFAULTS["h"]
@@ -91,8 +91,8 @@ def run_window(argv, **kw):
 
 
 def hidden(folder):
-    """The folder's names starting with '.' but the manifest: temporary files left over."""
-    return [p.name for p in folder.iterdir() if p.name.startswith(".") and p.name not in files.OWN]
+    """The folder's names starting with '.': temporary files left over."""
+    return [p.name for p in folder.iterdir() if p.name.startswith(".")]
 
 
 def read_log(folder):
@@ -161,8 +161,8 @@ def test_the_window_writes_the_files_a_run_without_it_writes(tmp_path, flags, fr
         patch.setattr(window.LiveWindow, "loop", loop)
         assert run_window(["--window", *flags, "--out", str(windowed)], clock=clock) == 0
     assert cli.main([*flags, "--out", str(plain)]) == 0
-    names = sorted(p.name for p in plain.iterdir() if p.name not in files.OWN)
-    assert sorted(p.name for p in windowed.iterdir() if p.name not in files.OWN) == names
+    names = sorted(p.name for p in plain.iterdir())
+    assert sorted(p.name for p in windowed.iterdir()) == names
     assert len(names) == 2 * frame_count + 4
     drop_wall = [{k: v for k, v in r.items() if k != "wall_s"} for r in read_log(plain)]
     assert [{k: v for k, v in r.items() if k != "wall_s"} for r in read_log(windowed)] == drop_wall
@@ -191,7 +191,7 @@ def test_main_hands_window_runs_to_the_window(monkeypatch):
     assert cli.main(["--window", "--speed", "0.25", "--size", "500"]) == 0
     assert cli.main(["--steps", "3", "--mu", "0.1,0.2"]) == 0
     assert seen[0][0].out is None and seen[0][1:] == (0.25, 500)
-    assert [scene.mu for scene in seen[1].scenes] == [0.1, 0.2] and seen[1].out == cli.DEFAULT_OUT
+    assert [scene.mu for scene in seen[1].scenes] == [0.1, 0.2] and seen[1].out is None      # a new folder
 
 
 def test_a_comparison_in_the_window_is_refused_in_one_line(capsys):
@@ -201,12 +201,13 @@ def test_a_comparison_in_the_window_is_refused_in_one_line(capsys):
                    "--window)"]
 
 
-def test_without_out_a_run_writes_to_the_default_folder(tmp_path, monkeypatch):
+def test_without_out_a_run_writes_to_a_new_folder(tmp_path, monkeypatch):
     """--out has no default in the parser (the window writes nothing without it); a run to files
-    writes to output/ then."""
+    writes to a new folder under output/ then."""
     monkeypatch.chdir(tmp_path)
     assert cli.main(["--steps", "1", "--no-frames"]) == 0
-    assert len(read_log(tmp_path / cli.DEFAULT_OUT)) == 2
+    (folder,) = (tmp_path / "output").iterdir()
+    assert folder.name.startswith("square-") and len(read_log(folder)) == 2
 
 
 def test_sigterm_ends_the_window_as_it_ends_a_run_without_it(tmp_path):
@@ -314,7 +315,7 @@ def test_r_restarts_from_the_initial_state_and_replays_the_same_run(tmp_path):
     clock = ScriptClock()
     plan = run.Plan([scene], ["mu = 0.11"], [""], [300], str(tmp_path), stride=1, frames=False, forces=True)
     signals = run.Signals()
-    folder = files.OutputFolder.claim(plan.out, plan.names(), signals)
+    folder = plan.folder(signals)
     output = live.Files(plan, folder, io.StringIO())
     w = window.LiveWindow(pg, pg.display.set_mode((400, 400)), scene, 300, 1.0, output, clock)
     seen = {}
@@ -336,7 +337,6 @@ def test_r_restarts_from_the_initial_state_and_replays_the_same_run(tmp_path):
     clock.script = script()
     assert w.loop() == 0
     output.track.csv.close()
-    folder.close()
     steps = [int(r["step"]) for r in read_log(tmp_path)]
     assert steps == list(range(max(seen) + 1)) and max(seen) >= 60       # each step once
 

@@ -22,10 +22,8 @@ stays in the flat files). Imports point down: viewer -> simulator -> time_integr
     summary.py      summary.png: spaced, time-labelled snapshots at a fixed scale
     page.py         index.html: plays the frames from the file system, with the plots and a time cursor
     pictures.py     the pictures written at a run's end: summary.png, plots.png, index.html
-    files.py        the output folder a run owns: its names, what it refuses, how it writes and removes
-    folder_lock.py  one run per folder: the folder's lock, let go however the process ends
-    manifest.py     what the runs wrote there and each file's identity (device, inode, size, mtime)
-    whole_files.py  files created new (O_EXCL) and written whole, never through a link or blocking
+    files.py        a run's folder: new (or an empty --out), its names, each file written whole
+    whole_files.py  files created new (O_EXCL) and written whole, never through a link
     live.py         the live demo without its window (no pygame): the run a step or a Newton iteration
                     at a time, paced to the wall clock, what the keys do, its files (--out) and warnings
     newton_view.py  the window's Newton view: the iterate, the direction p, the magnified inset

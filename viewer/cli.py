@@ -16,7 +16,6 @@ import simulator
 import utils
 from viewer import run
 
-DEFAULT_OUT = "output"      # the output folder without --out
 DURATION = 6.0      # s, a run's and a comparison's: long enough to see mu = 0.11 come to rest (about 5.5 s)
 CHALK_DURATION = 3.0    # s, the chalk's: about 17 stick-slip cycles of the pushed chalk
 FRAMES_PER_SECOND = 30      # at least this many frames per simulated second by default
@@ -130,8 +129,8 @@ def make_parser():
     r.add_argument("--duration", type=float, metavar="SECONDS",
                    help=f"simulated seconds (default {DURATION:g})")
     r.add_argument("--steps", type=whole, metavar="N", help="number of time steps, instead of --duration")
-    r.add_argument("--out", metavar="FOLDER", help=f"output folder (default {DEFAULT_OUT}; with --window, "
-                   f"files only when given)")
+    r.add_argument("--out", metavar="FOLDER", help="a new or empty folder to write into (default: a new "
+                   "one, output/<scene>-<date>-<time>; with --window, files only when given)")
     r.add_argument("--frame-stride", type=whole, metavar="N",
                    help=f"write a frame every N steps (default: {FRAMES_PER_SECOND} or more a simulated second)")
     r.add_argument("--no-forces", action="store_true", help="draw no force arrows in the frames")
@@ -288,11 +287,10 @@ def plan_from_args(runs):
         raise CommandLineError(f"--window shows one run; --{runs[0].label.split(' = ')[0]} was given {len(runs)} "
                                f"values (compare them without --window)")
     scenes = [scene_from_args(a) for a in runs]
-    out = args.out if args.out is not None or args.window else DEFAULT_OUT
     return run.Plan(scenes=scenes, labels=[a.label or default_label(s) for a, s in zip(runs, scenes)],
                     tags=[a.tag for a in runs],
                     steps=[steps_from_args(a, s) for a, s in zip(runs, scenes)],
-                    out=out, stride=frame_stride(args, scenes), frames=not args.no_frames, forces=not args.no_forces,
+                    out=args.out, stride=frame_stride(args, scenes), frames=not args.no_frames, forces=not args.no_forces,
                     said=args.said)
 
 

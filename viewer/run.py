@@ -79,15 +79,20 @@ class Plan:
     labels: list
     tags: list
     steps: list
-    out: str
+    out: str                # the folder --out names (new or empty), or None: a new one under output/
     stride: int
     frames: bool
     forces: bool
     said: str = None        # what the run says first (cli.decimal_comma), or None
 
     def names(self):
-        """The names this run writes into `out` (files.RunNames)."""
-        return files.RunNames(self.tags, frame_count(self.scenes, self.steps, self.stride), self.frames)
+        """The longest names of each kind this run writes (files.run_names)."""
+        return files.run_names(self.tags, frame_count(self.scenes, self.steps, self.stride), self.frames)
+
+    def folder(self, signals):
+        """The run's folder (files.RunFolder), made: `out`, or a new output/<scene>-<date>-<time>."""
+        kind = "chalk" if self.scenes[0].hand is not None else "square"
+        return files.RunFolder.make(self.out, kind, self.names(), signals)
 
 
 def warn(plan, messages):
@@ -104,9 +109,9 @@ def load_pygame(signals):
         return draw.load_pygame()
 
 
-def write_error(err, out):
+def write_error(err):
     """A failed write (a full disk, a folder gone) as the one line's text."""
-    return f"error: cannot write {err.filename or out}: {err.strerror or err}"
+    return f"error: cannot write {err.filename}: {err.strerror or err}"
 
 
 def summary_header(plan):
@@ -145,7 +150,7 @@ def failure_of(err, plan):
     if isinstance(err, Stopped):
         return Failure(err.code, f"stopped: {err.reason}")
     if isinstance(err, OSError):
-        return Failure(1, write_error(err, plan.out), pictures=False)
+        return Failure(1, write_error(err), pictures=False)
     if isinstance(err, time_integrator.SimulationError):
         return Failure(1, f"stopped: simulation failed: {err}")
     return Failure(1, f"stopped: {err}")        # a ValueError: a number the checks did not foresee
@@ -167,8 +172,6 @@ def end(plan, signals, folder, tracks, frame_log, failure, messages, done):
     signals.close()
     for track in tracks:
         track.csv.close()
-    if folder is not None:
-        folder.close()
     if failure is None and signals.pending is not None:        # arrived as the run was closing
         failure = Failure(EXIT_CODES[signals.pending], f"stopped: {REASONS[signals.pending]} as the run ended")
     if failure is None:
@@ -182,17 +185,18 @@ def kept(tracks, folder, plan):
     """'N steps kept in out/' (the last step log.csv holds), and which of the last pictures were left
     out, if any."""
     if not tracks:
-        return "nothing written" + (f" in {plan.out}/" if folder is not None else "")
+        return "nothing written" + (f" in {folder.folder}/" if folder is not None else "")
     steps = min(track.logged or 0 for track in tracks)
-    left_out = [name for name in pictures.NAMES if name in plan.names().fixed and name not in folder.written]
-    return f"{steps} steps kept in {plan.out}/" + (f"; left out: {', '.join(left_out)}" if left_out else "")
+    left_out = [name for name in pictures.NAMES
+                if (plan.frames or name != "index.html") and name not in folder.written]
+    return f"{steps} steps kept in {folder.folder}/" + (f"; left out: {', '.join(left_out)}" if left_out else "")
 
 
 def to_files(plan, signals, messages=None):
     """Run the plan's scenes side by side to their ends, writing frames, OBJs and log rows as they go,
     then the last pictures; one closing line on `messages` (stderr). Returns the exit code."""
     messages = messages or sys.stderr
-    folder = files.OutputFolder.claim(plan.out, plan.names(), signals)       # ValueError: refused, nothing written
+    folder = plan.folder(signals)       # ValueError: refused, nothing written
     tracks, frame_log, failure, start = [], [], None, time.perf_counter()
     try:
         if plan.said:
@@ -208,7 +212,8 @@ def to_files(plan, signals, messages=None):
     wall = time.perf_counter() - start
     rest = f"; {closing_words(tracks)}" if tracks else ""
     return end(plan, signals, folder, tracks, frame_log, failure, messages,
-               f"simulated {simulated(plan)} in {wall:.2f} s wall{rest}; {written(plan)} in {plan.out}/")
+               f"simulated {simulated(plan)} in {wall:.2f} s wall{rest}; {written(plan)} in "
+               f"{where(plan, folder)}")
 
 
 def simulated(plan):
@@ -225,3 +230,9 @@ def written(plan):
         files.log_csv(tag) for tag in plan.tags) + ")"
     return (f"frames, OBJs, {logs}, plots.png, summary.png and index.html" if plan.frames
             else f"{logs}, plots.png and summary.png")
+
+
+def where(plan, folder):
+    """The run's folder as the closing line names it, and its page as a file:// URL (a click in most
+    terminals opens it) when it has one."""
+    return f"{folder.folder}/" + (f": {folder.url('index.html')}" if plan.frames else "")

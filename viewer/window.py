@@ -21,7 +21,7 @@ import os
 import sys
 
 import utils
-from viewer import diagnostics, draw, files, frames, live, newton_view, run as orchestration
+from viewer import diagnostics, draw, frames, live, newton_view, run as orchestration
 
 FPS = 60                  # frames drawn per second at most
 MIN_FPS = 20              # ... and at least, when the steps fall behind (the other frames are dropped)
@@ -269,7 +269,7 @@ def _demo(pygame, plan, speed, size, signals, clock, log):
     """The window on the display, with the files when --out is given, until it is closed; the run ends
     as a run without the window does (viewer.run.end)."""
     scene = plan.scenes[0]
-    folder = files.OutputFolder.claim(plan.out, plan.names(), signals) if plan.out is not None else None
+    folder = plan.folder(signals) if plan.out is not None else None
     output, window, failure = None, None, None
     try:
         orchestration.warn(plan, log)
@@ -286,7 +286,7 @@ def _demo(pygame, plan, speed, size, signals, clock, log):
     except orchestration.ENDINGS as err:         # Ctrl+C, SIGTERM; starting the files (frame 0)
         failure = orchestration.failure_of(err, plan)
     steps = window.run.index if window else 0
-    written = f"; {orchestration.written(plan)} in {plan.out}/" if output else ""
+    written = f"; {orchestration.written(plan)} in {orchestration.where(plan, folder)}" if output else ""
     done = f"simulator.py: {steps} steps ({steps * scene.h:.2f} s) in the window{written}"
     return orchestration.end(plan, signals, folder, [output.track] if output else [], output and output.frame_log,
                              failure, log, done)

@@ -3,7 +3,7 @@ import io
 import sys
 
 import simulator
-from viewer import cli, draw, files, recording, run
+from viewer import cli, draw, recording, run
 
 
 def run_main(*args):
@@ -24,11 +24,10 @@ def recorded(folder, scenes, steps):
     plan = run.Plan(scenes, [f"run {i}" for i in range(len(scenes))], tags, [steps] * len(scenes), str(folder),
                     stride=3, frames=False, forces=False)
     signals = run.Signals()
-    out = files.OutputFolder.claim(plan.out, plan.names(), signals)
+    out = plan.folder(signals)
     tracks = [recording.Track(scene, steps, simulator.simulate(scene, steps), label, tag, draw.run_color(i), out)
               for i, (scene, label, tag) in enumerate(zip(scenes, plan.labels, tags))]
     recording.record(tracks, out, plan.stride, False, False, io.StringIO(), [])
     for track in tracks:
         track.csv.close()
-    out.close()
     return tracks

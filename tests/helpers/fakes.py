@@ -9,10 +9,13 @@ from viewer import live, whole_files
 
 def fill_disk_after(monkeypatch, writes):
     """Let `writes` whole-file writes (whole_files.write_temporary: frames, OBJs, pictures) through, then
-    fail every later one with ENOSPC, as a full disk does."""
+    fail every later one with ENOSPC, as a full disk does (the folder's probe, files.check_writable,
+    goes through: the disk fills during the run)."""
     real, calls = whole_files.write_temporary, []
 
     def fill_up(path, data):
+        if path.endswith("-probe"):
+            return real(path, data)
         calls.append(path)
         if len(calls) > writes:
             raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), path)
