@@ -3,6 +3,7 @@ cut by the picture's border, none overlaps another but the first and the last, a
 as a round number of pixels per metre."""
 import itertools
 
+import numpy as np
 import pytest
 
 import simulator
