@@ -44,14 +44,22 @@ def log_csv(tag=""):
     return f"log{'_' + tag if tag else ''}.csv"
 
 
-class RunNames:
-    """The names one run writes: a log per run (`tags`), summary.png and plots.png; with frames, also
-    index.html and, for each frame j < n_frames, its PNG and each run's OBJ. n_frames may be huge
-    (`--steps 1e308`), so the names are tested, never listed."""
+def marks_csv(tag=""):
+    """The chalk's mark (viewer.marks.csv_text): marks.csv, or marks_grip1000.csv for one run of a
+    comparison."""
+    return f"marks{'_' + tag if tag else ''}.csv"
 
-    def __init__(self, tags, n_frames, frames):
+
+class RunNames:
+    """The names one run writes: a log per run (`tags`), summary.png and plots.png, with `marks`
+    (the chalk) a marks.csv per run; with frames, also index.html and, for each frame j < n_frames,
+    its PNG and each run's OBJ. n_frames may be huge (`--steps 1e308`), so the names are tested,
+    never listed."""
+
+    def __init__(self, tags, n_frames, frames, marks=False):
         self.tags, self.n_frames, self.frames = list(tags), n_frames, frames
         self.fixed = {log_csv(tag) for tag in self.tags} | {"summary.png", "plots.png"} | set(["index.html"] * frames)
+        self.fixed |= {marks_csv(tag) for tag in self.tags} if marks else set()
 
     def __contains__(self, name):
         if name in self.fixed:

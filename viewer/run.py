@@ -86,7 +86,8 @@ class Plan:
 
     def names(self):
         """The names this run writes into `out` (files.RunNames)."""
-        return files.RunNames(self.tags, frame_count(self.scenes, self.steps, self.stride), self.frames)
+        frames = frame_count(self.scenes, self.steps, self.stride)
+        return files.RunNames(self.tags, frames, self.frames, marks=self.scenes[0].hand is not None)
 
 
 def warn(plan, messages):
@@ -183,7 +184,8 @@ def kept(tracks, folder, plan):
     if not tracks:
         return "nothing written" + (f" in {plan.out}/" if folder is not None else "")
     steps = min(track.logged or 0 for track in tracks)
-    left_out = [name for name in pictures.NAMES if name in plan.names().fixed and name not in folder.written]
+    left_out = [name for name in pictures.names(tracks)
+                if name in plan.names().fixed and name not in folder.written]
     return f"{steps} steps kept in {plan.out}/" + (f"; left out: {', '.join(left_out)}" if left_out else "")
 
 
@@ -220,5 +222,8 @@ def written(plan):
     """What a run that ends well has written, in words."""
     logs = "log.csv" if len(plan.scenes) == 1 else "a log per run (" + ", ".join(
         files.log_csv(tag) for tag in plan.tags) + ")"
+    if plan.scenes[0].hand is not None:
+        logs += ", marks.csv" if len(plan.scenes) == 1 else ", the marks (" + ", ".join(
+            files.marks_csv(tag) for tag in plan.tags) + ")"
     return (f"frames, OBJs, {logs}, plots.png, summary.png and index.html" if plan.frames
             else f"{logs}, plots.png and summary.png")
