@@ -114,7 +114,7 @@ def test_the_frame_shows_the_mark_at_its_own_scale_under_the_board():
     deep: each column over the mark the grey of the deposit of the board it spans at the frame's
     4000 px/m (a column: 2.5 bins), the mark about the hand's 18 mm (72 px) wide after 2 s pushed
     (drawn without the strip, whose box around the board it magnifies would cross it); the legend
-    names it (Archard) and says what black is."""
+    names it (Archard) and says what black is (none yet before the tip slides)."""
     pixels, run, view, _, _, _ = chalk_frame(2000, reserve=None)
     scene, deposit = run["scene"], run["marks"]
     origin = float(view(marks.board_point(scene, 0.0))[0, 0])
@@ -129,6 +129,7 @@ def test_the_frame_shows_the_mark_at_its_own_scale_under_the_board():
     black = f"black: {deposit.darkest():.3g} N m per 0.1 mm, the darkest"
     name = "the chalk's mark: lambda x slid length (Archard)"
     assert marks.legend([run]) == [(marks.SWATCH, name), ((255, 255, 255), black)]
+    assert marks.legend([{"marks": marks.Deposit()}])[1] == ((255, 255, 255), "black: none yet")
 
 
 def arcminutes(px, size):

@@ -217,10 +217,13 @@ def legend(runs):
     """The frame's legend rows of the runs' marks: (colour, text)."""
     if not runs:
         return []
-    darkest = ("each run's darkest 0.1 mm" if len(runs) > 1 else
-               f"{runs[0]['marks'].darkest():.3g} {UNIT}, the darkest")
+    darkest = runs[0]["marks"].darkest()
+    if len(runs) > 1:
+        black = "each run's darkest 0.1 mm"
+    else:
+        black = f"{darkest:.3g} {UNIT}, the darkest" if darkest > 0 else "none yet"
     return [(SWATCH, "the chalk's mark: lambda x slid length (Archard)"),
-            ((255, 255, 255), f"black: {darkest}")]
+            ((255, 255, 255), f"black: {black}")]
 
 
 @dataclass(frozen=True)
