@@ -4,10 +4,10 @@ it (marks.Deposit.shade, black at the run's darkest bin); where the strip goes; 
 back of the room. What the mark is (Archard's law): tests/test_marks.py."""
 import numpy as np
 import pytest
-
-import simulator
 from helpers import legibility
 from helpers.fakes import chalk_at
+
+import simulator
 from viewer import diagnostics, draw, frames, marks
 
 
