@@ -106,8 +106,8 @@ def test_pushed_a_sawtooth_of_dashes_a_slip_apart_each_fading_from_where_its_sli
     about 9-fold over a slip (2.27 to 0.24 N, docs/chalk.md), a bin holds lambda times 0.1 mm, and
     the faintest bin holds the slip's end and the stick's creep, wherever in the bin the slip ended:
     so each dash is at least 5 times darker than its faintest bin (measured 5.1 to 7.0, median 6.4);
-    a bound of 4.5 lets a slip end up to half a bin elsewhere. Its bins' p90 / p10 is 4.68: above 4.
-    """
+    the bound, 4.5, leaves room for slips that end elsewhere in their bins. p90 / p10 is 4.68:
+    above 4."""
     _, mark, _, counted = chalk(1.5)
     v = mark.values
     dashes = marks.dashes(v)

@@ -186,8 +186,8 @@ def test_the_squares_frames_have_no_marks_and_no_strip(monkeypatch):
     runs = [frames.frame_run(scene, scene.x0, None, "mu = 0.11", draw.BLUE, True)]
     view, fonts = draw.View.of(scene), draw.fonts(pygame)
     forces = draw.newton_per_metre(scene)
-    kept = [pygame.surfarray.array3d(draw.draw_frame(pygame, runs, 0.0, view, fonts, forces,
-                                                     reserve)[0]) for reserve in ((0, 0), None, (100, 100))]
+    kept = [pygame.surfarray.array3d(draw.draw_frame(pygame, runs, 0.0, view, fonts, forces, r)[0])
+            for r in ((0, 0), None, (100, 100))]
 
     def never(*args, **kw):
         raise AssertionError("the square drew a mark")

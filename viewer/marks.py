@@ -116,6 +116,7 @@ class Deposit:
         return float(self.values.max()) if self.hi > self.lo else 0.0
 
     def copy(self):
+        """A Deposit of its own holding the same bins (the tests keep runs at a step so)."""
         other = Deposit(self.width)
         other.store, other.base, other.lo, other.hi = self.store.copy(), self.base, self.lo, self.hi
         return other
@@ -171,8 +172,7 @@ def greys(shade):
 
 
 def paint(pygame, surface, colours, left, top, depth):
-    """A row of pixel columns in `colours` (k, 3) from column `left`, `depth` rows down from `top`.
-    """
+    """Pixel columns in `colours` (k, 3) from column `left`, `depth` rows down from row `top`."""
     if len(colours) and depth > 0:
         row = pygame.surfarray.make_surface(np.ascontiguousarray(colours[:, None, :]))
         surface.blit(pygame.transform.scale(row, (len(colours), depth)), (left, top))
