@@ -5,9 +5,9 @@
     semi_implicit   the lagged (semi-implicit) friction against Algorithm 5's fully implicit friction, and
                     which is nearer a reference run at h/8
     fixed_point     Algorithm 5's line-3 measure per friction update: a step that converges, one that does not
-    stick_slip      Rabinowicz's chalk: the marks of the pushed chalk (dashed) and the dragged (continuous), the
-                    slip length against the grip, and with one coefficient sliding below, jamming above the
-                    self-locking angle 90 deg - atan mu
+    stick_slip      Rabinowicz's chalk: the mark (Archard's law) of the pushed chalk (dashes)
+                    and the dragged (a line), the slip length against the grip, and with one
+                    coefficient sliding below, jamming above the self-locking angle 90 deg - atan mu
 
 Each figure is a module with `compute(...)` (the numbers, from the project's own functions; the tests
 run it on a small case) and `draw(result)` (a `page.Page` of viewer/plots.py panels). The lecture's mu

@@ -1,22 +1,26 @@
-"""Slide "Remarks – Stick-Slip Instability Effect": Rabinowicz's chalk (Scientific American, 1956). Held at
-an obtuse angle to its motion (pushed), it sticks, slips, sticks again and leaves a dashed line; held at
-an acute angle (dragged), it draws a smooth one; "the more tightly the chalk is held, the smaller the
-distance of slip". The chalk is simulator.build_chalk_scene (simulator.CHALK): a static coefficient mu_s
-0.5 above the kinetic mu 0.35, mu lagged from v^n. With one coefficient (mu_s = mu) it does not
-stick-slip: pushed below the self-locking angle (a rigid strut's 90 deg - atan mu) it slides with the
-hand, above it it jams.
+"""Slide "Remarks – Stick-Slip Instability Effect": Rabinowicz's chalk (Scientific American, 1956).
+Held at an obtuse angle to its motion (pushed), it sticks, slips, sticks again and leaves a dashed
+line; held at an acute angle (dragged), it draws a smooth one; "the more tightly the chalk is held,
+the smaller the distance of slip". The chalk is simulator.build_chalk_scene (simulator.CHALK): a
+static coefficient mu_s 0.5 above the kinetic mu 0.35, mu lagged from v^n. With one coefficient
+(mu_s = mu) it does not stick-slip: pushed below the self-locking angle (a rigid strut's 90 deg -
+atan mu) it slides with the hand, above it it jams.
 
-The tip is the chalk's lowest node at the start; at each step it is stuck where its tangential speed is
-below eps_v, slipping elsewhere, and its stick-slip cycles are counted as viewer/stick_slip.py defines them
-(a run's closing line and the chalk's tests count the same way). Every run stops before the hand passes
-over the tip: the chalk stays on the side it started (past vertical, a jammed chalk rests on its other
-corner, and with Newton from x^n at tol eps_v / 10 cycles there: issue 28, docs/chalk.md).
+The tip is the chalk's lowest node at the start; at each step it is stuck where its tangential speed
+is below eps_v, slipping elsewhere, and its stick-slip cycles are counted as viewer/stick_slip.py
+defines them (a run's closing line and the chalk's tests count the same way). The mark each run
+leaves is Archard's wear law's, accumulated per 0.1 mm of board by viewer/marks.py as the frames and
+the window draw it: the normal force times the length slid there, drawn as grey (black at each
+chalk's darkest bin). Every run stops before the hand passes over the tip: the chalk stays on the
+side it started (past vertical, a jammed chalk rests on its other corner, and with Newton from x^n
+at tol eps_v / 10 cycles there: issue 28, docs/chalk.md).
 
-Durations: DURATION for the marks and each grip (0.2 s of pressing and holding, then 1.3 s of drive: 9
-cycles at the loosest grip, whose period is about 150 ms), TILT_DURATION for each tilt (the hand moves
-8 mm: a jammed tip stays stuck, a sliding one follows). The figure's 12 chalk runs take about 27 s on
-this project's 2-core machine (`python -m figures stick_slip`, Newton from x_tilde at the chalk's tol
-1e-6), under the two minutes issue 28 allows; 3 s runs would double that."""
+Durations: DURATION for the marks and each grip (0.2 s of pressing and holding, then 1.3 s of drive:
+9 cycles at the loosest grip, whose period is about 150 ms), TILT_DURATION for each tilt (the hand
+moves 8 mm: a jammed tip stays stuck, a sliding one follows). The figure's 12 chalk runs, their
+marks with them, took 23.8 s on this project's 2-core machine (`python -m figures stick_slip`,
+Newton from x_tilde at the chalk's tol 1e-6), under the two minutes issue 28 allows; 3 s runs would
+double that."""
 import math
 from types import SimpleNamespace
 
@@ -25,7 +29,7 @@ import numpy as np
 import FrictionEnergy
 import simulator
 from figures.page import BLACK, GREY, RED, Page
-from viewer import plots, stick_slip as counting
+from viewer import marks, plots, stick_slip as counting
 from viewer.stick_slip import MIN_STICK, runs     # the one definition of a cycle (MIN_STICK: tests read it here)
 from viewer.draw import BLUE, run_color
 
@@ -34,40 +38,50 @@ GRIPS = (1000.0, 2000.0, 4000.0, 8000.0)            # k_hand, N/m, each at the d
 TILTS = (60.0, 64.0, 66.0, 67.0, 68.0, 71.0, 75.0)  # degrees, with one coefficient mu_s = mu
 TILT_DURATION = 1.0         # s
 STUCK, SLIPPING = RED, BLUE
+MARK_HEIGHT, PROFILE_HEIGHT = 0.3, 0.4      # of a row (1 apart) in the marks' panel: grey, curve
 
 
 def track(duration, **params):
     """The chalk of simulator.build_chalk_scene(**params) stepped for `duration` (s), sampled at t = 0 and
     after each step: t, the tip's x along the board and its tangential speed u (m/s), stuck = |u| < eps_v,
-    the hand's displacement along the board, the time the drive starts, and whether the tip stayed the
-    lowest node (the one that carries the contact) throughout."""
+    the hand's displacement along the board, the time the drive starts, whether the tip stayed the
+    lowest node (the one that carries the contact) throughout, and the mark the run left
+    (marks.Deposit)."""
     scene = simulator.build_chalk_scene(**params)
     tip, tangent = int(np.argmin(scene.x0[:, 1])), FrictionEnergy.tangent(scene.n)
     t, x, u, lowest = [0.0], [scene.x0[tip] @ tangent], [scene.v0[tip] @ tangent], True
+    mark, before = marks.Deposit(), scene.x0
     for record in simulator.simulate(scene, round(duration / scene.h)):
         t.append(record.t)
         x.append(record.x[tip] @ tangent)
         u.append(record.v[tip] @ tangent)
         lowest = lowest and int(np.argmin(record.x[:, 1])) == tip
+        mark.step(scene, before, record.x)
+        before = record.x
     t, x, u = np.array(t), np.array(x), np.array(u)
     return SimpleNamespace(scene=scene, t=t, x=x, u=u, stuck=np.abs(u) < scene.epsv,
                            hand=np.array([scene.hand.displacement(s) @ tangent for s in t]),
-                           drive_start=counting.drive_start(scene), tip_lowest=lowest)
-
-
-def marks(tr):
-    """The marks the tip leaves on the board, one per run of one state: (stuck, the tip's x along it). The
-    step from x^n to x^{n+1} = x^n + h v^{n+1} belongs to the state of v^{n+1}, so each run starts at the
-    sample before its first: the marks join end to end."""
-    return [(bool(tr.stuck[r[0]]), tr.x[max(r[0] - 1, 0):r[-1] + 1]) for r in runs(tr.stuck)]
+                           drive_start=counting.drive_start(scene), tip_lowest=lowest, mark=mark)
 
 
 def measure(tr):
     """What the caption says of a run: viewer.stick_slip's measure of its tip once the hand drives (the cycles,
     their mean period and slip length, the largest peak speed, the fraction stuck, the start-up), and the
-    largest creep of a stuck mark (m)."""
+    largest creep while stuck (m): the tip's travel over a run of stuck states, from the state
+    before it (the step into the first is already at the stuck speed: x^{n+1} = x^n + h v^{n+1})."""
     counted = counting.measure(tr.t, tr.x, tr.u, tr.scene.epsv, tr.scene.params["drive"], tr.drive_start)
-    return SimpleNamespace(**vars(counted), creep=max((np.ptp(x) for stuck, x in marks(tr) if stuck), default=0.0))
+    sticks = [tr.x[max(r[0] - 1, 0):r[-1] + 1] for r in runs(tr.stuck) if tr.stuck[r[0]]]
+    return SimpleNamespace(**vars(counted), creep=max((np.ptp(x) for x in sticks), default=0.0))
+
+
+def mark_figures(tr):
+    """What the caption says of a run's mark: its darkest bin (N m), its dashes (marks.dashes: each
+    one's darkest over its faintest bin), and p10 and p90 of the bins inside it (marks.inside)."""
+    values = tr.mark.values
+    p10, p90 = np.percentile(marks.inside(values), (10, 90))
+    contrast = np.array([dark / faint for _, dark, faint in marks.dashes(values)])
+    return SimpleNamespace(darkest=tr.mark.darkest(), dashes=contrast, p10=float(p10),
+                           p90=float(p90))
 
 
 def one_coefficient(tilt, duration):
@@ -101,6 +115,7 @@ def compute(duration=DURATION, grips=GRIPS, tilts=TILTS, tilt_duration=TILT_DURA
         grip_runs.append(SimpleNamespace(k_hand=k_hand, tip_lowest=tr.tip_lowest, **vars(measure(tr))))
     tilt_runs = [one_coefficient(tilt, tilt_duration) for tilt in tilts]
     return SimpleNamespace(pushed=pushed, dragged=dragged, push=measure(pushed), drag=measure(dragged), force=force,
+                           push_mark=mark_figures(pushed), drag_mark=mark_figures(dragged),
                            grips=grip_runs, tilts=tilt_runs, lock=90.0 - math.degrees(math.atan(chalk["mu"])),
                            bracket=bracket(tilt_runs), duration=duration, tilt_duration=tilt_duration)
 
@@ -108,6 +123,16 @@ def compute(duration=DURATION, grips=GRIPS, tilts=TILTS, tilt_duration=TILT_DURA
 def falls(r):
     """Whether the slip length falls at every tighter grip (r.grips in the order of k_hand)."""
     return all(a.length > b.length for a, b in zip(r.grips, r.grips[1:]))
+
+
+def mark_words(m):
+    """A mark's figures (mark_figures) in words, two lines' worth: its dashes, its bins' spread."""
+    spread = f"p90/p10 {m.p90 / m.p10:.2f}" if m.p10 > 0 else "bare board among its bins"
+    if not len(m.dashes):
+        return "Its mark: no dash,", f"{spread}: a continuous line."
+    return (f"Its mark: {len(m.dashes)} dashes, each darkest where its slip",
+            (f"starts, {m.dashes.min():.1f} to {m.dashes.max():.1f} x its faintest 0.1 mm, where "
+             f"it fades before the next ({spread}): a dashed line."))
 
 
 def caption(r):
@@ -119,14 +144,20 @@ def caption(r):
     lines = [
         f"The chalk: mu_s {p['mu_s']:g} > mu {p['mu']:g} (v_c {p['v_c']:g} m/s), k_hand {p['k_hand']:g} N/m, tilt "
         f"{p['tilt']:g} deg; the hand drives at {p['drive']:g} m/s from {r.pushed.drive_start:g} s.",
-        f"Stuck: the tip's tangential speed below eps_v = {p['epsv']:g} m/s; a stuck mark is a dot (it creeps at "
-        f"most {1e6 * max(push.creep, drag.creep):.2g} um).",
+        (f"Stuck: the tip's tangential speed below eps_v = {p['epsv']:g} m/s (it creeps at most "
+         f"{1e6 * max(push.creep, drag.creep):.2g} um while stuck)."),
+        ("Its mark, by Archard's law: the normal force times the length slid, per 0.1 mm of board "
+         "(N m); grey,"),
+        "    black at each chalk's darkest 0.1 mm.",
         f"Pushed, {r.duration:g} s: {len(push.slips)} cycles, period {1e3 * push.period:.0f} ms, slip "
         f"{1e3 * push.length:.2f} mm (the hand's travel in a period {1e3 * p['drive'] * push.period:.2f} mm),",
-        f"    peak tip speed {push.peak:.3g} m/s, stuck {100 * push.stuck:.0f} % of the drive: a dashed line.",
-        f"Dragged: stuck until it starts at {drag.start_up:.3g} s, then stuck in {drag.stuck_after} of its "
-        f"{drag.after} steps: a continuous line." if drag.start_up is not None
-        else "Dragged: the tip never starts.",
+        (f"    peak tip speed {push.peak:.3g} m/s, stuck {100 * push.stuck:.0f} % of the drive. "
+         + mark_words(r.push_mark)[0]),
+        "    " + mark_words(r.push_mark)[1],
+        (f"Dragged: stuck until it starts at {drag.start_up:.3g} s, then stuck in "
+         f"{drag.stuck_after} of its {drag.after} steps." if drag.start_up is not None
+         else "Dragged: the tip never starts."),
+        "    " + " ".join(mark_words(r.drag_mark)),
         f"Grip, at the same press force {r.force:g} N per held node: k_hand "
         f"{' / '.join(f'{g.k_hand:g}' for g in grips)} N/m:",
         f"    slip {' / '.join(f'{1e3 * g.length:.2f}' for g in grips)} mm, "
@@ -149,33 +180,57 @@ def caption(r):
     return lines
 
 
+def draw_mark(page, ax, mark, y):
+    """A mark (marks.Deposit) as grey in the panel `ax`, MARK_HEIGHT tall about the row y: each
+    pixel column shows the deposit of the board under it (marks.Deposit.shade), black at the mark's
+    darkest."""
+    mm = (ax.t_max - ax.t_lo) / (plots.RIGHT - plots.LEFT)      # of board per pixel column
+    top, bottom = (round(float(ax.px(0.0, y + d)[1])) for d in (MARK_HEIGHT / 2, -MARK_HEIGHT / 2))
+    marks.paint_mark(page.pygame, page.surface, mark, lambda s: ax.px(1e3 * s, y)[0],
+                     lambda c: 1e-3 * (ax.t_lo + (np.asarray(c, float) - plots.LEFT) * mm), top,
+                     bottom - top)
+
+
+def dashed_hline(page, ax, y, color, text, dash=6):
+    """A dashed line at y across the panel `ax`, 1 px, with a legend row: drawn over the curves, a
+    curve along it shows between its dashes."""
+    row = round(float(ax.px(0.0, y)[1]))
+    for left in range(plots.LEFT + 1, plots.RIGHT - 1, 2 * dash):
+        right = min(left + dash, plots.RIGHT - 1)
+        page.pygame.draw.line(page.surface, color, (left, row), (right, row), 1)
+    ax.legend(color, text)
+
+
 def draw(r):
     """The marks of the pushed and the dragged chalk, the tip's speed against time, the slip length
     against the grip, and the tip's travel against the tilt with one coefficient."""
     page = Page("Stick-slip: Rabinowicz's chalk pushed and dragged, its grip, and one coefficient", 4, caption(r))
     chalks = (("pushed", r.pushed, 1.0, run_color(1)), ("dragged", r.dragged, 0.0, run_color(2)))
-    x = np.concatenate([r.pushed.x, r.dragged.x])
-    ax = page.axes(0, 1e3 * x.max(), -0.6, 1.6, "the marks the tip leaves on the board, along it (mm)", "x (mm)",
-                   "chalk", x_lo=min(0.0, 1e3 * x.min()), yticks=[(y, name) for name, _, y, _ in chalks])
-    for _, tr, y, _ in chalks:
-        for stuck, xs in marks(tr):
-            if not stuck:
-                ax.line(1e3 * xs, np.full(len(xs), y), SLIPPING, 4)
-        for stuck, xs in marks(tr):
-            if stuck:
-                page.markers(ax, 1e3 * np.array([xs.min(), xs.max()]), [y, y], STUCK, 5)
-    ax.legend(STUCK, "stuck: |u| < eps_v")
-    ax.legend(SLIPPING, "slipping")
+    spans = np.array([tr.mark.span() for _, tr, _, _ in chalks if tr.mark.span() is not None]
+                     or [(0.0, 1e-3)])
+    ax = page.axes(0, 1e3 * spans.max(), -0.3, 1.65, "the mark each chalk leaves (Archard: normal "
+                   "force x length slid), along the board (mm)", "x (mm)", "chalk",
+                   x_lo=min(0.0, 1e3 * spans.min()), yticks=[(y, name) for name, _, y, _ in chalks])
+    for name, tr, y, color in chalks:
+        draw_mark(page, ax, tr.mark, y)
+        if tr.mark.darkest() > 0:
+            profile = y + 0.2 + PROFILE_HEIGHT * tr.mark.values / tr.mark.darkest()
+            ax.line(1e3 * tr.mark.centres(), profile, color, 1)
+    ax.legend(BLACK, "grey: the mark")
+    ax.note("black: its darkest")
+    for name, tr, _, color in chalks:
+        ax.legend(color, f"{name}, per 0.1 mm")
+        ax.note(f"  0 to {tr.mark.darkest():.3g} N m")
 
     speeds = np.abs(np.concatenate([r.pushed.u, r.dragged.u]))
     epsv, drive = r.pushed.scene.epsv, r.pushed.scene.params["drive"]
     ax = page.axes(1, r.duration, *plots.speed_range(speeds, epsv),
                    "the tip's tangential speed |u| (m/s, log) against time (s)", "t (s)", "|u| (m/s)", log=True)
     for name, tr, _, color in chalks:
-        ax.line(tr.t, np.abs(tr.u), color, 1)
+        ax.line(tr.t, np.abs(tr.u), color, 3 if name == "dragged" else 1)   # dragged: at the drive
         ax.legend(color, name)
     ax.hline(epsv, STUCK, f"eps_v {epsv:g}: stuck below")
-    ax.hline(drive, BLACK, f"the drive, {drive:g} m/s")
+    dashed_hline(page, ax, drive, BLACK, f"the drive, {drive:g} m/s")   # over the curves, dashed
     ax.vline(r.pushed.drive_start, GREY, "the hand starts")
 
     k = np.array([g.k_hand for g in r.grips])

@@ -1,5 +1,6 @@
-"""`python simulator.py --scene chalk`: its flags, what it writes, its log's budget, the tip's marks, and what
-a run says it showed: its stick-slip, per run, in the closing line, the page and summary.png."""
+"""`python simulator.py --scene chalk`: its flags, what it writes, its log's budget, the tip stuck
+or not, and what a run says it showed: its stick-slip, per run, in the closing line, the page and
+summary.png."""
 import csv
 import html
 import json
@@ -77,7 +78,7 @@ def test_the_squares_log_columns_are_unchanged():
     assert list(diagnostics.energies(scene, scene.x0, scene.v0)) == ["kinetic", "gravity", "spring", "barrier", "total"]
 
 
-def test_a_mark_is_stuck_below_eps_v_slipping_above_and_none_off_the_board():
+def test_the_tip_is_stuck_below_eps_v_slipping_above_and_neither_off_the_board():
     scene = simulator.build_chalk_scene()
     x = np.array(scene.x0, dtype=float)
     k, d = diagnostics.tip(scene, x)
@@ -85,11 +86,11 @@ def test_a_mark_is_stuck_below_eps_v_slipping_above_and_none_off_the_board():
     x[k, 1] = 0.5 * scene.dhat
     v = np.zeros_like(x)
     v[k, 0] = 0.5 * scene.epsv
-    assert diagnostics.tip_mark(scene, x, v) == (pytest.approx(x[k, 0]), True)
+    assert diagnostics.tip_stuck(scene, x, v) is True
     v[k, 0] = -2.0 * scene.epsv
-    assert diagnostics.tip_mark(scene, x, v) == (pytest.approx(x[k, 0]), False)
+    assert diagnostics.tip_stuck(scene, x, v) is False
     x[:, 1] += scene.dhat
-    assert diagnostics.tip_mark(scene, x, v) is None
+    assert diagnostics.tip_stuck(scene, x, v) is None
 
 
 # --- what a chalk run showed: its stick-slip, per run -----------------------------------------------

@@ -11,7 +11,7 @@ import pytest
 
 import figures.page
 from figures import cli, dissipation, fixed_point, mollifier, semi_implicit, stick_slip
-from viewer import whole_files
+from viewer import marks, whole_files
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 PNG_SIGNATURE, PNG_END = b"\x89PNG\r\n\x1a\n", b"IEND\xaeB`\x82"
@@ -149,41 +149,36 @@ def stick_slip_short():
     return stick_slip.compute(duration=0.7, tilts=(66.0, 68.0), tilt_duration=0.5)
 
 
-def test_the_marks_are_stuck_where_the_tip_moves_less_than_eps_v_h_a_step(stick_slip_short):
-    """The marks join end to end along the tip's path, and a mark is stuck exactly where the tip's own
-    positions moved less than eps_v h in each of its steps (x^{n+1} = x^n + h v^{n+1}; round-off allowed)."""
+def test_the_marks_are_the_archard_deposits_of_the_runs(stick_slip_short):
+    """Each run's mark is viewer/marks.py's deposit of its steps, over the board its tip slid across
+    (the tip carries the contact: it stayed the lowest node), and the creep the caption names is the
+    tip's largest travel over a run of stuck states."""
     r = stick_slip_short
     for tr in (r.pushed, r.dragged):
-        h, epsv = tr.scene.h, tr.scene.epsv
-        marks = stick_slip.marks(tr)
-        assert np.array_equal(np.concatenate([marks[0][1]] + [x[1:] for _, x in marks[1:]]), tr.x)
-        assert all(a != b for (a, _), (b, _) in zip(marks, marks[1:]))          # the states alternate
-        for stuck, x in marks[1:]:                                             # the first: the start alone
-            speed = np.abs(np.diff(x)) / h
-            assert (speed < epsv * (1 + 1e-6)).all() if stuck else (speed > epsv * (1 - 1e-6)).all()
-        assert tr.tip_lowest
+        lo, hi = tr.mark.span()
+        assert tr.tip_lowest and lo <= tr.x.min() and tr.x.max() <= hi
+        assert hi - lo < np.ptp(tr.x) + 3 * marks.BIN
+        assert tr.mark.values.sum() > 0
+    assert 0 < r.push.creep < 0.05 * r.push.length
 
 
-def test_the_pushed_chalk_leaves_dots_a_slip_apart_and_the_dragged_a_line(stick_slip_short):
-    """Pushed: a stuck mark per stick, each a slip length after the one before; the slip about catches up
-    with the hand (slip = drive x period) and the period is that of the speed's peaks. Dragged: after its
-    start-up a single slipping mark to the end."""
+def test_the_pushed_chalk_leaves_dashes_a_slip_apart_and_the_dragged_a_line(stick_slip_short):
+    """Pushed: the slip about catches up with the hand (slip = drive x period), the period is that
+    of the speed's peaks, and its mark is a dash per slip (the last, unfinished, not counted), each
+    darker where it starts than where it fades by 4.5 times or more (tests/test_marks.py measures
+    why). Dragged: after its start-up no stick, and a mark without a dash."""
     r = stick_slip_short
     push, drive = r.push, r.pushed.scene.params["drive"]
     starts, lengths, peaks = map(np.array, zip(*push.slips))
     assert len(push.slips) >= 3 and push.stuck > 0.5 and (peaks > 2 * drive).all()
     assert push.length == pytest.approx(drive * push.period, rel=0.05)
-    driven = r.pushed.t > r.pushed.drive_start          # the cycles count from the drive's start
-    stuck, x = r.pushed.stuck[driven], r.pushed.x[driven]
-    dots = [x[max(p[0] - 1, 0):p[-1] + 1] for p in stick_slip.runs(stuck) if stuck[p[0]] and len(p) >= stick_slip.MIN_STICK]
-    assert [b[0] - a[-1] for a, b in zip(dots, dots[1:])] == pytest.approx(lengths, rel=1e-12)
     u, t = np.abs(r.pushed.u), r.pushed.t
     peak = (u[1:-1] > drive) & (u[1:-1] >= u[:-2]) & (u[1:-1] > u[2:])
     assert np.diff(t[1:-1][peak]).mean() == pytest.approx(push.period, rel=0.02)
+    assert len(r.push_mark.dashes) >= len(push.slips) - 1 and r.push_mark.dashes.min() >= 4.5
     drag = r.drag
     assert drag.slips == [] and drag.stuck_after == 0 and 0.2 < drag.start_up < 0.5
-    last_stuck, last = stick_slip.marks(r.dragged)[-1]
-    assert not last_stuck and len(last) == drag.after + 1                    # from the sample before the start
+    assert len(r.drag_mark.dashes) == 0 and r.drag_mark.p90 / r.drag_mark.p10 < 1.05
 
 
 def test_the_tighter_grip_slips_less_at_the_same_press_force(stick_slip_short):
@@ -214,6 +209,10 @@ def test_the_stick_slip_caption_says_the_computed_numbers_and_fits_the_page(stic
             in text)
     assert f"stuck {100 * push.stuck:.0f} % of the drive" in text
     assert f"starts at {r.drag.start_up:.3g} s, then stuck in 0 of its {r.drag.after} steps" in text
+    m = r.push_mark
+    assert (f"Its mark: {len(m.dashes)} dashes, each darkest where its slip" in text
+            and f"starts, {m.dashes.min():.1f} to {m.dashes.max():.1f} x its faintest" in text)
+    assert f"(p90/p10 {m.p90 / m.p10:.2f}): a dashed line." in text and "Its mark: no dash," in text
     assert "slip " + " / ".join(f"{1e3 * g.length:.2f}" for g in r.grips) + " mm" in text
     assert "between 66 and 68 deg, below the rigid strut's 90 - atan mu = 70.7 deg" in text
     page = stick_slip.draw(r)

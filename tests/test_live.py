@@ -13,7 +13,7 @@ from helpers.command import recorded
 from helpers.fakes import chalk_at
 import simulator
 import time_integrator
-from viewer import diagnostics, live
+from viewer import diagnostics, live, marks
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 H = simulator.DEFAULTS["h"]
@@ -152,26 +152,33 @@ def test_the_demo_needs_no_pygame():
 CHALK_STEPS = 215       # the pushed chalk sticks from step 2, slips over steps 206 to 220 (and at step 1; measured)
 
 
-def test_the_chalks_marks_and_figures_are_those_a_run_to_files_keeps(tmp_path):
-    """LiveRun.marks after each step are recording.Track.marks of the same steps (diagnostics.tip_mark at
-    each state), stuck and slipping both by step 215; tip_lines says the figures log.csv has for the
-    state (tip_x, tip_speed, drive_speed, normal_force) and stuck or slipping as its mark. A restart
-    starts the marks afresh; a step completed one Newton iteration at a time leaves its mark too."""
+def test_the_chalks_mark_and_figures_are_those_a_run_to_files_keeps(tmp_path):
+    """LiveRun.marks after each step is recording.Track.marks of the same steps (marks.Deposit.step
+    over each step), bin for bin, left by the slips by step 215; tip_lines says the figures log.csv
+    has for the state (tip_x, tip_speed, drive_speed, normal_force) and stuck or slipping
+    (diagnostics.tip_stuck). A restart starts the mark afresh; a step completed one Newton iteration
+    at a time leaves its deposit too."""
     run = chalk_at(CHALK_STEPS)
     (track,) = recorded(tmp_path, [run.scene], CHALK_STEPS)
-    assert run.marks == track.marks and len(run.marks) == CHALK_STEPS
-    assert {stuck for _, stuck in run.marks} == {True, False} and not run.marks[-1][1]     # slipping now
+    assert run.marks.first == track.marks.first
+    assert np.array_equal(run.marks.values, track.marks.values) and run.marks.values.sum() > 0
+    assert diagnostics.tip_stuck(run.scene, run.x, run.v) is False               # slipping now
     last = track.samples.last
     text = " ".join(live.tip_lines(run.scene, run.x, run.v, run.t))
     assert f"tip at {last.tip_x * 100:.2f} cm, slipping: {last.tip_speed * 1e3:.3g} mm/s >= eps_v = 0.1 mm/s" in text
     assert f"the hand's drive {last.drive_speed * 1e3:.3g} mm/s" in text and last.drive_speed == pytest.approx(0.01)
     assert f"the board's normal force {last.normal_force:.3g} N" in text
     stuck = chalk_at(200)
-    assert " stuck: " in live.tip_lines(stuck.scene, stuck.x, stuck.v, stuck.t)[0] and stuck.marks[-1][1]
+    assert " stuck: " in live.tip_lines(stuck.scene, stuck.x, stuck.v, stuck.t)[0]
+    assert diagnostics.tip_stuck(stuck.scene, stuck.x, stuck.v) is True
     start = live.LiveRun(run.scene, 10)
-    assert start.marks == [] and "off the board (d >= dhat)" in live.tip_lines(run.scene, start.x, start.v, 0.0)[0]
+    assert start.marks.span() is None
+    assert "off the board (d >= dhat)" in live.tip_lines(run.scene, start.x, start.v, 0.0)[0]
     while start.newton_iteration() is None:
         pass
-    assert start.marks == [diagnostics.tip_mark(run.scene, start.x, start.v)] and start.index == 1
+    one = marks.Deposit()
+    one.step(run.scene, run.scene.x0, start.x)
+    assert start.index == 1 and start.marks.first == one.first
+    assert np.array_equal(start.marks.values, one.values)
     run.restart()
-    assert run.marks == [] and run.index == 0
+    assert run.marks.span() is None and run.index == 0

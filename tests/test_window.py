@@ -142,7 +142,7 @@ def test_the_window_writes_the_files_a_run_without_it_writes(tmp_path, flags, fr
     """--window --out played to the end writes what `simulator.py --out` writes, by the same code:
     the same file names, log.csv the same but the wall times, the frames and OBJs byte for byte
     (one computation: the same steps, drawn the same way). The square, and the chalk (its frames
-    with the tip's marks, stuck and slipping by step 240, from the files' own Track)."""
+    with its mark, from the files' own Track, and marks.csv)."""
     def script():
         yield from frames_until(lambda: w_run.finished)
 
@@ -163,7 +163,7 @@ def test_the_window_writes_the_files_a_run_without_it_writes(tmp_path, flags, fr
     assert cli.main([*flags, "--out", str(plain)]) == 0
     names = sorted(p.name for p in plain.iterdir())
     assert sorted(p.name for p in windowed.iterdir()) == names
-    assert len(names) == 2 * frame_count + 4
+    assert len(names) == 2 * frame_count + 4 + ("chalk" in flags)      # the chalk's marks.csv
     drop_wall = [{k: v for k, v in r.items() if k != "wall_s"} for r in read_log(plain)]
     assert [{k: v for k, v in r.items() if k != "wall_s"} for r in read_log(windowed)] == drop_wall
     for name in names:
@@ -573,12 +573,13 @@ def test_bad_window_flags_are_one_line_and_exit_code_2(capsys, flags, message):
 @pytest.mark.parametrize("overrides, index", [({}, 31), ({}, 40), ({"h": 0.03}, 17), ({"friction_updates": 3}, 31),
                                               ({"chalk": True}, 210), ({"chalk": True, "drag": True}, 20)])
 def test_n_advances_exactly_one_newton_iteration_and_completes_the_step(overrides, index):
-    """While paused, each n takes the next iterate of time_integrator.newton_iterates for the current
-    step and shows it; the n after the last iterate completes the step, with the x^{n+1} of step().
-    Steps at the impact (the CCD bound below 1), sliding, at h = 0.03 where alpha is halved, with
-    the fixed-point friction updates of Algorithm 5, and the chalk's: pushed, slipping (step 211, in
-    its first slip), and dragged, pressed onto the board (step 21); a chalk step that ends leaves its
-    mark, slipping where it is pushed."""
+    """While paused, each n takes the next iterate of time_integrator.newton_iterates for the
+    current step and shows it; the n after the last iterate completes the step, with the x^{n+1} of
+    step(). Steps at the impact (the CCD bound below 1), sliding, at h = 0.03 where alpha is halved,
+    with the fixed-point friction updates of Algorithm 5, and the chalk's: pushed, slipping (step
+    211, in its first slip), and dragged, pressed onto the board (step 21); a chalk step that ends
+    adds its deposit to the mark (marks.Deposit.step from x^n to x^{n+1}), the tip slipping where it
+    is pushed."""
     overrides = dict(overrides)
     chalk = overrides.pop("chalk", False)
     scene = simulator.build_chalk_scene(**overrides) if chalk else simulator.build_scene(**overrides)
@@ -591,6 +592,7 @@ def test_n_advances_exactly_one_newton_iteration_and_completes_the_step(override
         yield
         assert w.run.index == index and not w.playing
         x, v = w.run.x.copy(), w.run.v.copy()
+        mark = w.run.marks.copy() if chalk else None
         reference = time_integrator.newton_iterates(scene, x, v, step_index=index)
         red_before, updates = red_pixels(w), set()
         for count in range(1, 1000):
@@ -617,8 +619,12 @@ def test_n_advances_exactly_one_newton_iteration_and_completes_the_step(override
         assert np.array_equal(w.run.x, x_next) and np.array_equal(w.run.v, v_next)
         assert np.array_equal(w.run.x, time_integrator.step(scene, x, v, step_index=index)[0])
         if chalk:
-            assert len(w.run.marks) == index + 1 and w.run.marks[-1] == diagnostics.tip_mark(scene, x_next, v_next)
-            assert w.run.marks[-1][1] == bool(overrides.get("drag"))           # pushed, slipping; dragged, pressed
+            added = mark.step(scene, x, x_next)
+            assert w.run.marks.first == mark.first
+            assert np.array_equal(w.run.marks.values, mark.values)
+            assert added > 0 or overrides.get("drag")                           # pushed, slipping
+            pressed = bool(overrides.get("drag"))                               # dragged, pressed
+            assert diagnostics.tip_stuck(scene, x_next, v_next) == pressed
 
     w, clock = live_window(scene)
     clock.script = script()
@@ -690,7 +696,7 @@ def test_the_window_says_what_a_run_to_files_warns_about(overrides, steps, words
 # The chalk (--scene chalk): its view, its hand, forces and marks, its figures
 # ------------------------------------------------------------------------------------------------
 
-PUSHED, DRAGGED = (False, 240), (True, 400)     # (drag, steps): marks stuck and slipping both drawn by then
+PUSHED, DRAGGED = (False, 240), (True, 400)     # (drag, steps): a slip's or a slide's mark by then
 
 
 def chalk_window(steps, drag=False, size=652):
@@ -713,21 +719,24 @@ def chalk_top(w):
     return min(w.view(w.run.shown_x)[:, 1].min(), w.view(w.scene.hand.targets(w.run.t))[:, 1].min() - 3)
 
 
-def mark_columns(w, color):
-    """The columns of the window holding marks of `color`, under the board."""
-    board = int(round(float(w.view(w.scene.o)[1])))
-    depth = round(marks.MARK_HEIGHT * w.view.unit * w.view.scale)                  # px
-    pixels = pygame().surfarray.array3d(w.screen)[:, board + 2:board + 2 + depth]
-    return set(np.nonzero(np.all(pixels == color, axis=2).any(axis=1))[0].tolist())
+def mark_columns(w):
+    """The columns of the window where the chalk's mark is grey under the board: along the mark's
+    lowest row (marks.draw_marks: MARK_HEIGHT deep from 2 rows under the board's line), a neutral
+    grey darker than white."""
+    board = round(float(w.view(marks.board_point(w.scene, 0.0))[0, 1])) + 2
+    depth = round(marks.MARK_HEIGHT * w.view.unit * w.view.scale)
+    row = pygame().surfarray.array3d(w.screen)[:, board + depth - 1].astype(int)
+    grey = (row[:, 0] == row[:, 1]) & (row[:, 1] == row[:, 2]) & (row[:, 0] < 255)
+    return set(np.flatnonzero(grey).tolist())
 
 
 @pytest.mark.parametrize("drag, steps", [PUSHED, DRAGGED])
-def test_the_chalk_window_draws_the_frame_of_the_chalk_its_hand_forces_and_marks(drag, steps):
+def test_the_chalk_window_draws_the_frame_of_the_chalk_its_hand_forces_and_mark(drag, steps):
     """The window shows the chalk as its frames do, zoomed as they zoom it (draw.View.of, at the
-    window's size): below the status lines, the window is the frame draw.draw_frame draws of the state
-    (the board, the chalk, the hand's targets and springs, the contact forces, the tip's marks and their
-    strip, kept off the rows of the status lines and the key hints); the hand's targets are there, and
-    the marks in both colours, under the board where the tip has been."""
+    window's size): below the status lines, the window is the frame draw.draw_frame draws of the
+    state (the board, the chalk, the hand's targets and springs, the contact forces, the chalk's
+    mark and its strip, kept off the rows of the status lines and the key hints); the hand's targets
+    are there, and the mark in grey under the board over the stretch it covers."""
     w = chalk_window(steps, drag)
     scene, size, frame_view = w.scene, w.size, draw.View.of(w.scene)
     assert w.view.scale == pytest.approx(frame_view.scale * size / draw.RESOLUTION) and w.view.unit == frame_view.unit
@@ -746,36 +755,37 @@ def test_the_chalk_window_draws_the_frame_of_the_chalk_its_hand_forces_and_marks
     for q in np.rint(w.view(scene.hand.targets(w.run.t))).astype(int):
         assert tuple(shown[q[0], q[1]]) == draw.HAND_COLOR                            # the hand's targets
     assert np.all(shown[:, top:bottom] == draw.NORMAL_COLOR, axis=2).sum() > 20      # the board's push
-    s = w.view(np.array([[m[0], 0.0] for m in w.run.marks]))[:, 0]
-    for color, stuck in ((marks.STUCK_COLOR, True), (marks.SLIP_COLOR, False)):
-        columns = mark_columns(w, color)
-        assert columns and min(columns) >= s.min() - 1 and max(columns) <= s.max() + 1, color
-        assert any(m[1] == stuck for m in w.run.marks)
+    lo, hi = (float(w.view(marks.board_point(scene, s))[0, 0]) for s in w.run.marks.span())
+    columns = mark_columns(w)
+    assert min(columns) >= lo - 1 and max(columns) <= hi + 1 and len(columns) >= 0.8 * (hi - lo) > 2
 
 
-def test_the_chalks_marks_grow_as_the_run_goes_and_start_afresh_at_r():
-    """Stuck, the tip leaves its marks in one place; slipping, it draws a line on (the first slip, about
-    1 mm, comes between steps 200 and 250): the marks drawn at step 250 hold those of step 200 and
-    more, slipping ones beyond them, and stuck ones where it stopped; r clears them."""
+def test_the_chalks_mark_grows_as_the_run_goes_and_starts_afresh_at_r():
+    """Stuck, the tip leaves almost nothing; slipping, it draws on (the first slip, about 1 mm,
+    comes between steps 200 and 250): the mark drawn at step 250 holds that of step 200 and reaches
+    beyond it; r clears it."""
     before = chalk_window(200)
-    old = mark_columns(before, marks.STUCK_COLOR) | mark_columns(before, marks.SLIP_COLOR)     # (one screen:
-    after = chalk_window(250)                                                               # read it first)
-    stuck, slipping = mark_columns(after, marks.STUCK_COLOR), mark_columns(after, marks.SLIP_COLOR)
-    assert old < stuck | slipping and max(slipping) > max(old) and max(stuck) > max(old)
+    old = mark_columns(before)                                  # (one screen: read it first)
+    after = chalk_window(250)
+    new = mark_columns(after)
+    assert old < new and max(new) > max(old)
     after.restart()
     after.draw()
-    assert not mark_columns(after, marks.STUCK_COLOR) and not mark_columns(after, marks.SLIP_COLOR)
+    assert not mark_columns(after)
 
 
 def test_the_chalk_windows_status_says_the_chalks_figures_and_no_slope(monkeypatch):
-    """Under the caption, the chalk's figures of the state shown (live.tip_lines: the tip's place and
-    speed, stuck or slipping, the hand's drive, the board's normal force), as drawn; the Newton view
-    says its iterate's figures instead, of the board (its inset's node the nearest to it): no text says
-    'slope'. The slipping state: the middle of the first slip after the press, as the marks of the
-    first 300 states have it (one a state from the first on: marks[i] is state i + 1's), not a fixed
-    step (step 240, slipping when this test was written, is stuck in today's run); the stuck one: 300."""
+    """Under the caption, the chalk's figures of the state shown (live.tip_lines: the tip's place
+    and speed, stuck or slipping, the hand's drive, the board's normal force), as drawn; the Newton
+    view says its iterate's figures instead, of the board (its inset's node the nearest to it): no
+    text says 'slope'. The slipping state: the middle of the first slip after the press, as
+    diagnostics.tip_stuck has the first 300 states (flags[i] is state i + 1's), not a fixed step
+    (step 240, slipping when this test was written, is stuck in today's run); the stuck one: 300."""
     drawn = legibility.record_text(monkeypatch)
-    flags = [stuck for _, stuck in chalk_at(300).marks]
+    stepped, flags = live.LiveRun(simulator.build_chalk_scene(), 300), []
+    while not stepped.finished:
+        stepped.step()
+        flags.append(diagnostics.tip_stuck(stepped.scene, stepped.x, stepped.v))
     assert len(flags) == 300 and flags[-1]
     first_slip = next(i for i in range(1, 300) if flags[i - 1] and not flags[i])
     slip_end = next(i for i in range(first_slip, 300) if flags[i])
@@ -799,7 +809,7 @@ def test_the_chalk_windows_status_says_the_chalks_figures_and_no_slope(monkeypat
 @pytest.mark.parametrize("size", [600, 652, 900])
 def test_no_text_in_the_chalk_window_is_small_faint_or_over_the_chalk(monkeypatch, size):
     """The chalk's window is as legible as the square's: every text (the legends of the forces, the
-    hand and the marks, the board's numbers in cm, the chalk's figures, the marks' strip's title and
+    hand and the mark, the board's numbers in cm, the chalk's figures, the mark's strip's title and
     scale bar, the Newton view's lines and inset) with capitals at least draw.MIN_CAP_HEIGHT of the window tall, in a colour of contrast at
     least 4.5:1 on white; the legends' swatches on their labels' rows. The board is low enough that
     the status lines end above the chalk and its hand, and its numbers above the key hints (the
@@ -808,7 +818,7 @@ def test_no_text_in_the_chalk_window_is_small_faint_or_over_the_chalk(monkeypatc
     w = chalk_window(240, size=size)
     assert w.text_bottom < chalk_top(w)
     pixels = pygame().surfarray.array3d(w.screen)
-    for color in (draw.HAND_COLOR, marks.STUCK_COLOR, marks.SLIP_COLOR):
+    for color in (draw.HAND_COLOR, marks.SWATCH):
         top, low, first, last, gap = legibility.swatch_and_label_rows(pixels, color, w.text_bottom)
         assert first <= top and low <= last and gap <= draw.cap_height(w.font)
     numbers = [text for text, _, color in drawn if text.endswith(" cm") and color == draw.BLUE]
@@ -819,15 +829,16 @@ def test_no_text_in_the_chalk_window_is_small_faint_or_over_the_chalk(monkeypatc
     w.draw()
     assert w.inset is not None and (size == 600 or w.text_bottom < chalk_top(w))
     texts = {text for text, _, _ in drawn}
-    assert {"the hand: its targets and springs", "marks of the tip: stuck (|v_t| < eps_v)",
-            "marks of the tip: slipping", "normal force lambda_k n", "paused before step 241", "(nearest the board)",
+    assert {"the hand: its targets and springs", "the chalk's mark: lambda x slid length (Archard)",
+            "normal force lambda_k n", "paused before step 241", "(nearest the board)",
             "thin lines: springs", marks.title(), marks.bar_label()} <= texts
     assert min(cap for _, cap, _ in drawn) >= draw.MIN_CAP_HEIGHT * size
     assert min(legibility.contrast_ratio(color) for _, _, color in drawn) >= 4.5
 
 
 def strip_of(w):
-    """The Strip of the marks draw.draw_frame drew in the window `w` (marks.layout on the window's rows)."""
+    """The Strip of the mark draw.draw_frame drew in the window `w` (marks.layout on the window's
+    rows)."""
     run_ = {"scene": w.scene, "x": w.run.shown_x, "marks": w.run.marks, "color": draw.BLUE}
     below = draw.draw_slope(pygame(), pygame().Surface((w.size, w.size)), w.scene, w.view, draw.BLUE, w.font)
     return marks.layout([run_], w.run.t, w.view, w.font, w.text_bottom, key_hints_top(w), below)
@@ -836,12 +847,13 @@ def strip_of(w):
 @pytest.mark.parametrize("size", [600, 652, 900])
 @pytest.mark.parametrize("drag, steps", [PUSHED, DRAGGED])
 def test_the_windows_strip_sits_beside_the_chalk_over_nothing_and_goes_for_the_newton_view(size, drag, steps):
-    """No room under the window's board (its numbers, then the key hints): the marks' strip stands above
-    the board beside the chalk, on the side with more room, clear of the chalk and its hand's targets,
-    under the status lines and above the board, inside the window, at x8 of the window's own scale
-    (the frames' times size / 900), its title and border drawn; its marks are the window's (stuck and
-    slipping both, at 240 and 400 steps). In the Newton view (n) the Newton inset takes that room:
-    no strip, so nothing of the marks' colours above the board."""
+    """No room under the window's board (its numbers, then the key hints): the mark's strip stands
+    above the board beside the chalk, on the side with more room, clear of the chalk and its hand's
+    targets, under the status lines and above the board, inside the window, at x8 of the window's
+    own scale (the frames' times size / 900), its title and border drawn; under its board each
+    column over the window's mark (at 240 and 400 steps) the grey of the deposit of the board it
+    spans. In the Newton view (n) the Newton inset takes that room: no strip (no room reserved for
+    it, its border gone)."""
     w = chalk_window(steps, drag, size)
     strip = strip_of(w)
     left, top, width, height = strip.rect
@@ -852,11 +864,12 @@ def test_the_windows_strip_sits_beside_the_chalk_over_nothing_and_goes_for_the_n
     assert w.text_bottom < top and top + height < board and 0 <= left and left + width <= size
     shown = pygame().surfarray.array3d(w.screen)
     assert np.all(shown[left:left + width, top] == 0) and np.all(shown[left, top:top + height] == 0)      # its border
-    inside = shown[left:left + width, top:top + height]
-    for color in (marks.STUCK_COLOR, marks.SLIP_COLOR):
-        assert np.all(inside == color, axis=2).any()
+    lo, hi = (float(strip.column(s)) for s in w.run.marks.span())
+    columns = np.arange(max(int(np.floor(lo)), 2), min(int(np.ceil(hi)), width - 2))
+    y = top + strip.rows[0][0] + strip.board + 2 + strip.band // 2
+    want = marks.greys(w.run.marks.shade(strip.board_at(columns), strip.board_at(columns + 1)))
+    assert len(columns) > 20 and np.array_equal(shown[left + columns, y], want)
     w.one_newton_iteration()
     w.draw()
-    above = pygame().surfarray.array3d(w.screen)[:, w.text_bottom:board]         # under the legends' swatches
     assert w.reserve is None and w.inset is not None
-    assert not np.all(above == marks.STUCK_COLOR, axis=2).any() and not np.all(above == marks.SLIP_COLOR, axis=2).any()
+    assert not np.all(pygame().surfarray.array3d(w.screen)[left:left + width, top] == 0)

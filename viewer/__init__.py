@@ -16,12 +16,14 @@ stays in the flat files). Imports point down: viewer -> simulator -> time_integr
     frames.py       when each frame is due; writing it (PNG, OBJs, the page's figures)
     draw.py         one frame: the slope with distance marks, the squares, the forces, a legend; PNG
                     files; the drawing helpers (arrowheads, text wrapping, round numbers)
-    marks.py        the chalk's marks on the board, stuck and slipping, and their strip magnified x8
+    marks.py        the chalk's mark on the board by Archard's law (marks.csv), drawn grey at the
+                    picture's scale and in a strip magnified x8
     plots.py        plots.png: energy budget, contact speeds, Newton iterations (or a comparison of runs);
                     the chalk's tip against the drive, normal force, stick-slip cycles
     summary.py      summary.png: spaced, time-labelled snapshots at a fixed scale
     page.py         index.html: plays the frames from the file system, with the plots and a time cursor
-    pictures.py     the pictures written at a run's end: summary.png, plots.png, index.html
+    pictures.py     what a run writes at its end: the chalk's marks.csv, summary.png, plots.png,
+                    index.html
     files.py        a run's folder: new (or an empty --out), its names, each file written whole
     whole_files.py  files created new (O_EXCL) and written whole, never through a link
     live.py         the live demo without its window (no pygame): the run a step or a Newton iteration

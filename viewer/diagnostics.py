@@ -118,14 +118,13 @@ def tip(scene, x):
     return k, float(d[k])
 
 
-def tip_mark(scene, x, v):
-    """The mark the tip leaves on the board at this state: (its position along the board, whether it is
-    stuck: its tangential speed below eps_v), or None where it is not within dhat of the board."""
+def tip_stuck(scene, x, v):
+    """Whether the tip is stuck at this state (its tangential speed below eps_v), None where it is
+    not within dhat of the board."""
     k, d = tip(scene, x)
     if not d < scene.dhat:
         return None
-    t = tangent(scene)
-    return float(x[k] @ t), bool(abs(float(v[k] @ t)) < scene.epsv)
+    return bool(abs(float(v[k] @ tangent(scene))) < scene.epsv)
 
 
 def tip_figures(scene, x, v, t):

@@ -297,8 +297,8 @@ def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None, reserve=(0, 
     font, small = fonts
     below = draw_slope(pygame, surface, runs[0]["scene"], view, BLUE, small)
     chalks = [run for run in runs if run.get("marks") is not None]
-    for run in chalks:
-        tip_marks.draw_marks(pygame, surface, run["scene"], run["marks"], view)
+    if chalks:
+        tip_marks.draw_marks(pygame, surface, chalks, view)
     for run in runs:
         draw_square(pygame, surface, run["scene"], run["x"], view, run["color"])
         if run["scene"].hand is not None:
@@ -326,10 +326,8 @@ def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None, reserve=(0, 
              else "friction force"),
             ((255, 255, 255), scale)], top + 4)
     if runs[0]["scene"].hand is not None:
-        top = draw_legend(pygame, surface, small, [
-            (HAND_COLOR, "the hand: its targets and springs"),
-            (tip_marks.STUCK_COLOR, "marks of the tip: stuck (|v_t| < eps_v)"),
-            (tip_marks.SLIP_COLOR, "marks of the tip: slipping")], top + 4)
+        hand = [(HAND_COLOR, "the hand: its targets and springs")]
+        top = draw_legend(pygame, surface, small, hand + tip_marks.legend(chalks), top + 4)
     if chalks and reserve is not None:
         tip_marks.place_strip(pygame, surface, chalks, t, view, small, (top + reserve[0], view.height - reserve[1]), below)
     return surface, top

@@ -39,11 +39,19 @@ def log_csv(tag=""):
     return f"log{'_' + tag if tag else ''}.csv"
 
 
-def run_names(tags, n_frames, frames):
-    """The longest names of each kind a run writes (a log per run, summary.png, plots.png; with frames
-    index.html and the last frame's PNG and OBJs): what `check_names` measures. n_frames may be huge
-    (`--steps 1e308`), so the names are never listed."""
+def marks_csv(tag=""):
+    """The chalk's mark (viewer.marks.csv_text): marks.csv, or marks_grip1000.csv for one run of a
+    comparison."""
+    return f"marks{'_' + tag if tag else ''}.csv"
+
+
+def run_names(tags, n_frames, frames, marks=False):
+    """The longest names of each kind a run writes (a log per run, summary.png, plots.png; with
+    `marks`, the chalk's, a marks.csv per run; with frames index.html and the last frame's PNG and
+    OBJs): what `check_names` measures. n_frames may be huge (`--steps 1e308`), so the names are
+    never listed."""
     fixed = [log_csv(tag) for tag in tags] + ["summary.png", "plots.png"] + ["index.html"] * frames
+    fixed += [marks_csv(tag) for tag in tags] if marks else []
     return fixed + ([frame_png(n_frames - 1)] + [frame_obj(n_frames - 1, tag) for tag in tags]
                     if frames else [])
 

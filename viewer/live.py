@@ -11,7 +11,7 @@ from collections import deque
 
 import time_integrator
 from simulator import StepRecord
-from viewer import diagnostics, draw, frames, progress, recording
+from viewer import diagnostics, draw, frames, marks, progress, recording
 
 FRAME_BUDGET = 1.0 / 30   # s of stepping before the loop draws and reads the keys again
 DUE_SLACK = 1e-9          # of a step: t + h and the time due may differ by round-off
@@ -46,8 +46,8 @@ class LiveRun:
         self.iterate = None         # its last NewtonIterate
         self.iteration = 0          # how many it has yielded
         self.iterates_wall = 0.0    # the seconds computing them took
-        self.marks = []             # with a hand (the chalk): the tip's marks on the board so far, as
-        self._mark()                # recording.Track.marks keeps them (diagnostics.tip_mark each state)
+        # with a hand (the chalk): its mark on the board so far, as recording.Track.marks keeps it
+        self.marks = marks.Deposit() if self.scene.hand is not None else None
 
     @property
     def t(self):
@@ -93,26 +93,21 @@ class LiveRun:
         record = StepRecord(self.index, time_integrator.step_time(self.scene, self.index), x, v, report,
                             wall + self.iterates_wall)
         self.index += 1
+        if self.marks is not None:
+            self.marks.step(self.scene, self.x, x)
         self.report, self.x, self.v = report, x, v
         self.iterates, self.iterate, self.iteration, self.iterates_wall = None, None, 0, 0.0
-        self._mark()
         return record
-
-    def _mark(self):
-        """The mark the tip leaves at the state (x, v), if it is on the board (only with a hand)."""
-        mark = diagnostics.tip_mark(self.scene, self.x, self.v) if self.scene.hand is not None else None
-        if mark is not None:
-            self.marks.append(mark)
 
 
 def tip_lines(scene, x, v, t):
     """The chalk's figures of the state (x, v) at time t, for the window's status, as its log.csv has
     them (diagnostics.tip_figures): the tip's place along the board and its speed, stuck or slipping as
-    its mark there (diagnostics.tip_mark), the hand's drive speed and the board's normal force."""
-    f, mark = diagnostics.tip_figures(scene, x, v, t), diagnostics.tip_mark(scene, x, v)
+    diagnostics.tip_stuck has it, the hand's drive speed and the board's normal force."""
+    f, stuck = diagnostics.tip_figures(scene, x, v, t), diagnostics.tip_stuck(scene, x, v)
     speed, epsv = f"{f['tip_speed'] * 1e3:.3g} mm/s", f"eps_v = {scene.epsv * 1e3:g} mm/s"
-    state = (f"off the board (d >= dhat): {speed}" if mark is None else
-             f"stuck: {speed} < {epsv}" if mark[1] else f"slipping: {speed} >= {epsv}")
+    state = (f"off the board (d >= dhat): {speed}" if stuck is None else
+             f"stuck: {speed} < {epsv}" if stuck else f"slipping: {speed} >= {epsv}")
     return [f"tip at {f['tip_x'] * 100:.2f} cm, {state}",
             f"the hand's drive {f['drive_speed'] * 1e3:.3g} mm/s, the board's normal force {f['normal_force']:.3g} N"]
 
@@ -166,7 +161,7 @@ class Pacer:
 
 class Files:
     """What a run without the window writes, written by the same code (viewer.recording, frames) into
-    `folder` (files.OutputFolder): log.csv a row as each step ends, a frame and OBJ every `stride`
+    `folder` (files.RunFolder): log.csv a row as each step ends, a frame and OBJ every `stride`
     steps (unless --no-frames), and at the end summary.png, plots.png and index.html. Each step is
     written once: the steps computed again after a restart (r) are the same numbers and are not
     written again, so the files hold the furthest the run got."""

@@ -1,17 +1,26 @@
-"""The pictures of a whole run, written after its steps from what its tracks kept: summary.png,
-plots.png and, when frames were written, index.html to play them. viewer.run.end writes them however
-the run ended (done, a failed step, a signal), each whole as it is done.
+"""The pictures of a whole run, written after its steps from what its tracks kept: the chalk's
+marks.csv (its mark, viewer.marks), summary.png, plots.png and, when frames were written, index.html
+to play them. viewer.run.end writes them however the run ended (done, a failed step, a signal), each
+whole as it is done.
 """
-from viewer import draw, page, plots, summary
+from viewer import draw, files, marks, page, plots, summary
 from viewer.progress import closing_note
 
-NAMES = ("summary.png", "plots.png", "index.html")      # in the order they are written
+NAMES = ("summary.png", "plots.png", "index.html")      # in the order written, after the marks
+
+
+def names(tracks):
+    """What `write` writes for these tracks, in order: each chalk's marks.csv, then NAMES."""
+    return [files.marks_csv(tr.tag) for tr in tracks if tr.marks is not None] + list(NAMES)
 
 
 def write(tracks, folder, stride, frames, frame_log, header):
-    """Write the pictures of `tracks` into `folder` (files.OutputFolder): `header`, the lines of text
+    """Write the pictures of `tracks` into `folder` (files.RunFolder): `header`, the lines of text
     summary.png and the page open with (each then says what the run showed: progress.closing_note);
     `frame_log`, the frames.FrameInfo of each frame written."""
+    for tr in tracks:
+        if tr.marks is not None:
+            folder.write(files.marks_csv(tr.tag), marks.csv_text(tr.marks))
     pygame = draw.load_pygame()
     folder.write("summary.png", draw.png_data(pygame, summary.draw_summary(pygame, tracks, header), exact=True))
     surface, axis = plots.draw_plots(pygame, tracks)

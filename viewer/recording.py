@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from viewer import diagnostics, files, log
+from viewer import diagnostics, files, log, marks
 from viewer.frames import FrameWriter, frame_steps
 from viewer.progress import Progress, step_warnings
 
@@ -64,7 +64,7 @@ class Sample:
 
 
 class Track:
-    """One scene being run: its records, its log.csv in `folder` (files.OutputFolder), its samples and
+    """One scene being run: its records, its log.csv in `folder` (files.RunFolder), its samples and
     snapshots so far; `row` is the named row (log.values) of its latest state, `logged` the last step
     whose row log.csv holds."""
 
@@ -77,7 +77,7 @@ class Track:
         self.v = scene.v0
         self.step, self.friction_work, self.hand_work = 0, 0.0, 0.0
         self.columns = log.columns(scene)       # log.csv's columns for this scene (with a hand: E_hand, W_hand, tip)
-        self.marks = []             # with a hand: (x, stuck) of the tip on the board each state it is within dhat
+        self.marks = marks.Deposit() if scene.hand is not None else None   # the chalk's mark
         self.warned = set()         # the kinds of warning said so far (progress.step_warnings)
         self.rest_since = None      # t (s) from which every contact node has stayed below eps_v, so far
         self.csv, self.logged = folder.open_log(files.log_csv(tag), ",".join(self.columns)), None
@@ -99,9 +99,6 @@ class Track:
         tip = {}
         if scene.hand is not None:
             tip = diagnostics.tip_figures(scene, x, v, t)
-            mark = diagnostics.tip_mark(scene, x, v)
-            if mark is not None:
-                self.marks.append(mark)
         speeds = diagnostics.contact_speeds(scene, x, v)
         sticking, sliding = diagnostics.sticking_sliding(speeds, scene.epsv)
         sample = Sample(step=self.step, t=t, wall=wall, com=diagnostics.centre_of_mass(scene, x),
@@ -131,6 +128,8 @@ class Track:
         """Log the StepRecord of the step from the current state (the live window hands them in)."""
         self.hand_work += diagnostics.hand_work(self.scene, self.x, self.t, record.t,      # from x^n, whose
                                                 self.samples.last.energies.get("hand"))     # E_hand is known
+        if self.marks is not None:
+            self.marks.step(self.scene, self.x, record.x)       # what the tip left over the step
         self.x, self.v, self.step = record.x, record.v, record.index + 1
         self.friction_work += record.report.friction_work
         sample = self._add(record.report, record.t, record.wall)

@@ -87,7 +87,8 @@ class Plan:
 
     def names(self):
         """The longest names of each kind this run writes (files.run_names)."""
-        return files.run_names(self.tags, frame_count(self.scenes, self.steps, self.stride), self.frames)
+        frames = frame_count(self.scenes, self.steps, self.stride)
+        return files.run_names(self.tags, frames, self.frames, marks=self.scenes[0].hand is not None)
 
     def folder(self, signals):
         """The run's folder (files.RunFolder), made: `out`, or a new output/<scene>-<date>-<time>."""
@@ -187,7 +188,7 @@ def kept(tracks, folder, plan):
     if not tracks:
         return "nothing written" + (f" in {folder.folder}/" if folder is not None else "")
     steps = min(track.logged or 0 for track in tracks)
-    left_out = [name for name in pictures.NAMES
+    left_out = [name for name in pictures.names(tracks)
                 if (plan.frames or name != "index.html") and name not in folder.written]
     return f"{steps} steps kept in {folder.folder}/" + (f"; left out: {', '.join(left_out)}" if left_out else "")
 
@@ -228,6 +229,9 @@ def written(plan):
     """What a run that ends well has written, in words."""
     logs = "log.csv" if len(plan.scenes) == 1 else "a log per run (" + ", ".join(
         files.log_csv(tag) for tag in plan.tags) + ")"
+    if plan.scenes[0].hand is not None:
+        logs += ", marks.csv" if len(plan.scenes) == 1 else ", the marks (" + ", ".join(
+            files.marks_csv(tag) for tag in plan.tags) + ")"
     return (f"frames, OBJs, {logs}, plots.png, summary.png and index.html" if plan.frames
             else f"{logs}, plots.png and summary.png")
 

@@ -34,9 +34,9 @@ def chalk_at(index, drag=False, steps=3000):
     if not kept:
         kept[0] = live.LiveRun(simulator.build_chalk_scene(drag=drag), steps)
     run = copy.copy(kept[max(i for i in kept if i <= index)])
-    run.marks = list(run.marks)
+    run.marks = run.marks.copy()
     while run.index < index:
         run.step()
     kept[index] = copy.copy(run)
-    run.marks, run.steps = list(run.marks), steps
+    run.marks, run.steps = run.marks.copy(), steps
     return run
