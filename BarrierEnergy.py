@@ -57,9 +57,8 @@ def _active(x, n, o, dhat):
     """The nodes with d < dhat and their distances; NotAboveHalfSpace if any node has d <= 0."""
     d = distances(x, n, o)
     if d.min() <= 0.0:
-        worst = int(np.argmin(d))
-        raise NotAboveHalfSpace(f"x: node {worst} is at distance {d[worst]:.6g} <= 0 from the half-space; "
-                                "the barrier is only defined for d > 0")
+        raise NotAboveHalfSpace(f"x: node {d.argmin()} is at distance {d.min():.6g} <= 0 from the "
+                                "half-space; the barrier is only defined for d > 0")
     i = (d < dhat).nonzero()[0]
     return i, d.take(i)                         # (take: d[i], faster on small arrays)
 

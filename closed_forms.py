@@ -105,7 +105,8 @@ def resting_pose(scene):
     first steps and its centre of mass moves by ~1e-4 m. Solved by bisection (brentq): d0 for a given
     s (the load falls monotonically with d0), then s (the moment excess grows with it)."""
     normal_load, _, friction = _loads(scene)
-    r = -scene.side_len / 2 + np.arange(scene.n_seg + 1) * scene.side_len / scene.n_seg
+    side, n_seg = scene.params["side_len"], scene.params["n_seg"]
+    r = -side / 2 + np.arange(n_seg + 1) * side / n_seg
     reach = float(np.abs(r).max())
 
     def d0_for(s):
@@ -114,7 +115,7 @@ def resting_pose(scene):
                                s * reach * (1 + 1e-12) + 1e-15, scene.dhat + s * reach)
 
     def moment_excess(s):
-        lever = scene.side_len / 2 * math.tan(math.atan2(friction, normal_load) + math.asin(s))
+        lever = side / 2 * math.tan(math.atan2(friction, normal_load) + math.asin(s))
         return r @ barrier_force(scene, d0_for(s) - s * r) - lever * normal_load
 
     if friction <= 0.0:
@@ -136,7 +137,7 @@ def resting_scene(tan_theta, mu, k=STIFF_K, **overrides):
     d0, tilt = resting_pose(probe)
     theta = math.atan2(probe.n[0], probe.n[1])
     angle = -theta - math.asin(tilt)
-    half = probe.side_len / 2
+    half = probe.params["side_len"] / 2
     base = probe.o + d0 * probe.n                                  # midpoint of the bottom edge
     center = base + half * np.array([-math.sin(angle), math.cos(angle)])
     return simulator.build_scene(**{**overrides, "angle": angle, "center": tuple(center)})

@@ -97,11 +97,11 @@ def step_time(scene, step_index):
 
 def friction_update(scene, lagged, x, v=None):
     """FrictionUpdate(x) of Algorithm 5: mu*lambda from the barrier at x (`lagged` unchanged without
-    friction); mu is scene.mu, or one per node where the static mu_s differs from it (`slip_weakened_mu`,
-    from v, the velocity of the state x)."""
+    friction); mu is scene.mu, or one per node with static friction (`slip_weakened_mu`, from v, the
+    velocity of the state x)."""
     if "friction" not in scene.terms:
         return lagged
-    mu = scene.mu if scene.mu_s in (None, scene.mu) else slip_weakened_mu(scene, lagged, x, v)
+    mu = scene.mu if scene.static is None else slip_weakened_mu(scene, lagged, x, v)
     return dataclasses.replace(lagged, mu_lambda=BarrierEnergy.compute_mu_lambda_kernel(
         x, scene.n, scene.o, scene.contact_area, mu, scene.dhat, scene.kappa))
 
@@ -112,7 +112,7 @@ def slip_weakened_mu(scene, lagged, x, v=None):
     (v None) at an iterate of Algorithm 5. FrictionUpdate holds it fixed through the solve, as lambda and T."""
     v = (x - lagged.x_n) / scene.h if v is None else v
     vbarnorm = np.abs(v @ FrictionEnergy.tangent(scene.n))          # ||vbar_k|| = |t . v_k|
-    return FrictionEnergy.slip_weakened_mu(vbarnorm, scene.mu, scene.mu_s, scene.v_c)
+    return FrictionEnergy.slip_weakened_mu(vbarnorm, scene.mu, scene.static.mu_s, scene.static.v_c)
 
 
 # --- the Incremental Potential ----------------------------------------------------------------------
@@ -170,13 +170,11 @@ def search_dir(scene, lagged, x, grad_E):
     return scene.solver.solve(IP_hess(scene, lagged, x), -grad_E.ravel()).reshape(-1, 2)
 
 
-def newton_start(scene, lagged):
-    """Where Newton starts: x^n, as the lecture; with scene.newton_start "x_tilde" (the chalk's), the
-    prediction x_tilde = x^n + h v^n cut back by CCD (Algorithm 4, line 1, along h v^n), so every node
-    stays above the board. Not in the lecture: from x^n a sliding contact starts at v = 0, in the
+def predicted_start(scene, lagged):
+    """Where Newton starts with scene.newton_start "x_tilde" (the chalk's; the lecture starts at x^n):
+    the prediction x_tilde = x^n + h v^n cut back by CCD (Algorithm 4, line 1, along h v^n), so every
+    node stays above the board. Not in the lecture: from x^n a sliding contact starts at v = 0, in the
     mollifier's stiff static branch, and Newton needs about 4 iterations to leave it (the dragged chalk)."""
-    if scene.newton_start == "x_n":
-        return lagged.x_n
     prediction = lagged.x_tilde - lagged.x_n
     return lagged.x_n + init_step_size(scene, lagged.x_n, prediction) * prediction
 
@@ -259,7 +257,8 @@ def newton_iterates(scene, x, v, *, step_index=0):
     try:
         targets = scene.hand.targets(step_time(scene, step_index)) if "hand" in scene.terms else None
         lagged = friction_update(scene, Lagged(x_n, x_n + scene.h * v_n, None, targets), x_n, v_n)  # mu*lambda^n
-        x = yield from newton(scene, lagged, newton_start(scene, lagged), report, step_index)
+        x = lagged.x_n if scene.newton_start == "x_n" else predicted_start(scene, lagged)  # x^n: the lecture's
+        x = yield from newton(scene, lagged, x, report, step_index)
         if "friction" in scene.terms and scene.friction_updates > 0:                       # Algorithm 5
             for j in range(1, scene.friction_updates + 2):
                 lagged = friction_update(scene, lagged, x)                                 # lines 2, 5

@@ -12,8 +12,8 @@ import io
 import math
 from dataclasses import dataclass, field
 
-from viewer import whole_files
-from viewer.draw import load_pygame
+from viewer.output import whole_files
+from viewer.pictures.draw import load_pygame
 
 PANEL_W, PANEL_H = 620, 430         # pixels per panel, axes and labels included
 MARGIN_L, MARGIN_R, MARGIN_T, MARGIN_B = 88, 20, 40, 62

@@ -8,7 +8,7 @@ import csv
 import io
 import statistics
 
-from viewer import whole_files
+from viewer.output import whole_files
 
 SPREAD_LIMIT, WAIT_LIMIT = 0.20, 1.15
 

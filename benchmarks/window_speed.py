@@ -11,7 +11,7 @@ import time
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 WINDOW_N_SEGS = (4, 8, 16)
-WINDOW_PIXELS = 652         # the window's default side on a 1024x768 projector (viewer.window.FIT)
+WINDOW_PIXELS = 652         # the window's default side on a 1024x768 projector (viewer.demo.window.FIT)
 MEMORY_DRIVER = "dummy"     # SDL's driver that draws into memory only, no display needed
 
 
@@ -48,7 +48,7 @@ def window_real_time(n_seg, speed=1.0, duration=3.0, driver=MEMORY_DRIVER):
     os.environ["SDL_VIDEODRIVER"] = driver
     sys.path.insert(0, ROOT)
     import simulator
-    from viewer import window
+    from viewer.demo import window
     scene = simulator.build_scene(n_seg=n_seg)
     steps = int(round(duration / scene.h))
     pygame = window.open_display()

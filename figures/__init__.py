@@ -10,7 +10,7 @@
                     coefficient sliding below, jamming above the self-locking angle 90 deg - atan mu
 
 Each figure is a module with `compute(...)` (the numbers, from the project's own functions; the tests
-run it on a small case) and `draw(result)` (a `page.Page` of viewer/plots.py panels). The lecture's mu
+run it on a small case) and `draw(result)` (a `page.Page` of viewer/pictures/plots.py panels). The lecture's mu
 comparison is `python simulator.py --mu 0.1,0.11,0.2`, not repeated here. This file imports nothing:
 `python -m figures` sets OPENBLAS_NUM_THREADS in __main__.py before numpy loads.
 """

@@ -1,7 +1,7 @@
-"""python -m figures: one BLAS thread, and Ctrl+C while numpy loads in one line (viewer/startup.py, as
+"""python -m figures: one BLAS thread, and Ctrl+C while numpy loads in one line (viewer/command/startup.py, as
 `python simulator.py`), then figures.cli."""
 import sys
 
-from viewer import startup
+from viewer.command import startup
 
 sys.exit(startup.run_command_line(program="figures", main="figures.cli"))

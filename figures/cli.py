@@ -1,7 +1,7 @@
 """The command line of `python -m figures [NAME ...] [--out DIR]`: which figures, where, and how it ends.
 
 It writes NAME.png for the figures asked for into a new folder, output/figures-<date>-<time>/ or
-the new or empty one --out names, as a run of simulator.py writes its files (viewer.files.RunFolder):
+the new or empty one --out names, as a run of simulator.py writes its files (viewer.output.files.RunFolder):
 each whole, never over another file nor through a symbolic link. Bad input is one line on stderr, `figures: error: ...`, exit code 2; Ctrl+C one line, exit code 130
 (SIGTERM: 143); a failed write or step one line, exit code 1.
 """
@@ -12,7 +12,8 @@ import time
 
 import figures
 import time_integrator
-from viewer import files, run
+from viewer.output import files
+from viewer.command import run
 
 
 

@@ -6,7 +6,7 @@ import numpy as np
 
 import simulator
 from figures.page import RED, Page
-from viewer.draw import run_color
+from viewer.pictures.draw import run_color
 
 MUS = (0.1, 0.11, 0.2)      # the lecture's mu comparison; mu = 0.11 is the default scene
 DURATION = 6.0              # s, as long as `python simulator.py --mu 0.1,0.11,0.2` runs

@@ -8,7 +8,7 @@ import numpy as np
 import simulator
 import time_integrator
 from figures.page import RED, Page
-from viewer.draw import run_color
+from viewer.pictures.draw import run_color
 
 PARAMS = {"mu": 1.0, "h": 0.05, "v0": (5.0, -5.0), "friction_updates": 20}
 STEPS = 40

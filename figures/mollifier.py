@@ -9,7 +9,7 @@ import numpy as np
 import FrictionEnergy
 import simulator
 from figures.page import BLACK, GREY, RED, Page
-from viewer.draw import run_color
+from viewer.pictures.draw import run_color
 
 EPSV_FACTORS = (0.5, 1.0, 2.0)      # eps_v as multiples of the default's: the default and two others
 

@@ -1,6 +1,6 @@
-"""What every figure shares: a white page with a title, panels of viewer/plots.py stacked on one axis
-width, and a caption of measured numbers under them, as PNG bytes (viewer/draw.py)."""
-from viewer import draw, plots
+"""What every figure shares: a white page with a title, panels of viewer/pictures/plots.py stacked on one axis
+width, and a caption of measured numbers under them, as PNG bytes (viewer/pictures/draw.py)."""
+from viewer.pictures import draw, plots
 
 TITLE_HEIGHT, LINE_HEIGHT = 34, 19      # pixels
 BLACK, GREY, RED = (0, 0, 0), (120, 120, 120), (220, 0, 0)

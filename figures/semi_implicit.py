@@ -16,7 +16,7 @@ import BarrierEnergy
 import FrictionEnergy
 import simulator
 from figures.page import Page
-from viewer.draw import run_color
+from viewer.pictures.draw import run_color
 
 DURATION = 2.0              # s
 FRICTION_UPDATES = 20       # Algorithm 5's cap per step

@@ -7,9 +7,9 @@ static coefficient mu_s 0.5 above the kinetic mu 0.35, mu lagged from v^n. With 
 atan mu) it slides with the hand, above it it jams.
 
 The tip is the chalk's lowest node at the start; at each step it is stuck where its tangential speed
-is below eps_v, slipping elsewhere, and its stick-slip cycles are counted as viewer/stick_slip.py
+is below eps_v, slipping elsewhere, and its stick-slip cycles are counted as analysis/stick_slip.py
 defines them (a run's closing line and the chalk's tests count the same way). The mark each run
-leaves is Archard's wear law's, accumulated per 0.1 mm of board by viewer/marks.py as the frames and
+leaves is Archard's wear law's, accumulated per 0.1 mm of board by viewer/pictures/marks.py as the frames and
 the window draw it: the normal force times the length slid there, drawn as grey (black at each
 chalk's darkest bin). Every run stops before the hand passes over the tip: the chalk stays on the
 side it started (past vertical, a jammed chalk rests on its other corner, and with Newton from x^n
@@ -29,9 +29,10 @@ import numpy as np
 import FrictionEnergy
 import simulator
 from figures.page import BLACK, GREY, RED, Page
-from viewer import marks, plots, stick_slip as counting
-from viewer.stick_slip import MIN_STICK, runs     # the one definition of a cycle (MIN_STICK: tests read it here)
-from viewer.draw import BLUE, run_color
+from viewer.pictures import marks, plots
+from analysis import stick_slip as counting
+from analysis.stick_slip import MIN_STICK, runs  # noqa: F401 (one cycle; tests read MIN_STICK)
+from viewer.pictures.draw import BLUE, run_color
 
 DURATION = 1.5              # s, the pushed and the dragged chalk and each grip
 GRIPS = (1000.0, 2000.0, 4000.0, 8000.0)            # k_hand, N/m, each at the default's press force
@@ -65,7 +66,7 @@ def track(duration, **params):
 
 
 def measure(tr):
-    """What the caption says of a run: viewer.stick_slip's measure of its tip once the hand drives (the cycles,
+    """What the caption says of a run: analysis.stick_slip's measure of its tip once the hand drives (the cycles,
     their mean period and slip length, the largest peak speed, the fraction stuck, the start-up), and the
     largest creep while stuck (m): the tip's travel over a run of stuck states, from the state
     before it (the step into the first is already at the stuck speed: x^{n+1} = x^n + h v^{n+1})."""

@@ -38,7 +38,7 @@ def test_resting_pose_balances_forces_and_moments(tan_theta, mu):
     moment about the centre of mass, where gravity acts, so the square neither sinks nor rocks."""
     scene = cases.resting_scene(tan_theta, mu)
     d = (scene.x0 - scene.o) @ scene.n
-    bottom = np.arange(0, len(d), scene.n_seg + 1)              # nodes with j = 0
+    bottom = np.arange(0, len(d), scene.params["n_seg"] + 1)              # nodes with j = 0
     assert np.all(d[bottom] < scene.dhat) and np.all(np.delete(d, bottom) > scene.dhat)
     f = cases.barrier_force(scene, d[bottom])
     weight, theta = 1000.0 * 9.81, math.atan(tan_theta)
@@ -47,7 +47,7 @@ def test_resting_pose_balances_forces_and_moments(tan_theta, mu):
     forces = f[:, None] * (scene.n - c * cases.downhill(scene))       # normal + friction (uphill)
     arms = scene.x0[bottom] - cases.com(scene, scene.x0)
     moment = np.sum(arms[:, 0] * forces[:, 1] - arms[:, 1] * forces[:, 0])
-    assert abs(moment) < 1e-9 * weight * scene.side_len
+    assert abs(moment) < 1e-9 * weight * scene.params["side_len"]
 
 
 @pytest.mark.parametrize("tan_theta, mu", [(cases.LECTURE_TAN, 0.05), (cases.STEEP_TAN, 0.2)],

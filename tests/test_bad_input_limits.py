@@ -18,7 +18,7 @@ import MassSpringEnergy
 import simulator
 import square_checks
 import time_integrator
-import viewer.cli
+import viewer.command.cli
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 EPS = np.finfo(float).eps
@@ -48,13 +48,13 @@ def refused_in_one_line(args, out):
 def test_the_lectures_45_degree_start_touches_the_slope_and_is_refused():
     """At 45 degrees the lecture's placement puts corner 0 on the slope up to round-off (1.1e-16 m
     computed): refused like a start below it, naming --center and a centre that works."""
-    (args,) = viewer.cli.parse_command_line(["--slope-angle", "45"])
+    (args,) = viewer.command.cli.parse_command_line(["--slope-angle", "45"])
     with pytest.raises(ValueError, match=r"starts touching or below the slope: node 0 .* not above the "
                                          r"round-off .* move center \(now 0, 0\)") as info:
-        viewer.cli.scene_from_args(args)
+        viewer.command.cli.scene_from_args(args)
     suggested = str(info.value).split("e.g. to ")[1].split(",")[:2]
     center = (float(suggested[0]), float(suggested[1].split()[0]))
-    scene = viewer.cli.scene_from_args(viewer.cli.parse_command_line(
+    scene = viewer.command.cli.scene_from_args(viewer.command.cli.parse_command_line(
         ["--slope-angle", "45", "--center", f"{center[0]!r},{center[1]!r}"])[0])
     d = (scene.x0 - scene.o) @ scene.n
     assert d.min() == pytest.approx(scene.dhat, rel=1e-5)       # as the message says: dhat above (6 digits shown)
@@ -80,7 +80,7 @@ def test_round_off_threshold_on_a_flat_slope(gap, refused):
 
 
 def test_center_flag_reaches_the_scene():
-    scene = viewer.cli.scene_from_args(viewer.cli.parse_command_line(["--center", "1.5,-0.25", "--no-slope"])[0])
+    scene = viewer.command.cli.scene_from_args(viewer.command.cli.parse_command_line(["--center", "1.5,-0.25", "--no-slope"])[0])
     assert np.average(scene.x0, axis=0, weights=scene.m) == pytest.approx([1.5, -0.25], abs=1e-12)
     assert "--center" in cli("--help").stdout
 
@@ -198,7 +198,7 @@ def test_memory_check_refuses_what_does_not_fit(monkeypatch):
 # 100 MB pytest), and the per-node figure came out too small; VmHWM starts afresh with the program.
 PEAK = """import sys, simulator, time_integrator
 scene = simulator.build_scene(n_seg=int(sys.argv[1]))
-if scene.n_seg > 1:
+if scene.params["n_seg"] > 1:
     time_integrator.step(scene, scene.x0.copy(), scene.v0.copy())
 print([line.split()[1] for line in open("/proc/self/status") if line.startswith("VmHWM:")][0])"""
 
@@ -310,7 +310,7 @@ def test_real_numbers_of_other_types_are_taken():
     import fractions
     scene = simulator.build_scene(k=np.float32(2e4), n_seg=np.int64(3), mu=np.array(0.2), h=fractions.Fraction(1, 100),
                                   center=np.array([0, 1], dtype=np.int8), v0=[np.float16(1.0), 0])
-    assert (scene.k[0], scene.n_seg, scene.mu, scene.h) == (2e4, 3, 0.2, 0.01)
+    assert (scene.k[0], scene.params["n_seg"], scene.mu, scene.h) == (2e4, 3, 0.2, 0.01)
     assert scene.params["center"] == (0.0, 1.0) and scene.params["v0"] == (1.0, 0.0)
 
 

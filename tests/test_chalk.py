@@ -17,7 +17,8 @@ import FrictionEnergy
 import HandEnergy
 import simulator
 import time_integrator
-from viewer import stick_slip as cycles
+from scenes.scene import StaticFriction
+from analysis import stick_slip as cycles
 
 
 @dataclasses.dataclass(frozen=True)
@@ -51,7 +52,7 @@ def run(seconds, **params):
 
 
 def stick_slip(track, start=0.2):
-    """The cycles after `start` (the drive's start), counted as viewer/stick_slip.py defines them (as the figure
+    """The cycles after `start` (the drive's start), counted as analysis/stick_slip.py defines them (as the figure
     and a run's closing line do): a stick, the tip below eps_v for at least cycles.MIN_STICK steps, then a slip whose
     peak tip speed exceeds the drive and which ends before the run. Returns (stuck fraction after start, the
     slips as (start time, slip length, peak speed))."""
@@ -66,7 +67,7 @@ def test_the_chalk_scene_has_the_design_s_numbers_and_its_own_terms():
     assert scene.x0.shape == (19 * 3, 2) and len(scene.e) == 18 * 3 + 19 * 2 + 2 * 18 * 2 and scene.cells == (18, 2)
     assert scene.m.sum() == pytest.approx(15.0 * 0.09 * 0.01) and np.allclose(scene.contact_area, 0.01 / 2)
     assert scene.terms == ("inertia", "spring", "gravity", "hand", "barrier", "friction")
-    assert scene.n.tolist() == [0.0, 1.0] and (scene.mu, scene.mu_s, scene.v_c) == (0.35, 0.5, 1e-3)
+    assert scene.n.tolist() == [0.0, 1.0] and (scene.mu, scene.static.mu_s, scene.static.v_c) == (0.35, 0.5, 1e-3)
     assert (scene.dhat, scene.kappa, scene.epsv, scene.h) == (1e-3, 1e3, 1e-4, 1e-3)
     # tol eps_v / 100, not the design's 1e-5 = eps_v / 10, with Newton from x_tilde (docs/chalk.md)
     assert (scene.tol, scene.newton_start) == (1e-6, "x_tilde")
@@ -86,7 +87,7 @@ def test_the_chalk_scene_has_the_design_s_numbers_and_its_own_terms():
     assert scene.solver.kind == "banded" and scene.solver.bandwidth == 9
     assert not scene.x0.flags.writeable and not scene.hand.nodes.flags.writeable
     square = simulator.build_scene()
-    assert square.hand is None and square.mu_s is None and "hand" not in square.terms and square.cells == (4, 4)
+    assert square.hand is None and square.static is None and "hand" not in square.terms and square.cells == (4, 4)
 
 
 @pytest.mark.parametrize("params, message", [
@@ -120,11 +121,13 @@ def test_the_step_pulls_the_hand_toward_its_targets_at_t_n_plus_1(monkeypatch):
 def test_one_coefficient_takes_the_lecture_s_path_bit_for_bit():
     """mu_s = mu is mu*lambda^n with the scalar mu, as before: the same bits, for the square and the chalk."""
     square = simulator.build_scene()
-    one = dataclasses.replace(square, mu_s=square.mu, v_c=1e-3)
+    one = dataclasses.replace(square, static=StaticFriction(square.mu, 1e-3))
     for a, b in zip(simulator.simulate(square, 45), simulator.simulate(one, 45)):        # through the impact
         assert np.array_equal(a.x, b.x)
     chalk = simulator.build_chalk_scene(mu_s=0.35)
-    for a, b in zip(simulator.simulate(chalk, 150), simulator.simulate(dataclasses.replace(chalk, mu_s=None), 150)):
+    assert chalk.static is None                   # one coefficient: no static part
+    both = dataclasses.replace(chalk, static=StaticFriction(0.35, 1e-3))     # mu_s = mu, kept
+    for a, b in zip(simulator.simulate(chalk, 150), simulator.simulate(both, 150)):
         assert np.array_equal(a.x, b.x)
 
 

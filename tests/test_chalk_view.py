@@ -15,7 +15,8 @@ import pytest
 import simulator
 from helpers import legibility
 from helpers.command import run_main
-from viewer import cli, diagnostics, log, stick_slip
+from viewer.command import cli
+from analysis import diagnostics, log, stick_slip
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -110,7 +111,7 @@ def compared(tmp_path_factory):
 
 
 def counted_from_log(path):
-    """The stick-slip of a chalk run as its log.csv has it: the count of viewer/stick_slip.py on the columns
+    """The stick-slip of a chalk run as its log.csv has it: the count of analysis/stick_slip.py on the columns
     t, tip_x, tip_speed and step, with the chalk's eps_v, drive and drive start."""
     with open(path) as f:
         rows = list(csv.DictReader(f))

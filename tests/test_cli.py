@@ -9,10 +9,9 @@ import pytest
 
 import simulator
 import utils
-import viewer.files
-import viewer.log
+import analysis.log
 from helpers.command import run_main
-from viewer import cli
+from viewer.command import cli
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -35,7 +34,7 @@ def test_twenty_steps_write_frames_objs_csv_and_summary(tmp_path):
     assert not [f for f in files if f.startswith(".")]     # no temporaries left
     with open(out / "log.csv") as f:
         rows = list(csv.DictReader(f))
-    assert len(rows) == 21 and set(viewer.log.COLUMNS) <= set(rows[0])           # t = 0 and 20 steps
+    assert len(rows) == 21 and set(analysis.log.COLUMNS) <= set(rows[0])           # t = 0 and 20 steps
     com_y = [float(r["com_y"]) for r in rows]
     assert all(b < a for a, b in zip(com_y, com_y[1:]))                  # falling
     assert all(int(r["newton_iterations"]) >= 1 for r in rows[1:])
@@ -75,7 +74,7 @@ def test_flags_reach_the_scene():
          "--friction-iterations", "3"])
     scene = cli.scene_from_args(args)
     # == where the value is the parsed flag itself, passed through unchanged (exact by construction)
-    assert scene.mu == 0.2 and scene.h == 0.005 and scene.n_seg == 3 and scene.k[0] == 3e4
+    assert scene.mu == 0.2 and scene.h == 0.005 and scene.params["n_seg"] == 3 and scene.k[0] == 3e4
     assert scene.m.sum() == pytest.approx(500.0) and scene.dhat == 0.02 and scene.kappa == 1e6
     assert scene.epsv == 1e-4 and scene.tol == 1e-3 and scene.friction_updates == 3
     assert np.allclose(scene.n, [np.sin(np.radians(10)), np.cos(np.radians(10))])

@@ -1,4 +1,4 @@
-"""viewer/draw.py's drawing helpers, one copy each for the frames, plots.png, summary.png and the
+"""viewer/pictures/draw.py's drawing helpers, one copy each for the frames, plots.png, summary.png and the
 window: round numbers (nice_number), arrowheads (arrow_heads), text wrapping (wrap); the force
 arrows' scale. The chalk's mark as the frames draw it: tests/test_marks_drawn.py."""
 import numpy as np
@@ -6,7 +6,8 @@ import pytest
 
 import simulator
 from helpers import legibility
-from viewer import diagnostics, draw, frames
+from analysis import diagnostics
+from viewer.pictures import draw, frames
 
 
 @pytest.mark.parametrize("value, down, up", [(0.3, 0.2, 0.5), (7.0, 5.0, 10.0), (1.0, 1.0, 1.0), (2e-5, 2e-5, 2e-5),

@@ -11,7 +11,8 @@ import pytest
 
 import figures.page
 from figures import cli, dissipation, fixed_point, mollifier, semi_implicit, stick_slip
-from viewer import marks, whole_files
+from viewer.pictures import marks
+from viewer.output import whole_files
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 PNG_SIGNATURE, PNG_END = b"\x89PNG\r\n\x1a\n", b"IEND\xaeB`\x82"
@@ -129,7 +130,7 @@ def test_the_pressed_scene_starts_on_the_slope_and_its_lagged_step_brakes_with_t
     scene = simulator.build_scene(**params)
     t = FrictionEnergy.tangent(scene.n)
     d = BarrierEnergy.distances(scene.x0, scene.n, scene.o)
-    assert d[::scene.n_seg + 1] == pytest.approx(0.008, abs=1e-12) and d.min() == pytest.approx(0.008, abs=1e-12)
+    assert d[::scene.params["n_seg"] + 1] == pytest.approx(0.008, abs=1e-12) and d.min() == pytest.approx(0.008, abs=1e-12)
     assert scene.v0 @ scene.n == pytest.approx(0.0, abs=1e-12) and scene.v0 @ t == pytest.approx(3.0)
     record = next(simulator.simulate(scene, 1))
     mu_lambda = BarrierEnergy.compute_mu_lambda(scene.x0, scene.n, scene.o, scene.contact_area, scene.mu,
@@ -150,7 +151,7 @@ def stick_slip_short():
 
 
 def test_the_marks_are_the_archard_deposits_of_the_runs(stick_slip_short):
-    """Each run's mark is viewer/marks.py's deposit of its steps, over the board its tip slid across
+    """Each run's mark is viewer/pictures/marks.py's deposit of its steps, over the board its tip slid across
     (the tip carries the contact: it stayed the lowest node), and the creep the caption names is the
     tip's largest travel over a run of stuck states."""
     r = stick_slip_short

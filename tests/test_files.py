@@ -1,4 +1,4 @@
-"""viewer/files.py: a run writes only into a new folder it made (or an empty one --out names), tried
+"""viewer/output/files.py: a run writes only into a new folder it made (or an empty one --out names), tried
 as an attacker would: a name taken between the check and the write, two runs at once, a folder that
 holds files or is another user's, a folder removed mid-run, names too long, and a platform without
 POSIX-only names (os.O_NOFOLLOW, file owners)."""
@@ -13,7 +13,7 @@ import time
 import pytest
 
 from helpers.command import run_main as main
-from viewer import whole_files
+from viewer.output import whole_files
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SIMULATOR = os.path.join(ROOT, "simulator.py")
@@ -251,10 +251,10 @@ SELF_TERMINATING = """
 import os, signal, sys, types
 sys.path.insert(0, sys.argv[1])
 os.close(2)                                     # stderr closed: the start-up line cannot be written
-module = types.ModuleType("loading")            # stands for viewer.cli while numpy and scipy load
+module = types.ModuleType("loading")            # stands for viewer.command.cli while numpy and scipy load
 module.main = lambda argv: os.kill(os.getpid(), signal.SIGTERM) or 0
 sys.modules["loading"] = module
-from viewer import startup
+from viewer.command import startup
 sys.exit(startup.run_command_line(main="loading"))
 """
 

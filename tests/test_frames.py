@@ -1,11 +1,11 @@
-"""viewer/frames.py: when each frame is due. Frames come every `stride` steps of the smallest h,
+"""viewer/pictures/frames.py: when each frame is due. Frames come every `stride` steps of the smallest h,
 numbered from 0, the last at the end of the longest run; each run is shown at the last step it has
 reached by then."""
 import types
 
 import pytest
 
-from viewer import frames
+from viewer.pictures import frames
 
 
 def tracks(*runs):

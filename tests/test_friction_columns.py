@@ -9,7 +9,7 @@ import pytest
 import simulator
 import time_integrator
 from helpers.command import recorded
-from viewer import log
+from analysis import log
 
 
 def logged_rows(tmp_path, scene, steps):

@@ -11,7 +11,8 @@ import simulator
 import time_integrator
 import utils
 from helpers.fd import assert_close, dense, fd_gradient
-from viewer import diagnostics, frames
+from analysis import diagnostics
+from viewer.pictures import frames
 
 DATA = os.path.join(os.path.dirname(__file__), "data")
 
@@ -154,7 +155,7 @@ def test_barrier_and_friction_see_only_nodes_within_dhat(monkeypatch):
         friction_sets.clear()
         x = rec.x
     assert all(seen == expected for seen, expected in barrier_sets)
-    assert max(len(seen) for seen, _ in barrier_sets) == scene.n_seg + 1      # the bottom row, not all 25
+    assert max(len(seen) for seen, _ in barrier_sets) == scene.params["n_seg"] + 1      # the bottom row, not all 25
 
 
 def free_fall_scene(h, **kw):

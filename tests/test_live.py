@@ -1,4 +1,4 @@
-"""viewer/live.py: the live demo without its window (no pygame): the run one step or one Newton
+"""viewer/demo/live.py: the live demo without its window (no pygame): the run one step or one Newton
 iteration at a time, its pacing to a clock, what the keys do, and its warnings. Driven here with a fake
 clock; tests/test_window.py drives the same through the window's keys."""
 import io
@@ -13,7 +13,9 @@ from helpers.command import recorded
 from helpers.fakes import chalk_at
 import simulator
 import time_integrator
-from viewer import diagnostics, live, marks
+from analysis import diagnostics
+from viewer.demo import live
+from viewer.pictures import marks
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 H = simulator.DEFAULTS["h"]

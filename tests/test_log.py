@@ -1,4 +1,4 @@
-"""viewer/log.py: the one definition of a state's per-step figures (log.COLUMN). log.csv writes them,
+"""analysis/log.py: the one definition of a state's per-step figures (log.COLUMN). log.csv writes them,
 the page and plots.png read them by name, and docs/output.md's table is the definitions as written."""
 import os
 import re
@@ -6,8 +6,9 @@ import re
 import numpy as np
 
 import time_integrator
-from viewer import log, page
-from viewer.recording import Sample
+from analysis import log
+from viewer.pictures import page
+from viewer.command.recording import Sample
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 

@@ -1,4 +1,4 @@
-"""The chalk's mark by Archard's law (viewer/marks.py, no pygame here): the deposit of a step, its
+"""The chalk's mark by Archard's law (viewer/pictures/marks.py, no pygame here): the deposit of a step, its
 bins, its conservation, what the pushed and the dragged chalk leave, and marks.csv.
 
 Archard: the material left per unit length of board is proportional to the normal force times the
@@ -16,7 +16,8 @@ import pytest
 import BarrierEnergy
 import FrictionEnergy
 import simulator
-from viewer import marks, stick_slip
+from viewer.pictures import marks
+from analysis import stick_slip
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 W = marks.BIN
@@ -71,7 +72,7 @@ def test_the_deposit_grows_both_ways_and_keeps_its_memory_to_the_board_touched()
 def chalk(seconds, **params):
     """The chalk stepped for `seconds`: its scene, its mark, the step deposits sum_k lambda_k |delta
     s_k| taken from the barrier's own compute_mu_lambda (mu = 1), and the tip's stick-slip
-    (viewer/stick_slip.py)."""
+    (analysis/stick_slip.py)."""
     scene = simulator.build_chalk_scene(**params)
     mark, before, tangent = marks.Deposit(), scene.x0, FrictionEnergy.tangent(scene.n)
     tip = int(np.argmin(scene.x0[:, 1]))
@@ -164,9 +165,9 @@ def test_a_chalk_run_writes_its_mark_as_marks_csv(tmp_path):
 
 
 def test_the_mark_is_computed_without_pygame():
-    """The deposit, its dashes and marks.csv need no pygame: importing viewer.marks (and a run's
+    """The deposit, its dashes and marks.csv need no pygame: importing viewer.pictures.marks (and a run's
     recording) loads none, so the analysis runs where pygame is not installed."""
-    code = "import sys, viewer.marks, viewer.recording; print('pygame' in sys.modules)"
+    code = "import sys, viewer.pictures.marks, viewer.command.recording; print('pygame' in sys.modules)"
     done = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True,
                           timeout=120, check=False)
     assert done.returncode == 0 and done.stdout.split() == ["False"], done.stderr

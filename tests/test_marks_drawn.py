@@ -1,4 +1,4 @@
-"""The chalk's mark (viewer/marks.py) as the frames draw it: grey under the board at the frame's
+"""The chalk's mark (viewer/pictures/marks.py) as the frames draw it: grey under the board at the frame's
 scale and in the strip magnified x8 about the tip, each pixel column the deposit of the board under
 it (marks.Deposit.shade, black at the run's darkest bin); where the strip goes; legible from the
 back of the room. What the mark is (Archard's law): tests/test_marks.py."""
@@ -8,7 +8,8 @@ from helpers import legibility
 from helpers.fakes import chalk_at
 
 import simulator
-from viewer import diagnostics, draw, frames, marks
+from analysis import diagnostics
+from viewer.pictures import draw, frames, marks
 
 
 def chalk_frame(steps, drag=False, size=draw.RESOLUTION, reserve=(0, 0)):
@@ -178,7 +179,7 @@ def test_the_frames_strip_covers_neither_the_chalk_the_legends_nor_the_boards_nu
 
 
 def test_the_squares_frames_have_no_marks_and_no_strip(monkeypatch):
-    """The square has no mark: draw_frame never reaches viewer.marks for it (the calls would fail
+    """The square has no mark: draw_frame never reaches viewer.pictures.marks for it (the calls would fail
     here), so its frames are those it drew before the strip, pixel for pixel whatever room is
     reserved."""
     pygame = draw.load_pygame()

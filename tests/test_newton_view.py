@@ -10,7 +10,9 @@ import BarrierEnergy
 from helpers import legibility
 from helpers.fakes import chalk_at
 import simulator
-from viewer import diagnostics, draw, newton_view, window
+from analysis import diagnostics
+from viewer.pictures import draw
+from viewer.demo import newton_view, window
 
 SIZE = 652      # the window's default side on a 1024x768 projector
 

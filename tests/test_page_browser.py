@@ -5,7 +5,7 @@ plays, and the step button moves exactly one frame. Skips, saying why, where no 
 import pytest
 
 from helpers.browser import BROWSERS, find_browser, probe_page
-from viewer import cli
+import viewer.main
 
 
 # Appended to a copy of the page: watches it play for a while, then pauses it and presses the
@@ -43,7 +43,7 @@ def test_index_html_plays_in_headless_chromium(tmp_path):
     if find_browser() is None:
         pytest.skip(f"no browser found (looked for {', '.join(BROWSERS)}); .ci/run installs Debian's chromium")
     out = tmp_path / "run"
-    assert cli.main(["--steps", "60", "--out", str(out)]) == 0          # 21 frames
+    assert viewer.main.main(["--steps", "60", "--out", str(out)]) == 0          # 21 frames
     seen = probe_page(out, PROBE, tmp_path)
     assert seen["loaded"] == 900 and seen["src"].startswith("frame_")       # a frame PNG shown, decoded
     assert len(seen["seen"]) >= 3                                            # it changes while playing

@@ -3,8 +3,8 @@ counter and time have one, two and more digits, and every control keeps its posi
 browser is found, as tests/test_page_browser.py does."""
 import pytest
 
-from viewer import cli
 from helpers.browser import BROWSERS, find_browser, probe_page
+import viewer.main
 
 # Appended to a copy of the page: drags the slider to frames whose counter reads 0, 9, 10 and the last
 # (t from 0.00 s to over 10 s), and writes the controls' left edges at each into the DOM.
@@ -31,7 +31,7 @@ def test_the_controls_stay_in_place_as_the_counter_grows(tmp_path):
         pytest.skip(f"no browser found (looked for {', '.join(BROWSERS)}); .ci/run installs Debian's chromium")
     out = tmp_path / "run"
     # 220 steps of 0.05 s, a frame every 10: frames 0 to 22, t from 0.00 to 11.00 s
-    assert cli.main(["--h", "0.05", "--steps", "220", "--frame-stride", "10", "--no-forces",
+    assert viewer.main.main(["--h", "0.05", "--steps", "220", "--frame-stride", "10", "--no-forces",
                            "--out", str(out)]) == 0
     positions = probe_page(out, PROBE, tmp_path, budget_ms=3000)
     assert len(positions) == 4 and all(p == positions[0] for p in positions), positions

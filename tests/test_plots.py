@@ -10,7 +10,8 @@ import pytest
 import simulator
 from helpers import legibility
 from helpers.command import recorded as tracks_of
-from viewer import draw, plots, stick_slip
+from viewer.pictures import draw, plots
+from analysis import stick_slip
 
 
 def axis_labels_drawn(pygame, surface, panels):
@@ -108,7 +109,7 @@ def test_a_long_label_takes_a_legend_row_of_its_own(monkeypatch, chalks):
     pygame = draw.load_pygame()
     font = pygame.font.Font(None, 18)
     for tr in chalks:
-        monkeypatch.setattr(tr, "label", f"friction-iterations = {tr.scene.mu_s:g}")
+        monkeypatch.setattr(tr, "label", f"friction-iterations = {tr.scene.params['mu_s']:g}")
     _, texts, _ = drawn(monkeypatch, pygame, chalks)
     for tr in chalks:
         first, second = plots.cycles_legend(stick_slip.of_track(tr))

@@ -1,4 +1,4 @@
-"""viewer/progress.py: what a run says as it goes. The warnings about a step are worded in one place
+"""viewer/command/progress.py: what a run says as it goes. The warnings about a step are worded in one place
 (step_warnings), for a run to files and the window alike; a run says each kind once."""
 import csv
 import io
@@ -10,7 +10,8 @@ import numpy as np
 import simulator
 import time_integrator
 from helpers.command import recorded, run_main
-from viewer import progress, stick_slip
+from viewer.command import progress
+from analysis import closing, stick_slip
 
 
 def test_step_warnings_name_the_step_and_what_to_do():
@@ -38,13 +39,13 @@ def test_rest_words_say_when_each_run_came_to_rest():
     def track(label, rest_since, sliding, t=3.0):
         return types.SimpleNamespace(label=label, rest_since=rest_since, t=t, scene=simulator.build_scene(),
                                      samples=types.SimpleNamespace(last=types.SimpleNamespace(sliding=sliding)))
-    assert progress.rest_words([track("a", 5.534, 0)]) == "the square came to rest at t = 5.53 s"
-    assert progress.rest_words([track("a", None, 2)]) == "the square was still sliding at t = 3.00 s"
-    assert progress.rest_words([track("mu = 0.1", None, 0), track("mu = 0.2", 2.8, 0)]) == \
+    assert closing.rest_words([track("a", 5.534, 0)]) == "the square came to rest at t = 5.53 s"
+    assert closing.rest_words([track("a", None, 2)]) == "the square was still sliding at t = 3.00 s"
+    assert closing.rest_words([track("mu = 0.1", None, 0), track("mu = 0.2", 2.8, 0)]) == \
         "mu = 0.1: had not come to rest by t = 3.00 s; mu = 0.2: came to rest at t = 2.80 s"
     runs = [track("mu = 0.1", None, 1), track("mu = 0.2", 2.8, 0)]
-    assert progress.closing_words(runs) == progress.rest_words(runs)           # the square's closing words
-    assert progress.closing_note(runs) == progress.rest_words(runs) + " (every contact below eps_v from then on)"
+    assert closing.closing_words(runs) == closing.rest_words(runs)           # the square's closing words
+    assert closing.closing_note(runs) == closing.rest_words(runs) + " (every contact below eps_v from then on)"
 
 
 def chalk_track(label, speeds, **scene):
@@ -63,13 +64,13 @@ def test_the_chalks_closing_words_are_its_stick_slip():
     stick, slip, drive = [1e-5] * 40, [0.1] * 6, simulator.CHALK["drive"]      # 40 ms stuck, a 0.6 mm slip
     pushed = chalk_track("mu-static = 0.5", (stick + slip) * 4 + stick)
     sliding = chalk_track("mu-static = 0.35", [drive] * 200, mu_s=0.35)
-    said = progress.closing_words([pushed])
+    said = closing.closing_words([pushed])
     assert said == (f"stick-slip: 4 slips, mean slip {6 * 1e-3 * 0.1 * 1e3:.2f} mm, period {46:.0f} ms, tip stuck "
                     f"{100 * 200 / 224:.0f} % of the drive") and "rest" not in said
-    assert progress.closing_words([sliding]) == "the tip slid without a stick after its start-up at t = 0.20 s"
-    assert progress.closing_words([sliding, pushed]) == \
-        f"mu-static = 0.35: {progress.closing_words([sliding])}; mu-static = 0.5: {said}"
-    note = progress.closing_note([pushed])
+    assert closing.closing_words([sliding]) == "the tip slid without a stick after its start-up at t = 0.20 s"
+    assert closing.closing_words([sliding, pushed]) == \
+        f"mu-static = 0.35: {closing.closing_words([sliding])}; mu-static = 0.5: {said}"
+    note = closing.closing_note([pushed])
     first, second = stick_slip.definition(pushed.scene)
     assert note == f"{said} ({first} {second})" and "stick of at least 10 steps (10 ms)" in note
 

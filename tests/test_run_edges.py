@@ -14,9 +14,11 @@ import pytest
 
 import simulator
 import time_integrator
-import viewer.log
+import analysis.log
 from helpers.command import run_main as main
-from viewer import cli, draw, plots, whole_files
+from viewer.command import cli
+from viewer.pictures import draw, plots
+from viewer.output import whole_files
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -24,8 +26,8 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 def log_steps(path):
     """The steps log.csv holds, after checking every row is whole."""
     rows = path.read_text().splitlines()
-    assert rows[0] == ",".join(viewer.log.COLUMNS)
-    assert all(len(r.split(",")) == len(viewer.log.COLUMNS) for r in rows)
+    assert rows[0] == ",".join(analysis.log.COLUMNS)
+    assert all(len(r.split(",")) == len(analysis.log.COLUMNS) for r in rows)
     return [int(r.split(",")[0]) for r in rows[1:]]
 
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import square_mesh
-from viewer import whole_files
+from viewer.output import whole_files
 
 
 def test_mesh_order_and_springs():

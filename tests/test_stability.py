@@ -22,7 +22,7 @@ import BarrierEnergy
 import simulator
 from closed_forms import downhill, resting_scene
 from helpers.scenes import clear_scene
-from viewer import diagnostics
+from analysis import diagnostics
 
 
 def energy_slack(scene, E0, v_max, dv_max):
@@ -157,9 +157,9 @@ def test_resting_square_stays_put(angle_deg, mu, extra):
     scene = resting_scene(math.tan(math.radians(angle_deg)), mu, k=1e9, **extra)
     assert mu >= 2 * math.tan(math.radians(angle_deg))
     tangent = downhill(scene)
-    bottom = np.arange(scene.n_seg + 1) * (scene.n_seg + 1)        # the bottom row, node i*(n_seg+1)
+    bottom = np.arange(scene.params["n_seg"] + 1) * (scene.params["n_seg"] + 1)        # the bottom row, node i*(n_seg+1)
     touching = BarrierEnergy.distances(scene.x0[bottom], scene.n, scene.o) < scene.dhat
-    assert touching.sum() > (scene.n_seg + 1) / 2      # on steep slopes the uphill corner lifts off
+    assert touching.sum() > (scene.params["n_seg"] + 1) / 2      # on steep slopes the uphill corner lifts off
     start = None
     for rec in run_checked(scene, int(round((SETTLE + 1.0) / scene.h))):
         if rec.t < SETTLE - 1e-12:
@@ -179,7 +179,7 @@ def test_unresolvable_time_step_is_reported(kwargs):
     resolved (the run still keeps every invariant above); where it does not, it says nothing."""
     scene = clear_scene(**kwargs)
     travel = np.hypot(*scene.v0[0]) * scene.h + 9.81 * scene.h ** 2
-    if travel > scene.side_len:
+    if travel > scene.params["side_len"]:
         assert len(scene.warnings) == 1 and "not resolved" in scene.warnings[0]
         assert f"h = {scene.h:g}" in scene.warnings[0]
     else:

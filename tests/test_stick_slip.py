@@ -1,4 +1,4 @@
-"""viewer/stick_slip.py: the one count of the chalk's stick-slip cycles (the closing line, the page, the
+"""analysis/stick_slip.py: the one count of the chalk's stick-slip cycles (the closing line, the page, the
 pictures, the figure and tests/test_chalk.py use it), checked on tip histories built segment by segment,
 whose cycles are known from how they were built."""
 import types
@@ -8,7 +8,7 @@ import pytest
 
 import simulator
 from figures import stick_slip as figure
-from viewer import stick_slip
+from analysis import stick_slip
 
 H, EPSV, DRIVE, START = 1e-3, 1e-4, 0.01, 0.2
 

@@ -1,4 +1,4 @@
-"""summary.png's layout (viewer.summary.plan, which draw_summary draws): no snapshot or time label is
+"""summary.png's layout (viewer.pictures.summary.plan, which draw_summary draws): no snapshot or time label is
 cut by the picture's border, none overlaps another but the first and the last, and the scale reads
 as a round number of pixels per metre."""
 import itertools
@@ -8,7 +8,8 @@ import pytest
 
 import simulator
 from helpers.command import recorded as tracks_of
-from viewer import draw, progress, stick_slip, summary
+from viewer.pictures import draw, summary
+from analysis import closing, stick_slip
 
 
 def overlap(a, b, gap):
@@ -54,7 +55,7 @@ def test_every_line_of_text_fits_and_the_chalk_says_its_stick_slip_not_rest(tmp_
     pygame = draw.load_pygame()
     font, small = pygame.font.Font(None, 24), pygame.font.Font(None, 20)
     square = tracks_of(tmp_path / "square", [simulator.build_scene()], 20)
-    assert summary.header_lines(square, ["h"]) == ["h", progress.closing_note(square)]
+    assert summary.header_lines(square, ["h"]) == ["h", closing.closing_note(square)]
     assert summary.panel_words(square[0]) is None
     chalks = tracks_of(tmp_path / "chalk", [simulator.build_chalk_scene(), simulator.build_chalk_scene(drag=True)], 150)
     plan = summary.plan(pygame, chalks, ["chalk 9 x 1 cm, pushed at tilt = 60 deg   grip k_hand = 2000 N/m   "

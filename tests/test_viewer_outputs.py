@@ -16,13 +16,15 @@ import pytest
 
 import simulator
 import square_mesh
-from viewer import cli
+from viewer.command import cli
 from helpers.command import run_main
 from helpers.fakes import fill_disk_after
 from helpers import legibility
-import viewer.log
-import viewer.whole_files
-from viewer import diagnostics, draw, frames, plots, recording, summary
+import analysis.log
+import viewer.output.whole_files
+from analysis import diagnostics
+from viewer.pictures import draw, frames, plots, summary
+from viewer.command import recording
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -52,7 +54,7 @@ def default_run(tmp_path_factory):
 def test_log_has_a_t0_row_and_the_energy_budget_adds_up(default_run):
     out, _ = default_run
     rows = read_csv(out / "log.csv")
-    assert list(rows[0]) == viewer.log.COLUMNS and len(rows) == 151
+    assert list(rows[0]) == analysis.log.COLUMNS and len(rows) == 151
     assert rows[0]["step"] == "0" and float(rows[0]["t"]) == 0.0 and float(rows[0]["E_kinetic"]) == 0.0
     E = {k: np.array([float(r[k]) for r in rows]) for k in ("E_kinetic", "E_gravity", "E_spring", "E_barrier",
                                                              "E_total", "W_friction", "D_numerical")}
@@ -403,7 +405,7 @@ def assert_whole_rows(path):
     text = path.read_text()
     assert text.endswith("\n")
     rows = list(csv.reader(io.StringIO(text)))
-    assert rows[0] == viewer.log.COLUMNS and all(len(r) == len(viewer.log.COLUMNS) for r in rows)
+    assert rows[0] == analysis.log.COLUMNS and all(len(r) == len(analysis.log.COLUMNS) for r in rows)
     return [int(r[0]) for r in rows[1:]]
 
 
@@ -446,7 +448,7 @@ def test_a_full_disk_is_one_line_exit_1_and_keeps_what_was_written(tmp_path, mon
 
 
 def test_a_log_row_that_cannot_be_written_whole_is_cut_back(tmp_path, monkeypatch):
-    log = viewer.whole_files.LineFile(str(tmp_path / "log.csv"), ",".join(viewer.log.COLUMNS))
+    log = viewer.output.whole_files.LineFile(str(tmp_path / "log.csv"), ",".join(analysis.log.COLUMNS))
     size = os.path.getsize(tmp_path / "log.csv")
     real = os.write
 

@@ -1,9 +1,9 @@
-"""viewer/whole_files.py: files written whole."""
+"""viewer/output/whole_files.py: files written whole."""
 import os
 
 import pytest
 
-from viewer import whole_files
+from viewer.output import whole_files
 
 
 def test_atomic_write_leaves_old_file_on_failure(tmp_path):

@@ -18,7 +18,11 @@ import simulator
 from helpers.fakes import chalk_at, fill_disk_after
 from helpers import legibility
 import time_integrator
-from viewer import cli, diagnostics, draw, frames, live, marks, run, window
+from viewer.command import cli, run
+from analysis import diagnostics
+from viewer.pictures import draw, frames, marks
+from viewer.demo import live, window
+import viewer.main
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 H = simulator.DEFAULTS["h"]
@@ -84,7 +88,7 @@ def frames_until(condition, limit=5000):
 
 
 def run_window(argv, **kw):
-    """viewer.window.run_window as the command line calls it, for `argv`."""
+    """viewer.demo.window.run_window as the command line calls it, for `argv`."""
     (args,) = cli.parse_command_line(argv)
     with run.Signals() as signals:
         return window.run_window(cli.plan_from_args([args]), args.speed, args.size, signals, **kw)
@@ -160,7 +164,7 @@ def test_the_window_writes_the_files_a_run_without_it_writes(tmp_path, flags, fr
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr(window.LiveWindow, "loop", loop)
         assert run_window(["--window", *flags, "--out", str(windowed)], clock=clock) == 0
-    assert cli.main([*flags, "--out", str(plain)]) == 0
+    assert viewer.main.main([*flags, "--out", str(plain)]) == 0
     names = sorted(p.name for p in plain.iterdir())
     assert sorted(p.name for p in windowed.iterdir()) == names
     assert len(names) == 2 * frame_count + 4 + ("chalk" in flags)      # the chalk's marks.csv
@@ -183,19 +187,19 @@ def test_without_out_nothing_is_written(tmp_path, monkeypatch):
 
 
 def test_main_hands_window_runs_to_the_window(monkeypatch):
-    """--window goes to viewer.window.run_window, with no output folder unless --out is given; other
-    runs to viewer.run.to_files, a comparison as one plan."""
+    """--window goes to viewer.demo.window.run_window, with no output folder unless --out is given; other
+    runs to viewer.command.run.to_files, a comparison as one plan."""
     seen = []
     monkeypatch.setattr(window, "run_window", lambda plan, speed, size, signals: seen.append((plan, speed, size)) or 0)
     monkeypatch.setattr(run, "to_files", lambda plan, signals: seen.append(plan) or 0)
-    assert cli.main(["--window", "--speed", "0.25", "--size", "500"]) == 0
-    assert cli.main(["--steps", "3", "--mu", "0.1,0.2"]) == 0
+    assert viewer.main.main(["--window", "--speed", "0.25", "--size", "500"]) == 0
+    assert viewer.main.main(["--steps", "3", "--mu", "0.1,0.2"]) == 0
     assert seen[0][0].out is None and seen[0][1:] == (0.25, 500)
     assert [scene.mu for scene in seen[1].scenes] == [0.1, 0.2] and seen[1].out is None      # a new folder
 
 
 def test_a_comparison_in_the_window_is_refused_in_one_line(capsys):
-    assert cli.main(["--window", "--mu", "0.1,0.2,0.3"]) == 2
+    assert viewer.main.main(["--window", "--mu", "0.1,0.2,0.3"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert err == ["simulator.py: error: --window shows one run; --mu was given 3 values (compare them without "
                    "--window)"]
@@ -205,7 +209,7 @@ def test_without_out_a_run_writes_to_a_new_folder(tmp_path, monkeypatch):
     """--out has no default in the parser (the window writes nothing without it); a run to files
     writes to a new folder under output/ then."""
     monkeypatch.chdir(tmp_path)
-    assert cli.main(["--steps", "1", "--no-frames"]) == 0
+    assert viewer.main.main(["--steps", "1", "--no-frames"]) == 0
     (folder,) = (tmp_path / "output").iterdir()
     assert folder.name.startswith("square-") and len(read_log(folder)) == 2
 
@@ -560,7 +564,7 @@ def test_a_shell_with_no_display_gets_the_error():
     (["--size", "10"], "--size: "), (["--size", "1e9"], "--size: "), (["--size", "650.5"], "--size: "),
     (["--speed", "0"], "--speed: "), (["--speed", "-1"], "--speed: "), (["--speed", "nan"], "--speed: ")])
 def test_bad_window_flags_are_one_line_and_exit_code_2(capsys, flags, message):
-    assert cli.main(["--window", *flags]) == 2
+    assert viewer.main.main(["--window", *flags]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith(f"simulator.py: error: {message}"), err
 

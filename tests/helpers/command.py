@@ -3,15 +3,17 @@ import io
 import sys
 
 import simulator
-from viewer import cli, draw, recording, run
+from viewer.command import recording, run
+from viewer.pictures import draw
+import viewer.main
 
 
 def run_main(*args):
-    """viewer.cli.main(args) in this process: (exit code, stderr lines)."""
+    """viewer.command.viewer.main.main(args) in this process: (exit code, stderr lines)."""
     err, old = io.StringIO(), sys.stderr
     sys.stderr = err
     try:
-        code = cli.main(list(args))
+        code = viewer.main.main(list(args))
     finally:
         sys.stderr = old
     return code, err.getvalue().splitlines()
@@ -19,7 +21,7 @@ def run_main(*args):
 
 def recorded(folder, scenes, steps):
     """The scenes run side by side for `steps` steps into `folder`, as a run without frames records
-    them (viewer.recording): their Tracks, with what the pictures need, and each one's log."""
+    them (viewer.command.recording): their Tracks, with what the pictures need, and each one's log."""
     tags = [f"run{i}" for i in range(len(scenes))] if len(scenes) > 1 else [""]
     plan = run.Plan(scenes, [f"run {i}" for i in range(len(scenes))], tags, [steps] * len(scenes), str(folder),
                     stride=3, frames=False, forces=False)

@@ -4,7 +4,8 @@ import errno
 import os
 
 import simulator
-from viewer import live, whole_files
+from viewer.demo import live
+from viewer.output import whole_files
 
 
 def fill_disk_after(monkeypatch, writes):

@@ -16,7 +16,7 @@ import numpy as np
 
 import FrictionEnergy
 import square_mesh
-from viewer import marks as tip_marks
+from viewer.pictures import marks as tip_marks
 
 RESOLUTION = 900            # pixels, square frames
 SCALE = 200.0               # pixels per metre, the lecture's
@@ -34,7 +34,7 @@ MARK_SPACING = 0.5          # m between marks along the slope
 ARROW_PER_WEIGHT = 1.0      # m of arrow for a force equal to the weight of the (first) square, M |g|
 FRICTION_ZOOM = 5.0         # friction arrows drawn this much longer (|F| <= mu lambda, mu ~ 0.1)
 ARROW_FIT = 0.75            # m: no arrow longer (3/4 of the square); the scale coarsens instead
-HAND_COLOR = (73, 0, 85)    # the chalk's hand, its targets and springs (its marks' colours: viewer.marks)
+HAND_COLOR = (73, 0, 85)    # the chalk's hand, its targets and springs (its marks' colours: viewer.pictures.marks)
 MIN_CAP_HEIGHT = 0.022      # of the picture's height: no capital letter drawn is shorter (16 arcminutes from
                             # 4 screen heights in the default window: docs/live-demo.md, "Readable")
 TITLE_SCALE = 1.2           # the title's capitals this much taller
@@ -57,7 +57,7 @@ def zoom(scene):
     """How much closer than the lecture's SCALE a scene is drawn: 1 for the square (metres), and for a
     smaller body (the chalk) a round factor that draws it about 2 m of the lecture's scale across (20
     for the 9 cm chalk: 4000 px/m, the chalk 360 px long)."""
-    if scene.n_seg is not None:
+    if "n_seg" in scene.params:                 # the square
         return 1.0
     return nice_number(2.0 / float(np.hypot(*np.ptp(scene.x0, axis=0))))
 
@@ -161,7 +161,8 @@ def draw_square(pygame, surface, scene, x, view, color=BLUE, nodes=True):
 
 def spacing(scene):
     """The mesh's node spacing, m: the square's side_len / n_seg; else the shortest spring's rest length."""
-    return scene.side_len / scene.n_seg if scene.n_seg else float(np.sqrt(scene.l2.min()))
+    p = scene.params
+    return p["side_len"] / p["n_seg"] if "n_seg" in p else float(np.sqrt(scene.l2.min()))
 
 
 def reference_force(scene):
@@ -289,7 +290,7 @@ def fonts(pygame, height=RESOLUTION):
 def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None, reserve=(0, 0)):
     """One frame: the slope, every run's square in its colour, the forces of each (when given), the
     time, a legend for the runs (when there are several) and for the arrows; the chalk's hand, marks
-    and the strip magnifying them (viewer.marks), off `reserve`: (rows under the legends, rows at the
+    and the strip magnifying them (viewer.pictures.marks), off `reserve`: (rows under the legends, rows at the
     bottom) the caller writes in (None: no strip). Returns the frame and the first row below its text.
     `runs`: dicts of scene, x, label, color, and normal, friction ((N, 2) forces), marks (the chalk's)."""
     surface = pygame.Surface((view.size, view.size))

@@ -1,6 +1,6 @@
 """The live demo without its window: the run one step or one Newton iteration at a time, paced to
 wall-clock time, what the keys do to it, its files (--out) and its warnings. No pygame here: the
-window (viewer.window) reads the keys, calls these and draws; tests drive them with a fake clock.
+window (viewer.demo.window) reads the keys, calls these and draws; tests drive them with a fake clock.
 
 The run is deterministic: after a restart the steps computed again are the same, so the files hold
 each step once, the furthest the run got.
@@ -11,7 +11,9 @@ from collections import deque
 
 import time_integrator
 from simulator import StepRecord
-from viewer import diagnostics, draw, frames, marks, progress, recording
+from analysis import diagnostics
+from viewer.pictures import draw, frames, marks
+from viewer.command import progress, recording
 
 FRAME_BUDGET = 1.0 / 30   # s of stepping before the loop draws and reads the keys again
 DUE_SLACK = 1e-9          # of a step: t + h and the time due may differ by round-off
@@ -160,7 +162,7 @@ class Pacer:
 # ------------------------------------------------------------------------------------------------
 
 class Files:
-    """What a run without the window writes, written by the same code (viewer.recording, frames) into
+    """What a run without the window writes, written by the same code (viewer.command.recording, frames) into
     `folder` (files.RunFolder): log.csv a row as each step ends, a frame and OBJ every `stride`
     steps (unless --no-frames), and at the end summary.png, plots.png and index.html. Each step is
     written once: the steps computed again after a restart (r) are the same numbers and are not
@@ -193,7 +195,7 @@ class LiveDemo:
     """The run in play or paused, at `speed` times the wall clock, and what each key does to it: play
     and pause, one time step, one Newton iteration, restart. Completed steps go to `output` (the Files,
     or None); what a run to files warns about is noted in `warnings` (kind -> text) and, where the
-    files have not said it, on `log`. viewer.window.LiveWindow draws it and reads the keys."""
+    files have not said it, on `log`. viewer.demo.window.LiveWindow draws it and reads the keys."""
 
     def __init__(self, scene, steps, speed=1.0, output=None, clock=None, log=None):
         self.scene, self.log = scene, log or sys.stderr

@@ -18,10 +18,12 @@ import numpy as np
 
 import simulator
 import time_integrator
-from viewer import draw, files, pictures, recording
-from viewer.frames import frame_count
-from viewer.progress import closing_words
-from viewer.startup import EXIT_CODES, REASONS
+from viewer.pictures import draw, run_pictures
+from viewer.output import files
+from viewer.command import recording
+from viewer.pictures.frames import frame_count
+from analysis.closing import closing_words
+from viewer.command.startup import EXIT_CODES, REASONS
 
 class Stopped(BaseException):
     """SIGINT (Ctrl+C) or SIGTERM: the run stops, says so in one line and keeps what it wrote."""
@@ -121,12 +123,12 @@ def summary_header(plan):
     if scene.hand is not None:
         lines = [f"chalk {p['length'] * 100:g} x {p['width'] * 100:g} cm, {'dragged' if p['drag'] else 'pushed'} "
                  f"at tilt = {p['tilt']:g} deg   grip k_hand = {p['k_hand']:g} N/m   drive = {p['drive']:g} m/s   "
-                 f"mu_s = {scene.mu_s:g}   mu = {scene.mu:g}   v_c = {scene.v_c:g} m/s",
+                 f"mu_s = {p['mu_s']:g}   mu = {scene.mu:g}   v_c = {p['v_c']:g} m/s",
                  f"h = {scene.h:g} s   k = {p['k']:g} N/m   dhat = {scene.dhat:g} m   kappa = {scene.kappa:g}   "
                  f"eps_v = {scene.epsv:g} m/s   tol = {scene.tol:g} m/s"]
         return (["comparison: " + ", ".join(plan.labels) + "; otherwise as the first:"] if len(plan.scenes) > 1
                 else []) + lines
-    lines = [f"mu = {scene.mu:g}   h = {scene.h:g} s   k = {p['k']:g} N/m   n_seg = {scene.n_seg}",
+    lines = [f"mu = {scene.mu:g}   h = {scene.h:g} s   k = {p['k']:g} N/m   n_seg = {p['n_seg']}",
              f"slope normal = {None if scene.n is None else np.round(scene.n, 4).tolist()}   "
              f"dhat = {scene.dhat:g} m   kappa = {scene.kappa:g}   eps_v = {scene.epsv:g} m/s"]
     if len(plan.scenes) > 1:
@@ -165,7 +167,7 @@ def end(plan, signals, folder, tracks, frame_log, failure, messages, done):
         try:
             for track in tracks:
                 track.last_snapshot()
-            pictures.write(tracks, folder, plan.stride, plan.frames, frame_log, summary_header(plan))
+            run_pictures.write(tracks, folder, plan.stride, plan.frames, frame_log, summary_header(plan))
         except Stopped as stopped:
             failure = failure or Failure(stopped.code, f"stopped: {stopped.reason} while writing the last pictures")
         except ENDINGS as err:
@@ -188,7 +190,7 @@ def kept(tracks, folder, plan):
     if not tracks:
         return "nothing written" + (f" in {folder.folder}/" if folder is not None else "")
     steps = min(track.logged or 0 for track in tracks)
-    left_out = [name for name in pictures.names(tracks)
+    left_out = [name for name in run_pictures.names(tracks)
                 if (plan.frames or name != "index.html") and name not in folder.written]
     return f"{steps} steps kept in {folder.folder}/" + (f"; left out: {', '.join(left_out)}" if left_out else "")
 

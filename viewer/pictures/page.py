@@ -15,9 +15,10 @@ import html
 import json
 import math
 
-from viewer import draw, log, stick_slip
+from viewer.pictures import draw
+from analysis import log, stick_slip
 
-# the figures beside each frame: log.csv's columns by name (viewer/log.py), each shown as log.csv writes
+# the figures beside each frame: log.csv's columns by name (analysis/log.py), each shown as log.csv writes
 # it (the format given here where it is not: min_distance to 5 digits instead of 9)
 FIGURES = {"step": None, "t": None, "newton_iterations": None, "residual": None, "min_distance": ".4e",
            "contacts_sticking": None, "contacts_sliding": None}
@@ -160,7 +161,7 @@ def header(name):
 
 def run_figures(tracks):
     """What the page's table says of each whole run, below the figures of the frame, as page_html's keywords:
-    for the square when it came to rest (`rest`); for the chalk its tip's stick-slip (viewer/stick_slip.py),
+    for the square when it came to rest (`rest`); for the chalk its tip's stick-slip (analysis/stick_slip.py),
     a row per figure (`rows`)."""
     if tracks[0].scene.hand is None:
         return {"rest": [track.rest_since for track in tracks]}

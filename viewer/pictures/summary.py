@@ -17,7 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from viewer import draw, progress, stick_slip
+from analysis import closing, stick_slip
+from viewer.pictures import draw
 
 SCALE = 100.0       # pixels per metre
 MAX_WIDTH = 2400    # pixels; beyond, the scale shrinks (the same for every panel)
@@ -112,12 +113,12 @@ def slope_room(scene, lo, hi, unit, scale, label_h):
 
 def header_lines(tracks, header):
     """summary.png's lines of text above the scale bar: `header`, then what the runs showed: when the square
-    came to rest (progress.closing_note, each run's); for the chalk what its stick-slip counts, each run's
+    came to rest (closing.closing_note, each run's); for the chalk what its stick-slip counts, each run's
     own figures in its panel (panel_words)."""
     if tracks[0].scene.hand is not None:
         first, second = stick_slip.definition(tracks[0].scene)
         return header + ["stick-slip, " + first, second]
-    return header + [progress.closing_note(tracks)]
+    return header + [closing.closing_note(tracks)]
 
 
 def panel_words(track):

@@ -8,7 +8,7 @@ sticks, above it slides; (3) Newton iterations per step.
 Several runs (a comparison): (1) displacement of the centre of mass along the slope, (2) the
 largest tangential speed of a contact node, (3) Newton iterations per step, one colour per run.
 The chalk (_chalk_panels), one run: the energy budget (with the hand's energy and work), the tip's speed
-against the hand's drive, the board's normal force, and each stick-slip cycle's slip (viewer/stick_slip.py);
+against the hand's drive, the board's normal force, and each stick-slip cycle's slip (analysis/stick_slip.py);
 a comparison: the last three, one colour per run, and the friction work, a step down at each slip.
 The panels share their time axis, so the page (page.py) draws one cursor across all of them.
 """
@@ -16,7 +16,8 @@ import math
 
 import numpy as np
 
-from viewer import diagnostics, draw, log, stick_slip
+from analysis import diagnostics, log, stick_slip
+from viewer.pictures import draw
 
 WIDTH, PANEL_HEIGHT, TOP = 900, 250, 10
 LEFT, RIGHT = 80, 700           # the time axis's pixel columns; the legends sit right of it
@@ -253,7 +254,7 @@ def _chalk_panels(pygame, surface, font, t_max, tracks, data):
 
 
 def _cycles_panel(pygame, surface, font, top, t_max, tracks):
-    """Each stick-slip cycle of each run (viewer/stick_slip.py) as a dot: its slip length (mm) at the time the
+    """Each stick-slip cycle of each run (analysis/stick_slip.py) as a dot: its slip length (mm) at the time the
     slip starts; the legend gives each run's count, mean slip, period and the fraction of the drive stuck."""
     counted = [stick_slip.of_track(tr) for tr in tracks]
     lengths = [1e3 * length for r in counted for _, length, _ in r.slips]

@@ -1,10 +1,10 @@
-"""What a run says on stderr as it goes: progress lines, warnings about its steps, and what it showed
-(when the square came to rest, the chalk's stick-slip). The words of each are here once; a run to files
-(recording.Track) and the window (live.LiveDemo) say them, each warning the first time it applies.
+"""What a run says on stderr as it goes: progress lines and warnings about its steps (what it showed,
+its closing words, are analysis.closing's). A run to files (recording.Track) and the window
+(live.LiveDemo) say them, each warning the first time it applies.
 """
 import time
 
-from viewer import diagnostics, stick_slip
+from analysis import diagnostics
 
 PROGRESS_EVERY = 2.0        # s of wall time: a progress line at least this often, whatever the run's length
 
@@ -72,41 +72,3 @@ def step_warnings(scene, step, t, report, inverted):
                            f"{report.residual:.2g} m/s above tol = {scene.tol:g} m/s (E can no longer resolve a "
                            f"smaller step); the run goes on, such steps are flagged newton_stalled in log.csv")
     return said
-
-
-def rest_words(tracks):
-    """When each run came to rest (every contact node below eps_v from then on, as log.csv's
-    contacts_sliding says), as a sentence after its subject: 'came to rest at t = 5.53 s', 'was still
-    sliding at t = 3.00 s', or (no contact slides: in the air) 'had not come to rest by t = 0.60 s'."""
-    def words(track):
-        if track.rest_since is None:
-            if track.samples.last.sliding:
-                return f"was still sliding at t = {track.t:.2f} s"
-            return f"had not come to rest by t = {track.t:.2f} s"
-        return f"came to rest at t = {track.rest_since:.2f} s"
-    if len(tracks) == 1:
-        return "the square " + words(tracks[0])
-    return "; ".join(f"{track.label}: {words(track)}" for track in tracks)
-
-
-def stick_slip_words(tracks):
-    """What each chalk run's tip did once the hand drove (viewer/stick_slip.py), in words: 'stick-slip: 25
-    slips, mean slip 1.06 mm, period 107 ms, tip stuck 86 % of the drive'; for a comparison each run's,
-    after its label."""
-    said = [stick_slip.words(stick_slip.of_track(track)) for track in tracks]
-    if len(tracks) == 1:
-        return said[0]
-    return "; ".join(f"{track.label}: {words}" for track, words in zip(tracks, said))
-
-
-def closing_words(tracks):
-    """What the run showed, as its closing line says it: for the square when it came to rest (rest_words),
-    for the chalk its tip's stick-slip (stick_slip_words)."""
-    return stick_slip_words(tracks) if tracks[0].scene.hand is not None else rest_words(tracks)
-
-
-def closing_note(tracks):
-    """closing_words with what they count, as the page (and the square's summary.png) says them."""
-    if tracks[0].scene.hand is not None:
-        return f"{stick_slip_words(tracks)} ({' '.join(stick_slip.definition(tracks[0].scene))})"
-    return rest_words(tracks) + " (every contact below eps_v from then on)"

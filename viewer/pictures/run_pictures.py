@@ -1,10 +1,11 @@
 """The pictures of a whole run, written after its steps from what its tracks kept: the chalk's
-marks.csv (its mark, viewer.marks), summary.png, plots.png and, when frames were written, index.html
-to play them. viewer.run.end writes them however the run ended (done, a failed step, a signal), each
+marks.csv (its mark, viewer.pictures.marks), summary.png, plots.png and, when frames were written, index.html
+to play them. viewer.command.run.end writes them however the run ended (done, a failed step, a signal), each
 whole as it is done.
 """
-from viewer import draw, files, marks, page, plots, summary
-from viewer.progress import closing_note
+from analysis.closing import closing_note
+from viewer.output import files
+from viewer.pictures import draw, marks, page, plots, summary
 
 NAMES = ("summary.png", "plots.png", "index.html")      # in the order written, after the marks
 
@@ -16,7 +17,7 @@ def names(tracks):
 
 def write(tracks, folder, stride, frames, frame_log, header):
     """Write the pictures of `tracks` into `folder` (files.RunFolder): `header`, the lines of text
-    summary.png and the page open with (each then says what the run showed: progress.closing_note);
+    summary.png and the page open with (each then says what the run showed: closing.closing_note);
     `frame_log`, the frames.FrameInfo of each frame written."""
     for tr in tracks:
         if tr.marks is not None:

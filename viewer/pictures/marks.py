@@ -15,14 +15,14 @@ why.
 Drawn at the picture's scale under the board (a column of pixels holds several bins: their mean),
 and in a strip of the board about the tip magnified MAGNIFICATION times (x8: a bin is 3.2 px in the
 900-px frames), each run's mark scaled to its own darkest bin (black). No pygame import (it comes in
-as an argument) and no import of viewer.draw (which draws the frame and calls these)."""
+as an argument) and no import of viewer.pictures.draw (which draws the frame and calls these)."""
 from dataclasses import dataclass
 from itertools import pairwise
 
 import numpy as np
 
 import square_mesh
-from viewer import diagnostics
+from analysis import diagnostics
 
 BIN = 1e-4                  # m of board per bin of the mark: 0.1 mm
 UNIT = "N m per 0.1 mm"     # what a bin holds: lambda_k times the length slid in it, summed

@@ -8,10 +8,10 @@ initial state; Esc, q or the window's close button end the run. At the end of th
 stays open on the last frame until closed.
 
 Here: the window's loop (the keys, the status lines, drawing), opening the display and the command
-line's entry point. What the keys do, the pacing and the files are viewer.live's (no pygame); the
-frames are drawn by viewer.draw, as in the files (the slope's marks, the contact forces; the chalk
+line's entry point. What the keys do, the pacing and the files are viewer.demo.live's (no pygame); the
+frames are drawn by viewer.pictures.draw, as in the files (the slope's marks, the contact forces; the chalk
 zoomed as its frames zoom it, its hand and the marks its tip leaves, live.LiveRun.marks, with their
-magnified strip beside the chalk: viewer.marks); a Newton iterate by viewer.newton_view. Files are
+magnified strip beside the chalk: viewer.pictures.marks); a Newton iterate by viewer.demo.newton_view. Files are
 written only when --out is given: then those of a run without the window, by the same code, each
 step once.
 """
@@ -21,7 +21,10 @@ import os
 import sys
 
 import utils
-from viewer import diagnostics, draw, frames, live, newton_view, run as orchestration
+from analysis import diagnostics
+from viewer.pictures import draw, frames
+from viewer.demo import live, newton_view
+from viewer.command import run as orchestration
 
 FPS = 60                  # frames drawn per second at most
 MIN_FPS = 20              # ... and at least, when the steps fall behind (the other frames are dropped)
@@ -99,10 +102,10 @@ class LiveWindow(live.LiveDemo):
     # -- drawing --------------------------------------------------------------------------------
 
     def draw(self):
-        """The frame a run without the window writes (viewer.draw: the slope with its marks, the
+        """The frame a run without the window writes (viewer.pictures.draw: the slope with its marks, the
         square, the contact forces; the chalk's board, hand and tip's marks), or the Newton iterate in
         progress instead of the forces; the window's status under the title and legend (ending at
-        self.text_bottom), the keys at the bottom, the chalk's marks' strip (viewer.marks) off both;
+        self.text_bottom), the keys at the bottom, the chalk's marks' strip (viewer.pictures.marks) off both;
         within a Newton step, its inset (self.inset) in the room between them instead."""
         run, pg = self.run, self.pygame
         x = run.shown_x
@@ -267,14 +270,14 @@ def run_window(plan, speed, size, signals, clock=None, log=None):
 
 def _demo(pygame, plan, speed, size, signals, clock, log):
     """The window on the display, with the files when --out is given, until it is closed; the run ends
-    as a run without the window does (viewer.run.end)."""
+    as a run without the window does (viewer.command.run.end)."""
     scene = plan.scenes[0]
     folder = plan.folder(signals) if plan.out is not None else None
     output, window, failure = None, None, None
     try:
         orchestration.warn(plan, log)
         screen = pygame.display.set_mode((window_size(size, pygame),) * 2)
-        pygame.display.set_caption(f"simulator.py: mu = {scene.mu:g}, " + (f"n_seg = {scene.n_seg}" if scene.n_seg
+        pygame.display.set_caption(f"simulator.py: mu = {scene.mu:g}, " + (f"n_seg = {scene.params['n_seg']}" if scene.hand is None
                                    else f"chalk, grip {scene.hand.k_hand:g} N/m"))
         if folder is not None:
             output = live.Files(plan, folder, log)

@@ -20,7 +20,7 @@ import secrets
 import stat
 
 import utils
-from viewer import whole_files
+from viewer.output import whole_files
 
 OUTPUT = "output"       # where a run's folder is made without --out
 TEMPORARY_EXTRA = len(".tmp-12345678-")
@@ -40,7 +40,7 @@ def log_csv(tag=""):
 
 
 def marks_csv(tag=""):
-    """The chalk's mark (viewer.marks.csv_text): marks.csv, or marks_grip1000.csv for one run of a
+    """The chalk's mark (viewer.pictures.marks.csv_text): marks.csv, or marks_grip1000.csv for one run of a
     comparison."""
     return f"marks{'_' + tag if tag else ''}.csv"
 

@@ -5,16 +5,15 @@ simulator.CHALK (CHALK_FLAGS and the SCENE_FLAGS the chalk has, CHALK_SHARED), a
 given reach `simulator.build_scene` (`build_chalk_scene`). Any one scalar scene flag may take a comma-separated list (`--mu 0.1,0.11,0.2`)
 and a pair flag a ';'-separated list of pairs (`--v0 "1,0;-2,0"`): one run per value, compared side by
 side. A bad command line is one line on stderr naming the flag, and exit code 2, before anything is
-written; the run itself (viewer/run.py, viewer/window.py) ends in one line too.
+written; the run itself (viewer/command/run.py, viewer/demo/window.py) ends in one line too.
 """
 import argparse
 import math
 import re
-import sys
 
 import simulator
 import utils
-from viewer import run
+from viewer.command import run
 
 DURATION = 6.0      # s, a run's and a comparison's: long enough to see mu = 0.11 come to rest (about 5.5 s)
 CHALK_DURATION = 3.0    # s, the chalk's: about 17 stick-slip cycles of the pushed chalk
@@ -298,30 +297,10 @@ def default_label(scene):
     """A single run's label: 'mu = 0.11'; the chalk's 'pushed, mu_s = 0.5, mu = 0.35'."""
     if scene.hand is None:
         return f"mu = {scene.mu:g}"
-    return f"{'dragged' if scene.params['drag'] else 'pushed'}, mu_s = {scene.mu_s:g}, mu = {scene.mu:g}"
+    return f"{'dragged' if scene.params['drag'] else 'pushed'}, mu_s = {scene.params['mu_s']:g}, mu = {scene.mu:g}"
 
 
 def flag_of(err):
     """'--flag: ' for the flag of the parameter a ValueError is about (utils.ParameterError), or ''."""
     flag = FLAG_OF.get(getattr(err, "parameter", None))
     return f"{flag}: " if flag else ""
-
-
-def main(argv=None):
-    """Run the command line; returns the exit code (messages on stderr)."""
-    with run.Signals() as signals:
-        try:
-            runs = parse_command_line(sys.argv[1:] if argv is None else argv)
-            plan = plan_from_args(runs)
-            if runs[0].window:
-                from viewer import window          # the window's module loads only for --window
-                return window.run_window(plan, runs[0].speed, runs[0].size, signals)
-            return run.to_files(plan, signals)
-        except CommandLineError as err:
-            print(f"simulator.py: error: {err}", file=sys.stderr)
-        except ValueError as err:
-            print(f"simulator.py: error: {flag_of(err)}{err}", file=sys.stderr)
-        except run.Stopped as stopped:
-            print(f"simulator.py: stopped: {stopped.reason}; nothing written", file=sys.stderr)
-            return stopped.code
-        return 2

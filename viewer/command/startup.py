@@ -1,7 +1,7 @@
 """`python simulator.py` (and `python -m figures`), before numpy loads: the process's settings, then
-the command line (viewer/cli.py, figures/cli.py).
+the command line (viewer/command/cli.py, figures/cli.py).
 
-Numpy, scipy and pygame take a moment to load. Until the run takes over its signals (viewer/run.py),
+Numpy, scipy and pygame take a moment to load. Until the run takes over its signals (viewer/command/run.py),
 Ctrl+C or SIGTERM during that moment end the program here, in one line, with nothing written.
 
 What the program says on stdout and stderr is best effort (BestEffort): a broken pipe (`2>&1 | head
@@ -55,7 +55,7 @@ def _stopped_while_starting(program, signum, frame):
     os._exit(EXIT_CODES[signum])
 
 
-def run_command_line(program="simulator.py", main="viewer.cli"):
+def run_command_line(program="simulator.py", main="viewer.main"):
     """The exit code of `main`'s main(argv). One BLAS thread (two on two busy cores made the small banded
     factorizations 10-25x slower: benchmarks/README.md), set before numpy loads."""
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")

@@ -10,7 +10,9 @@ from dataclasses import dataclass
 import numpy as np
 
 import square_mesh
-from viewer import diagnostics, draw, files, page
+from analysis import diagnostics
+from viewer.pictures import draw, page
+from viewer.output import files
 
 
 def frame_steps(tracks, stride):

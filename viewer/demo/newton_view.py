@@ -11,7 +11,7 @@ import numpy as np
 from scipy import ndimage, spatial
 
 import BarrierEnergy
-from viewer import draw
+from viewer.pictures import draw
 
 HINT = 0.035              # the window's arrows (the direction of p) are this fraction of the window long,
 HINT_FLOOR = 0.01         # ... drawn where |p_k| is at least this fraction of the largest

@@ -8,12 +8,12 @@ columns is these definitions as written here (tests/test_log.py checks it).
 
 Each row goes to the file in one write before that step's frame is saved, so the file is never more
 than one row (or one frame stride) ahead of the frames on disk and never holds half a row: a write
-that fails part way (a full disk) is cut back to the last whole row (viewer.whole_files.LineFile).
+that fails part way (a full disk) is cut back to the last whole row (viewer.output.whole_files.LineFile).
 """
 from dataclasses import dataclass
 from typing import Callable
 
-from viewer import diagnostics
+from analysis import diagnostics
 
 
 @dataclass(frozen=True)

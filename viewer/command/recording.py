@@ -4,16 +4,18 @@ A Track is one scene being run: it pulls StepRecords from simulator.simulate, tu
 Sample (one log.csv row, appended at once) and keeps what the plots, the summary and the page need.
 `record` advances every track to each frame's time (frames.frame_steps), then has the frame drawn
 with all of them (frames.FrameWriter), so a comparison (`--mu 0.1,0.11,0.2`) shows every run in each
-frame. What a run says on the way (progress, warnings) is viewer.progress's; the pictures written at
+frame. What a run says on the way (progress, warnings) is viewer.command.progress's; the pictures written at
 its end, viewer.pictures'.
 """
 from dataclasses import dataclass
 
 import numpy as np
 
-from viewer import diagnostics, files, log, marks
-from viewer.frames import FrameWriter, frame_steps
-from viewer.progress import Progress, step_warnings
+from analysis import diagnostics, log
+from viewer.output import files
+from viewer.pictures import marks
+from viewer.pictures.frames import FrameWriter, frame_steps
+from viewer.command.progress import Progress, step_warnings
 
 SNAPSHOT_EVERY = 0.1        # s of simulated time between the states kept for summary.png
 MAX_SAMPLES, MAX_SNAPSHOTS = 100_000, 2_000     # kept for the pictures, however long the run

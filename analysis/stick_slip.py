@@ -1,5 +1,5 @@
 """Stick-slip, counted on the chalk's tip: the one definition that a chalk run's closing line, its page,
-plots.png and summary.png (viewer/progress.py, page.py, plots.py, summary.py), the stick-slip figure
+plots.png and summary.png (viewer/command/progress.py, page.py, plots.py, summary.py), the stick-slip figure
 (figures/stick_slip.py) and the chalk's tests (tests/test_chalk.py) all count with.
 
 At each state the tip is stuck where its tangential speed |u| is below eps_v (the static branch of the

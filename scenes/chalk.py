@@ -1,0 +1,72 @@
+"""The lecture's closing remark: Rabinowicz's chalk, pushed or dragged across a board by a hand,
+stick-slips (docs/chalk.md: the scene as data, and where it departs from the lecture).
+
+    chalk = build_chalk_scene(k_hand=4000.0)    # the chalk's numbers (CHALK), one of them changed
+"""
+import math
+import types
+
+import numpy as np
+
+import HandEnergy
+import MassSpringEnergy
+import chalk_checks
+import square_mesh
+import utils
+from scenes.scene import Scene, StaticFriction, readonly
+
+CHALK = types.MappingProxyType({
+    "length": 0.09, "width": 0.01,  # m: the chalk, along its axis and across
+    "nx": 18, "ny": 2,          # cells along and across: (nx + 1)(ny + 1) nodes
+    "rho": 15.0,                # kg/m^2
+    "k": 1e5,                   # spring stiffness, N/m
+    "h": 1e-3,                  # time step, s
+    "gravity": (0.0, -9.81),    # m/s^2
+    "mu": 0.35,                 # kinetic friction coefficient
+    "mu_s": 0.5,                # static coefficient; mu_s = mu: one coefficient, the lecture's
+    "v_c": 1e-3,                # slip speed over which mu falls from mu_s to mu, m/s
+    "dhat": 1e-3, "kappa": 1e3,     # barrier activation distance (m) and stiffness
+    "epsv": 1e-4,               # friction's eps_v, m/s
+    "tol": 1e-6,                # Newton tolerance on ||p||_inf / h, m/s: eps_v / 100
+    "tilt": 60.0,               # degrees between the chalk and the board
+    "drag": False,              # False: pushed (the hand behind the tip); True: dragged
+    "k_hand": 2000.0,           # the grip: stiffness of each held node's spring, N/m
+    "held_columns": 3,          # the hand holds the nodes of this many columns at the far end
+    "press": 5e-4, "t_press": 0.1,  # the targets press this far into the board (m) over t_press (s),
+    "t_hold": 0.1, "drive": 0.01,   # hold for t_hold (s), then move along the board at drive (m/s)
+    "friction_updates": 0, "max_newton_iterations": 1000, "max_halvings": 60,
+    "newton_start": "x_tilde",  # from x^n + h v^n cut by CCD: a sliding tip starts sliding
+})
+
+
+def build_chalk_scene(**overrides):
+    """Rabinowicz's chalk: a mass-spring rectangle at `tilt` to a flat board (normal (0, 1) through
+    the origin), its tip corner at dhat, held by the hand at the far end, which moves along +x:
+    pushed, the chalk leans back over the tip; dragged, forward. A ValueError names a bad parameter."""
+    p = chalk_checks.check_params(CHALK, overrides)
+    x, e = square_mesh.rectangle(p["length"], p["width"], p["nx"], p["ny"], (0.0, -p["width"] / 2))
+    tilt = math.radians(p["tilt"])
+    a = np.array([math.cos(tilt) * (1.0 if p["drag"] else -1.0), math.sin(tilt)])   # tip to hand
+    x = x @ np.array([a, [-a[1], a[0]]])                       # rows (u, w) -> u a + w a_perp
+    x = x - [x[np.argmin(x[:, 1]), 0], x[:, 1].min() - p["dhat"]]      # the tip corner at (0, dhat)
+    held = np.arange((p["nx"] + 1 - p["held_columns"]) * (p["ny"] + 1), len(x))
+    t1, t2, down = p["t_press"], p["t_press"] + p["t_hold"], -p["press"]
+    hand = HandEnergy.Hand(nodes=readonly(held), rest=readonly(x[held]), k_hand=p["k_hand"],
+                           key_t=readonly([0.0, t1, t2, t2 + 1.0]),       # then on at drive
+                           key_d=readonly([[0.0, 0.0], [0.0, down], [0.0, down], [p["drive"], down]]))
+    terms = ["inertia", "spring"] + ["gravity"] * any(p["gravity"]) + ["hand", "barrier"]
+    terms += ["friction"] * (max(p["mu"], p["mu_s"]) > 0.0)
+    return Scene(
+        params=types.MappingProxyType(p), x0=readonly(x), v0=readonly(np.zeros_like(x)),
+        e=readonly(np.asfortranarray(e)), l2=readonly(MassSpringEnergy.squared_lengths(x, e)),
+        k=readonly(np.full(len(e), p["k"])),
+        m=readonly(np.full(len(x), p["rho"] * p["length"] * p["width"] / len(x))),
+        contact_area=readonly(np.full(len(x), p["width"] / p["ny"])), g=readonly(p["gravity"]),
+        n=readonly([0.0, 1.0]), o=readonly([0.0, 0.0]), mu=p["mu"], dhat=p["dhat"],
+        kappa=p["kappa"], epsv=p["epsv"], h=p["h"], tol=p["tol"],
+        friction_updates=p["friction_updates"], newton_start=p["newton_start"],
+        max_newton_iterations=p["max_newton_iterations"], max_halvings=p["max_halvings"],
+        terms=tuple(terms), warnings=(),
+        solver=utils.SPDSolver.for_mesh(len(x), e, elements=[held[:, None]]),   # the hand: nodes
+        cells=(p["nx"], p["ny"]), hand=hand,
+        static=StaticFriction(p["mu_s"], p["v_c"]) if p["mu_s"] != p["mu"] else None)

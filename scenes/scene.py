@@ -1,0 +1,60 @@
+"""What a scene *is*: built once by a scene's builder, never changed by stepping (MuJoCo's model).
+
+`Scene` holds what every scene has. What only some scenes have is one optional part each, None when
+the scene has none: the hand (`HandEnergy.Hand`, the chalk's grip) and static friction
+(`StaticFriction`: a static coefficient above the kinetic one, the chalk's).
+"""
+from dataclasses import dataclass
+import types
+
+import numpy as np
+
+import HandEnergy
+import utils
+
+
+@dataclass(frozen=True)
+class StaticFriction:
+    """mu falls from mu_s at rest to the scene's kinetic mu over slip speeds of about v_c
+    (FrictionEnergy.slip_weakened_mu); not in the lecture: its stick-slip remark."""
+    mu_s: float                 # static friction coefficient, above the scene's mu
+    v_c: float                  # m/s
+
+
+@dataclass(frozen=True)
+class Scene:
+    """What a scene is: its mesh, masses, contact half-space and the solver's numbers."""
+    params: types.MappingProxyType  # the checked parameters it was built from
+    x0: np.ndarray              # (N, 2) initial positions
+    v0: np.ndarray              # (N, 2) initial velocities
+    e: np.ndarray               # (E, 2) spring node indices
+    l2: np.ndarray              # (E,) squared rest lengths
+    k: np.ndarray               # (E,) spring stiffnesses
+    m: np.ndarray               # (N,) node masses
+    contact_area: np.ndarray    # (N,) contact weight per node
+    g: np.ndarray               # (2,) gravity
+    n: np.ndarray               # (2,) unit normal of the half-space (the slope), or None without one
+    o: np.ndarray               # (2,) a point on it, or None
+    mu: float                   # the (kinetic) friction coefficient
+    dhat: float
+    kappa: float
+    epsv: float
+    h: float
+    tol: float
+    friction_updates: int
+    newton_start: str           # "x_n" or "x_tilde" (time_integrator.newton_start)
+    max_newton_iterations: int
+    max_halvings: int
+    terms: tuple                # the energy terms the Incremental Potential sums
+    warnings: tuple             # what this scene's results cannot be trusted for, as sentences
+    solver: utils.SPDSolver     # how H p = -grad E is solved on this mesh
+    cells: tuple                # (nx, ny): the mesh's cells (square_mesh.rectangle)
+    hand: HandEnergy.Hand = None            # the grip's held nodes and moving targets, or None
+    static: StaticFriction = None           # static friction above kinetic, or None
+
+
+def readonly(a):
+    """`a` as a new numpy array that cannot be written to: a scene's arrays never change."""
+    a = np.array(a)
+    a.setflags(write=False)
+    return a

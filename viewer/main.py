@@ -1,0 +1,27 @@
+"""`python simulator.py [flags]`: the command line read (command.cli), then the run to files
+(command.run) or in the window (demo.window, loaded only for --window); returns the exit code. Above
+both packages, so that imports point one way: main -> demo -> command.
+"""
+import sys
+
+from viewer.command import cli, run
+
+
+def main(argv=None):
+    """Run the command line; returns the exit code (messages on stderr)."""
+    with run.Signals() as signals:
+        try:
+            runs = cli.parse_command_line(sys.argv[1:] if argv is None else argv)
+            plan = cli.plan_from_args(runs)
+            if runs[0].window:
+                from viewer.demo import window  # the window's module loads only for --window
+                return window.run_window(plan, runs[0].speed, runs[0].size, signals)
+            return run.to_files(plan, signals)
+        except cli.CommandLineError as err:
+            print(f"simulator.py: error: {err}", file=sys.stderr)
+        except ValueError as err:
+            print(f"simulator.py: error: {cli.flag_of(err)}{err}", file=sys.stderr)
+        except run.Stopped as stopped:
+            print(f"simulator.py: stopped: {stopped.reason}; nothing written", file=sys.stderr)
+            return stopped.code
+        return 2
