@@ -6,4 +6,5 @@ window; no pygame, no files (imports point down: analysis -> simulator -> time_i
     stick_slip.py   the chalk's stick-slip cycles counted on its tip, once for the run, figures and tests
     log.py          log.csv's columns: the named figures of one state, as a row
     closing.py      what a run showed, in words: when the square came to rest, the chalk's stick-slip
+    wear.py         the chalk's mark by Archard's wear law: the deposit per 0.1 mm of board, marks.csv
 """

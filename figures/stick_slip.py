@@ -9,7 +9,7 @@ atan mu) it slides with the hand, above it it jams.
 The tip is the chalk's lowest node at the start; at each step it is stuck where its tangential speed
 is below eps_v, slipping elsewhere, and its stick-slip cycles are counted as analysis/stick_slip.py
 defines them (a run's closing line and the chalk's tests count the same way). The mark each run
-leaves is Archard's wear law's, accumulated per 0.1 mm of board by viewer/pictures/marks.py as the frames and
+leaves is Archard's wear law's, accumulated per 0.1 mm of board by analysis/wear.py as the frames and
 the window draw it: the normal force times the length slid there, drawn as grey (black at each
 chalk's darkest bin). Every run stops before the hand passes over the tip: the chalk stays on the
 side it started (past vertical, a jammed chalk rests on its other corner, and with Newton from x^n
@@ -30,7 +30,7 @@ import FrictionEnergy
 import simulator
 from figures.page import BLACK, GREY, RED, Page
 from viewer.pictures import marks, plots
-from analysis import stick_slip as counting
+from analysis import stick_slip as counting, wear
 from analysis.stick_slip import MIN_STICK, runs  # noqa: F401 (one cycle; tests read MIN_STICK)
 from viewer.pictures.draw import BLUE, run_color
 
@@ -47,11 +47,11 @@ def track(duration, **params):
     after each step: t, the tip's x along the board and its tangential speed u (m/s), stuck = |u| < eps_v,
     the hand's displacement along the board, the time the drive starts, whether the tip stayed the
     lowest node (the one that carries the contact) throughout, and the mark the run left
-    (marks.Deposit)."""
+    (wear.Deposit)."""
     scene = simulator.build_chalk_scene(**params)
     tip, tangent = int(np.argmin(scene.x0[:, 1])), FrictionEnergy.tangent(scene.n)
     t, x, u, lowest = [0.0], [scene.x0[tip] @ tangent], [scene.v0[tip] @ tangent], True
-    mark, before = marks.Deposit(), scene.x0
+    mark, before = wear.Deposit(), scene.x0
     for record in simulator.simulate(scene, round(duration / scene.h)):
         t.append(record.t)
         x.append(record.x[tip] @ tangent)
@@ -76,11 +76,11 @@ def measure(tr):
 
 
 def mark_figures(tr):
-    """What the caption says of a run's mark: its darkest bin (N m), its dashes (marks.dashes: each
-    one's darkest over its faintest bin), and p10 and p90 of the bins inside it (marks.inside)."""
+    """What the caption says of a run's mark: its darkest bin (N m), its dashes (wear.dashes: each
+    one's darkest over its faintest bin), and p10 and p90 of the bins inside it (wear.inside)."""
     values = tr.mark.values
-    p10, p90 = np.percentile(marks.inside(values), (10, 90))
-    contrast = np.array([dark / faint for _, dark, faint in marks.dashes(values)])
+    p10, p90 = np.percentile(wear.inside(values), (10, 90))
+    contrast = np.array([dark / faint for _, dark, faint in wear.dashes(values)])
     return SimpleNamespace(darkest=tr.mark.darkest(), dashes=contrast, p10=float(p10),
                            p90=float(p90))
 
@@ -182,8 +182,8 @@ def caption(r):
 
 
 def draw_mark(page, ax, mark, y):
-    """A mark (marks.Deposit) as grey in the panel `ax`, MARK_HEIGHT tall about the row y: each
-    pixel column shows the deposit of the board under it (marks.Deposit.shade), black at the mark's
+    """A mark (wear.Deposit) as grey in the panel `ax`, MARK_HEIGHT tall about the row y: each
+    pixel column shows the deposit of the board under it (wear.Deposit.shade), black at the mark's
     darkest."""
     mm = (ax.t_max - ax.t_lo) / (plots.RIGHT - plots.LEFT)      # of board per pixel column
     top, bottom = (round(float(ax.px(0.0, y + d)[1])) for d in (MARK_HEIGHT / 2, -MARK_HEIGHT / 2))

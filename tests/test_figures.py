@@ -11,7 +11,7 @@ import pytest
 
 import figures.page
 from figures import cli, dissipation, fixed_point, mollifier, semi_implicit, stick_slip
-from viewer.pictures import marks
+from analysis import wear
 from viewer.output import whole_files
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -151,14 +151,14 @@ def stick_slip_short():
 
 
 def test_the_marks_are_the_archard_deposits_of_the_runs(stick_slip_short):
-    """Each run's mark is viewer/pictures/marks.py's deposit of its steps, over the board its tip slid across
+    """Each run's mark is analysis/wear.py's deposit of its steps, over the board its tip slid across
     (the tip carries the contact: it stayed the lowest node), and the creep the caption names is the
     tip's largest travel over a run of stuck states."""
     r = stick_slip_short
     for tr in (r.pushed, r.dragged):
         lo, hi = tr.mark.span()
         assert tr.tip_lowest and lo <= tr.x.min() and tr.x.max() <= hi
-        assert hi - lo < np.ptp(tr.x) + 3 * marks.BIN
+        assert hi - lo < np.ptp(tr.x) + 3 * wear.BIN
         assert tr.mark.values.sum() > 0
     assert 0 < r.push.creep < 0.05 * r.push.length
 

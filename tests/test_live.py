@@ -13,9 +13,8 @@ from helpers.command import recorded
 from helpers.fakes import chalk_at
 import simulator
 import time_integrator
-from analysis import diagnostics
+from analysis import diagnostics, wear
 from viewer.demo import live
-from viewer.pictures import marks
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 H = simulator.DEFAULTS["h"]
@@ -137,7 +136,7 @@ def test_the_demo_notes_each_warning_once_as_a_run_to_files_words_it():
 
 
 def test_the_demo_needs_no_pygame():
-    code = ("import io, sys, simulator; from viewer import live\n"
+    code = ("import io, sys, simulator; from viewer.demo import live\n"
             "class Clock:\n    t = 0.0\n    def now(self): return self.t\n    def sleep(self, s): self.t += s\n"
             "clock = Clock(); demo = live.LiveDemo(simulator.build_scene(), 20, 1.0, None, clock, io.StringIO())\n"
             "clock.t = 0.1; demo.play(); demo.toggle_pause(); demo.one_newton_iteration(); demo.one_step()\n"
@@ -155,7 +154,7 @@ CHALK_STEPS = 215       # the pushed chalk sticks from step 2, slips over steps 
 
 
 def test_the_chalks_mark_and_figures_are_those_a_run_to_files_keeps(tmp_path):
-    """LiveRun.marks after each step is recording.Track.marks of the same steps (marks.Deposit.step
+    """LiveRun.marks after each step is recording.Track.marks of the same steps (wear.Deposit.step
     over each step), bin for bin, left by the slips by step 215; tip_lines says the figures log.csv
     has for the state (tip_x, tip_speed, drive_speed, normal_force) and stuck or slipping
     (diagnostics.tip_stuck). A restart starts the mark afresh; a step completed one Newton iteration
@@ -178,7 +177,7 @@ def test_the_chalks_mark_and_figures_are_those_a_run_to_files_keeps(tmp_path):
     assert "off the board (d >= dhat)" in live.tip_lines(run.scene, start.x, start.v, 0.0)[0]
     while start.newton_iteration() is None:
         pass
-    one = marks.Deposit()
+    one = wear.Deposit()
     one.step(run.scene, run.scene.x0, start.x)
     assert start.index == 1 and start.marks.first == one.first
     assert np.array_equal(start.marks.values, one.values)

@@ -1,4 +1,4 @@
-"""The chalk's mark by Archard's law (viewer/pictures/marks.py, no pygame here): the deposit of a step, its
+"""The chalk's mark by Archard's law (analysis/wear.py, no pygame here): the deposit of a step, its
 bins, its conservation, what the pushed and the dragged chalk leave, and marks.csv.
 
 Archard: the material left per unit length of board is proportional to the normal force times the
@@ -16,24 +16,23 @@ import pytest
 import BarrierEnergy
 import FrictionEnergy
 import simulator
-from viewer.pictures import marks
-from analysis import stick_slip
+from analysis import stick_slip, wear
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-W = marks.BIN
+W = wear.BIN
 
 
 def test_a_slide_leaves_lambda_times_its_length_in_each_bin_it_crosses():
     """A node sliding from 0.05 to 0.3 mm under 2 N: 0.05 mm of it in bin 0, 0.1 mm in bins 1 and 2
     (whole), none in bin 3 (it stops at its edge); backwards, the same; one that does not move, or
     is off the board (lambda 0), leaves nothing."""
-    j0, d = marks.archard([0.5 * W], [3 * W], [2.0])
+    j0, d = wear.archard([0.5 * W], [3 * W], [2.0])
     assert j0 == 0 and d[:3] == pytest.approx([2.0 * 0.5 * W, 2.0 * W, 2.0 * W], rel=1e-12)
     assert np.abs(d[3:]).max(initial=0.0) < 1e-18
-    back = marks.archard([3 * W], [0.5 * W], [2.0])
+    back = wear.archard([3 * W], [0.5 * W], [2.0])
     assert back[0] == j0 and back[1] == pytest.approx(d, rel=1e-12, abs=1e-18)
-    assert len(marks.archard([W], [W], [2.0])[1]) == 0
-    assert len(marks.archard([0.0], [W], [0.0])[1]) == 0
+    assert len(wear.archard([W], [W], [2.0])[1]) == 0
+    assert len(wear.archard([0.0], [W], [0.0])[1]) == 0
 
 
 def test_several_nodes_add_up_within_one_call():
@@ -42,10 +41,10 @@ def test_several_nodes_add_up_within_one_call():
     total is sum lambda_k |s1_k - s0_k|, wherever the slides lie (below zero too)."""
     s0, s1 = np.array([-2.5 * W, 1.2 * W, 0.0]), np.array([0.7 * W, 1.7 * W, 5 * W])
     lam = np.array([1.5, 3.0, 0.0])
-    j0, d = marks.archard(s0, s1, lam)
+    j0, d = wear.archard(s0, s1, lam)
     dense = np.zeros(40)
     for k in range(3):
-        a, b = marks.archard(s0[k:k + 1], s1[k:k + 1], lam[k:k + 1])
+        a, b = wear.archard(s0[k:k + 1], s1[k:k + 1], lam[k:k + 1])
         dense[a + 20:a + 20 + len(b)] += b
     assert j0 == -3 and np.allclose(dense[j0 + 20:j0 + 20 + len(d)], d, rtol=1e-12, atol=1e-18)
     assert d.sum() == pytest.approx((lam * np.abs(s1 - s0)).sum(), rel=1e-12)
@@ -55,7 +54,7 @@ def test_several_nodes_add_up_within_one_call():
 def test_the_deposit_grows_both_ways_and_keeps_its_memory_to_the_board_touched():
     """Deposits added left and right of the first, many times: the bins touched hold what a plain
     array would, and the storage stays within 3 times the bins touched plus the first slide's."""
-    mark, dense, rng = marks.Deposit(), np.zeros(4000), np.random.default_rng(5)
+    mark, dense, rng = wear.Deposit(), np.zeros(4000), np.random.default_rng(5)
     for j0 in np.r_[np.arange(0, 1500, 3), np.arange(0, -1500, -7)]:
         d = rng.random(4)
         mark.add(int(j0), d)
@@ -65,7 +64,7 @@ def test_the_deposit_grows_both_ways_and_keeps_its_memory_to_the_board_touched()
     at = mark.first + 2000
     assert np.array_equal(mark.values, dense[at:at + len(mark.values)])
     assert mark.span() == pytest.approx((-1498 * W, 1501 * W), rel=1e-12)
-    assert marks.Deposit().span() is None and marks.Deposit().darkest() == 0.0
+    assert wear.Deposit().span() is None and wear.Deposit().darkest() == 0.0
 
 
 @functools.cache
@@ -74,7 +73,7 @@ def chalk(seconds, **params):
     s_k| taken from the barrier's own compute_mu_lambda (mu = 1), and the tip's stick-slip
     (analysis/stick_slip.py)."""
     scene = simulator.build_chalk_scene(**params)
-    mark, before, tangent = marks.Deposit(), scene.x0, FrictionEnergy.tangent(scene.n)
+    mark, before, tangent = wear.Deposit(), scene.x0, FrictionEnergy.tangent(scene.n)
     tip = int(np.argmin(scene.x0[:, 1]))
     by_hand, t, x, u = [], [0.0], [scene.x0[tip] @ tangent], [0.0]
     for rec in simulator.simulate(scene, round(seconds / scene.h)):
@@ -111,7 +110,7 @@ def test_pushed_a_sawtooth_of_dashes_a_slip_apart_each_fading_from_where_its_sli
     above 4."""
     _, mark, _, counted = chalk(1.5)
     v = mark.values
-    dashes = marks.dashes(v)
+    dashes = wear.dashes(v)
     assert len(dashes) >= len(counted.slips) - 1 >= 9
     starts = np.array([a for a, _, _ in dashes])
     assert np.diff(starts) * W == pytest.approx(counted.length, abs=W)
@@ -120,7 +119,7 @@ def test_pushed_a_sawtooth_of_dashes_a_slip_apart_each_fading_from_where_its_sli
     for (a, dark, faint), b in zip(dashes, np.r_[starts[1:], len(v)]):
         peak, low = a + int(np.argmax(v[a:b])), a + int(np.argmin(v[a:b]))
         assert peak <= a + 1 and (np.diff(v[peak:low + 1]) < 0).all()    # darkest first, fading
-    p10, p90 = np.percentile(marks.inside(v), (10, 90))
+    p10, p90 = np.percentile(wear.inside(v), (10, 90))
     assert p90 / p10 > 4.0
 
 
@@ -129,8 +128,8 @@ def test_dragged_a_uniform_line_without_a_dash():
     bin inside its mark within 5 % of their median (measured: 2.8 %, the bin after the press's spot,
     where the slide started; the rest within 1e-6)."""
     _, mark, by_hand, counted = chalk(1.5, drag=True)
-    v = marks.inside(mark.values)
-    assert marks.dashes(mark.values) == [] and counted.slips == []
+    v = wear.inside(mark.values)
+    assert wear.dashes(mark.values) == [] and counted.slips == []
     assert np.abs(v / np.median(v) - 1).max() < 0.05
     assert mark.values.sum() == pytest.approx(by_hand.sum(), rel=1e-12)
 

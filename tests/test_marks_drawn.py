@@ -1,6 +1,6 @@
 """The chalk's mark (viewer/pictures/marks.py) as the frames draw it: grey under the board at the frame's
 scale and in the strip magnified x8 about the tip, each pixel column the deposit of the board under
-it (marks.Deposit.shade, black at the run's darkest bin); where the strip goes; legible from the
+it (wear.Deposit.shade, black at the run's darkest bin); where the strip goes; legible from the
 back of the room. What the mark is (Archard's law): tests/test_marks.py."""
 import numpy as np
 import pytest
@@ -8,7 +8,7 @@ from helpers import legibility
 from helpers.fakes import chalk_at
 
 import simulator
-from analysis import diagnostics
+from analysis import diagnostics, wear
 from viewer.pictures import draw, frames, marks
 
 
@@ -86,7 +86,7 @@ def test_the_strip_is_magnified_x8_about_the_tip_and_each_column_shows_the_depos
 def test_dragged_one_even_grey_line_pushed_dashes_a_slip_apart_each_fading_from_its_start():
     """At x8, the strip's mark at 1 s. Dragged: from the first whole bin after the press's spot to
     the bin before the tip one even grey, within 8 levels of 255 (its bins within 3 %). Pushed: a
-    dash per marks.dashes in view, 1.06 mm = 34 px apart (a slip); at each the grey jumps from light
+    dash per wear.dashes in view, 1.06 mm = 34 px apart (a slip); at each the grey jumps from light
     (half of black or less in the bin before it) to nearly black within a bin or two, then lightens
     column by column to its faintest (a fifth of black or less), just before the next."""
     for drag in (True, False):
@@ -94,13 +94,13 @@ def test_dragged_one_even_grey_line_pushed_dashes_a_slip_apart_each_fading_from_
         deposit, shown = run["marks"], band(pixels, strip)[:, 0].astype(int)
         def middle(i, first=deposit.first, strip=strip):
             """The strip's column of the middle of the mark's bin i."""
-            return round(float(strip.column((first + i + 0.5) * marks.BIN)))
+            return round(float(strip.column((first + i + 0.5) * wear.BIN)))
         if drag:
             line = shown[middle(2):middle(len(deposit.values) - 2)]
             assert len(line) > 200 and np.ptp(line) <= 8 and line.max() < 200
             continue
         v = deposit.values
-        dashes = marks.dashes(v)
+        dashes = wear.dashes(v)
         columns = np.array([middle(a) for a, _, _ in dashes])
         assert len(dashes) >= 6 and np.diff(columns) == pytest.approx(34, abs=4)
         for (a, _, _), b in zip(dashes, [d[0] for d in dashes[1:]] + [len(v)]):
@@ -130,7 +130,7 @@ def test_the_frame_shows_the_mark_at_its_own_scale_under_the_board():
     black = f"black: {deposit.darkest():.3g} N m per 0.1 mm, the darkest"
     name = "the chalk's mark: lambda x slid length (Archard)"
     assert marks.legend([run]) == [(marks.SWATCH, name), ((255, 255, 255), black)]
-    assert marks.legend([{"marks": marks.Deposit()}])[1] == ((255, 255, 255), "black: none yet")
+    assert marks.legend([{"marks": wear.Deposit()}])[1] == ((255, 255, 255), "black: none yet")
 
 
 def arcminutes(px, size):
@@ -147,7 +147,7 @@ def test_the_strips_mark_is_big_and_dark_enough_to_see_from_the_back_of_the_room
     _, run, _, _, _, strip = chalk_frame(1000, size=size)
     assert arcminutes(strip.band, size) >= 8
     assert arcminutes(1.06e-3 * strip.scale, size) >= 16
-    dashes = marks.dashes(run["marks"].values)
+    dashes = wear.dashes(run["marks"].values)
     darkest, faintest = (tuple(int(c) for c in marks.greys([f / run["marks"].darkest()])[0])
                          for f in (max(d for _, d, _ in dashes), min(f for _, _, f in dashes)))
     assert legibility.contrast_ratio(darkest) >= 3

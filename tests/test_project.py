@@ -27,15 +27,34 @@ def test_importing_every_module_needs_no_display_and_no_pygame():
     assert out.returncode == 0 and out.stdout.strip() == "False", out.stderr
 
 
-# the layers, lowest first: a module imports only from layers below its own (viewer/ within itself too)
+# the layers, lowest first: a module imports only from layers below its own, or from its own package
 LAYERS = [{"utils"}, {"InertiaEnergy", "MassSpringEnergy", "GravityEnergy", "BarrierEnergy", "FrictionEnergy",
-                      "HandEnergy", "square_mesh", "square_checks", "chalk_checks"}, {"time_integrator"}, {"simulator"},
-          {"viewer", "closed_forms"}, {"benchmarks", "figures"}]
+                      "HandEnergy", "square_mesh", "square_checks", "chalk_checks"}, {"time_integrator", "scenes"},
+          {"simulator"}, {"closed_forms", "analysis"}, {"viewer.output"}, {"viewer.pictures"}, {"viewer.command"},
+          {"viewer.demo"}, {"viewer.main"}, {"benchmarks", "figures"}]
+PACKAGES = ("scenes", "analysis", "viewer", "viewer/output", "viewer/pictures", "viewer/command",
+            "viewer/demo", "figures", "benchmarks")
 
 
 def layer(module):
-    top = module.split(".")[0]
-    return next((i for i, names in enumerate(LAYERS) if top in names), None)
+    """The layer of `module` (dotted), by its package: viewer's by its sub-package."""
+    parts = module.split(".")
+    names = [".".join(parts[:2])] if parts[0] == "viewer" and len(parts) > 1 else []
+    return next((i for name in names + [parts[0]] for i, layer_names in enumerate(LAYERS)
+                 if name in layer_names), None)
+
+
+def package(module):
+    """The package a module belongs to ('' for the flat files); viewer's by its sub-package."""
+    parts = module.split(".")[:-1]
+    return ".".join(parts[:2])
+
+
+def sources():
+    """Every project module outside tests/, as (path, dotted name)."""
+    import glob
+    paths = [p for folder in ("",) + PACKAGES for p in glob.glob(os.path.join(ROOT, folder, "*.py"))]
+    return [(p, os.path.relpath(p, ROOT)[:-3].replace(os.sep, ".")) for p in paths]
 
 
 def project_imports(path):
@@ -57,22 +76,20 @@ def project_imports(path):
 
 
 def test_imports_run_one_way_and_take_no_private_names():
-    """viewer and benchmarks -> simulator -> time_integrator -> energies -> utils: never upward, never a
-    module's private `_name`."""
-    import glob
-    sources = [path for folder in ("", "viewer", "figures", "benchmarks")
-               for path in glob.glob(os.path.join(ROOT, folder, "*.py"))]
-    assert len(sources) > 15
-    for path in sources:
-        module = os.path.relpath(path, ROOT)[:-3].replace(os.sep, ".")
+    """figures, benchmarks -> viewer (main -> demo -> command -> pictures -> output) -> analysis ->
+    simulator -> time_integrator, scenes -> energies -> utils: never upward (within a package, any
+    way), never a module's private `_name`."""
+    found = sources()
+    assert len(found) > 40
+    for path, module in found:
         for imported, names, line in project_imports(path):
-            assert layer(imported) < layer(module) or layer(imported) == layer(module) >= 4, \
-                f"{module}:{line} imports {imported} (upward)"
+            same = package(module) != "" and imported.startswith(package(module))
+            assert layer(imported) < layer(module) or same, f"{module}:{line} imports {imported} (upward)"
             assert not [n for n in names if n.startswith("_")], f"{module}:{line} imports private {names}"
         text = open(path).read()
         for other in ("simulator", "time_integrator", "utils", "BarrierEnergy", "FrictionEnergy", "recording", "run",
-                      "files", "cli", "draw", "window", "live", "newton_view", "frames", "progress", "pictures", "log",
-                      "page"):
+                      "files", "cli", "draw", "window", "live", "newton_view", "frames", "progress", "run_pictures",
+                      "log", "page", "marks", "diagnostics", "stick_slip", "closing", "scene"):
             assert not re.search(rf"\b{other}\._[a-z]", text), f"{module} reads a private name of {other}"
 
 
@@ -93,8 +110,7 @@ def test_rooms_stay_small_and_tests_import_no_other_test():
     import ast
     import glob
     tests = os.path.join(ROOT, "tests")
-    sources = [p for folder in ("", "viewer", "figures", "benchmarks") for p in glob.glob(os.path.join(ROOT, folder, "*.py"))]
-    long = [f"{os.path.relpath(p, ROOT)} ({n})" for p in sources if (n := len(open(p).read().splitlines())) > 400]
+    long = [f"{os.path.relpath(p, ROOT)} ({n})" for p, _ in sources() if (n := len(open(p).read().splitlines())) > 400]
     assert not long, f"modules over 400 lines: {long}"
     test_modules = {os.path.basename(p)[:-3] for p in glob.glob(os.path.join(tests, "test_*.py"))}
     benchmark_tests = {"test_benchmarks", "test_chalk_speed", "test_error_vs_runtime", "test_reading_path",

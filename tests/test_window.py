@@ -582,7 +582,7 @@ def test_n_advances_exactly_one_newton_iteration_and_completes_the_step(override
     step(). Steps at the impact (the CCD bound below 1), sliding, at h = 0.03 where alpha is halved,
     with the fixed-point friction updates of Algorithm 5, and the chalk's: pushed, slipping (step
     211, in its first slip), and dragged, pressed onto the board (step 21); a chalk step that ends
-    adds its deposit to the mark (marks.Deposit.step from x^n to x^{n+1}), the tip slipping where it
+    adds its deposit to the mark (wear.Deposit.step from x^n to x^{n+1}), the tip slipping where it
     is pushed."""
     overrides = dict(overrides)
     chalk = overrides.pop("chalk", False)

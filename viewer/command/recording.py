@@ -11,9 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from analysis import diagnostics, log
+from analysis import diagnostics, log, wear
 from viewer.output import files
-from viewer.pictures import marks
 from viewer.pictures.frames import FrameWriter, frame_steps
 from viewer.command.progress import Progress, step_warnings
 
@@ -79,7 +78,7 @@ class Track:
         self.v = scene.v0
         self.step, self.friction_work, self.hand_work = 0, 0.0, 0.0
         self.columns = log.columns(scene)       # log.csv's columns for this scene (with a hand: E_hand, W_hand, tip)
-        self.marks = marks.Deposit() if scene.hand is not None else None   # the chalk's mark
+        self.marks = wear.Deposit() if scene.hand is not None else None   # the chalk's mark
         self.warned = set()         # the kinds of warning said so far (progress.step_warnings)
         self.rest_since = None      # t (s) from which every contact node has stayed below eps_v, so far
         self.csv, self.logged = folder.open_log(files.log_csv(tag), ",".join(self.columns)), None

@@ -11,8 +11,8 @@ from collections import deque
 
 import time_integrator
 from simulator import StepRecord
-from analysis import diagnostics
-from viewer.pictures import draw, frames, marks
+from analysis import diagnostics, wear
+from viewer.pictures import draw, frames
 from viewer.command import progress, recording
 
 FRAME_BUDGET = 1.0 / 30   # s of stepping before the loop draws and reads the keys again
@@ -49,7 +49,7 @@ class LiveRun:
         self.iteration = 0          # how many it has yielded
         self.iterates_wall = 0.0    # the seconds computing them took
         # with a hand (the chalk): its mark on the board so far, as recording.Track.marks keeps it
-        self.marks = marks.Deposit() if self.scene.hand is not None else None
+        self.marks = wear.Deposit() if self.scene.hand is not None else None
 
     @property
     def t(self):

@@ -40,7 +40,7 @@ def log_csv(tag=""):
 
 
 def marks_csv(tag=""):
-    """The chalk's mark (viewer.pictures.marks.csv_text): marks.csv, or marks_grip1000.csv for one run of a
+    """The chalk's mark (analysis.wear.csv_text): marks.csv, or marks_grip1000.csv for one run of a
     comparison."""
     return f"marks{'_' + tag if tag else ''}.csv"
 

@@ -2,7 +2,7 @@
 
     draw.py         one frame: the slope with distance marks, the bodies, the forces, a legend; PNG
                     data; the drawing helpers (arrowheads, text wrapping, round numbers)
-    marks.py        the chalk's mark on the board, at true scale and magnified
+    marks.py        the chalk's mark (analysis.wear) drawn on the board, at true scale and magnified
     frames.py       when each frame is due; writing it (PNG, OBJs, the page's figures)
     plots.py        plots.png: energy budget, contact speeds, Newton iterations (or a comparison of
                     runs); the chalk's tip against the drive, normal force, stick-slip cycles

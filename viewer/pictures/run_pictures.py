@@ -4,8 +4,9 @@ to play them. viewer.command.run.end writes them however the run ended (done, a 
 whole as it is done.
 """
 from analysis.closing import closing_note
+from analysis import wear
 from viewer.output import files
-from viewer.pictures import draw, marks, page, plots, summary
+from viewer.pictures import draw, page, plots, summary
 
 NAMES = ("summary.png", "plots.png", "index.html")      # in the order written, after the marks
 
@@ -21,7 +22,7 @@ def write(tracks, folder, stride, frames, frame_log, header):
     `frame_log`, the frames.FrameInfo of each frame written."""
     for tr in tracks:
         if tr.marks is not None:
-            folder.write(files.marks_csv(tr.tag), marks.csv_text(tr.marks))
+            folder.write(files.marks_csv(tr.tag), wear.csv_text(tr.marks))
     pygame = draw.load_pygame()
     folder.write("summary.png", draw.png_data(pygame, summary.draw_summary(pygame, tracks, header), exact=True))
     surface, axis = plots.draw_plots(pygame, tracks)
