@@ -1,6 +1,6 @@
 """The closed-form cases: their scenes, their exact answers, and how a run is measured against them.
 
-Shared by tests/test_accuracy.py (which asserts) and benchmarks/error_vs_runtime.py (which reports),
+Shared by tests/physics/test_accuracy.py (which asserts) and benchmarks/error_vs_runtime.py (which reports),
 so both measure the same thing the same way; a module of its own, so that neither a test imports a
 benchmark nor a benchmark a test.
 

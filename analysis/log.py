@@ -4,7 +4,7 @@ COLUMN is the one definition of a state's per-step figures: each one's name (log
 its key in a row), unit, meaning, how log.csv writes it and how it is read off a recording.Sample.
 log.csv's lines (`line`), the page's figures beside each frame (page.FIGURES picks them by name) and
 plots.png's curves (plots.series) read the same named rows (`values`); docs/output.md's table of the
-columns is these definitions as written here (tests/test_log.py checks it).
+columns is these definitions as written here (tests/analysis/test_log.py checks it).
 
 Each row goes to the file in one write before that step's frame is saved, so the file is never more
 than one row (or one frame stride) ahead of the frames on disk and never holds half a row: a write

@@ -1,6 +1,6 @@
 """Stick-slip, counted on the chalk's tip: the one definition that a chalk run's closing line, its page,
 plots.png and summary.png (viewer/command/progress.py, page.py, plots.py, summary.py), the stick-slip figure
-(figures/stick_slip.py) and the chalk's tests (tests/test_chalk.py) all count with.
+(figures/stick_slip.py) and the chalk's tests (tests/scenes/test_chalk.py) all count with.
 
 At each state the tip is stuck where its tangential speed |u| is below eps_v (the static branch of the
 mollifier f1), slipping elsewhere. Once the hand drives (t > start), a stick-slip cycle is

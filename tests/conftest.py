@@ -1,4 +1,5 @@
-"""Shared test setup: import the flat modules from the project root; pygame draws off-screen."""
+"""Shared test setup: import the flat modules from the project root and the shared helpers from
+tests/ (whatever folder a test module is in); pygame draws off-screen."""
 import os
 import sys
 
@@ -8,4 +9,5 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
 os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))                     # helpers
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))    # the project

@@ -4,7 +4,7 @@ import re
 import subprocess
 import sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from helpers import ROOT
 
 
 def readme_commands():
@@ -112,10 +112,11 @@ def test_rooms_stay_small_and_tests_import_no_other_test():
     tests = os.path.join(ROOT, "tests")
     long = [f"{os.path.relpath(p, ROOT)} ({n})" for p, _ in sources() if (n := len(open(p).read().splitlines())) > 400]
     assert not long, f"modules over 400 lines: {long}"
-    test_modules = {os.path.basename(p)[:-3] for p in glob.glob(os.path.join(tests, "test_*.py"))}
+    every = glob.glob(os.path.join(tests, "**", "*.py"), recursive=True)
+    test_modules = {os.path.basename(p)[:-3] for p in every if os.path.basename(p).startswith("test_")}
     benchmark_tests = {"test_benchmarks", "test_chalk_speed", "test_error_vs_runtime", "test_reading_path",
                        "test_speed", "test_speed_against", "test_window_speed"}
-    for path in glob.glob(os.path.join(tests, "*.py")) + glob.glob(os.path.join(tests, "helpers", "*.py")):
+    for path in every:
         name = os.path.basename(path)[:-3]
         for node in ast.walk(ast.parse(open(path).read())):
             modules = ([a.name for a in node.names] if isinstance(node, ast.Import) else
@@ -124,3 +125,26 @@ def test_rooms_stay_small_and_tests_import_no_other_test():
                 assert module.split(".")[-1] not in test_modules, f"{name} imports the test module {module}"
                 if module.split(".")[0] == "benchmarks":
                     assert name in benchmark_tests, f"{name} imports {module}: only a benchmark's test may"
+
+
+def test_tests_are_laid_out_like_the_code_and_the_physics_needs_no_pygame():
+    """tests/ mirrors the packages; no test file over 500 lines; the tests of the physics (the flat
+    modules, tests/physics) and of the scenes import nothing that draws, so that they run without
+    pygame: `python -m pytest tests/physics tests/scenes` (README)."""
+    import ast
+    import glob
+    tests = os.path.join(ROOT, "tests")
+    for folder in ("physics", "scenes", "analysis", "viewer/command", "viewer/pictures", "viewer/demo",
+                   "viewer/output", "figures", "benchmarks", "notebooks"):
+        assert glob.glob(os.path.join(tests, folder, "test_*.py")), folder
+    files = glob.glob(os.path.join(tests, "**", "*.py"), recursive=True)
+    long = [os.path.relpath(p, tests) for p in files if len(open(p).read().splitlines()) > 500]
+    assert not long, f"test files over 500 lines: {long}"
+    drawing = ("viewer", "figures", "benchmarks", "pygame", "helpers.command", "helpers.fakes",
+               "helpers.legibility", "helpers.browser")
+    for path in glob.glob(os.path.join(tests, "physics", "*.py")) + glob.glob(os.path.join(tests, "scenes", "*.py")):
+        for node in ast.walk(ast.parse(open(path).read())):
+            names = ([a.name for a in node.names] if isinstance(node, ast.Import) else
+                     [node.module or ""] if isinstance(node, ast.ImportFrom) else [])
+            for name in names:
+                assert not name.startswith(drawing), f"{os.path.relpath(path, tests)} imports {name}"

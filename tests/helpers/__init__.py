@@ -6,4 +6,11 @@
     scenes.py       scenes the stability tests build
     legibility.py   text sizes, contrast and colour distances measured in drawn pixels
     browser.py      a page opened in headless Chromium with a probe script
+    checkout.py     a benchmark run on a checkout of another commit
+
+tests/ is laid out like the code: physics/ (the flat modules), scenes/, analysis/, viewer/<package>/,
+figures/, benchmarks/.
 """
+import os
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))    # the repository

@@ -5,7 +5,7 @@ import subprocess
 
 import pytest
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from helpers import ROOT
 RESULTS = os.path.join(ROOT, "benchmarks", "results")      # what benchmarks/README.md quotes
 
 

@@ -22,12 +22,12 @@ RESOLUTION = 900            # pixels, square frames
 SCALE = 200.0               # pixels per metre, the lecture's
 BLUE = (0, 0, 255)
 # the live window's colours; those of its text have a WCAG contrast ratio of at least 4.5:1 against the
-# white background (AA for text, tests/test_window.py): BLACK 21, RED 6.1, GREEN 5.1, BLUE 8.6,
+# white background (AA for text, tests/viewer/demo/test_window.py): BLACK 21, RED 6.1, GREEN 5.1, BLUE 8.6,
 # window.KEYS 5.9; GREY (2.3:1) draws only the Newton view's iterate x^i
 BLACK, GREY, RED, GREEN = (0, 0, 0), (170, 170, 170), (200, 0, 0), (0, 128, 0)
 # colours of PALETTE (below), so that frames show them exactly
 RUN_COLORS = [BLUE, (255, 146, 0), (0, 146, 0), (219, 0, 170), (146, 73, 0), (0, 182, 255), (109, 109, 85)]
-# the forces' colours, far from every run's (tests/test_viewer_outputs.py measures the distance in CIELAB):
+# the forces' colours, far from every run's (tests/viewer/command/test_run_outputs.py measures the distance in CIELAB):
 # friction was dark green (0, 109, 0), which a comparison's third run (0, 146, 0) all but repeated
 NORMAL_COLOR, FRICTION_COLOR = (219, 0, 0), (0, 0, 0)
 MARK_SPACING = 0.5          # m between marks along the slope

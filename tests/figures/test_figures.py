@@ -14,7 +14,7 @@ from figures import cli, dissipation, fixed_point, mollifier, semi_implicit, sti
 from analysis import wear
 from viewer.output import whole_files
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from helpers import ROOT
 PNG_SIGNATURE, PNG_END = b"\x89PNG\r\n\x1a\n", b"IEND\xaeB`\x82"
 
 
@@ -166,7 +166,7 @@ def test_the_marks_are_the_archard_deposits_of_the_runs(stick_slip_short):
 def test_the_pushed_chalk_leaves_dashes_a_slip_apart_and_the_dragged_a_line(stick_slip_short):
     """Pushed: the slip about catches up with the hand (slip = drive x period), the period is that
     of the speed's peaks, and its mark is a dash per slip (the last, unfinished, not counted), each
-    darker where it starts than where it fades by 4.5 times or more (tests/test_marks.py measures
+    darker where it starts than where it fades by 4.5 times or more (tests/analysis/test_wear.py measures
     why). Dragged: after its start-up no stick, and a mark without a dash."""
     r = stick_slip_short
     push, drive = r.push, r.pushed.scene.params["drive"]

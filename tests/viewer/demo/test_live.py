@@ -1,6 +1,6 @@
 """viewer/demo/live.py: the live demo without its window (no pygame): the run one step or one Newton
 iteration at a time, its pacing to a clock, what the keys do, and its warnings. Driven here with a fake
-clock; tests/test_window.py drives the same through the window's keys."""
+clock; tests/viewer/demo/test_window.py drives the same through the window's keys."""
 import io
 import os
 import subprocess
@@ -16,7 +16,7 @@ import time_integrator
 from analysis import diagnostics, wear
 from viewer.demo import live
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from helpers import ROOT
 H = simulator.DEFAULTS["h"]
 
 

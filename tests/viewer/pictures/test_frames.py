@@ -3,8 +3,10 @@ numbered from 0, the last at the end of the longest run; each run is shown at th
 reached by then."""
 import types
 
+import numpy as np
 import pytest
 
+import simulator
 from viewer.pictures import frames
 
 
@@ -29,3 +31,13 @@ def test_a_comparison_of_time_steps_shows_each_run_at_the_same_times(runs, strid
     runs = tracks(*runs)
     got = [targets for _, targets in frames.frame_steps(runs, stride)]
     assert got == expected and len(got) == frames.frame_count([r.scene for r in runs], [r.steps for r in runs], stride)
+
+
+def test_the_frames_friction_arrows_are_the_steps_own_force():
+    """What a frame draws as friction is the step's report.friction_force itself (the force log.csv's
+    W_friction sums), not one computed again: here under Algorithm 5, where it differs from lagged."""
+    scene = simulator.build_scene(friction_updates=5)
+    for record in simulator.simulate(scene, 40):
+        pass
+    drawn = frames.frame_run(scene, record.x, record.report, "run", (0, 0, 0), forces=True)["friction"]
+    assert drawn is record.report.friction_force and np.abs(drawn).max() > 0.0

@@ -15,7 +15,7 @@ import pytest
 from helpers.command import run_main as main
 from viewer.output import whole_files
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from helpers import ROOT
 SIMULATOR = os.path.join(ROOT, "simulator.py")
 
 

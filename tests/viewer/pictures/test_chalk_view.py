@@ -18,7 +18,7 @@ from helpers.command import run_main
 from viewer.command import cli
 from analysis import diagnostics, log, stick_slip
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from helpers import ROOT
 
 
 def run_cli(*args):

@@ -2,7 +2,7 @@
 notebook's folder; the saved notebook carries its outputs (it reads on GitHub without being run) and
 they are the outputs it gives now.
 
-After editing the notebook, execute it and save it with its outputs: python tests/test_notebook.py
+After editing the notebook, execute it and save it with its outputs: python tests/notebooks/test_notebook.py
 """
 import copy
 import json
@@ -14,7 +14,7 @@ import tempfile
 
 import pytest
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 FOLDER = os.path.join(ROOT, "notebooks")
 NOTEBOOK = os.path.join(FOLDER, "lecture.ipynb")
 CELL_TIMEOUT = 600          # s per cell; the slowest, three runs of 600 steps, takes about 5 s here
@@ -130,7 +130,7 @@ def test_the_notebook_runs_in_a_kernel_and_gives_its_saved_numbers(monkeypatch):
     assert 5.3 < now[0.11] < 5.8 and 2.6 < now[0.2] < 3.0           # docs/command-line.md: about 5.5 s and 2.8 s
 
 
-if __name__ == "__main__":          # python tests/test_notebook.py: execute the notebook and save it with its outputs
+if __name__ == "__main__":          # python tests/notebooks/test_notebook.py: execute the notebook and save it with its outputs
     sys.path.insert(0, ROOT)
     nb = execute(read())
     jupyter()[0].write(nb, NOTEBOOK)

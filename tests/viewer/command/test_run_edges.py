@@ -20,7 +20,7 @@ from viewer.command import cli
 from viewer.pictures import draw, plots
 from viewer.output import whole_files
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from helpers import ROOT
 
 
 def log_steps(path):

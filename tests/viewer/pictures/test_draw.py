@@ -1,6 +1,6 @@
 """viewer/pictures/draw.py's drawing helpers, one copy each for the frames, plots.png, summary.png and the
 window: round numbers (nice_number), arrowheads (arrow_heads), text wrapping (wrap); the force
-arrows' scale. The chalk's mark as the frames draw it: tests/test_marks_drawn.py."""
+arrows' scale. The chalk's mark as the frames draw it: tests/viewer/pictures/test_marks_drawn.py."""
 import numpy as np
 import pytest
 

@@ -10,7 +10,7 @@ from analysis import log
 from viewer.pictures import page
 from viewer.command.recording import Sample
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from helpers import ROOT
 
 
 def sample(report=None):

@@ -18,7 +18,7 @@ import FrictionEnergy
 import simulator
 from analysis import stick_slip, wear
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from helpers import ROOT
 W = wear.BIN
 
 
@@ -164,9 +164,9 @@ def test_a_chalk_run_writes_its_mark_as_marks_csv(tmp_path):
 
 
 def test_the_mark_is_computed_without_pygame():
-    """The deposit, its dashes and marks.csv need no pygame: importing viewer.pictures.marks (and a run's
+    """The deposit, its dashes and marks.csv need no pygame: importing analysis.wear (and a run's
     recording) loads none, so the analysis runs where pygame is not installed."""
-    code = "import sys, viewer.pictures.marks, viewer.command.recording; print('pygame' in sys.modules)"
+    code = "import sys, analysis.wear, viewer.command.recording; print('pygame' in sys.modules)"
     done = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True,
                           timeout=120, check=False)
     assert done.returncode == 0 and done.stdout.split() == ["False"], done.stderr

@@ -26,7 +26,7 @@ from analysis import diagnostics
 from viewer.pictures import draw, frames, plots, summary
 from viewer.command import recording
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from helpers import ROOT
 
 
 def read_csv(path):

@@ -6,7 +6,6 @@ import numpy as np
 import pytest
 
 import square_mesh
-from viewer.output import whole_files
 
 
 def test_mesh_order_and_springs():
@@ -32,7 +31,7 @@ def test_mesh_counts(n_seg):
 def test_obj_output(tmp_path):
     x, _ = square_mesh.generate(1.0, 2)
     path = tmp_path / "f.obj"
-    whole_files.write_atomic(str(path), square_mesh.obj_text(x, 2))
+    path.write_text(square_mesh.obj_text(x, 2))
     lines = path.read_text().splitlines()
     assert lines[0] == "v -0.500000 -0.500000 0.0" and len(lines) == 9 + 8
     faces = np.array([[int(t) for t in line.split()[1:]] for line in lines if line.startswith("f")])

@@ -1,6 +1,6 @@
 """index.html's controls stay in place while the page plays: headless Chromium shows frames whose
 counter and time have one, two and more digits, and every control keeps its position. Skips where no
-browser is found, as tests/test_page_browser.py does."""
+browser is found, as tests/viewer/pictures/test_page_browser.py does."""
 import pytest
 
 from helpers.browser import BROWSERS, find_browser, probe_page

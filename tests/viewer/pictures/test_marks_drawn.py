@@ -1,7 +1,7 @@
 """The chalk's mark (viewer/pictures/marks.py) as the frames draw it: grey under the board at the frame's
 scale and in the strip magnified x8 about the tip, each pixel column the deposit of the board under
 it (wear.Deposit.shade, black at the run's darkest bin); where the strip goes; legible from the
-back of the room. What the mark is (Archard's law): tests/test_marks.py."""
+back of the room. What the mark is (Archard's law): tests/analysis/test_wear.py."""
 import numpy as np
 import pytest
 from helpers import legibility

@@ -13,7 +13,7 @@ import analysis.log
 from helpers.command import run_main
 from viewer.command import cli
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from helpers import ROOT
 
 
 def run_cli(*args, cwd=None):
@@ -190,3 +190,11 @@ def test_a_list_that_reads_like_a_decimal_comma_is_said_first(args, said, tmp_pa
 def test_other_lists_say_nothing_about_decimals(args, tmp_path):
     code, lines = run_main(*args, "--steps", "2", "--no-frames", "--out", str(tmp_path))
     assert code == 0 and not [line for line in lines if "decimal" in line]
+
+
+def test_cli_prints_the_warning(tmp_path):
+    result = subprocess.run([sys.executable, os.path.join(ROOT, "simulator.py"), "--h", "1", "--steps", "2",
+                             "--out", str(tmp_path), "--no-frames"], capture_output=True, text=True, timeout=120,
+                            env={**os.environ, "SDL_VIDEODRIVER": "dummy"})
+    assert result.returncode == 0
+    assert "simulator.py: warning: time step h = 1 s moves the square 9.81 m per step" in result.stderr

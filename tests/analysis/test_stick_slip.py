@@ -1,5 +1,5 @@
 """analysis/stick_slip.py: the one count of the chalk's stick-slip cycles (the closing line, the page, the
-pictures, the figure and tests/test_chalk.py use it), checked on tip histories built segment by segment,
+pictures, the figure and tests/scenes/test_chalk.py use it), checked on tip histories built segment by segment,
 whose cycles are known from how they were built."""
 import types
 

@@ -10,11 +10,11 @@ import FrictionEnergy
 import simulator
 import time_integrator
 import utils
-from helpers.fd import assert_close, dense, fd_gradient
 from analysis import diagnostics
-from viewer.pictures import frames
+from helpers import ROOT
+from helpers.fd import assert_close, dense, fd_gradient
 
-DATA = os.path.join(os.path.dirname(__file__), "data")
+DATA = os.path.join(ROOT, "tests", "data")
 
 
 def golden_scene(name):
@@ -428,8 +428,6 @@ def test_the_steps_friction_force_is_the_one_its_last_friction_update_gives():
     assert np.abs(report.friction_force - expected).max() <= 1e-12 * scale        # the same formula
     assert np.abs(lagged - expected).max() > 0.01 * scale                          # lambda did change
     assert report.friction_work == pytest.approx(float(np.vdot(expected, x - x_n)), rel=1e-12)
-    drawn = frames.frame_run(scene, x, report, "run", (0, 0, 0), forces=True)["friction"]
-    assert drawn is report.friction_force
 
 
 def chalk_states(drag, steps=600, every=20):

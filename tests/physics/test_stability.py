@@ -187,18 +187,6 @@ def test_unresolvable_time_step_is_reported(kwargs):
     assert simulator.build_scene().warnings == ()
 
 
-def test_cli_prints_the_warning(tmp_path):
-    import subprocess
-    import sys
-    import os
-    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    result = subprocess.run([sys.executable, os.path.join(root, "simulator.py"), "--h", "1", "--steps", "2",
-                             "--out", str(tmp_path), "--no-frames"], capture_output=True, text=True, timeout=120,
-                            env={**os.environ, "SDL_VIDEODRIVER": "dummy"})
-    assert result.returncode == 0
-    assert "simulator.py: warning: time step h = 1 s moves the square 9.81 m per step" in result.stderr
-
-
 def test_resting_start_too_coarse_tolerance_is_reported():
     """A stiff square resting on the lecture's slope with mu = 0.05 < tan(theta) should slide at
     a = g (sin - mu cos) = 0.488 m/s^2, gaining 4.9e-3 m/s per step at h = 0.01. With the lecture's

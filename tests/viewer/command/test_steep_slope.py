@@ -10,7 +10,7 @@ import os
 import subprocess
 import sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from helpers import ROOT
 EXAMPLE = "--slope-normal 0,1 --gravity 4.905,-8.496 --center 0,-0.495 --mu 0.7 --k 1e6"
 
 
