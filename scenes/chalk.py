@@ -32,7 +32,7 @@ CHALK = types.MappingProxyType({
     "drag": False,              # False: pushed (the hand behind the tip); True: dragged
     "k_hand": 2000.0,           # the grip: stiffness of each held node's spring, N/m
     "held_columns": 3,          # the hand holds the nodes of this many columns at the far end
-    "press": 5e-4, "t_press": 0.1,  # the targets press this far into the board (m) over t_press (s),
+    "press": 5e-4, "t_press": 0.1,  # the targets press this far into the board (m) in t_press (s),
     "t_hold": 0.1, "drive": 0.01,   # hold for t_hold (s), then move along the board at drive (m/s)
     "friction_updates": 0, "max_newton_iterations": 1000, "max_halvings": 60,
     "newton_start": "x_tilde",  # from x^n + h v^n cut by CCD: a sliding tip starts sliding
@@ -42,7 +42,8 @@ CHALK = types.MappingProxyType({
 def build_chalk_scene(**overrides):
     """Rabinowicz's chalk: a mass-spring rectangle at `tilt` to a flat board (normal (0, 1) through
     the origin), its tip corner at dhat, held by the hand at the far end, which moves along +x:
-    pushed, the chalk leans back over the tip; dragged, forward. A ValueError names a bad parameter."""
+    pushed, the chalk leans back over the tip; dragged, forward. A ValueError names a bad
+    parameter."""
     p = chalk_checks.check_params(CHALK, overrides)
     x, e = square_mesh.rectangle(p["length"], p["width"], p["nx"], p["ny"], (0.0, -p["width"] / 2))
     tilt = math.radians(p["tilt"])
@@ -53,7 +54,8 @@ def build_chalk_scene(**overrides):
     t1, t2, down = p["t_press"], p["t_press"] + p["t_hold"], -p["press"]
     hand = HandEnergy.Hand(nodes=readonly(held), rest=readonly(x[held]), k_hand=p["k_hand"],
                            key_t=readonly([0.0, t1, t2, t2 + 1.0]),       # then on at drive
-                           key_d=readonly([[0.0, 0.0], [0.0, down], [0.0, down], [p["drive"], down]]))
+                           key_d=readonly([[0.0, 0.0], [0.0, down], [0.0, down],
+                                           [p["drive"], down]]))
     terms = ["inertia", "spring"] + ["gravity"] * any(p["gravity"]) + ["hand", "barrier"]
     terms += ["friction"] * (max(p["mu"], p["mu_s"]) > 0.0)
     return Scene(

@@ -33,7 +33,7 @@ class Scene:
     m: np.ndarray               # (N,) node masses
     contact_area: np.ndarray    # (N,) contact weight per node
     g: np.ndarray               # (2,) gravity
-    n: np.ndarray               # (2,) unit normal of the half-space (the slope), or None without one
+    n: np.ndarray               # (2,) unit normal of the half-space (the slope), or None
     o: np.ndarray               # (2,) a point on it, or None
     mu: float                   # the (kinetic) friction coefficient
     dhat: float

@@ -57,11 +57,13 @@ def build_scene(**overrides):
     if n is not None:
         terms += ["barrier"] + ["friction"] * (p["mu"] > 0.0)
     return Scene(
-        params=types.MappingProxyType(p), x0=readonly(x), v0=readonly(np.tile(p["v0"], (len(x), 1))),
+        params=types.MappingProxyType(p), x0=readonly(x),
+        v0=readonly(np.tile(p["v0"], (len(x), 1))),
         e=readonly(np.asfortranarray(e)),       # column by column: e[:, 0] and e[:, 1] gather fast
         l2=readonly(MassSpringEnergy.squared_lengths(x, e)), k=readonly(np.full(len(e), p["k"])),
         m=readonly(np.full(len(x), square_checks.total_mass(p) / len(x))),     # or rho side_len^2
-        contact_area=readonly(np.full(len(x), p["side_len"] / p["n_seg"])), g=readonly(p["gravity"]),
+        contact_area=readonly(np.full(len(x), p["side_len"] / p["n_seg"])),
+        g=readonly(p["gravity"]),
         n=None if n is None else readonly(n), o=None if o is None else readonly(o),
         mu=p["mu"], dhat=p["dhat"], kappa=p["kappa"], epsv=p["epsv"], h=p["h"], tol=p["tol"],
         friction_updates=p["friction_updates"], newton_start=p["newton_start"],

@@ -1,5 +1,5 @@
-"""The command line and what a run of simulator.py writes and shows, apart from the physics (the flat
-files) and the analysis of its states (analysis/). One job per package; imports point one way:
+"""The command line and what a run of simulator.py writes and shows, apart from the physics (the
+flat files) and the analysis of its states (analysis/). One job per package; imports point one way:
 
     command/   the command line and the run: flags, the run's folder, signals, progress, exit codes
     demo/      the live window (--window), down to one Newton iteration

@@ -1,4 +1,5 @@
-"""A run's folder: a new one the run made itself, and every file in it created new and written whole.
+"""A run's folder: a new one the run made itself, and every file in it created new and written
+whole.
 
 - **The folder.** `RunFolder.make`: by default `output/<kind>-<date>-<time>/`, with `-2`, `-3`, ...
   where that name is taken (`os.mkdir` is atomic: two runs started in the same second get two
@@ -24,6 +25,11 @@ from viewer.output import whole_files
 
 OUTPUT = "output"       # where a run's folder is made without --out
 TEMPORARY_EXTRA = len(".tmp-12345678-")
+
+
+def refused(text):
+    """The ValueError that refuses a run's folder, naming --out (utils.ParameterError)."""
+    return utils.ParameterError("out", text)
 
 
 def frame_png(index):
@@ -72,25 +78,25 @@ def check_names(folder, names):
             pass
     for part in os.path.relpath(top, existing).split(os.sep):
         if len(os.fsencode(part)) > name_max:
-            raise utils.ParameterError("out", f"out folder {folder!r} has a name longer than the "
-                                              f"{name_max} bytes its file system allows: {part[:40]}...")
+            raise refused(f"out folder {folder!r} has a name longer than the "
+                          f"{name_max} bytes its file system allows: {part[:40]}...")
     for name in names:
         size = len(os.fsencode(name)) + TEMPORARY_EXTRA
         if size > name_max:
-            raise utils.ParameterError("out", f"output name {name!r} is too long: "
-                                              f"{size - TEMPORARY_EXTRA} bytes, the folder allows "
-                                              f"{name_max - TEMPORARY_EXTRA} (shorten the list value "
-                                              f"it is named after)")
+            raise refused(f"output name {name!r} is too long: "
+                          f"{size - TEMPORARY_EXTRA} bytes, the folder allows "
+                          f"{name_max - TEMPORARY_EXTRA} (shorten the list value "
+                          f"it is named after)")
         if len(os.fsencode(os.path.join(top, name))) + TEMPORARY_EXTRA >= path_max:
-            raise utils.ParameterError("out", f"out folder {folder!r} is too deep: its files' paths "
-                                              f"would be longer than the {path_max} bytes the file "
-                                              f"system allows")
+            raise refused(f"out folder {folder!r} is too deep: its files' paths "
+                          f"would be longer than the {path_max} bytes the file "
+                          f"system allows")
 
 
 def make_folders(path):
     """Create the folder `path` and its missing parents, and return those made, outermost first;
-    FileExistsError where `path` exists. What was made is removed again when a later part fails (then
-    a ValueError naming --out)."""
+    FileExistsError where `path` exists. What was made is removed again when a later part fails
+    (then a ValueError naming --out)."""
     missing, at = [], os.path.abspath(path)
     while not os.path.lexists(at) and at != os.path.dirname(at):
         missing.insert(0, at)
@@ -107,14 +113,15 @@ def make_folders(path):
             os.rmdir(at)
         if isinstance(err, FileExistsError) and len(made) == len(missing) - 1:
             raise                           # made meanwhile (another run): the caller decides
-        raise utils.ParameterError("out", f"out folder {path!r} cannot be created: "
-                                          f"{err.strerror or err}") from None
+        raise refused(f"out folder {path!r} cannot be created: "
+                      f"{err.strerror or err}") from None
     return made
 
 
 def check_writable(path, made):
     """ValueError naming --out where a file cannot be written in the folder `path` (a full disk, a
-    read-only one): a probe written and removed; the folders `made` for the run are removed again."""
+    read-only one): a probe written and removed; the folders `made` for the run are removed again.
+    """
     probe = os.path.join(path, f".tmp-{secrets.token_hex(4)}-probe")
     try:
         whole_files.write_temporary(probe, "a probe: can a file be written here?\n")
@@ -124,24 +131,24 @@ def check_writable(path, made):
             os.remove(probe)
         for at in reversed(made):
             os.rmdir(at)
-        raise utils.ParameterError("out", f"out folder {path!r} cannot be written: "
-                                          f"{err.strerror or err}") from None
+        raise refused(f"out folder {path!r} cannot be written: "
+                      f"{err.strerror or err}") from None
 
 
 def check_empty(path):
     """ValueError naming --out unless the existing `path` is an empty folder of this user's in which
     nobody else may remove or replace files (POSIX: not writable by others, or sticky as /tmp)."""
     if not os.path.isdir(path):
-        raise utils.ParameterError("out", f"out folder {path!r} is not a folder: choose a new one")
+        raise refused(f"out folder {path!r} is not a folder: choose a new one")
     st = os.stat(path)
-    shared = st.st_mode & stat.S_IWOTH and not st.st_mode & stat.S_ISVTX    # others may remove files
+    shared = st.st_mode & stat.S_IWOTH and not st.st_mode & stat.S_ISVTX  # others may remove files
     if whole_files.HAS_OWNERS and (st.st_uid != os.geteuid() or shared):
-        raise utils.ParameterError("out", f"out folder {path!r} is another user's or others may write "
-                                          f"to it: choose a new folder")
+        raise refused(f"out folder {path!r} is another user's or others may write "
+                      f"to it: choose a new folder")
     if os.listdir(path):
-        raise utils.ParameterError("out", f"out folder {path!r} is not empty: a run writes only into "
-                                          f"a new or empty folder, so choose another --out (or leave "
-                                          f"it out: each run then makes its own under {OUTPUT}/)")
+        raise refused(f"out folder {path!r} is not empty: a run writes only into "
+                      f"a new or empty folder, so choose another --out (or leave "
+                      f"it out: each run then makes its own under {OUTPUT}/)")
 
 
 class RunFolder:
@@ -172,8 +179,8 @@ class RunFolder:
                     except FileExistsError:
                         continue
                 else:
-                    raise utils.ParameterError("out", f"no new folder could be made as {base}-N: "
-                                                      f"give --out")
+                    raise refused(f"no new folder could be made as {base}-N: "
+                                  f"give --out")
             check_writable(out, made)
             return cls(out, signals)
 
@@ -185,8 +192,9 @@ class RunFolder:
         return pathlib.Path(os.path.abspath(self.path(name))).as_uri()
 
     def write(self, name, data):
-        """Write the file `name` whole (text or bytes), signals held until it is: into a new temporary
-        file, then linked to its name (never over another file; over this run's own, replaced)."""
+        """Write the file `name` whole (text or bytes), signals held until it is: into a new
+        temporary file, then linked to its name (never over another file; over this run's own,
+        replaced)."""
         with self.signals.held():
             path, tmp = self.path(name), self.path(f".tmp-{secrets.token_hex(4)}-{name}")
             try:

@@ -10,7 +10,7 @@ import secrets
 
 NO_FOLLOW = getattr(os, "O_NOFOLLOW", 0)        # not on Windows: there the descriptor is compared
 BINARY = getattr(os, "O_BINARY", 0)             # Windows: no newline translation
-HAS_OWNERS = hasattr(os, "geteuid")             # POSIX: files have an owner and mode bits that mean it
+HAS_OWNERS = hasattr(os, "geteuid")             # POSIX: files have an owner and mode bits
 
 
 def create_new(path, mode=0o666):
@@ -30,7 +30,8 @@ def create_new(path, mode=0o666):
 
 def link_new(tmp, path):
     """Give the finished file `tmp` the new name `path`: a hard link, which fails where the name is
-    taken; where the file system has none (FAT, some shares), the name is reserved, then replaced."""
+    taken; where the file system has none (FAT, some shares), the name is reserved, then replaced.
+    """
     try:
         os.link(tmp, path)
     except FileExistsError:
@@ -45,8 +46,8 @@ def link_new(tmp, path):
 
 
 class LineFile:
-    """A text file created new (O_EXCL: never over another file, never through a symbolic link), then
-    written one whole line at a time, each at once: a write that fails part way (a full disk, a
+    """A text file created new (O_EXCL: never over another file, never through a symbolic link),
+    then written one whole line at a time, each at once: a write that fails part way (a full disk, a
     signal) is cut back to the last whole line."""
 
     def __init__(self, path, header, mode=0o666):
@@ -85,8 +86,9 @@ def write_temporary(path, data):
 
 
 def write_atomic(path, data):
-    """Write text or bytes to `path` whole, over what is there: into a temporary file beside it, then
-    renamed over it (a benchmark's own table; a run's outputs go through files.RunFolder.write)."""
+    """Write text or bytes to `path` whole, over what is there: into a temporary file beside it,
+    then renamed over it (a benchmark's own table; a run's outputs go through
+    files.RunFolder.write)."""
     tmp = os.path.join(os.path.dirname(os.path.abspath(path)),
                        f".tmp-{secrets.token_hex(4)}-{os.path.basename(path)}")
     try:

@@ -7,6 +7,6 @@
     plots.py        plots.png: energy budget, contact speeds, Newton iterations (or a comparison of
                     runs); the chalk's tip against the drive, normal force, stick-slip cycles
     summary.py      summary.png: spaced, time-labelled snapshots at a fixed scale
-    page.py         index.html: plays the frames from the file system, with the plots and a time cursor
+    page.py         index.html: plays the frames from the files, with the plots and a time cursor
     run_pictures.py the pictures written at a run's end: summary.png, plots.png, index.html
 """

@@ -131,7 +131,7 @@ def test_a_chalk_comparison_closes_with_each_runs_stick_slip(compared):
     line, out, _ = compared
     counted = {label: counted_from_log(out / name) for label, name in RUNS.items()}
     said = "; ".join(f"{label}: {stick_slip.words(r)}" for label, r in counted.items())
-    assert line.startswith(f"simulated 600 steps (0.60 s) x 2 runs in ") and f" wall; {said}; frames, " in line
+    assert line.startswith("simulated 600 steps (0.60 s) x 2 runs in ") and f" wall; {said}; frames, " in line
     assert not re.search(r"\brest\b", line)
     pushed, sliding = counted["mu-static = 0.5"], counted["mu-static = 0.35"]
     assert len(pushed.slips) >= 2 and pushed.length == pytest.approx(simulator.CHALK["drive"] * pushed.period, rel=0.2)
