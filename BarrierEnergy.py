@@ -1,13 +1,13 @@
 """Log-barrier contact against a half-space (the slope), its CCD step bound and the normal force.
 
-Distance to the half-space: d(x) = n . (x - o), with unit normal n and a point o on it, so grad d = n and
-hess d = 0. Per node, weighted by its contact area w_i (the lecture's choice):
+Distance to the half-space: d(x) = n . (x - o), with unit normal n and a point o on it, so
+grad d = n and hess d = 0. Per node, weighted by its contact area w_i (the lecture's choice):
 
     P_b(x) = sum_i w_i dhat b(d_i),   b(d) = kappa/2 (d/dhat - 1) ln(d/dhat)   for d < dhat, else 0.
 
 Only the nodes with d < dhat enter. `val`, `grad`, `hess`, `init_step_size` and `compute_mu_lambda`
 check their input and call the `*_kernel` of the same name, which holds the formula and trusts its
-input. The kernels of P_b and of mu*lambda refuse a node at d <= 0, where the barrier is not defined.
+input. The kernels of P_b and of mu*lambda refuse a node at d <= 0, where the barrier is undefined.
 """
 import numpy as np
 
@@ -31,15 +31,15 @@ def _check(x, n, o, contact_area, dhat, kappa):
 
 
 def val(x, n, o, contact_area, dhat=DHAT, kappa=KAPPA):
-    """P_b = sum_{d_i < dhat} w_i dhat kappa/2 (s - 1) ln s, s = d_i / dhat (checked; see val_kernel)."""
-    return utils.finite_result("BarrierEnergy.val", val_kernel(*_check(x, n, o, contact_area, dhat, kappa)),
-                               ARGUMENTS)
+    """P_b = sum_{d_i < dhat} w_i dhat kappa/2 (s - 1) ln s, s = d_i / dhat (checked: val_kernel)"""
+    checked = _check(x, n, o, contact_area, dhat, kappa)
+    return utils.finite_result("BarrierEnergy.val", val_kernel(*checked), ARGUMENTS)
 
 
 def grad(x, n, o, contact_area, dhat=DHAT, kappa=KAPPA):
     """grad_i P_b = w_i dhat b'(d_i) n (checked; see grad_kernel)."""
-    return utils.finite_result("BarrierEnergy.grad", grad_kernel(*_check(x, n, o, contact_area, dhat, kappa)),
-                               ARGUMENTS)
+    checked = _check(x, n, o, contact_area, dhat, kappa)
+    return utils.finite_result("BarrierEnergy.grad", grad_kernel(*checked), ARGUMENTS)
 
 
 def hess(x, n, o, contact_area, dhat=DHAT, kappa=KAPPA):
@@ -76,7 +76,8 @@ def val_kernel(x, n, o, contact_area, dhat, kappa):
 
 
 def dP_dd(d, w, dhat, kappa):
-    """w dhat b'(d) = w dhat kappa/2 (ln(s)/dhat + (s - 1)/d), s = d / dhat: dP_b/dd_i, < 0 for d < dhat."""
+    """w dhat b'(d) = w dhat kappa/2 (ln(s)/dhat + (s - 1)/d), s = d / dhat: dP_b/dd_i, < 0 below
+    dhat."""
     s = d / dhat
     return w * dhat * kappa / 2.0 * (np.log(s) / dhat + (s - 1.0) / d)
 
@@ -90,8 +91,8 @@ def grad_kernel(x, n, o, contact_area, dhat, kappa):
 
 
 def hess_kernel(x, n, o, contact_area, dhat, kappa):
-    """hess_i P_b = w_i dhat b''(d_i) n n^T, b''(d) = kappa (d + dhat) / (2 d^2 dhat) > 0 (PSD as it is),
-    for the nodes with d_i < dhat; written (d + dhat) / d / d, since d^2 underflows first."""
+    """hess_i P_b = w_i dhat b''(d_i) n n^T, b''(d) = kappa (d + dhat) / (2 d^2 dhat) > 0 (PSD as
+    it is), for the nodes with d_i < dhat; written (d + dhat) / d / d: d^2 underflows first."""
     i, d = _active(x, n, o, dhat)
     curvature = contact_area.take(i) * kappa / 2.0 * (d + dhat) / d / d
     return i[:, None], curvature[:, None, None] * (n[:, None] * n)      # n n^T
@@ -108,21 +109,22 @@ def init_step_size(x, n, o, p):
 
 
 def approach_rates(x, n, o, p):
-    """-n . p_i / d_i for every node: the share of its distance to the half-space node i covers per unit
-    step along p (> 0 where it approaches); it reaches the half-space at alpha_i = 1 / that rate."""
+    """-n . p_i / d_i for every node: the share of its distance to the half-space node i covers per
+    unit step along p (> 0 where it approaches); it reaches the half-space at alpha_i = 1 / that."""
     return p @ -n / distances(x, n, o)
 
 
 def init_step_size_kernel(x, n, o, p):
-    """Algorithm 4, line 1: alpha = min(1, 0.9 alpha_max), alpha_max the largest step along p that keeps
-    every node above the half-space: a node approaching it (n . p_i < 0) reaches it at
-    alpha_i = d_i / (-n . p_i), so alpha = 0.9 / max_i (-n . p_i / d_i) when that max exceeds 0.9, else 1."""
+    """Algorithm 4, line 1: alpha = min(1, 0.9 alpha_max), alpha_max the largest step along p that
+    keeps every node above the half-space: a node approaching it (n . p_i < 0) reaches it at
+    alpha_i = d_i / (-n . p_i), so alpha = 0.9 / max_i (-n . p_i / d_i) when that max exceeds 0.9,
+    else 1."""
     return 0.9 / max(float(approach_rates(x, n, o, p).max(initial=0.0)), 0.9)
 
 
 def compute_mu_lambda(x, n, o, contact_area, mu, dhat=DHAT, kappa=KAPPA):
-    """mu * lambda_k, the friction bound of each node; mu one coefficient, or one per node (checked; see
-    compute_mu_lambda_kernel)."""
+    """mu * lambda_k, the friction bound of each node; mu one coefficient, or one per node (checked;
+    see compute_mu_lambda_kernel)."""
     x, n, o, contact_area, dhat, kappa = _check(x, n, o, contact_area, dhat, kappa)
     if np.ndim(mu) == 0:
         mu = utils.as_float("mu", mu, "must be a finite number >= 0")
@@ -130,14 +132,14 @@ def compute_mu_lambda(x, n, o, contact_area, mu, dhat=DHAT, kappa=KAPPA):
             raise ValueError(f"mu must be a finite number >= 0, got {mu}")
     else:
         mu = utils.check_per_item("mu", mu, len(x), must_be=">= 0")
-    return utils.finite_result("BarrierEnergy.compute_mu_lambda",
-                               compute_mu_lambda_kernel(x, n, o, contact_area, mu, dhat, kappa), ARGUMENTS)
+    mu_lambda = compute_mu_lambda_kernel(x, n, o, contact_area, mu, dhat, kappa)
+    return utils.finite_result("BarrierEnergy.compute_mu_lambda", mu_lambda, ARGUMENTS)
 
 
 def compute_mu_lambda_kernel(x, n, o, contact_area, mu, dhat, kappa):
-    """mu * lambda_k, lambda_k = -w_k dhat b'(d_k) = -dP_b/dd_k the contact force magnitude, for d_k < dhat;
-    zero elsewhere. mu is a number, or an array of one mu_k per node (slip-weakened friction,
-    FrictionEnergy.slip_weakened_mu). The friction term uses it lagged, from x^n."""
+    """mu * lambda_k, lambda_k = -w_k dhat b'(d_k) = -dP_b/dd_k the contact force magnitude, for
+    d_k < dhat; zero elsewhere. mu is a number, or an array of one mu_k per node (slip-weakened
+    friction, FrictionEnergy.slip_weakened_mu). The friction term uses it lagged, from x^n."""
     i, d = _active(x, n, o, dhat)
     mu_lambda = np.zeros(len(x))                # mu per node: that of the nodes within dhat
     mu_lambda[i] = -(mu.take(i) if np.ndim(mu) else mu) * dP_dd(d, contact_area.take(i), dhat, kappa)

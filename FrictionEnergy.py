@@ -1,40 +1,42 @@
-"""Semi-implicit dry friction against a half-space, with the lecture's mollified static-dynamic transition.
+"""Semi-implicit dry friction against a half-space, with the lecture's mollified static-dynamic
+transition.
 
 With the normal force magnitudes mu*lambda^n and the tangent operator T^n lagged from x^n, and
 vbar_k = (T^n)^T v_k the tangential velocity of node k, v = (x - x^n) / hhat:
 
     P_f(x) = sum_k mu lambda_k^n f0(||vbar_k|| hhat)                 (the lecture's P_f)
 
-`val`, `grad`, `hess` take v and return P_f and its derivatives with respect to x (dv/dx = I / hhat).
+`val`, `grad`, `hess` take v and return P_f and its derivatives in x (dv/dx = I / hhat).
 Only the nodes with mu_lambda > 0 (in contact at x^n) enter. mu_lambda is per node, so a coefficient
 per node (`slip_weakened_mu`, static above kinetic: the chalk's stick-slip) needs nothing new here.
 
-For a half-space in 2-D the tangent line has one unit direction t = (n_y, -n_x), so T = I - n n^T = t t^T
-and vbar_k = u_k t with u_k = t . v_k: ||vbar_k|| = |u_k|. The code computes in that form.
+For a half-space in 2-D the tangent line has one unit direction t = (n_y, -n_x), so T = I - n n^T =
+t t^T and vbar_k = u_k t with u_k = t . v_k: ||vbar_k|| = |u_k|. The code computes in that form.
 
-`val`, `grad`, `hess` check their input and call the `*_kernel` of the same name, which holds the formula
-and trusts its input (the time integrator calls the kernels on a scene validated once).
+`val`, `grad`, `hess` check their input and call the `*_kernel` of the same name, which holds the
+formula and trusts its input (the time integrator calls the kernels on a scene validated once).
 """
 import numpy as np
 
 import utils
 
 EPSV = 1e-3     # eps_v (m/s): tangential speed below which friction is static-like
-ARGUMENTS = "v, mu_lambda, hhat and epsv"       # what a result that overflowed came from (utils.finite_result)
+ARGUMENTS = "v, mu_lambda, hhat and epsv"   # what an overflowed result came from (finite_result)
 
 
-# --- the mollifier (the lecture's three functions; written in r = ||vbar|| / eps_v) -------------------
+# --- the mollifier (the lecture's three functions; written in r = ||vbar|| / eps_v) ---------------
 
 def f0(vbarnorm, epsv, hhat):
-    """f0(||vbar|| hhat): with y = ||vbar|| hhat, -y^3/(3 eps_v^2 hhat^2) + y^2/(eps_v hhat) + eps_v hhat/3
-    for ||vbar|| < eps_v, else y. C^1, with f0'(y) = f1(y / hhat)."""
+    """f0(||vbar|| hhat): with y = ||vbar|| hhat,
+    -y^3/(3 eps_v^2 hhat^2) + y^2/(eps_v hhat) + eps_v hhat/3 for ||vbar|| < eps_v, else y.
+    C^1, with f0'(y) = f1(y / hhat)."""
     r = vbarnorm / epsv
     return np.where(vbarnorm < epsv, epsv * hhat * (r * r * (1.0 - r / 3.0) + 1.0 / 3.0), vbarnorm * hhat)
 
 
 def f1_div_vbarnorm(vbarnorm, epsv):
-    """f1(||vbar||) / ||vbar||: (-||vbar|| + 2 eps_v) / eps_v^2 for ||vbar|| < eps_v, else 1 / ||vbar||.
-    Finite (2 / eps_v) at ||vbar|| = 0."""
+    """f1(||vbar||) / ||vbar||: (-||vbar|| + 2 eps_v) / eps_v^2 for ||vbar|| < eps_v, else
+    1 / ||vbar||. Finite (2 / eps_v) at ||vbar|| = 0."""
     return np.where(vbarnorm < epsv, (2.0 - vbarnorm / epsv) / epsv, 1.0 / np.maximum(vbarnorm, epsv))
 
 
@@ -44,13 +46,13 @@ def f_hess_term(vbarnorm, epsv):
     return -1.0 / np.maximum(vbarnorm, epsv) ** 2
 
 
-# --- friction that weakens with slip (not in the lecture: its chalk remark, Rabinowicz's mu_s > mu_k) --
+# --- friction that weakens with slip (not in the lecture: its chalk remark, mu_s > mu_k) ----------
 
 def slip_weakened_mu(vbarnorm, mu, mu_s, v_c):
-    """mu(||vbar||) = mu + (mu_s - mu) exp(-||vbar|| / v_c): the static coefficient mu_s at rest, falling
-    to the kinetic mu once the node slips much faster than v_c. The time integrator evaluates it in
-    FrictionUpdate only, at the velocity of x^n (or of Algorithm 5's iterate), and holds it fixed through
-    the Newton solve like lambda and T, so P_f stays a potential within each solve."""
+    """mu(||vbar||) = mu + (mu_s - mu) exp(-||vbar|| / v_c): the static coefficient mu_s at rest,
+    falling to the kinetic mu once the node slips much faster than v_c. The time integrator
+    evaluates it in FrictionUpdate only, at the velocity of x^n (or of Algorithm 5's iterate), and
+    holds it fixed through the Newton solve like lambda and T, so P_f stays a potential there."""
     return mu + (mu_s - mu) * np.exp(-vbarnorm / v_c)
 
 
@@ -59,18 +61,20 @@ def slip_weakened_mu(vbarnorm, mu, mu_s, v_c):
 def _check(v, mu_lambda, hhat, n, epsv):
     v = utils.check_points("v", v)
     return (v, utils.check_per_item("mu_lambda", mu_lambda, len(v), must_be=">= 0"),
-            utils.check_positive("hhat", hhat), utils.check_unit_normal("n", n), utils.check_epsv(epsv))
+            utils.check_positive("hhat", hhat), utils.check_unit_normal("n", n),
+            utils.check_epsv(epsv))
 
 
 def val(v, mu_lambda, hhat, n, epsv=EPSV):
     """P_f = sum_k mu lambda_k f0(||vbar_k|| hhat) (checked; see val_kernel)."""
-    return utils.finite_result("FrictionEnergy.val", val_kernel(*_check(v, mu_lambda, hhat, n, epsv)), ARGUMENTS)
+    checked = _check(v, mu_lambda, hhat, n, epsv)
+    return utils.finite_result("FrictionEnergy.val", val_kernel(*checked), ARGUMENTS)
 
 
 def grad(v, mu_lambda, hhat, n, epsv=EPSV):
-    """grad_k P_f = mu lambda_k T (f1(||vbar_k||) / ||vbar_k||) vbar_k (checked; see grad_kernel)."""
-    return utils.finite_result("FrictionEnergy.grad", grad_kernel(*_check(v, mu_lambda, hhat, n, epsv)),
-                               ARGUMENTS)
+    """grad_k P_f = mu lambda_k T (f1(||vbar_k||) / ||vbar_k||) vbar_k (checked; grad_kernel)."""
+    checked = _check(v, mu_lambda, hhat, n, epsv)
+    return utils.finite_result("FrictionEnergy.grad", grad_kernel(*checked), ARGUMENTS)
 
 
 def hess(v, mu_lambda, hhat, n, epsv=EPSV, project_psd=True):
@@ -80,15 +84,16 @@ def hess(v, mu_lambda, hhat, n, epsv=EPSV, project_psd=True):
 
 
 def tangent(n):
-    """t = (n_y, -n_x), the unit tangent of the half-space with unit normal n: T = I - n n^T = t t^T."""
+    """t = (n_y, -n_x), the unit tangent of the half-space of normal n: T = I - n n^T = t t^T."""
     return np.array([n[1], -n[0]])
 
 
 def _contacts(v, mu_lambda, n):
-    """The nodes in contact (mu_lambda > 0), their mu lambda, t, and u = t . v (vbar = u t, ||vbar|| = |u|)."""
+    """The nodes in contact (mu_lambda > 0), their mu lambda, t, and u = t . v (vbar = u t,
+    ||vbar|| = |u|)."""
     k = (mu_lambda > 0.0).nonzero()[0]
     t = tangent(n)
-    return k, mu_lambda.take(k), t, v.take(k, axis=0).dot(t)        # (take: [k], faster on small arrays)
+    return k, mu_lambda.take(k), t, v.take(k, axis=0).dot(t)        # (take: [k], faster when small)
 
 
 def val_kernel(v, mu_lambda, hhat, n, epsv):
@@ -98,8 +103,8 @@ def val_kernel(v, mu_lambda, hhat, n, epsv):
 
 
 def grad_kernel(v, mu_lambda, hhat, n, epsv):
-    """grad_k P_f = mu lambda_k T (f1(||vbar_k||) / ||vbar_k||) vbar_k = mu lambda_k f1/||vbar|| u_k t
-    (T vbar = vbar = u t); zero at vbar = 0 and out of contact."""
+    """grad_k P_f = mu lambda_k T (f1(||vbar_k||) / ||vbar_k||) vbar_k
+    = mu lambda_k f1/||vbar|| u_k t (T vbar = vbar = u t); zero at vbar = 0 and out of contact."""
     k, mu_lambda, t, u = _contacts(v, mu_lambda, n)
     g = np.zeros(v.shape)
     g[k] = (mu_lambda * f1_div_vbarnorm(np.abs(u), epsv) * u)[:, None] * t
@@ -110,8 +115,8 @@ def hess_kernel(v, mu_lambda, hhat, n, epsv, project_psd=True):
     """hess_k P_f = mu lambda_k T [f_hess_term / ||vbar|| vbar vbar^T + f1 / ||vbar|| I] T^T / hhat.
 
     With T = t t^T and vbar = u t the bracket between T and T^T acts on t alone:
-    T [...] T^T = (f_hess_term ||vbar|| + f1 / ||vbar||) t t^T  (at vbar = 0 only f1 / ||vbar|| remains,
-    as in the lecture). PSD projection (the lecture's make_PD) clamps that one eigenvalue at zero."""
+    T [...] T^T = (f_hess_term ||vbar|| + f1 / ||vbar||) t t^T  (at vbar = 0 only f1 / ||vbar||
+    remains, as in the lecture). PSD projection (the lecture's make_PD) clamps it at zero."""
     k, mu_lambda, t, u = _contacts(v, mu_lambda, n)
     vbarnorm = np.abs(u)
     along_t = f_hess_term(vbarnorm, epsv) * vbarnorm + f1_div_vbarnorm(vbarnorm, epsv)

@@ -1,15 +1,16 @@
 """One implicit Euler time step, written as minimizing the Incremental Potential (IP):
 
-    E(x) = 1/2 ||x - x_tilde||_M^2 + h^2 (P_e(x) + P_g(x) + P_hand(x) + P_b(x) + P_f(x)),   x_tilde = x^n + h v^n,
+    E(x) = 1/2 ||x - x_tilde||_M^2 + h^2 (P_e + P_g + P_hand + P_b + P_f)(x),  x_tilde = x^n + h v^n
 
 summing only the potential terms the scene has (`scene.terms`). Projected Newton with the filtered
-backtracking line search of Algorithm 4 minimizes it; friction uses mu*lambda^n and T^n lagged from x^n
-(semi-implicit), and `scene.friction_updates` > 0 adds the fixed-point iterations of Algorithm 5 for
-fully implicit friction. A hand (the chalk's grip) pulls its held nodes to their targets at t^{n+1}.
+backtracking line search of Algorithm 4 minimizes it; friction uses mu*lambda^n and T^n lagged from
+x^n (semi-implicit), and `scene.friction_updates` > 0 adds the fixed-point iterations of Algorithm 5
+for fully implicit friction. A hand (the chalk's grip) pulls its held nodes to their targets at
+t^{n+1}.
 
 `step(scene, x, v, step_index=n)` maps (x^n, v^n) at t^n = n h to (x^{n+1}, v^{n+1}) at t^{n+1} =
-(n + 1) h, and a StepReport; it prints nothing and changes none of its inputs. `newton_iterates` is the
-same step one Newton iteration at a time, for a window to show.
+(n + 1) h, and a StepReport; it prints nothing and changes none of its inputs. `newton_iterates` is
+the same step one Newton iteration at a time, for a window to show.
 """
 import dataclasses
 from dataclasses import dataclass, field
@@ -27,12 +28,13 @@ import utils
 
 
 class SimulationError(RuntimeError):
-    """A time step that could not be completed: its number and the figures of what went wrong. The step
-    from x^n (`step_index` n, from 0) is step n + 1, as log.csv numbers the state it leads to."""
+    """A time step that could not be completed: its number and the figures of what went wrong. The
+    step from x^n (`step_index` n, from 0) is step n + 1, as log.csv numbers the state it ends."""
 
     def __init__(self, message, step_index, **figures):
         self.step, self.figures = step_index + 1, figures
-        details = ", ".join(f"{k}={v:.6g}" if isinstance(v, float) else f"{k}={v}" for k, v in figures.items())
+        details = ", ".join(f"{k}={v:.6g}" if isinstance(v, float) else f"{k}={v}"
+                            for k, v in figures.items())
         super().__init__(f"step {self.step}: {message} ({details})")
 
 
@@ -51,14 +53,14 @@ class NonFiniteState(SimulationError):
 @dataclass
 class StepReport:
     """The figures of one time step."""
-    residual: float = math.inf      # ||p||_inf / h (m/s) at the step's end, or its bound ||grad E||_2 / (min m h)
-    stalled: bool = False           # the last Newton solve stopped at float64's round-off floor, residual > tol
+    residual: float = math.inf      # ||p||_inf / h (m/s) at the end, or ||grad E||_2 / (min m h)
+    stalled: bool = False           # the last solve stopped at float64's floor, residual > tol
     alphas: list = field(default_factory=list)  # accepted line-search step sizes, in order
     min_distance: float = math.inf  # smallest node distance to the slope after the step
-    friction_updates: int = 0       # Algorithm 5's friction updates that re-solved the step (0: lagged friction)
+    friction_updates: int = 0       # Algorithm 5's updates that re-solved the step (0: lagged)
     friction_converged: bool = True  # Algorithm 5 reached its fixed point (always True when lagged)
     friction_work: float = 0.0      # work of the friction forces over the step (J, <= 0)
-    friction_force: np.ndarray = None   # (N, 2) the step's friction force, with its last mu*lambda; None without
+    friction_force: np.ndarray = None   # (N, 2) with the step's last mu*lambda; None without
 
     @property
     def newton_iterations(self):
@@ -68,22 +70,22 @@ class StepReport:
 
 @dataclass(frozen=True)
 class NewtonIterate:
-    """One Newton iteration: the direction at x, the CCD bound, and the step the line search accepted."""
+    """One Newton iteration: the direction at x, the CCD bound, the step the line search took."""
     x: np.ndarray           # (N, 2) the iterate x^i
     p: np.ndarray           # (N, 2) the search direction at x^i
     residual: float         # ||p||_inf / h (m/s); Newton stops when it is <= scene.tol
     alpha_ccd: float        # Algorithm 4, line 1
     alpha: float            # accepted: alpha_ccd / 2^halvings
     halvings: int
-    x_next: np.ndarray      # x^i + alpha p (not taken where E did not decrease: Newton stops at x^i)
+    x_next: np.ndarray      # x^i + alpha p (not taken where E did not decrease: Newton stops)
     friction_update: int    # 0: the lagged solve; j >= 1: the j-th re-solve of Algorithm 5
 
 
 @dataclass(frozen=True)
 class Lagged:
-    """What the Incremental Potential holds fixed during one Newton solve: x^n, x_tilde = x^n + h v^n,
-    mu*lambda per node (None when the scene has no friction), and the hand's targets at t^{n+1} (None
-    without a hand). T^n = I - n n^T is the slope's."""
+    """What the Incremental Potential holds fixed during one Newton solve: x^n, x_tilde = x^n +
+    h v^n, mu*lambda per node (None when the scene has no friction), and the hand's targets at
+    t^{n+1} (None without a hand). T^n = I - n n^T is the slope's."""
     x_n: np.ndarray
     x_tilde: np.ndarray
     mu_lambda: np.ndarray
@@ -91,7 +93,7 @@ class Lagged:
 
 
 def step_time(scene, step_index):
-    """t^{n+1} = (n + 1) h, the time the step from x^n (step_index n) goes to, as simulate's records say."""
+    """t^{n+1} = (n + 1) h, the time the step from x^n (step_index n) goes to, as simulate says."""
     return (step_index + 1) * scene.h
 
 
@@ -107,21 +109,21 @@ def friction_update(scene, lagged, x, v=None):
 
 
 def slip_weakened_mu(scene, lagged, x, v=None):
-    """mu_k = mu + (mu_s - mu) exp(-|t . v_k| / v_c) per node (not in the lecture: its chalk remark, static
-    friction above kinetic), v the velocity of the state x: v^n at x^n (the lagged solve), (x - x^n) / h
-    (v None) at an iterate of Algorithm 5. FrictionUpdate holds it fixed through the solve, as lambda and T."""
+    """mu_k = mu + (mu_s - mu) exp(-|t . v_k| / v_c) per node (not in the lecture: its chalk remark,
+    static friction above kinetic), v the velocity of the state x: v^n at x^n (the lagged solve),
+    (x - x^n) / h (v None) at an iterate of Algorithm 5; held through the solve, as lambda and T."""
     v = (x - lagged.x_n) / scene.h if v is None else v
     vbarnorm = np.abs(v @ FrictionEnergy.tangent(scene.n))          # ||vbar_k|| = |t . v_k|
     return FrictionEnergy.slip_weakened_mu(vbarnorm, scene.mu, scene.static.mu_s, scene.static.v_c)
 
 
-# --- the Incremental Potential ----------------------------------------------------------------------
+# --- the Incremental Potential -------------------------------------------------------------------
 
 @dataclass(frozen=True)
 class Term:
-    """One potential energy term, declared once: its module; `args(scene, lagged, x, v)`, the arguments
-    of its val/grad/hess in the lecture's order, from the scene's arrays and the step's x, v = (x - x^n)
-    / h, mu*lambda and targets; whether it stores energy (friction's potential only dissipates)."""
+    """One potential energy term, declared once: its module; `args(scene, lagged, x, v)`, the
+    arguments of its val/grad/hess in the lecture's order, from the scene's arrays and the step's x,
+    v = (x - x^n) / h, mu*lambda and targets; whether it stores energy (friction dissipates)."""
     module: object
     args: object
     stores_energy: bool
@@ -135,15 +137,15 @@ TERMS = {"spring": Term(MassSpringEnergy, lambda s, lagged, x, v: (x, s.e, s.l2,
 
 
 def potential_terms(scene, lagged, x):
-    """The scene's potential terms at x: (energy module, its arguments in the lecture's order), as TERMS
-    declares them, for the terms the scene has (`scene.terms`)."""
+    """The scene's potential terms at x: (energy module, its arguments in the lecture's order), as
+    TERMS declares them, for the terms the scene has (`scene.terms`)."""
     v = (x - lagged.x_n) / scene.h          # friction's argument: the velocity the step implies
     return [(TERMS[t].module, TERMS[t].args(scene, lagged, x, v)) for t in scene.terms if t != "inertia"]
 
 
 def IP_val(scene, lagged, x):
-    """E(x) = 1/2 ||x - x_tilde||_M^2 + h^2 sum P(x); +inf where a node is on or below the slope (the
-    barrier refuses it), so the line search halves away from it (the filter of Algorithm 4)."""
+    """E(x) = 1/2 ||x - x_tilde||_M^2 + h^2 sum P(x); +inf where a node is on or below the slope
+    (the barrier refuses it), so the line search halves away from it (the filter of Algorithm 4)."""
     try:
         P = sum(term.val_kernel(*args) for term, args in potential_terms(scene, lagged, x))
     except BarrierEnergy.NotAboveHalfSpace:
@@ -158,8 +160,8 @@ def IP_grad(scene, lagged, x):
 
 
 def IP_hess(scene, lagged, x):
-    """H(x) = M + h^2 sum hess P(x), each term PSD-projected, so H >= M is SPD; as the element blocks
-    (nodes, blocks) of its terms, summed when the matrix is built."""
+    """H(x) = M + h^2 sum hess P(x), each term PSD-projected, so H >= M is SPD; as the element
+    blocks (nodes, blocks) of its terms, summed when the matrix is built."""
     hess_P = [term.hess_kernel(*args) for term, args in potential_terms(scene, lagged, x)]
     M = InertiaEnergy.hess_kernel(x, lagged.x_tilde, scene.m)
     return [M] + [(nodes, scene.h ** 2 * blocks) for nodes, blocks in hess_P]
@@ -171,10 +173,10 @@ def search_dir(scene, lagged, x, grad_E):
 
 
 def predicted_start(scene, lagged):
-    """Where Newton starts with scene.newton_start "x_tilde" (the chalk's; the lecture starts at x^n):
-    the prediction x_tilde = x^n + h v^n cut back by CCD (Algorithm 4, line 1, along h v^n), so every
-    node stays above the board. Not in the lecture: from x^n a sliding contact starts at v = 0, in the
-    mollifier's stiff static branch, and Newton needs about 4 iterations to leave it (the dragged chalk)."""
+    """Where Newton starts with scene.newton_start "x_tilde" (the chalk's; the lecture's is x^n):
+    the prediction x_tilde = x^n + h v^n cut back by CCD (Algorithm 4, line 1, along h v^n), so
+    every node stays above the board. Not in the lecture: from x^n a sliding contact starts at
+    v = 0, in the mollifier's stiff static branch, and Newton takes about 4 iterations to leave."""
     prediction = lagged.x_tilde - lagged.x_n
     return lagged.x_n + init_step_size(scene, lagged.x_n, prediction) * prediction
 
@@ -184,15 +186,15 @@ def init_step_size(scene, x, p):
     return BarrierEnergy.init_step_size_kernel(x, scene.n, scene.o, p) if "barrier" in scene.terms else 1.0
 
 
-# --- the time step -----------------------------------------------------------------------------------
+# --- the time step --------------------------------------------------------------------------------
 
 def newton(scene, lagged, x, report, step_index, update=0, start=None):
-    """Minimize E from x by projected Newton with the filtered backtracking line search (Algorithm 4),
-    yielding a NewtonIterate per iteration; returns the minimizer. Stops when ||p||_inf / h <= tol after
-    at least one iteration (a body at rest under h |grad E| < tol would otherwise never start to move),
-    or when E can no longer resolve the decrease p promises (float64's floor: report.stalled).
-    `update`: which solve of Algorithm 5 this is (0: the lagged one); `start`: (p, residual) at x, when
-    the caller has them."""
+    """Minimize E from x by projected Newton with Algorithm 4's filtered backtracking line search,
+    yielding a NewtonIterate per iteration; returns the minimizer. Stops when ||p||_inf / h <= tol
+    after at least one iteration (a body at rest under h |grad E| < tol would otherwise never start
+    to move), or when E can no longer resolve the decrease p promises (float64's floor:
+    report.stalled). `update`: which solve of Algorithm 5 this is (0: the lagged one); `start`:
+    (p, residual) at x, when the caller has them."""
     E, (p, residual) = IP_val(scene, lagged, x), start or _direction(scene, lagged, x, step_index, False)
     report.stalled = False
     for _ in range(scene.max_newton_iterations):
@@ -200,7 +202,7 @@ def newton(scene, lagged, x, report, step_index, update=0, start=None):
             raise NonFiniteState("the Incremental Potential is not finite", step_index, E=E)
         alpha = alpha_ccd = init_step_size(scene, x, p)                 # Algorithm 4, line 1
         halvings, E_next = 0, IP_val(scene, lagged, x + alpha * p)
-        while not E_next <= E and halvings < scene.max_halvings:      # line 2 (a NaN E is no decrease)
+        while not E_next <= E and halvings < scene.max_halvings:    # line 2 (NaN: no decrease)
             alpha, halvings = alpha / 2, halvings + 1                   # line 3
             E_next = IP_val(scene, lagged, x + alpha * p)
         x_next = x + alpha * p
@@ -213,7 +215,7 @@ def newton(scene, lagged, x, report, step_index, update=0, start=None):
         x, E = x_next, E_next
         report.alphas.append(alpha)
         p, residual = _direction(scene, lagged, x, step_index)
-        if residual <= scene.tol and math.isfinite(E):     # (-inf: round once more, to the check above)
+        if residual <= scene.tol and math.isfinite(E):     # (-inf: once more, to the check above)
             break
     else:
         raise NewtonNotConverged("Newton did not converge", step_index, iterations=scene.max_newton_iterations,
@@ -224,8 +226,8 @@ def newton(scene, lagged, x, report, step_index, update=0, start=None):
 
 def _direction(scene, lagged, x, step_index, bound_shows_convergence=True):
     """(p, ||p||_inf / h) at x, the lecture's convergence measure (a velocity, m/s). H >= M, so
-    ||p||_inf <= ||H^-1 grad E||_2 <= ||grad E||_2 / min m: where that bound is already <= tol, p is not
-    needed and (None, bound) is returned."""
+    ||p||_inf <= ||H^-1 grad E||_2 <= ||grad E||_2 / min m: where that bound is already <= tol, p is
+    not needed and (None, bound) is returned."""
     g = IP_grad(scene, lagged, x)
     bound = math.sqrt(np.vdot(g, g)) / scene.m.min() / scene.h
     if bound_shows_convergence and bound <= scene.tol:
@@ -238,51 +240,54 @@ def _direction(scene, lagged, x, step_index, bound_shows_convergence=True):
 
 
 def _check_round_off_floor(scene, lagged, x, p, E, E_next, residual, step_index):
-    """A line search that ends with E(x + alpha p) = E(x) along a descent direction (grad E . p < 0) has
-    met the round-off of E: in exact arithmetic a small enough alpha always decreases E. Any other
-    ending without a decrease (an ascent direction, E still above E(x), a NaN) is a LineSearchFailed."""
+    """A line search that ends with E(x + alpha p) = E(x) along a descent direction (grad E . p < 0)
+    has met the round-off of E: in exact arithmetic a small enough alpha always decreases E. Any
+    other ending without a decrease (an ascent direction, E still above E(x), a NaN) is a
+    LineSearchFailed."""
     slope = float(np.vdot(IP_grad(scene, lagged, x), p))
     if not (slope < 0.0 and E_next == E):
-        raise LineSearchFailed("line search could not decrease the Incremental Potential", step_index,
-                               residual=residual, E=E, E_trial=E_next, directional_derivative=slope)
+        raise LineSearchFailed("line search could not decrease the Incremental Potential",
+                               step_index, residual=residual, E=E, E_trial=E_next,
+                               directional_derivative=slope)
 
 
 def newton_iterates(scene, x, v, *, step_index=0):
-    """The time step of `step`, one Newton iteration at a time: yields a NewtonIterate after each line
-    search, returns (x^{n+1}, v^{n+1}, StepReport). The hand's targets are those of t^{n+1} = step_time."""
+    """The time step of `step`, one Newton iteration at a time: yields a NewtonIterate after each
+    line search, returns (x^{n+1}, v^{n+1}, StepReport). The hand's targets are those of t^{n+1}."""
     x_n, v_n = utils.check_points("x", x, scene.x0.shape), utils.check_points("v", v, scene.x0.shape)
     if "barrier" in scene.terms:
         BarrierEnergy.check_above(x_n, scene.n, scene.o)
     report = StepReport()
     try:
         targets = scene.hand.targets(step_time(scene, step_index)) if "hand" in scene.terms else None
-        lagged = friction_update(scene, Lagged(x_n, x_n + scene.h * v_n, None, targets), x_n, v_n)  # mu*lambda^n
-        x = lagged.x_n if scene.newton_start == "x_n" else predicted_start(scene, lagged)  # x^n: the lecture's
+        # mu*lambda^n; Newton from x^n, as the lecture (or the chalk's predicted start)
+        lagged = friction_update(scene, Lagged(x_n, x_n + scene.h * v_n, None, targets), x_n, v_n)
+        x = lagged.x_n if scene.newton_start == "x_n" else predicted_start(scene, lagged)
         x = yield from newton(scene, lagged, x, report, step_index)
-        if "friction" in scene.terms and scene.friction_updates > 0:                       # Algorithm 5
+        if "friction" in scene.terms and scene.friction_updates > 0:               # Algorithm 5
             for j in range(1, scene.friction_updates + 2):
-                lagged = friction_update(scene, lagged, x)                                 # lines 2, 5
-                start = _direction(scene, lagged, x, step_index)                          # line 3: (p, residual)
+                lagged = friction_update(scene, lagged, x)                         # lines 2, 5
+                start = _direction(scene, lagged, x, step_index)      # line 3: (p, residual)
                 report.residual = start[1]
                 report.friction_converged = report.residual <= scene.tol
                 if report.friction_converged or j > scene.friction_updates:
                     break
                 x = yield from newton(scene, lagged, x, report, step_index, j, start)     # line 4
                 report.friction_updates = j
-    except (ValueError, np.linalg.LinAlgError) as err:      # an energy overflowed, or H could not be factored
+    except (ValueError, np.linalg.LinAlgError) as err:  # an energy overflowed, or H did not factor
         raise NonFiniteState(f"the step's numbers broke down ({err})", step_index) from err
     v_next = (x - x_n) / scene.h        # v^{n+1}
-    if "friction" in scene.terms:       # the step's friction force -grad P_f(v^{n+1}), its last mu*lambda and T
+    if "friction" in scene.terms:       # friction's force -grad P_f(v^{n+1}), last mu*lambda, T
         report.friction_force = -FrictionEnergy.grad_kernel(*TERMS["friction"].args(scene, lagged, x, v_next))
-        report.friction_work = float(np.vdot(report.friction_force, x - x_n))     # its work over the step
+        report.friction_work = float(np.vdot(report.friction_force, x - x_n))     # its work
     if "barrier" in scene.terms:
         report.min_distance = float(BarrierEnergy.distances(x, scene.n, scene.o).min())
     return x, v_next, report
 
 
 def run_out(iterates):
-    """Run a step's Newton iterates (newton_iterates, perhaps part-taken) to the end of the step: returns
-    what the generator returns, (x^{n+1}, v^{n+1}, StepReport)."""
+    """Run a step's Newton iterates (newton_iterates, perhaps part-taken) to the end of the step:
+    returns what the generator returns, (x^{n+1}, v^{n+1}, StepReport)."""
     while True:
         try:
             next(iterates)
@@ -291,6 +296,7 @@ def run_out(iterates):
 
 
 def step(scene, x, v, *, step_index=0):
-    """Advance (x^n, v^n) at t^n = step_index h by one implicit Euler step of scene.h: returns (x^{n+1},
-    v^{n+1}, StepReport). step_index also numbers the step in errors; a hand's targets move with it."""
+    """Advance (x^n, v^n) at t^n = step_index h by one implicit Euler step of scene.h: returns
+    (x^{n+1}, v^{n+1}, StepReport). step_index also numbers the step in errors; a hand's targets
+    move with it."""
     return run_out(newton_iterates(scene, x, v, step_index=step_index))
