@@ -112,9 +112,11 @@ def load_pygame(signals):
         return draw.load_pygame()
 
 
-def write_error(err):
-    """A failed write (a full disk, a folder gone) as the one line's text."""
-    return f"error: cannot write {err.filename}: {err.strerror or err}"
+def write_error(err, plan):
+    """A failed write (a full disk, a folder gone) as the one line's text: the file it names, else
+    the run's folder."""
+    where = err.filename or plan.out or "the run's folder"
+    return f"error: cannot write {where}: {err.strerror or err}"
 
 
 def summary_header(plan):
@@ -153,7 +155,7 @@ def failure_of(err, plan):
     if isinstance(err, Stopped):
         return Failure(err.code, f"stopped: {err.reason}")
     if isinstance(err, OSError):
-        return Failure(1, write_error(err), pictures=False)
+        return Failure(1, write_error(err, plan), pictures=False)
     if isinstance(err, time_integrator.SimulationError):
         return Failure(1, f"stopped: simulation failed: {err}")
     return Failure(1, f"stopped: {err}")        # a ValueError: a number the checks did not foresee
