@@ -378,7 +378,9 @@ def test_a_node_below_the_slope_is_refused_with_or_without_friction():
 def test_incremental_potential_is_its_terms(mu):
     """IP_grad against finite differences of IP_val, and IP_hess as M + h^2 times the public (FD-checked,
     PSD-projected) Hessians of the scene's terms, at a state in contact."""
-    import GravityEnergy, InertiaEnergy, MassSpringEnergy
+    import GravityEnergy
+    import InertiaEnergy
+    import MassSpringEnergy
     scene = simulator.build_scene(mu=mu)
     x, v = scene.x0, scene.v0
     for rec in simulator.simulate(scene, 45):
