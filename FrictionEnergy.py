@@ -31,13 +31,13 @@ def f0(vbarnorm, epsv, hhat):
     -y^3/(3 eps_v^2 hhat^2) + y^2/(eps_v hhat) + eps_v hhat/3 for ||vbar|| < eps_v, else y.
     C^1, with f0'(y) = f1(y / hhat)."""
     r = vbarnorm / epsv
-    return np.where(vbarnorm < epsv, epsv * hhat * (r * r * (1.0 - r / 3.0) + 1.0 / 3.0), vbarnorm * hhat)
+    return np.where(vbarnorm < epsv, epsv * hhat * (r * r * (1 - r / 3) + 1 / 3), vbarnorm * hhat)
 
 
 def f1_div_vbarnorm(vbarnorm, epsv):
     """f1(||vbar||) / ||vbar||: (-||vbar|| + 2 eps_v) / eps_v^2 for ||vbar|| < eps_v, else
     1 / ||vbar||. Finite (2 / eps_v) at ||vbar|| = 0."""
-    return np.where(vbarnorm < epsv, (2.0 - vbarnorm / epsv) / epsv, 1.0 / np.maximum(vbarnorm, epsv))
+    return np.where(vbarnorm < epsv, (2 - vbarnorm / epsv) / epsv, 1 / np.maximum(vbarnorm, epsv))
 
 
 def f_hess_term(vbarnorm, epsv):
