@@ -5,9 +5,10 @@
 summing only the potential terms the scene has (`scene.terms`). Projected Newton with the filtered
 backtracking line search of Algorithm 4 minimizes it; friction uses mu*lambda^n and T^n lagged from
 x^n (semi-implicit), and `scene.friction_updates` > 0 adds the fixed-point iterations of Algorithm 5
-for fully implicit friction. What a scene prescribes is taken at t^{n+1}, as implicit Euler takes
-every force at the end of the step: the hand's targets (the chalk's grip) and the velocity v_s of a
-moving surface (the tablecloth), against which friction measures the slip v - v_s.
+for fully implicit friction. What a scene prescribes is taken at the end of the step, as implicit
+Euler takes every force there: the hand's targets at t^{n+1} (the chalk's grip), and a moving
+surface's velocity v_s = (s(t^{n+1}) - s(t^n)) / h, the backward difference of its position as
+v = (x - x^n) / h is of x (the tablecloth); friction slips on v - v_s.
 
 `step(scene, x, v, step_index=n)` maps (x^n, v^n) at t^n = n h to (x^{n+1}, v^{n+1}) at t^{n+1} =
 (n + 1) h, and a StepReport; it prints nothing and changes none of its inputs. `newton_iterates` is
@@ -88,7 +89,7 @@ class NewtonIterate:
 class Lagged:
     """What the Incremental Potential holds fixed during one Newton solve: x^n, x_tilde = x^n +
     h v^n, mu*lambda per node (None when the scene has no friction), the hand's targets at
-    t^{n+1} (None without a hand) and the surface's velocity v_s at t^{n+1} (zero if still).
+    t^{n+1} (None without a hand) and the surface's velocity v_s over the step (zero if still).
     T^n = I - n n^T is the slope's."""
     x_n: np.ndarray
     x_tilde: np.ndarray
@@ -270,9 +271,9 @@ def newton_iterates(scene, x, v, *, step_index=0):
         BarrierEnergy.check_above(x_n, scene.n, scene.o)
     report = StepReport()
     try:
-        t = step_time(scene, step_index)        # t^{n+1}: the hand's targets, the surface's v_s
+        t = step_time(scene, step_index)        # t^{n+1}: what the scene prescribes
         targets = scene.hand.targets(t) if "hand" in scene.terms else None
-        v_s = np.zeros(2) if scene.surface is None else scene.surface.velocity(t)
+        v_s = np.zeros(2) if scene.surface is None else scene.surface.velocity(t, scene.h)
         lagged = Lagged(x_n, x_n + scene.h * v_n, None, targets, v_s)
         lagged = friction_update(scene, lagged, x_n, v_n)                 # mu*lambda^n
         # Newton from x^n, as the lecture (or the chalk's predicted start)

@@ -24,22 +24,22 @@ class StaticFriction:
 
 @dataclass(frozen=True)
 class MovingSurface:
-    """The half-space sliding along itself at v_s(t) = u_s(t) t, t = (n_y, -n_x) its tangent: a
-    cloth pulled a length L at speed U from t_pull, u_s = U for t_pull < t <= t_pull + L / U, else
-    0. The same set at every t, so the barrier and CCD are unchanged; friction slips on v - v_s."""
+    """The half-space sliding along its tangent t = (n_y, -n_x): a cloth pulled a length L at speed
+    U from t_pull, then still. The same set at every time, so the barrier and CCD are unchanged;
+    friction slips on v - v_s."""
     pull_speed: float           # U, m/s
     pull_length: float          # L, m
     t_pull: float               # when the pull starts, s
     tangent: np.ndarray         # (2,) t, the direction of the pull
 
-    def velocity(self, t):
-        """v_s(t) = u_s(t) t, (2,) m/s."""
-        pulling = self.t_pull < t <= self.t_pull + self.pull_length / self.pull_speed
-        return self.tangent * (self.pull_speed if pulling else 0.0)
-
     def offset(self, t):
         """How far the surface has moved along t by time t (m): U min(max(t - t_pull, 0), L / U)."""
         return self.pull_speed * min(max(t - self.t_pull, 0.0), self.pull_length / self.pull_speed)
+
+    def velocity(self, t, h):
+        """v_s of the time step of length h ending at t: its displacement over the step, over h, as
+        v = (x - x^n) / h (U t inside the pull, 0 outside; the pull moves the cloth L for any h)."""
+        return self.tangent * ((self.offset(t) - self.offset(t - h)) / h)
 
 
 @dataclass(frozen=True)
