@@ -57,7 +57,7 @@ def _active(x, n, o, dhat):
     """The nodes with d < dhat and their distances; NotAboveHalfSpace if any node has d <= 0."""
     d = distances(x, n, o)
     if d.min() <= 0.0:
-        raise NotAboveHalfSpace(f"x: node {d.argmin()} is at distance {d.min():.6g} <= 0: below it")
+        raise NotAboveHalfSpace(f"x: node {d.argmin()} is at distance {d.min():.6g} <= 0, under it")
     i = (d < dhat).nonzero()[0]
     return i, d.take(i)                         # (take: d[i], faster on small arrays)
 

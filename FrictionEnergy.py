@@ -2,7 +2,7 @@
 transition.
 
 With the normal force magnitudes mu*lambda^n and the tangent operator T^n lagged from x^n, and
-vbar_k = (T^n)^T v_k the tangential velocity of node k, v = (x - x^n) / hhat:
+vbar_k = (T^n)^T v_k the tangential relative velocity of node k, v = (x - x^n) / hhat - v_s:
 
     P_f(x) = sum_k mu lambda_k^n f0(||vbar_k|| hhat)                 (the lecture's P_f)
 
@@ -12,6 +12,9 @@ per node (`slip_weakened_mu`, static above kinetic: the chalk's stick-slip) need
 
 For a half-space in 2-D the tangent line has one unit direction t = (n_y, -n_x), so T = I - n n^T =
 t t^T and vbar_k = u_k t with u_k = t . v_k: ||vbar_k|| = |u_k|. The code computes in that form.
+The slide's T_k = [I - n n^T; n n^T - I] acts on [v_p; v_s]; a surface's v_s is prescribed (zero
+for a still one), so the caller passes v = v_p - v_s (time_integrator.potential_terms) and T_k
+reduces to T = t t^T (`tangent`).
 
 `val`, `grad`, `hess` check their input and call the `*_kernel` of the same name, which holds the
 formula and trusts its input (the time integrator calls the kernels on a scene validated once).

@@ -264,7 +264,8 @@ def _check_round_off_floor(scene, lagged, x, p, E, E_next, residual, step_index)
 
 def newton_iterates(scene, x, v, *, step_index=0):
     """The time step of `step`, one Newton iteration at a time: yields a NewtonIterate after each
-    line search, returns (x^{n+1}, v^{n+1}, StepReport). The hand's targets are those of t^{n+1}."""
+    line search, returns (x^{n+1}, v^{n+1}, StepReport). The hand's targets are those of t^{n+1},
+    a moving surface's v_s that of the step."""
     x_n = utils.check_points("x", x, scene.x0.shape)
     v_n = utils.check_points("v", v, scene.x0.shape)
     if "barrier" in scene.terms:
