@@ -57,8 +57,7 @@ def _active(x, n, o, dhat):
     """The nodes with d < dhat and their distances; NotAboveHalfSpace if any node has d <= 0."""
     d = distances(x, n, o)
     if d.min() <= 0.0:
-        raise NotAboveHalfSpace(f"x: node {d.argmin()} is at distance {d.min():.6g} <= 0 from the "
-                                "half-space; the barrier is only defined for d > 0")
+        raise NotAboveHalfSpace(f"x: node {d.argmin()} is at distance {d.min():.6g} <= 0, under it")
     i = (d < dhat).nonzero()[0]
     return i, d.take(i)                         # (take: d[i], faster on small arrays)
 
@@ -137,10 +136,7 @@ def compute_mu_lambda(x, n, o, contact_area, mu, dhat=DHAT, kappa=KAPPA):
 
 
 def compute_mu_lambda_kernel(x, n, o, contact_area, mu, dhat, kappa):
-    """mu * lambda_k, lambda_k = -w_k dhat b'(d_k) = -dP_b/dd_k the contact force magnitude, for
-    d_k < dhat; zero elsewhere. mu is a number, or an array of one mu_k per node (slip-weakened
-    friction, FrictionEnergy.slip_weakened_mu). The friction term uses it lagged, from x^n."""
-    i, d = _active(x, n, o, dhat)
-    mu_lambda = np.zeros(len(x))                # mu per node: that of the nodes within dhat
-    mu_lambda[i] = -(mu.take(i) if np.ndim(mu) else mu) * dP_dd(d, contact_area.take(i), dhat, kappa)
-    return mu_lambda
+    """mu * lambda_k, lambda_k = -w_k dhat b'(d_k) = n . (-grad_k P_b) the contact force magnitude
+    (zero beyond dhat). mu is a number, or an array of one mu_k per node (slip-weakened friction,
+    FrictionEnergy.slip_weakened_mu). The friction term uses it lagged, from x^n."""
+    return -mu * (grad_kernel(x, n, o, contact_area, dhat, kappa) @ n)

@@ -2,7 +2,7 @@
 transition.
 
 With the normal force magnitudes mu*lambda^n and the tangent operator T^n lagged from x^n, and
-vbar_k = (T^n)^T v_k the tangential velocity of node k, v = (x - x^n) / hhat:
+vbar_k = (T^n)^T v_k the tangential relative velocity of node k, v = (x - x^n) / hhat - v_s:
 
     P_f(x) = sum_k mu lambda_k^n f0(||vbar_k|| hhat)                 (the lecture's P_f)
 
@@ -12,6 +12,9 @@ per node (`slip_weakened_mu`, static above kinetic: the chalk's stick-slip) need
 
 For a half-space in 2-D the tangent line has one unit direction t = (n_y, -n_x), so T = I - n n^T =
 t t^T and vbar_k = u_k t with u_k = t . v_k: ||vbar_k|| = |u_k|. The code computes in that form.
+The slide's T_k = [I - n n^T; n n^T - I] acts on [v_p; v_s]; a surface's v_s is prescribed (zero
+for a still one), so the caller passes v = v_p - v_s (time_integrator.potential_terms) and T_k
+reduces to T = t t^T (`tangent`).
 
 `val`, `grad`, `hess` check their input and call the `*_kernel` of the same name, which holds the
 formula and trusts its input (the time integrator calls the kernels on a scene validated once).
@@ -31,13 +34,13 @@ def f0(vbarnorm, epsv, hhat):
     -y^3/(3 eps_v^2 hhat^2) + y^2/(eps_v hhat) + eps_v hhat/3 for ||vbar|| < eps_v, else y.
     C^1, with f0'(y) = f1(y / hhat)."""
     r = vbarnorm / epsv
-    return np.where(vbarnorm < epsv, epsv * hhat * (r * r * (1.0 - r / 3.0) + 1.0 / 3.0), vbarnorm * hhat)
+    return np.where(vbarnorm < epsv, epsv * hhat * (r * r * (1 - r / 3) + 1 / 3), vbarnorm * hhat)
 
 
 def f1_div_vbarnorm(vbarnorm, epsv):
     """f1(||vbar||) / ||vbar||: (-||vbar|| + 2 eps_v) / eps_v^2 for ||vbar|| < eps_v, else
     1 / ||vbar||. Finite (2 / eps_v) at ||vbar|| = 0."""
-    return np.where(vbarnorm < epsv, (2.0 - vbarnorm / epsv) / epsv, 1.0 / np.maximum(vbarnorm, epsv))
+    return np.where(vbarnorm < epsv, (2 - vbarnorm / epsv) / epsv, 1 / np.maximum(vbarnorm, epsv))
 
 
 def f_hess_term(vbarnorm, epsv):

@@ -252,3 +252,13 @@ def max_com_error(run, reference):
     if len(ref_t) != len(run.t) or not np.allclose(ref_t, run.t, rtol=0, atol=1e-9):
         raise ValueError("the reference's samples do not match the run's times")
     return float(np.linalg.norm(run.com - reference.com[::stride][:len(run.com)], axis=1).max())
+
+
+def tablecloth_travel(pull_speed, pull_length, mu, g=9.81):
+    """How far a dish at rest on a cloth pulled a length L at speed U travels: friction drives it
+    at mu g toward the cloth's speed. Where U^2 >= mu g L the cloth outruns it for T = L / U: the
+    dish reaches mu g T having gone mu g T^2 / 2, then slides as far again to a stop, mu g T^2 =
+    mu g L^2 / U^2 in all. Else it catches the cloth, rides along, and stops as far past the cloth's
+    end as it lagged behind: L. g is the magnitude of gravity."""
+    U, L = pull_speed, pull_length
+    return mu * g * L * L / (U * U) if U * U >= mu * g * L else L

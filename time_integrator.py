@@ -5,8 +5,10 @@
 summing only the potential terms the scene has (`scene.terms`). Projected Newton with the filtered
 backtracking line search of Algorithm 4 minimizes it; friction uses mu*lambda^n and T^n lagged from
 x^n (semi-implicit), and `scene.friction_updates` > 0 adds the fixed-point iterations of Algorithm 5
-for fully implicit friction. A hand (the chalk's grip) pulls its held nodes to their targets at
-t^{n+1}.
+for fully implicit friction. What a scene prescribes is taken at the end of the step, as implicit
+Euler takes every force there: the hand's targets at t^{n+1} (the chalk's grip), and a moving
+surface's velocity v_s = (s(t^{n+1}) - s(t^n)) / h, the backward difference of its position as
+v = (x - x^n) / h is of x (the tablecloth); friction slips on v - v_s.
 
 `step(scene, x, v, step_index=n)` maps (x^n, v^n) at t^n = n h to (x^{n+1}, v^{n+1}) at t^{n+1} =
 (n + 1) h, and a StepReport; it prints nothing and changes none of its inputs. `newton_iterates` is
@@ -59,7 +61,9 @@ class StepReport:
     min_distance: float = math.inf  # smallest node distance to the slope after the step
     friction_updates: int = 0       # Algorithm 5's updates that re-solved the step (0: lagged)
     friction_converged: bool = True  # Algorithm 5 reached its fixed point (always True when lagged)
-    friction_work: float = 0.0      # work of the friction forces over the step (J, <= 0)
+    friction_work: float = 0.0      # F_f . (x^{n+1} - x^n): friction's work in the lab frame (J)
+    surface_work: float = 0.0       # F_f . v_s h: the moving surface's work (J, 0 if still); heat
+    #                                 surface_work - friction_work >= 0 (friction's, surface frame)
     friction_force: np.ndarray = None   # (N, 2) with the step's last mu*lambda; None without
 
     @property
@@ -84,12 +88,14 @@ class NewtonIterate:
 @dataclass(frozen=True)
 class Lagged:
     """What the Incremental Potential holds fixed during one Newton solve: x^n, x_tilde = x^n +
-    h v^n, mu*lambda per node (None when the scene has no friction), and the hand's targets at
-    t^{n+1} (None without a hand). T^n = I - n n^T is the slope's."""
+    h v^n, mu*lambda per node (None when the scene has no friction), the hand's targets at
+    t^{n+1} (None without a hand) and the surface's velocity v_s over the step (zero if still).
+    T^n = I - n n^T is the slope's."""
     x_n: np.ndarray
     x_tilde: np.ndarray
     mu_lambda: np.ndarray
     targets: np.ndarray = None
+    v_s: np.ndarray = field(default_factory=lambda: np.zeros(2))
 
 
 def step_time(scene, step_index):
@@ -109,11 +115,11 @@ def friction_update(scene, lagged, x, v=None):
 
 
 def slip_weakened_mu(scene, lagged, x, v=None):
-    """mu_k = mu + (mu_s - mu) exp(-|t . v_k| / v_c) per node (not in the lecture: its chalk remark,
-    static friction above kinetic), v the velocity of the state x: v^n at x^n (the lagged solve),
-    (x - x^n) / h (v None) at an iterate of Algorithm 5; held through the solve, as lambda and T."""
+    """mu_k = mu + (mu_s - mu) exp(-|t . (v_k - v_s)| / v_c) per node (not in the lecture: its chalk
+    remark, static friction above kinetic), v the velocity of the state x: v^n at x^n (the lagged
+    solve), (x - x^n) / h (v None) at an iterate of Algorithm 5; held through the solve."""
     v = (x - lagged.x_n) / scene.h if v is None else v
-    vbarnorm = np.abs(v @ FrictionEnergy.tangent(scene.n))          # ||vbar_k|| = |t . v_k|
+    vbarnorm = np.abs((v - lagged.v_s) @ FrictionEnergy.tangent(scene.n))   # |t . (v_k - v_s)|
     return FrictionEnergy.slip_weakened_mu(vbarnorm, scene.mu, scene.static.mu_s, scene.static.v_c)
 
 
@@ -123,24 +129,30 @@ def slip_weakened_mu(scene, lagged, x, v=None):
 class Term:
     """One potential energy term, declared once: its module; `args(scene, lagged, x, v)`, the
     arguments of its val/grad/hess in the lecture's order, from the scene's arrays and the step's x,
-    v = (x - x^n) / h, mu*lambda and targets; whether it stores energy (friction dissipates)."""
+    v = (x - x^n) / h - v_s, mu*lambda, targets; whether it stores energy (friction dissipates)."""
     module: object
     args: object
     stores_energy: bool
 
 
-TERMS = {"spring": Term(MassSpringEnergy, lambda s, lagged, x, v: (x, s.e, s.l2, s.k), True),
-         "gravity": Term(GravityEnergy, lambda s, lagged, x, v: (x, s.m, s.g), True),
-         "barrier": Term(BarrierEnergy, lambda s, lagged, x, v: (x, s.n, s.o, s.contact_area, s.dhat, s.kappa), True),
-         "friction": Term(FrictionEnergy, lambda s, lagged, x, v: (v, lagged.mu_lambda, s.h, s.n, s.epsv), False),
-         "hand": Term(HandEnergy, lambda s, lagged, x, v: (x, s.hand.nodes, lagged.targets, s.hand.k_hand), True)}
+TERMS = {
+    "spring": Term(MassSpringEnergy, lambda s, lagged, x, v: (x, s.e, s.l2, s.k), True),
+    "gravity": Term(GravityEnergy, lambda s, lagged, x, v: (x, s.m, s.g), True),
+    "barrier": Term(BarrierEnergy,
+                    lambda s, lagged, x, v: (x, s.n, s.o, s.contact_area, s.dhat, s.kappa), True),
+    "friction": Term(FrictionEnergy,
+                     lambda s, lagged, x, v: (v, lagged.mu_lambda, s.h, s.n, s.epsv), False),
+    "hand": Term(HandEnergy,
+                 lambda s, lagged, x, v: (x, s.hand.nodes, lagged.targets, s.hand.k_hand), True),
+}
 
 
 def potential_terms(scene, lagged, x):
     """The scene's potential terms at x: (energy module, its arguments in the lecture's order), as
     TERMS declares them, for the terms the scene has (`scene.terms`)."""
-    v = (x - lagged.x_n) / scene.h          # friction's argument: the velocity the step implies
-    return [(TERMS[t].module, TERMS[t].args(scene, lagged, x, v)) for t in scene.terms if t != "inertia"]
+    v = (x - lagged.x_n) / scene.h - lagged.v_s     # v_p - v_s: friction's slip against the surface
+    terms = [TERMS[t] for t in scene.terms if t != "inertia"]
+    return [(term.module, term.args(scene, lagged, x, v)) for term in terms]
 
 
 def IP_val(scene, lagged, x):
@@ -183,7 +195,7 @@ def predicted_start(scene, lagged):
 
 def init_step_size(scene, x, p):
     """Algorithm 4, line 1: CCD against the slope; without a slope the full step is safe."""
-    return BarrierEnergy.init_step_size_kernel(x, scene.n, scene.o, p) if "barrier" in scene.terms else 1.0
+    return 1.0 if scene.n is None else BarrierEnergy.init_step_size_kernel(x, scene.n, scene.o, p)
 
 
 # --- the time step --------------------------------------------------------------------------------
@@ -195,8 +207,8 @@ def newton(scene, lagged, x, report, step_index, update=0, start=None):
     to move), or when E can no longer resolve the decrease p promises (float64's floor:
     report.stalled). `update`: which solve of Algorithm 5 this is (0: the lagged one); `start`:
     (p, residual) at x, when the caller has them."""
-    E, (p, residual) = IP_val(scene, lagged, x), start or _direction(scene, lagged, x, step_index, False)
-    report.stalled = False
+    E = IP_val(scene, lagged, x)
+    p, residual = start or _direction(scene, lagged, x, step_index, False)
     for _ in range(scene.max_newton_iterations):
         if not math.isfinite(E):            # x^n, or an accepted iterate, beyond float64's range
             raise NonFiniteState("the Incremental Potential is not finite", step_index, E=E)
@@ -210,7 +222,6 @@ def newton(scene, lagged, x, report, step_index, update=0, start=None):
         if not E_next < E:                  # no decrease: E cannot tell x_next from x
             if residual > scene.tol:        # (else x is converged already, e.g. at rest with p = 0)
                 _check_round_off_floor(scene, lagged, x, p, E, E_next, residual, step_index)
-                report.stalled = True
             break
         x, E = x_next, E_next
         report.alphas.append(alpha)
@@ -218,9 +229,9 @@ def newton(scene, lagged, x, report, step_index, update=0, start=None):
         if residual <= scene.tol and math.isfinite(E):     # (-inf: once more, to the check above)
             break
     else:
-        raise NewtonNotConverged("Newton did not converge", step_index, iterations=scene.max_newton_iterations,
-                                 residual=residual, tol=scene.tol, h=scene.h)
-    report.residual = residual
+        raise NewtonNotConverged("Newton did not converge", step_index, residual=residual,
+                                 iterations=scene.max_newton_iterations, tol=scene.tol, h=scene.h)
+    report.residual, report.stalled = residual, residual > scene.tol   # stalled: at E's floor
     return x
 
 
@@ -253,36 +264,40 @@ def _check_round_off_floor(scene, lagged, x, p, E, E_next, residual, step_index)
 
 def newton_iterates(scene, x, v, *, step_index=0):
     """The time step of `step`, one Newton iteration at a time: yields a NewtonIterate after each
-    line search, returns (x^{n+1}, v^{n+1}, StepReport). The hand's targets are those of t^{n+1}."""
-    x_n, v_n = utils.check_points("x", x, scene.x0.shape), utils.check_points("v", v, scene.x0.shape)
+    line search, returns (x^{n+1}, v^{n+1}, StepReport). The hand's targets are those of t^{n+1},
+    a moving surface's v_s that of the step."""
+    x_n = utils.check_points("x", x, scene.x0.shape)
+    v_n = utils.check_points("v", v, scene.x0.shape)
     if "barrier" in scene.terms:
         BarrierEnergy.check_above(x_n, scene.n, scene.o)
     report = StepReport()
     try:
-        targets = scene.hand.targets(step_time(scene, step_index)) if "hand" in scene.terms else None
-        # mu*lambda^n; Newton from x^n, as the lecture (or the chalk's predicted start)
-        lagged = friction_update(scene, Lagged(x_n, x_n + scene.h * v_n, None, targets), x_n, v_n)
+        t = step_time(scene, step_index)        # t^{n+1}: what the scene prescribes
+        targets = scene.hand.targets(t) if "hand" in scene.terms else None
+        v_s = np.zeros(2) if scene.surface is None else scene.surface.velocity(t, scene.h)
+        lagged = Lagged(x_n, x_n + scene.h * v_n, None, targets, v_s)
+        lagged = friction_update(scene, lagged, x_n, v_n)                 # mu*lambda^n
+        # Newton from x^n, as the lecture (or the chalk's predicted start)
         x = lagged.x_n if scene.newton_start == "x_n" else predicted_start(scene, lagged)
         x = yield from newton(scene, lagged, x, report, step_index)
         if "friction" in scene.terms and scene.friction_updates > 0:               # Algorithm 5
             for j in range(1, scene.friction_updates + 2):
                 lagged = friction_update(scene, lagged, x)                         # lines 2, 5
-                start = _direction(scene, lagged, x, step_index)      # line 3: (p, residual)
-                report.residual = start[1]
+                p, report.residual = _direction(scene, lagged, x, step_index)      # line 3
                 report.friction_converged = report.residual <= scene.tol
                 if report.friction_converged or j > scene.friction_updates:
                     break
-                x = yield from newton(scene, lagged, x, report, step_index, j, start)     # line 4
+                x = yield from newton(scene, lagged, x, report, step_index, j, (p, report.residual))
                 report.friction_updates = j
     except (ValueError, np.linalg.LinAlgError) as err:  # an energy overflowed, or H did not factor
         raise NonFiniteState(f"the step's numbers broke down ({err})", step_index) from err
-    v_next = (x - x_n) / scene.h        # v^{n+1}
-    if "friction" in scene.terms:       # friction's force -grad P_f(v^{n+1}), last mu*lambda, T
-        report.friction_force = -FrictionEnergy.grad_kernel(*TERMS["friction"].args(scene, lagged, x, v_next))
-        report.friction_work = float(np.vdot(report.friction_force, x - x_n))     # its work
+    if "friction" in scene.terms:       # -grad P_f(v^{n+1} - v_s), the last mu*lambda; its work
+        F_f = -FrictionEnergy.grad_kernel(*dict(potential_terms(scene, lagged, x))[FrictionEnergy])
+        report.friction_force, report.friction_work = F_f, float(np.vdot(F_f, x - x_n))
+        report.surface_work = float(np.vdot(F_f.sum(axis=0), lagged.v_s)) * scene.h
     if "barrier" in scene.terms:
         report.min_distance = float(BarrierEnergy.distances(x, scene.n, scene.o).min())
-    return x, v_next, report
+    return x, (x - x_n) / scene.h, report      # x^{n+1}, v^{n+1}
 
 
 def run_out(iterates):

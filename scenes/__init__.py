@@ -1,8 +1,12 @@
 """The scenes: each one short unit, its numbers (with units), its mesh, its terms, its builder.
 
-    scene.py    what every scene is (`Scene`); the parts only some have: the hand, static friction
-    square.py   the lecture's case study: the mass-spring square dropped on a slope (`DEFAULTS`)
-    chalk.py    the lecture's closing remark: Rabinowicz's chalk on a board, in a hand (`CHALK`)
+    scene.py        what every scene is (`Scene`); the parts only some have: the hand, static
+                    friction, the moving surface
+    square.py       the lecture's case study: the mass-spring square dropped on a slope (`DEFAULTS`)
+    chalk.py        the lecture's closing remark: Rabinowicz's chalk on a board, in a hand (`CHALK`)
+    tablecloth.py   the slide "Tangential Relative Velocity": a dish on a pulled tablecloth
+                    (`TABLECLOTH`)
 
-`simulator.py` gathers them (`simulator.build_scene`, `simulator.build_chalk_scene`) and steps them.
+`simulator.py` gathers them (`simulator.build_scene`, `build_chalk_scene`,
+`build_tablecloth_scene`) and steps them.
 """

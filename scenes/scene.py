@@ -1,8 +1,9 @@
 """What a scene *is*: built once by a scene's builder, never changed by stepping (MuJoCo's model).
 
 `Scene` holds what every scene has. What only some scenes have is one optional part each, None when
-the scene has none: the hand (`HandEnergy.Hand`, the chalk's grip) and static friction
-(`StaticFriction`: a static coefficient above the kinetic one, the chalk's).
+the scene has none: the hand (`HandEnergy.Hand`, the chalk's grip), static friction
+(`StaticFriction`: a static coefficient above the kinetic one, the chalk's) and a moving surface
+(`MovingSurface`: the half-space sliding along itself, the tablecloth).
 """
 from dataclasses import dataclass
 import types
@@ -19,6 +20,26 @@ class StaticFriction:
     (FrictionEnergy.slip_weakened_mu); not in the lecture: its stick-slip remark."""
     mu_s: float                 # static friction coefficient, above the scene's mu
     v_c: float                  # m/s
+
+
+@dataclass(frozen=True)
+class MovingSurface:
+    """The half-space sliding along its tangent t = (n_y, -n_x): a cloth pulled a length L at speed
+    U from t_pull, then still. The same set at every time, so the barrier and CCD are unchanged;
+    friction slips on v - v_s."""
+    pull_speed: float           # U, m/s
+    pull_length: float          # L, m
+    t_pull: float               # when the pull starts, s
+    tangent: np.ndarray         # (2,) t, the direction of the pull
+
+    def offset(self, t):
+        """How far the surface has moved along t by time t (m): U min(max(t - t_pull, 0), L / U)."""
+        return self.pull_speed * min(max(t - self.t_pull, 0.0), self.pull_length / self.pull_speed)
+
+    def velocity(self, t, h):
+        """v_s of the time step of length h ending at t: its displacement over the step, over h, as
+        v = (x - x^n) / h (U t inside the pull, 0 outside; the pull moves the cloth L for any h)."""
+        return self.tangent * ((self.offset(t) - self.offset(t - h)) / h)
 
 
 @dataclass(frozen=True)
@@ -51,6 +72,7 @@ class Scene:
     cells: tuple                # (nx, ny): the mesh's cells (square_mesh.rectangle)
     hand: HandEnergy.Hand = None            # the grip's held nodes and moving targets, or None
     static: StaticFriction = None           # static friction above kinetic, or None
+    surface: MovingSurface = None           # the half-space's own tangential motion, or None
 
 
 def readonly(a):

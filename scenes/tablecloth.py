@@ -1,0 +1,91 @@
+"""The tablecloth trick (the slide "Tangential Relative Velocity"): a dish at rest on a cloth
+pulled a length L at speed U across a flat table. Pulled fast, the dish barely moves; slowly, it
+rides along (closed_forms.tablecloth_travel).
+
+    scene = build_tablecloth_scene(pull_speed=8.0)  # the numbers (TABLECLOTH), one of them changed
+"""
+import math
+import types
+
+import numpy as np
+import scipy.optimize
+
+import BarrierEnergy
+import MassSpringEnergy
+import square_mesh
+import utils
+from scenes.scene import MovingSurface, Scene, readonly
+
+TABLECLOTH = types.MappingProxyType({
+    "width": 0.2, "height": 0.05,   # m: the dish, a plate
+    "nx": 4, "ny": 1,           # cells along and across: (nx + 1)(ny + 1) nodes
+    "mass": 0.5,                # kg
+    "k": 2e5,                   # spring stiffness, N/m: stiff, so it settles and slides as one body
+    "h": 5e-3,                  # time step, s
+    "gravity": (0.0, -9.81),    # m/s^2
+    "mu": 0.2,                  # one friction coefficient, the cloth's and the table's
+    "pull_speed": 4.0,          # U, m/s
+    "pull_length": 1.0,         # L, m
+    "t_pull": 0.05,             # the pull starts, s
+    "dhat": 1e-3, "kappa": 1e5,     # barrier activation distance (m) and stiffness
+    "epsv": 1e-3,               # friction's eps_v, m/s
+    "tol": 1e-6,                # Newton tolerance on ||p||_inf / h, m/s: eps_v / 1000
+    "friction_updates": 0, "max_newton_iterations": 1000, "max_halvings": 60,
+    "newton_start": "x_n",
+})
+POSITIVE = ("width", "height", "mass", "k", "h", "pull_speed", "pull_length", "dhat", "kappa",
+            "tol")
+WHOLE = {"nx": 1, "ny": 1, "friction_updates": 0, "max_newton_iterations": 1, "max_halvings": 1}
+
+
+def check_params(overrides):
+    """TABLECLOTH updated by `overrides`, each value checked (a ValueError naming the parameter)."""
+    unknown = sorted(set(overrides) - set(TABLECLOTH))
+    if unknown:
+        raise utils.ParameterError(unknown[0], f"unknown tablecloth parameter(s): {unknown}")
+    p = {**TABLECLOTH, **overrides}
+    for name in POSITIVE:
+        p[name] = utils.check_positive(name, p[name])
+    for name, minimum in WHOLE.items():
+        p[name] = utils.check_whole(name, p[name], minimum)
+    for name in ("mu", "t_pull"):
+        p[name] = utils.as_float(name, p[name], "must be a finite number >= 0")
+        if not 0.0 <= p[name] < math.inf:
+            raise utils.ParameterError(name, f"{name} must be a finite number >= 0, got {p[name]}")
+    p["gravity"] = tuple(utils.check_vector("gravity", p["gravity"]).tolist())
+    if not p["gravity"][1] < 0.0:
+        raise utils.ParameterError("gravity", f"gravity must press the dish down on the table "
+                                   f"(y < 0), got {p['gravity']}")
+    p["epsv"] = utils.check_epsv(p["epsv"])
+    p["newton_start"] = utils.check_choice("newton_start", p["newton_start"], utils.NEWTON_STARTS)
+    return p
+
+
+def resting_gap(p):
+    """d0, the gap at which the barrier carries the dish's weight on its nx + 1 bottom nodes:
+    w dhat (-b'(d0)) = m |g_y| / (nx + 1), a root between 0 and dhat."""
+    w, load = p["width"] / p["nx"], -p["mass"] * p["gravity"][1] / (p["nx"] + 1)
+    return scipy.optimize.brentq(lambda d: -BarrierEnergy.dP_dd(d, w, p["dhat"], p["kappa"]) - load,
+                                 1e-12 * p["dhat"], p["dhat"], xtol=1e-15)
+
+
+def build_tablecloth_scene(**overrides):
+    """The dish on a flat table (normal (0, 1) through the origin), at rest at the gap where the
+    barrier carries its weight (settled, not dropped), the cloth under it pulled along +x from
+    t_pull. A ValueError names a bad parameter."""
+    p = check_params(overrides)
+    x, e = square_mesh.rectangle(p["width"], p["height"], p["nx"], p["ny"],
+                                 (-p["width"] / 2, resting_gap(p)))
+    terms = ("inertia", "spring", "gravity", "barrier") + ("friction",) * (p["mu"] > 0.0)
+    return Scene(
+        params=types.MappingProxyType(p), x0=readonly(x), v0=readonly(np.zeros_like(x)),
+        e=readonly(np.asfortranarray(e)), l2=readonly(MassSpringEnergy.squared_lengths(x, e)),
+        k=readonly(np.full(len(e), p["k"])), m=readonly(np.full(len(x), p["mass"] / len(x))),
+        contact_area=readonly(np.full(len(x), p["width"] / p["nx"])), g=readonly(p["gravity"]),
+        n=readonly([0.0, 1.0]), o=readonly([0.0, 0.0]), mu=p["mu"], dhat=p["dhat"],
+        kappa=p["kappa"], epsv=p["epsv"], h=p["h"], tol=p["tol"],
+        friction_updates=p["friction_updates"], newton_start=p["newton_start"],
+        max_newton_iterations=p["max_newton_iterations"], max_halvings=p["max_halvings"],
+        terms=terms, warnings=(), solver=utils.SPDSolver.for_mesh(len(x), e),
+        cells=(p["nx"], p["ny"]),
+        surface=MovingSurface(p["pull_speed"], p["pull_length"], p["t_pull"], readonly([1.0, 0.0])))
