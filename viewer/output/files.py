@@ -12,7 +12,6 @@ import utils
 from viewer.output import whole_files
 
 OUTPUT = "output"       # where a run's folder is made without --out
-TEMPORARY_EXTRA = len(".tmp-12345678-")
 
 
 def refused(text):
@@ -50,32 +49,6 @@ def run_names(tags, n_frames, frames, marks=False):
         names += ["index.html", frame_png(n_frames - 1)]
         names += [frame_obj(n_frames - 1, tag) for tag in tags]
     return names
-
-
-def check_names(folder, names):
-    """ValueError where `folder`, or a name in it with its temporary prefix, is longer than its file
-    system allows."""
-    top = existing = os.path.abspath(folder)
-    while not os.path.isdir(existing):
-        existing = os.path.dirname(existing)
-    try:
-        name_max = os.pathconf(existing, "PC_NAME_MAX")
-        path_max = os.pathconf(existing, "PC_PATH_MAX")
-    except (AttributeError, OSError, ValueError):       # no pathconf (Windows)
-        name_max, path_max = 255, 4096
-    for part in os.path.relpath(top, existing).split(os.sep):
-        if len(os.fsencode(part)) > name_max:
-            raise refused(f"out folder {folder!r} has a name longer than the {name_max} bytes "
-                          f"its file system allows: {part[:40]}...")
-    for name in names:
-        size = len(os.fsencode(name))
-        if size + TEMPORARY_EXTRA > name_max:
-            raise refused(f"output name {name!r} is too long: {size} bytes, the folder allows "
-                          f"{name_max - TEMPORARY_EXTRA} (shorten the list value it is named "
-                          f"after)")
-        if len(os.fsencode(os.path.join(top, name))) + TEMPORARY_EXTRA >= path_max:
-            raise refused(f"out folder {folder!r} is too deep: its files' paths would be longer "
-                          f"than the {path_max} bytes the file system allows")
 
 
 def remove(made):
@@ -118,17 +91,30 @@ def check_empty(path):
                       f"its own under {OUTPUT}/)")
 
 
-def new_folder(kind, names):
+def new_folder(kind):
     """A new output/<kind>-<date>-<time>, with -2, -3, ... where that is taken (mkdir is atomic:
     two runs started in the same second get two folders); the folder and the folders made."""
     base = os.path.join(OUTPUT, f"{kind}-{datetime.datetime.now():%Y%m%d-%H%M%S}")
-    check_names(base + "-999", names)
     for out in [base] + [f"{base}-{k}" for k in range(2, 1000)]:
         try:
             return out, make_folders(out)
         except FileExistsError:
             continue
     raise refused(f"no new folder could be made as {base}-N: give --out")
+
+
+def probe(folder, name, data):
+    """Create the file `name` in `folder` as its temporary file is named (with `data`: written
+    whole), then remove it."""
+    path = os.path.join(folder, f".tmp-{secrets.token_hex(4)}-{name}")
+    try:
+        if data is None:
+            os.close(os.open(path, whole_files.NEW))
+        else:
+            whole_files.write_temporary(path, data)
+    finally:
+        if os.path.lexists(path):
+            os.remove(path)
 
 
 class RunFolder:
@@ -140,27 +126,30 @@ class RunFolder:
     @classmethod
     def make(cls, out, kind, names, signals):
         """The run's folder: `out`, new or empty, or a new_folder. A ValueError naming --out, with
-        nothing made, where it cannot be or no file can be written in it (a probe)."""
+        nothing made, where it cannot be, or a file cannot be written in it (a probe), or one of
+        `names` as its temporary file is too long."""
         with signals.held():
             if out is None:
-                out, made = new_folder(kind, names)
+                out, made = new_folder(kind)
             else:
-                check_names(out, names)
                 try:
                     made = make_folders(out)
                 except FileExistsError:
                     made = []
                     check_empty(out)
-            probe = os.path.join(out, f".tmp-{secrets.token_hex(4)}-probe")
             try:
-                whole_files.write_temporary(probe, "a probe: can a file be written here?\n")
-                os.remove(probe)
+                probe(out, "probe", "a probe: can a file be written here?\n")
             except OSError as err:
-                if os.path.lexists(probe):
-                    os.remove(probe)
                 remove(made)
-                why = err.strerror or err
-                raise refused(f"out folder {out!r} cannot be written: {why}") from None
+                raise refused(f"out folder {out!r} cannot be written: {err.strerror}") from None
+            for name in names:
+                try:
+                    probe(out, name, None)
+                except OSError as err:
+                    remove(made)
+                    raise refused(f"output name {name!r} cannot be written in {out!r}: "
+                                  f"{err.strerror} (shorten the list value it is named after)"
+                                  ) from None
             return cls(out, signals)
 
     def path(self, name):
