@@ -51,8 +51,12 @@ class Progress:
                   file=self.log, flush=True)
 
     def warn(self, track, text):
-        who = f"{track.label}: " if len(self.tracks) > 1 else ""
-        print(f"simulator.py: warning: {who}{text}", file=self.log, flush=True)
+        warning(self.log, track.label if len(self.tracks) > 1 else None, text)
+
+
+def warning(log, label, text):
+    """One warning's line, after the run's label in a comparison."""
+    print(f"simulator.py: warning: {label + ': ' if label else ''}{text}", file=log, flush=True)
 
 
 def step_warnings(scene, step, t, report, inverted):

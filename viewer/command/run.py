@@ -3,6 +3,7 @@
 A run ends in one line on stderr and an exit code: 0 done; 1 after a failed step or write; 130 after
 Ctrl+C, 143 after SIGTERM (docs/output.md, "How a run ends").
 """
+import collections
 import contextlib
 import signal
 import sys
@@ -15,7 +16,7 @@ import numpy as np
 import simulator
 import time_integrator
 from analysis.closing import closing_words
-from viewer.command import recording
+from viewer.command import progress, recording
 from viewer.command.startup import EXIT_CODES, REASONS
 from viewer.output import files
 from viewer.pictures import draw, run_pictures
@@ -97,8 +98,7 @@ def warn(plan, messages):
     """Each scene's warnings, one line each."""
     for label, scene in zip(plan.labels, plan.scenes):
         for warning in scene.warnings:
-            who = f"{label}: " if len(plan.scenes) > 1 else ""
-            print(f"simulator.py: warning: {who}{warning}", file=messages, flush=True)
+            progress.warning(messages, label if len(plan.scenes) > 1 else None, warning)
 
 
 def summary_header(plan):
@@ -122,13 +122,9 @@ def summary_header(plan):
     return lines
 
 
-@dataclass
-class Failure:
-    """How a run ended early: exit code, line, and whether its last pictures may still be written
-    (not after a failed write: the disk is full, or the folder gone)."""
-    code: int
-    text: str
-    pictures: bool = True
+# How a run ended early: exit code, line, and whether its last pictures may still be written (not
+# after a failed write: the disk is full, or the folder gone).
+Failure = collections.namedtuple("Failure", "code text pictures", defaults=(True,))
 
 
 ENDINGS = (Stopped, OSError, time_integrator.SimulationError, ValueError)   # end a run early
