@@ -126,7 +126,7 @@ def test_a_signal_during_the_last_pictures_leaves_out_the_rest(tmp_path, monkeyp
 def test_ctrl_c_at_any_moment_of_a_real_run_is_one_line(tmp_path):
     """Real processes, Ctrl+C at moments from loading numpy to the frames: exit 130, the last line
     says it stopped, no traceback, no temporary file. Started together, one signal each."""
-    delays = (0.3, 0.6, 1.2)        # (before 0.1 s Python itself is still starting: not yet ours)
+    delays = (0.5, 1.0, 2.0)        # (before 0.1 s Python itself is still starting: not yet ours)
     env = {**os.environ, "SDL_VIDEODRIVER": "dummy"}
     processes = [subprocess.Popen([sys.executable, os.path.join(ROOT, "simulator.py"),
                                    "--steps", "100000", "--out", str(tmp_path / str(k))],
