@@ -1,7 +1,5 @@
 """`python simulator.py [flags]`: the command line read (command.cli), then the run to files
-(command.run) or in the window (demo.window, loaded only for --window); returns the exit code. Above
-both packages, so that imports point one way: main -> demo -> command.
-"""
+(command.run) or in the window (demo.window, loaded only for --window); returns the exit code."""
 import sys
 
 from viewer.command import cli, run
@@ -14,7 +12,7 @@ def main(argv=None):
             runs = cli.parse_command_line(sys.argv[1:] if argv is None else argv)
             plan = cli.plan_from_args(runs)
             if runs[0].window:
-                from viewer.demo import window  # the window's module loads only for --window
+                from viewer.demo import window
                 return window.run_window(plan, runs[0].speed, runs[0].size, signals)
             return run.to_files(plan, signals)
         except cli.CommandLineError as err:

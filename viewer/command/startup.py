@@ -1,11 +1,5 @@
-"""`python simulator.py` (and `python -m figures`), before numpy loads: the process's settings, then
-the command line (viewer/command/cli.py, figures/cli.py).
-
-Numpy, scipy and pygame take a moment to load. Until the run takes over its signals (viewer/command/run.py),
-Ctrl+C or SIGTERM during that moment end the program here, in one line, with nothing written.
-
-What the program says on stdout and stderr is best effort (BestEffort): a broken pipe (`2>&1 | head
--1`), a full (`2>/dev/full`) or closed stream never changes what is computed, written or returned.
+"""`python simulator.py` (and `python -m figures`) before numpy loads: one BLAS thread, Ctrl+C and
+SIGTERM in one line, stdout and stderr best effort; then the command line (viewer.main).
 """
 import functools
 import importlib
@@ -19,9 +13,8 @@ REASONS = {signal.SIGINT: "interrupted", signal.SIGTERM: "terminated (SIGTERM)"}
 
 
 class BestEffort(io.TextIOBase):
-    """A text stream (sys.stdout, sys.stderr) whose writes never fail: once one fails (a broken pipe, a
-    full disk, a closed stream) the stream is pointed at os.devnull and the rest is dropped, so that
-    neither this program nor Python's exit fails on it."""
+    """A text stream whose writes never fail: after the first that does (a broken pipe, a full
+    disk, a closed stream) it points at os.devnull, so neither the run nor Python's exit fails."""
 
     def __init__(self, stream):
         self.stream, self.broken = stream, stream is None
@@ -34,30 +27,32 @@ class BestEffort(io.TextIOBase):
         self._try(lambda: self.stream.flush())
 
     def _try(self, act):
-        if not self.broken:
+        if self.broken:
+            return
+        try:
+            act()
+        except (OSError, ValueError):       # ValueError: the stream was closed
+            self.broken = True
             try:
-                act()
-            except (OSError, ValueError):       # ValueError: the stream was closed
-                self.broken = True
-                try:
-                    devnull = os.open(os.devnull, os.O_WRONLY)
-                    os.dup2(devnull, self.stream.fileno())
-                    os.close(devnull)
-                except (OSError, ValueError, AttributeError):
-                    pass
+                devnull = os.open(os.devnull, os.O_WRONLY)
+                os.dup2(devnull, self.stream.fileno())
+                os.close(devnull)
+            except (OSError, ValueError, AttributeError):
+                pass
 
 
 def _stopped_while_starting(program, signum, frame):
     try:
-        os.write(2, f"{program}: stopped: {REASONS[signum]} while starting; nothing written\n".encode())
+        line = f"{program}: stopped: {REASONS[signum]} while starting; nothing written\n"
+        os.write(2, line.encode())
     except OSError:             # stderr closed or full: the exit code still says it
         pass
     os._exit(EXIT_CODES[signum])
 
 
 def run_command_line(program="simulator.py", main="viewer.main"):
-    """The exit code of `main`'s main(argv). One BLAS thread (two on two busy cores made the small banded
-    factorizations 10-25x slower: benchmarks/README.md), set before numpy loads."""
+    """The exit code of `main`'s main(argv), with one BLAS thread set before numpy loads (two on two
+    busy cores made the small banded solves 10-25x slower: benchmarks/README.md)."""
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     os.environ.setdefault("OMP_NUM_THREADS", "1")
     for signum in EXIT_CODES:

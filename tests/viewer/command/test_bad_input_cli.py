@@ -8,11 +8,27 @@ import sys
 import pytest
 
 from helpers import ROOT
+from helpers.command import run_main
 
 
 def cli(*args):
-    return subprocess.run([sys.executable, os.path.join(ROOT, "simulator.py"), *args], capture_output=True,
-                          text=True, timeout=120, env={**os.environ, "SDL_VIDEODRIVER": "dummy"})
+    """python simulator.py ARGS as a child process: the whole path, start-up included."""
+    return subprocess.run([sys.executable, os.path.join(ROOT, "simulator.py"), *args],
+                          capture_output=True, text=True, timeout=120,
+                          env={**os.environ, "SDL_VIDEODRIVER": "dummy"})
+
+
+def refused(args, out):
+    """The command line run on `out` holding an earlier run's log.csv: its one error line, after
+    checking exit code 2 and that `out` is as it was."""
+    out.mkdir(exist_ok=True)
+    (out / "log.csv").write_text("an earlier run\n")
+    length = [] if {"--steps", "--duration"} & set(args) else ["--steps", "3"]
+    code, lines = run_main(*args, "--out", str(out), *length)
+    assert code == 2 and len(lines) == 1, lines
+    assert lines[0].startswith("simulator.py: error: ")
+    assert os.listdir(out) == ["log.csv"] and (out / "log.csv").read_text() == "an earlier run\n"
+    return lines[0]
 
 
 CLI = [
@@ -23,7 +39,8 @@ CLI = [
     (["--k", "-2e4"], "--k: k must be a finite number > 0, got -20000.0"),
     (["--h", "0"], "--h: h must be a finite number > 0, got 0.0"),
     (["--duration", "0"], "--duration: duration must be a finite number > 0, got 0.0"),
-    (["--duration", "0.001"], "--duration: duration 0.001 s is shorter than one time step h = 0.01 s"),
+    (["--duration", "0.001"],
+     "--duration: duration 0.001 s is shorter than one time step h = 0.01 s"),
     (["--steps", "-5"], "--steps: steps must be a whole number >= 1, got -5.0"),
     (["--dhat", "0"], "--dhat: dhat must be a finite number > 0, got 0.0"),
     (["--kappa", "0"], "--kappa: kappa must be a finite number > 0, got 0.0"),
@@ -41,45 +58,49 @@ CLI = [
     (["--frame-stride", "x"], "argument --frame-stride: invalid int value: 'x'"),
     (["--max-newton", "1,x"], "argument --max-newton: invalid int value: 'x'"),
     (["--newton-start", "x0"], "argument --newton-start: invalid choice: 'x0'"),
-] + [([flag, value], "must be") for flag in
-     ("--mu", "--h", "--side", "--k", "--density", "--mass", "--dhat", "--kappa", "--epsv", "--tol", "--n-seg",
-      "--duration", "--steps", "--frame-stride", "--slope-angle", "--friction-iterations", "--max-newton")
-     for value in ("nan", "inf")] + [
-    ([flag, value], "must be") for flag in ("--slope-normal", "--slope-point", "--v0", "--gravity")
-    for value in ("nan,1", "0,inf")]
+]
+SCALARS = ("--mu", "--h", "--side", "--k", "--density", "--mass", "--dhat", "--kappa", "--epsv",
+           "--tol", "--n-seg", "--duration", "--steps", "--frame-stride", "--slope-angle",
+           "--friction-iterations", "--max-newton")
+CLI += [([flag, value], "must be") for flag in SCALARS for value in ("nan", "inf")]
+CLI += [([flag, value], "must be") for flag in ("--slope-normal", "--slope-point", "--v0",
+                                                 "--gravity") for value in ("nan,1", "0,inf")]
 
 
 @pytest.mark.parametrize("args, message", CLI, ids=[" ".join(a) for a, _ in CLI])
 def test_cli_refuses_in_one_line_with_exit_2_and_touches_nothing(args, message, tmp_path):
-    out = tmp_path / "out"
-    out.mkdir()
-    (out / "log.csv").write_text("an earlier run\n")
-    result = cli(*args, "--out", str(out), "--steps", "3") if "--steps" not in args and "--duration" not in args \
-        else cli(*args, "--out", str(out))
+    assert message in refused(args, tmp_path / "out")
+
+
+@pytest.mark.parametrize("args, message", [(["--mu", "-0.5"], "--mu: mu must be >= 0"),
+                                           (["--steps", "abc"], "invalid int value: 'abc'")])
+def test_simulator_py_refuses_in_one_line_with_exit_2(args, message, tmp_path):
+    """The same refusals from `python simulator.py`, start-up and all: nothing made."""
+    result = cli(*args, "--out", str(tmp_path / "o"))
     lines = result.stderr.strip().splitlines()
     assert result.returncode == 2 and len(lines) == 1, result.stderr
     assert lines[0].startswith("simulator.py: error: ") and message in lines[0]
-    assert os.listdir(out) == ["log.csv"] and (out / "log.csv").read_text() == "an earlier run\n"
+    assert not (tmp_path / "o").exists()
 
 
 def test_cli_refuses_unwritable_output_folder(tmp_path):
     blocker = tmp_path / "a-file"
     blocker.write_text("not a folder")
-    result = cli("--steps", "2", "--out", str(blocker / "sub"))
-    lines = result.stderr.strip().splitlines()
-    assert result.returncode == 2 and len(lines) == 1
-    assert lines[0].startswith(f"simulator.py: error: --out: out folder '{blocker / 'sub'}' cannot be created")
-    assert blocker.read_text() == "not a folder"
+    code, lines = run_main("--steps", "2", "--out", str(blocker / "sub"))
+    assert code == 2 and len(lines) == 1
+    said = f"simulator.py: error: --out: out folder '{blocker / 'sub'}' cannot be created"
+    assert lines[0].startswith(said) and blocker.read_text() == "not a folder"
 
 
 def test_failure_mid_run_keeps_every_file_whole(tmp_path):
-    """Newton capped at one iteration fails at the impact: one line, non-zero exit, and every frame,
-    OBJ and CSV row written before it stays, whole; no temporary file is left."""
+    """Newton capped at one iteration fails at the impact: one line, exit 1, and every frame, OBJ
+    and CSV row written before it stays, whole; no temporary file is left."""
     out = tmp_path / "out"
-    result = cli("--max-newton", "1", "--tol", "1e-6", "--steps", "60", "--frame-stride", "1", "--out", str(out))
-    assert result.returncode == 1
-    failure = [line for line in result.stderr.splitlines() if "simulation failed" in line]
-    assert len(failure) == 1 and "Newton did not converge" in failure[0] and "step " in failure[0]
+    code, lines = run_main("--max-newton", "1", "--tol", "1e-6", "--steps", "60",
+                           "--frame-stride", "1", "--out", str(out))
+    assert code == 1
+    failure = [line for line in lines if "simulation failed" in line]
+    assert len(failure) == 1 and "Newton did not converge" in failure[0]
     rows = (out / "log.csv").read_text().splitlines()
     completed = len(rows) - 2                       # the header and the t = 0 row
     assert 0 < completed < 60 and f"{completed} steps kept" in failure[0]

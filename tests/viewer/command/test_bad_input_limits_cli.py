@@ -3,67 +3,65 @@ and the value, exit code 2, nothing written (the library's refusals: tests/physi
 test_bad_input_limits.py)."""
 import csv
 import os
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 
-import viewer.command.cli
-from helpers import ROOT
-
-def cli(*args):
-    return subprocess.run([sys.executable, os.path.join(ROOT, "simulator.py"), *args], capture_output=True,
-                          text=True, timeout=120, env={**os.environ, "SDL_VIDEODRIVER": "dummy"})
+from helpers.command import run_main
+from viewer.command import cli
 
 
 def refused_in_one_line(args, out):
-    """Run the command line on a folder holding an earlier run's log.csv; the one error line, after
-    checking the exit code 2 and that the folder was not touched."""
+    """The command line run on `out` holding an earlier run's log.csv: its one error line, after
+    checking exit code 2 and that `out` is as it was."""
     out.mkdir(exist_ok=True)
     (out / "log.csv").write_text("an earlier run\n")
-    result = cli(*args, *([] if "--out" in args else ["--out", str(out)]),
-                 *([] if {"--steps", "--duration"} & set(args) else ["--steps", "3"]))
-    lines = result.stderr.strip().splitlines()
-    assert result.returncode == 2 and len(lines) == 1, result.stderr
-    assert lines[0].startswith("simulator.py: error: ") and "Traceback" not in result.stderr
+    length = [] if {"--steps", "--duration"} & set(args) else ["--steps", "3"]
+    code, lines = run_main(*args, "--out", str(out), *length)
+    assert code == 2 and len(lines) == 1, lines
+    assert lines[0].startswith("simulator.py: error: ")
     assert os.listdir(out) == ["log.csv"] and (out / "log.csv").read_text() == "an earlier run\n"
     return lines[0]
 
 
-def test_the_lectures_45_degree_start_touches_the_slope_and_is_refused():
+def scene_of(argv):
+    (args,) = cli.parse_command_line(argv)
+    return cli.scene_from_args(args)
+
+
+def test_the_lectures_45_degree_start_touches_the_slope_and_is_refused(tmp_path):
     """At 45 degrees the lecture's placement puts corner 0 on the slope up to round-off (1.1e-16 m
     computed): refused like a start below it, naming --center and a centre that works."""
-    (args,) = viewer.command.cli.parse_command_line(["--slope-angle", "45"])
-    with pytest.raises(ValueError, match=r"starts touching or below the slope: node 0 .* not above the "
-                                         r"round-off .* move center \(now 0, 0\)") as info:
-        viewer.command.cli.scene_from_args(args)
+    words = (r"starts touching or below the slope: node 0 .* not above the round-off .* move "
+             r"center \(now 0, 0\)")
+    with pytest.raises(ValueError, match=words) as info:
+        scene_of(["--slope-angle", "45"])
     suggested = str(info.value).split("e.g. to ")[1].split(",")[:2]
     center = (float(suggested[0]), float(suggested[1].split()[0]))
-    scene = viewer.command.cli.scene_from_args(viewer.command.cli.parse_command_line(
-        ["--slope-angle", "45", "--center", f"{center[0]!r},{center[1]!r}"])[0])
+    scene = scene_of(["--slope-angle", "45", "--center", f"{center[0]!r},{center[1]!r}"])
     d = (scene.x0 - scene.o) @ scene.n
-    assert d.min() == pytest.approx(scene.dhat, rel=1e-5)       # as the message says: dhat above (6 digits shown)
-
-
-def test_cli_45_degree_slope_names_center(tmp_path):
+    assert d.min() == pytest.approx(scene.dhat, rel=1e-5)      # dhat above, as said (6 digits)
     line = refused_in_one_line(["--slope-angle", "45"], tmp_path / "out")
-    assert line.startswith("simulator.py: error: --center: the square starts touching or below the slope")
+    assert line.startswith("simulator.py: error: --center: the square starts touching or below")
 
 
 def test_center_flag_reaches_the_scene():
-    scene = viewer.command.cli.scene_from_args(viewer.command.cli.parse_command_line(["--center", "1.5,-0.25", "--no-slope"])[0])
+    scene = scene_of(["--center", "1.5,-0.25", "--no-slope"])
     assert np.average(scene.x0, axis=0, weights=scene.m) == pytest.approx([1.5, -0.25], abs=1e-12)
-    assert "--center" in cli("--help").stdout
+    assert "--center" in cli.make_parser().format_help()
 
 
 CLI = [
     (["--h", "1e200"], "--h: h = 1e+200 is beyond float64's range"),
     (["--dt", "1e300"], "--h: h = 1e+300 is beyond float64's range"),
-    (["--side", "1e200"], "--side: side_len = 1e+200 is beyond float64's range in this scene: the total mass"),
-    (["--side", "1e100", "--mass", "1", "--k", "1e-190"], "--side: side_len = 1e+100 leaves dhat = 0.01 m below the round-off"),
-    (["--side", "1e200", "--no-slope", "--mass", "1"], "--side: side_len = 1e+200 is beyond float64's range"),
-    (["--duration", "1e308"], "--duration: duration 1e+308 s is more time steps of h = 0.01 s than float64 can count"),
+    (["--side", "1e200"],
+     "--side: side_len = 1e+200 is beyond float64's range in this scene: the total mass"),
+    (["--side", "1e100", "--mass", "1", "--k", "1e-190"],
+     "--side: side_len = 1e+100 leaves dhat = 0.01 m below the round-off"),
+    (["--side", "1e200", "--no-slope", "--mass", "1"],
+     "--side: side_len = 1e+200 is beyond float64's range"),
+    (["--duration", "1e308"],
+     "--duration: duration 1e+308 s is more time steps of h = 0.01 s than float64 can count"),
     (["--n-seg", "1e5"], "--n-seg: n_seg = 100000 makes 1.00e+10 nodes"),
     (["--n-seg", "1e308"], "--n-seg: n_seg = 1e+308 makes"),
     (["--v0", "1e308,0"], "--v0: v0 = 1e+308, 0 is beyond float64's range"),
@@ -85,21 +83,23 @@ def test_absurd_value_is_one_line_naming_flag_and_value(args, message, tmp_path)
 
 
 @pytest.mark.skipif(not os.path.isdir("/proc/self"), reason="needs Linux's /proc")
-def test_out_folder_that_cannot_be_made(tmp_path):
+def test_out_folder_that_cannot_be_made():
     """/proc holds no folder a run can make: refused in one line, naming --out."""
-    result = cli("--steps", "2", "--out", "/proc/self/run")
-    lines = result.stderr.strip().splitlines()
-    assert result.returncode == 2 and len(lines) == 1
-    assert lines[0].startswith("simulator.py: error: --out: out folder '/proc/self/run' cannot be created: ")
+    code, lines = run_main("--steps", "2", "--out", "/proc/self/run")
+    assert code == 2 and len(lines) == 1
+    said = "simulator.py: error: --out: out folder '/proc/self/run' cannot be created: "
+    assert lines[0].startswith(said)
 
 
 def test_cli_subnormal_slope_normal_runs_as_the_lectures(tmp_path):
-    """python simulator.py --slope-normal 1e-320,1e-319 is the lecture's slope, (0.1, 1) in other units:
-    the same run, bit for bit, where it used to be refused."""
+    """--slope-normal 1e-320,1e-319 is the lecture's slope, (0.1, 1) in other units: the same run,
+    bit for bit, where it used to be refused."""
     rows = []
     for k, slope in enumerate(("1e-320,1e-319", "0.1,1")):
-        result = cli("--slope-normal", slope, "--out", str(tmp_path / str(k)), "--steps", "3", "--no-frames")
-        assert result.returncode == 0, result.stderr
-        with open(tmp_path / str(k) / "log.csv", newline="") as f:
+        out = tmp_path / str(k)
+        code, lines = run_main("--slope-normal", slope, "--out", str(out), "--steps", "3",
+                               "--no-frames")
+        assert code == 0, lines
+        with open(out / "log.csv", newline="") as f:
             rows.append([{**row, "wall_s": None} for row in csv.DictReader(f)])
     assert rows[0] == rows[1] and len(rows[0]) == 4

@@ -1,4 +1,4 @@
-"""`python simulator.py` as a user runs it: files written, flags, one-line errors with exit code 2."""
+"""`python simulator.py` as a user runs it: files written, flags, one-line errors, exit code 2."""
 import csv
 import os
 import subprocess
@@ -7,54 +7,72 @@ import sys
 import numpy as np
 import pytest
 
+import analysis.log
 import simulator
 import utils
-import analysis.log
+from helpers import ROOT
 from helpers.command import run_main
 from viewer.command import cli
 
-from helpers import ROOT
+SIMULATOR = os.path.join(ROOT, "simulator.py")
 
 
-def run_cli(*args, cwd=None):
-    env = {**os.environ, "SDL_VIDEODRIVER": "dummy"}
-    return subprocess.run([sys.executable, os.path.join(ROOT, "simulator.py"), *args], cwd=cwd or ROOT,
-                          env=env, capture_output=True, text=True, timeout=300)
+def run_cli(*args, env=None):
+    """python simulator.py ARGS as a child process (a display-less SDL unless `env` says)."""
+    env = env or {**os.environ, "SDL_VIDEODRIVER": "dummy"}
+    return subprocess.run([sys.executable, SIMULATOR, *args], cwd=ROOT, env=env,
+                          capture_output=True, text=True, timeout=300, umask=0o022)
 
 
-def test_twenty_steps_write_frames_objs_csv_and_summary(tmp_path):
-    out = tmp_path / "run"
-    result = run_cli("--steps", "20", "--frame-stride", "1", "--out", str(out))
+@pytest.fixture(scope="module")
+def twenty_steps(tmp_path_factory):
+    """A fresh shell with no DISPLAY and no SDL_VIDEODRIVER, umask 022: 20 steps, every frame."""
+    out = tmp_path_factory.mktemp("run")
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("DISPLAY", "SDL_VIDEODRIVER", "WAYLAND_DISPLAY")}
+    return out, run_cli("--steps", "20", "--frame-stride", "1", "--out", str(out), env=env)
+
+
+def test_twenty_steps_write_frames_objs_csv_and_summary(twenty_steps):
+    out, result = twenty_steps
     assert result.returncode == 0, result.stderr
     files = sorted(os.listdir(out))
-    assert [f for f in files if f.endswith(".png") and f.startswith("frame")] == \
-        [f"frame_{i:05d}.png" for i in range(21)]
+    frames = [f"frame_{i:05d}.png" for i in range(21)]
+    assert [f for f in files if f.endswith(".png") and f.startswith("frame")] == frames
     assert len([f for f in files if f.endswith(".obj")]) == 21
     assert "summary.png" in files and "log.csv" in files
     assert not [f for f in files if f.startswith(".")]     # no temporaries left
     with open(out / "log.csv") as f:
         rows = list(csv.DictReader(f))
-    assert len(rows) == 21 and set(analysis.log.COLUMNS) <= set(rows[0])           # t = 0 and 20 steps
+    assert len(rows) == 21 and set(analysis.log.COLUMNS) <= set(rows[0])   # t = 0 and 20 steps
     com_y = [float(r["com_y"]) for r in rows]
     assert all(b < a for a, b in zip(com_y, com_y[1:]))                  # falling
     assert all(int(r["newton_iterations"]) >= 1 for r in rows[1:])
     assert "simulated 20 steps" in result.stderr.splitlines()[-1]
     obj = (out / "frame_00020.obj").read_text().splitlines()
-    last = np.array([[float(t) for t in line.split()[1:3]] for line in obj if line.startswith("v ")])
+    last = np.array([line.split()[1:3] for line in obj if line.startswith("v ")], dtype=float)
     assert last.shape == (25, 2) and last[:, 1].mean() == pytest.approx(com_y[-1], abs=1e-6)
 
 
-def test_frame_looks_like_the_lecture(tmp_path):
-    """White background, blue springs and nodes, the slope drawn as a line, time and mu written in the
-    top-left corner: check pixel colours where each should be."""
+def test_runs_without_display_settings_and_files_have_the_usual_permissions(twenty_steps):
+    """Without DISPLAY or SDL_VIDEODRIVER simulator.py draws off-screen by itself; written whole via
+    a temporary file, yet readable by others as with a plain open() (umask 022)."""
+    out, result = twenty_steps
+    assert result.returncode == 0, result.stderr
+    for name in ("frame_00001.png", "frame_00001.obj", "log.csv", "summary.png", "index.html"):
+        assert (out / name).stat().st_mode & 0o777 == 0o644, name
+
+
+def test_frame_looks_like_the_lecture(twenty_steps):
+    """White background, blue springs and nodes, the slope drawn as a line, time and mu written in
+    the top-left corner: check pixel colours where each should be."""
     import pygame
-    out = tmp_path / "run"
-    assert run_cli("--steps", "1", "--out", str(out)).returncode == 0
-    image = pygame.surfarray.array3d(pygame.image.load(str(out / "frame_00000.png")))   # [x, y, rgb]
+    out, _ = twenty_steps
+    image = pygame.surfarray.array3d(pygame.image.load(str(out / "frame_00000.png")))  # [x, y, rgb]
     assert image.shape == (900, 900, 3)
     pixels = image.reshape(-1, 3)
-    assert (pixels == 255).all(axis=1).mean() > 0.8                                  # white
-    assert image[450, 450, 2] > 200 and image[450, 450, 0] < 100                       # node 12 at the origin
+    assert (pixels == 255).all(axis=1).mean() > 0.8                           # white
+    assert image[450, 450, 2] > 200 and image[450, 450, 0] < 100        # node 12 at the origin
 
     def bluish(px):
         return px[2] > 150 and px[0] < 200 and px[2] > px[0] + 50
@@ -62,29 +80,31 @@ def test_frame_looks_like_the_lecture(tmp_path):
     # the slope through (0, -1) with normal (0.1, 1): y = -1 - 0.1 x, at 200 px/m about the centre
     for x_m in (-2.0, -1.0, 1.0, 2.0):
         col, row = int(450 + 200 * x_m), 450 + 200 * (1 + 0.1 * x_m)
-        assert any(bluish(image[col, int(row) + dr]) for dr in (-1, 0, 1)), f"slope at x = {x_m} m"
-    corner = image[:400, :44].reshape(-1, 3)                                          # the title's rows
-    assert (corner.sum(axis=1) < 200).any() and (image[400:, :44] == 255).all()      # text only top-left
+        assert any(bluish(image[col, int(row) + dr]) for dr in (-1, 0, 1)), f"slope at {x_m} m"
+    corner = image[:400, :44].reshape(-1, 3)                                   # the title's rows
+    assert (corner.sum(axis=1) < 200).any() and (image[400:, :44] == 255).all()  # text top-left
 
 
 def test_flags_reach_the_scene():
     (args,) = cli.parse_command_line(
-        ["--mu", "0.2", "--h", "0.005", "--n-seg", "3", "--k", "3e4", "--density", "500", "--slope-angle", "10",
-         "--v0", "1,-2", "--dhat", "0.02", "--kappa", "1e6", "--epsv", "1e-4", "--tol", "1e-3",
-         "--friction-iterations", "3"])
+        ["--mu", "0.2", "--h", "0.005", "--n-seg", "3", "--k", "3e4", "--density", "500",
+         "--slope-angle", "10", "--v0", "1,-2", "--dhat", "0.02", "--kappa", "1e6",
+         "--epsv", "1e-4", "--tol", "1e-3", "--friction-iterations", "3"])
     scene = cli.scene_from_args(args)
     # == where the value is the parsed flag itself, passed through unchanged (exact by construction)
-    assert scene.mu == 0.2 and scene.h == 0.005 and scene.params["n_seg"] == 3 and scene.k[0] == 3e4
-    assert scene.m.sum() == pytest.approx(500.0) and scene.dhat == 0.02 and scene.kappa == 1e6
+    assert scene.mu == 0.2 and scene.h == 0.005 and scene.params["n_seg"] == 3
+    assert scene.k[0] == 3e4 and scene.m.sum() == pytest.approx(500.0)
+    assert scene.dhat == 0.02 and scene.kappa == 1e6
     assert scene.epsv == 1e-4 and scene.tol == 1e-3 and scene.friction_updates == 3
     assert np.allclose(scene.n, [np.sin(np.radians(10)), np.cos(np.radians(10))])
     assert np.allclose(scene.v0, [1.0, -2.0])
-    assert cli.steps_from_args(args, scene) == round(cli.DURATION / 0.005)      # the default duration
+    assert cli.steps_from_args(args, scene) == round(cli.DURATION / 0.005)  # the default duration
     assert scene.newton_start == "x_n"          # the lecture's, unless asked
-    for argv, start in ((["--newton-start", "x_tilde"], "x_tilde"), (["--scene", "chalk"], "x_tilde"),
+    for argv, start in ((["--newton-start", "x_tilde"], "x_tilde"),
+                        (["--scene", "chalk"], "x_tilde"),
                         (["--scene", "chalk", "--newton-start", "x_n"], "x_n")):
         assert cli.scene_from_args(cli.parse_command_line(argv)[0]).newton_start == start
-    compared = cli.parse_command_line(["--scene", "chalk", "--newton-start", "x_n,x_tilde"])     # a comparison
+    compared = cli.parse_command_line(["--scene", "chalk", "--newton-start", "x_n,x_tilde"])
     assert [a.label for a in compared] == ["newton-start = x_n", "newton-start = x_tilde"]
     assert [cli.scene_from_args(a).newton_start for a in compared] == ["x_n", "x_tilde"]
     no_slope = cli.scene_from_args(cli.parse_command_line(["--no-slope"])[0])
@@ -104,70 +124,53 @@ def test_flags_reach_the_scene():
     (["--bogus"], "unrecognized arguments: --bogus"),
 ])
 def test_bad_command_line_is_one_line_and_exit_2(args, message, tmp_path):
-    result = run_cli(*args, "--out", str(tmp_path / "o"))
-    assert result.returncode == 2
-    lines = result.stderr.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("simulator.py: error:") and message in lines[0], result.stderr
-    assert not (tmp_path / "o").exists() or not os.listdir(tmp_path / "o")
+    code, lines = run_main(*args, "--out", str(tmp_path / "o"))
+    assert code == 2 and len(lines) == 1, lines
+    assert lines[0].startswith("simulator.py: error:") and message in lines[0]
+    assert not (tmp_path / "o").exists()
 
 
-def test_help_documents_every_scene_flag():
+def test_help_documents_every_flag():
     text = run_cli("--help").stdout
-    for flag in ("--mu", "--h", "--duration", "--steps", "--n-seg", "--k", "--density", "--slope-normal",
-                 "--slope-angle", "--v0", "--dhat", "--kappa", "--epsv", "--tol", "--friction-iterations",
-                 "--newton-start", "--out", "--frame-stride", "--window"):
+    for flag in ("--mu", "--h", "--duration", "--steps", "--n-seg", "--k", "--density",
+                 "--slope-normal", "--slope-angle", "--v0", "--dhat", "--kappa", "--epsv", "--tol",
+                 "--friction-iterations", "--newton-start", "--out", "--frame-stride", "--window",
+                 "--scene", "--tilt", "--grip", "--mu-static", "--drag", "--no-frames"):
         assert flag in text
 
 
-def test_runs_without_any_display_settings(tmp_path):
-    """A fresh shell with no DISPLAY and no SDL_VIDEODRIVER: simulator.py draws off-screen by itself."""
-    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "SDL_VIDEODRIVER", "WAYLAND_DISPLAY")}
-    result = subprocess.run([sys.executable, os.path.join(ROOT, "simulator.py"), "--steps", "2", "--out", str(tmp_path)],
-                            env=env, capture_output=True, text=True, timeout=120)
-    assert result.returncode == 0, result.stderr
-    assert (tmp_path / "frame_00001.png").exists() and (tmp_path / "summary.png").exists()   # steps 0 and 2
-
-
-def test_output_files_have_the_usual_permissions(tmp_path):
-    """Written whole via a temporary file, yet readable by others as with a plain open() (umask 022)."""
-    command = [sys.executable, os.path.join(ROOT, "simulator.py"), "--steps", "1", "--out", str(tmp_path)]
-    result = subprocess.run(command, umask=0o022, capture_output=True, text=True, timeout=120,
-                            env={**os.environ, "SDL_VIDEODRIVER": "dummy"})
-    assert result.returncode == 0, result.stderr
-    for name in ("frame_00001.png", "frame_00001.obj", "log.csv", "summary.png"):
-        assert (tmp_path / name).stat().st_mode & 0o777 == 0o644, name
-
-
 def test_tolerance_below_round_off_warns_and_finishes(tmp_path):
-    """Issue 13: --tol 1e-8 used to fail at step 32 after 1000 Newton iterations. It is warned about when
-    the scene is built (below the floor resolution_warnings estimates), the run finishes with exit 0,
-    the steps that stopped at the floor are flagged in log.csv (residual above tol, few iterations),
-    and stderr says so once."""
+    """Issue 13: --tol 1e-8 used to fail at step 32 after 1000 Newton iterations. It is warned
+    about when the scene is built (below the floor resolution_warnings estimates), the run ends
+    with exit 0, the steps that stopped at the floor are flagged in log.csv (residual above tol,
+    few iterations), and stderr says so once."""
     scene = simulator.build_scene(tol=1e-8)
     assert any("below the residual float64 can resolve" in w for w in scene.warnings)
-    assert not simulator.build_scene().warnings                 # the lecture's tol is far above the floor
-    result = run_cli("--tol", "1e-8", "--no-frames", "--duration", "0.6", "--out", str(tmp_path))
-    assert result.returncode == 0, result.stderr
+    assert not simulator.build_scene().warnings         # the lecture's tol is far above the floor
+    code, lines = run_main("--tol", "1e-8", "--no-frames", "--duration", "0.6", "--out",
+                           str(tmp_path))
+    assert code == 0, lines
     with open(tmp_path / "log.csv") as f:
         rows = list(csv.DictReader(f))[1:]
     stalled = [r for r in rows if r["newton_stalled"] == "1"]
     assert stalled and all(float(r["residual"]) > 1e-8 for r in stalled)
     assert all(float(r["residual"]) <= 1e-8 for r in rows if r["newton_stalled"] == "0")
     assert max(int(r["newton_iterations"]) for r in rows) < 50
-    assert result.stderr.count("round-off floor") == 1
+    assert sum(line.count("round-off floor") for line in lines) == 1
 
 
 def test_an_errors_flag_comes_from_its_parameter_not_its_words(monkeypatch):
-    """A ValueError carries its parameter (utils.ParameterError): the command line names the flag from
-    its flag table whatever the message says; a message that starts with a flag's words but carries
-    no parameter gets no flag."""
+    """A ValueError carries its parameter (utils.ParameterError): the command line names the flag
+    from its flag table whatever the message says; a message that starts with a flag's words but
+    carries no parameter gets no flag."""
     def refuse(parameter, words):
         def build(**params):
             raise utils.ParameterError(parameter, words) if parameter else ValueError(words)
         return build
-    for parameter, words, shown in (("mu", "reworded: no flag's name in front", "--mu: reworded"),
-                                    ("slope", "a slope this run cannot take", "--slope-normal: a slope"),
-                                    (None, "mu must be >= 0, yet no parameter", "mu must")):
+    for parameter, words, shown in (
+            ("mu", "reworded: no flag's name in front", "--mu: reworded"),
+            ("slope", "a slope this run cannot take", "--slope-normal: a slope"),
+            (None, "mu must be >= 0, yet no parameter", "mu must")):
         monkeypatch.setattr(simulator, "build_scene", refuse(parameter, words))
         code, lines = run_main("--steps", "3")
         assert code == 2 and len(lines) == 1 and f"simulator.py: error: {shown}" in lines[0], lines
@@ -175,12 +178,12 @@ def test_an_errors_flag_comes_from_its_parameter_not_its_words(monkeypatch):
 
 @pytest.mark.parametrize("args, said", [
     (["--mu", "0,11"], "comparing mu = 0 and mu = 11 (a list; a decimal is written 0.11)"),
-    (["--tilt", "60,70", "--scene", "chalk"], "comparing tilt = 60 and tilt = 70 (a list; a decimal is "
-                                               "written 60.70)"),
+    (["--tilt", "60,70", "--scene", "chalk"],
+     "comparing tilt = 60 and tilt = 70 (a list; a decimal is written 60.70)"),
 ])
 def test_a_list_that_reads_like_a_decimal_comma_is_said_first(args, said, tmp_path):
-    """A two-value list of whole numbers to a flag of decimals may be a decimal comma: the run's first
-    line says what it compares, and the run goes on."""
+    """A two-value list of whole numbers to a flag of decimals may be a decimal comma: the run's
+    first line says what it compares, and the run goes on."""
     code, lines = run_main(*args, "--steps", "2", "--no-frames", "--out", str(tmp_path))
     assert code == 0 and lines[0] == said
 
@@ -193,8 +196,6 @@ def test_other_lists_say_nothing_about_decimals(args, tmp_path):
 
 
 def test_cli_prints_the_warning(tmp_path):
-    result = subprocess.run([sys.executable, os.path.join(ROOT, "simulator.py"), "--h", "1", "--steps", "2",
-                             "--out", str(tmp_path), "--no-frames"], capture_output=True, text=True, timeout=120,
-                            env={**os.environ, "SDL_VIDEODRIVER": "dummy"})
-    assert result.returncode == 0
-    assert "simulator.py: warning: time step h = 1 s moves the square 9.81 m per step" in result.stderr
+    code, lines = run_main("--h", "1", "--steps", "2", "--out", str(tmp_path), "--no-frames")
+    said = "simulator.py: warning: time step h = 1 s moves the square 9.81 m per step"
+    assert code == 0 and any(line.startswith(said) for line in lines), lines

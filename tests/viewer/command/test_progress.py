@@ -1,5 +1,5 @@
-"""viewer/command/progress.py: what a run says as it goes. The warnings about a step are worded in one place
-(step_warnings), for a run to files and the window alike; a run says each kind once."""
+"""viewer/command/progress.py: what a run says as it goes. The warnings about a step are worded in
+one place (step_warnings), for a run to files and the window alike; a run says each kind once."""
 import csv
 import io
 import re
@@ -21,9 +21,10 @@ def test_step_warnings_name_the_step_and_what_to_do():
     stalled = time_integrator.StepReport(residual=1.3e-8, stalled=True)
     said = progress.step_warnings(scene, 30, 0.3, stalled, 4)
     assert list(said) == ["inverted", "stalled"]
-    assert said["inverted"].startswith("at step 30 (t = 0.30 s) 4 of 32 mesh triangles are inverted")
+    at = "at step 30 (t = 0.30 s)"
+    assert said["inverted"].startswith(f"{at} 4 of 32 mesh triangles are inverted")
     assert "--k" in said["inverted"] and "--h" in said["inverted"]
-    assert said["stalled"].startswith("at step 30 (t = 0.30 s) Newton stopped at float64's round-off floor, "
+    assert said["stalled"].startswith(f"{at} Newton stopped at float64's round-off floor, "
                                       "residual 1.3e-08 m/s above tol = 0.01 m/s")
 
 
@@ -37,37 +38,46 @@ def test_a_run_to_files_says_each_kind_of_warning_once(tmp_path):
 
 def test_rest_words_say_when_each_run_came_to_rest():
     def track(label, rest_since, sliding, t=3.0):
-        return types.SimpleNamespace(label=label, rest_since=rest_since, t=t, scene=simulator.build_scene(),
-                                     samples=types.SimpleNamespace(last=types.SimpleNamespace(sliding=sliding)))
+        last = types.SimpleNamespace(sliding=sliding)
+        return types.SimpleNamespace(label=label, rest_since=rest_since, t=t,
+                                     scene=simulator.build_scene(),
+                                     samples=types.SimpleNamespace(last=last))
     assert closing.rest_words([track("a", 5.534, 0)]) == "the square came to rest at t = 5.53 s"
     assert closing.rest_words([track("a", None, 2)]) == "the square was still sliding at t = 3.00 s"
     assert closing.rest_words([track("mu = 0.1", None, 0), track("mu = 0.2", 2.8, 0)]) == \
         "mu = 0.1: had not come to rest by t = 3.00 s; mu = 0.2: came to rest at t = 2.80 s"
     runs = [track("mu = 0.1", None, 1), track("mu = 0.2", 2.8, 0)]
-    assert closing.closing_words(runs) == closing.rest_words(runs)           # the square's closing words
-    assert closing.closing_note(runs) == closing.rest_words(runs) + " (every contact below eps_v from then on)"
+    assert closing.closing_words(runs) == closing.rest_words(runs)      # the square's closing words
+    note = closing.rest_words(runs) + " (every contact below eps_v from then on)"
+    assert closing.closing_note(runs) == note
 
 
 def chalk_track(label, speeds, **scene):
-    """A chalk run's track as the closing words read it: its scene and its kept states, the tip at rest while
-    the hand presses and holds, then at `speeds` (m/s), one a step (x^{n+1} = x^n + h u^{n+1})."""
+    """A chalk run's track as the closing words read it: its scene and its kept states, the tip at
+    rest while the hand presses and holds, then at `speeds` (m/s), one a step (x^{n+1} = x^n + h
+    u^{n+1})."""
     scene = simulator.build_chalk_scene(**scene)
     u = np.r_[np.zeros(int(round(stick_slip.drive_start(scene) / scene.h)) + 1), speeds]
     x = np.cumsum(scene.h * u)
-    states = [types.SimpleNamespace(step=k, t=k * scene.h, tip_x=x[k], tip_speed=abs(u[k])) for k in range(len(u))]
-    return types.SimpleNamespace(label=label, scene=scene, samples=types.SimpleNamespace(all=lambda: states))
+    states = [types.SimpleNamespace(step=k, t=k * scene.h, tip_x=x[k], tip_speed=abs(u[k]))
+              for k in range(len(u))]
+    samples = types.SimpleNamespace(all=lambda: states)
+    return types.SimpleNamespace(label=label, scene=scene, samples=samples)
 
 
 def test_the_chalks_closing_words_are_its_stick_slip():
-    """Not when the tip was last stuck (the hand moves on) but what the tip did: the pushed chalk's cycles, a
-    sliding one's start-up, in each run's words for a comparison."""
-    stick, slip, drive = [1e-5] * 40, [0.1] * 6, simulator.CHALK["drive"]      # 40 ms stuck, a 0.6 mm slip
+    """Not when the tip was last stuck (the hand moves on) but what the tip did: the pushed chalk's
+    cycles, a sliding one's start-up, in each run's words for a comparison."""
+    stick, slip = [1e-5] * 40, [0.1] * 6        # 40 ms stuck, a 0.6 mm slip
+    drive = simulator.CHALK["drive"]
     pushed = chalk_track("mu-static = 0.5", (stick + slip) * 4 + stick)
     sliding = chalk_track("mu-static = 0.35", [drive] * 200, mu_s=0.35)
     said = closing.closing_words([pushed])
-    assert said == (f"stick-slip: 4 slips, mean slip {6 * 1e-3 * 0.1 * 1e3:.2f} mm, period {46:.0f} ms, tip stuck "
-                    f"{100 * 200 / 224:.0f} % of the drive") and "rest" not in said
-    assert closing.closing_words([sliding]) == "the tip slid without a stick after its start-up at t = 0.20 s"
+    assert said == (f"stick-slip: 4 slips, mean slip {6 * 1e-3 * 0.1 * 1e3:.2f} mm, period "
+                    f"{46:.0f} ms, tip stuck {100 * 200 / 224:.0f} % of the drive")
+    assert "rest" not in said
+    slid = "the tip slid without a stick after its start-up at t = 0.20 s"
+    assert closing.closing_words([sliding]) == slid
     assert closing.closing_words([sliding, pushed]) == \
         f"mu-static = 0.35: {closing.closing_words([sliding])}; mu-static = 0.5: {said}"
     note = closing.closing_note([pushed])
@@ -78,21 +88,24 @@ def test_the_chalks_closing_words_are_its_stick_slip():
 def test_progress_lines_come_every_tenth_of_the_run():
     log = io.StringIO()
     report = time_integrator.StepReport(residual=2e-3, alphas=[1.0, 1.0])
+    last = types.SimpleNamespace(report=report, min_distance=0.5)
     tr = types.SimpleNamespace(label="run", steps=100, step=0, t=0.0, scene=simulator.build_scene(),
-                               samples=types.SimpleNamespace(last=types.SimpleNamespace(report=report, min_distance=0.5)))
+                               samples=types.SimpleNamespace(last=last))
     lines = progress.Progress([tr], log)
     for step in range(1, 101):
         tr.step, tr.t = step, step * 0.01
         lines.tick(tr)
     rows = log.getvalue().splitlines()
-    assert len(rows) == 10 and rows[0] == "step 10/100  t=0.10s  newton=2  residual=2.0e-03  min_d=5.00e-01"
+    first = "step 10/100  t=0.10s  newton=2  residual=2.0e-03  min_d=5.00e-01"
+    assert len(rows) == 10 and rows[0] == first
 
 
 def test_a_comparisons_progress_lines_give_each_runs_own_step_as_its_log(tmp_path):
-    """Runs advance in turn, a frame's steps at a time: the line for step N waits until every run has
-    logged step N, and gives each run's figures of that step, as its log.csv has them (runs of
+    """Runs advance in turn, a frame's steps at a time: the line for step N waits until every run
+    has logged step N, and gives each run's figures of that step, as its log.csv has them (runs of
     another h too: the h = 0.005 run's step N is its own, at another t)."""
-    code, lines = run_main("--mu", "0.1,0.11", "--steps", "60", "--no-frames", "--out", str(tmp_path))
+    code, lines = run_main("--mu", "0.1,0.11", "--steps", "60", "--no-frames",
+                           "--out", str(tmp_path))
     assert code == 0
     check_lines_against_logs(tmp_path, ["mu0.1", "mu0.11"], lines, expected=6)
     code, lines = run_main("--h", "0.01,0.005", "--duration", "0.6", "--no-frames",

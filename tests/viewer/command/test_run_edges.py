@@ -1,6 +1,6 @@
-"""A run's edges, tried as a careful user would: their own files in the output folder, symbolic links,
-a signal in each phase of the run, repeated flags, negative values in lists, flags that do not apply,
-a full disk, and a state beyond float64 handed to the library."""
+"""A run's edges, tried as a careful user would: their own files in the output folder, symbolic
+links, a signal in each phase of the run, repeated flags, negative values in lists, flags that do
+not apply, a full disk, and a state beyond float64 handed to the library."""
 import errno
 import os
 import shutil
@@ -16,11 +16,10 @@ import simulator
 import time_integrator
 import analysis.log
 from helpers.command import run_main as main
-from viewer.command import cli
-from viewer.pictures import draw, plots
-from viewer.output import whole_files
-
 from helpers import ROOT
+from viewer.command import cli
+from viewer.output import whole_files
+from viewer.pictures import draw, plots
 
 
 def log_steps(path):
@@ -36,7 +35,7 @@ def leftovers(folder):
     return [name for name in os.listdir(folder) if name.startswith(".")]
 
 
-# ---- a run writes only into a new or empty folder -------------------------------------------------
+# ---- a run writes only into a new or empty folder
 
 USERS = ["log.csv", "index.html", "plots.png", "summary.png", "frame_00003.png", "notes.txt"]
 
@@ -63,11 +62,11 @@ def test_a_symbolic_link_in_the_out_folder_is_never_written_through(tmp_path):
     assert os.listdir(out) == ["log.csv"]
 
 
-# ---- a signal in each phase ---------------------------------------------------------------------
+# ---- a signal in each phase
 
 def signal_during(monkeypatch, module, name, signum=signal.SIGINT):
-    """Send this process `signum` the first time module.name is called (as a user's Ctrl+C would arrive
-    at that moment), then run it."""
+    """Send this process `signum` the first time module.name is called (as a user's Ctrl+C would
+    arrive at that moment), then run it."""
     real, sent = getattr(module, name), []
 
     def with_signal(*args, **kw):
@@ -89,7 +88,7 @@ def test_a_signal_while_pygame_loads_ends_the_run_in_one_line(tmp_path, monkeypa
 
 
 @pytest.mark.parametrize("signum, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
-def test_a_signal_while_a_frame_is_written_keeps_every_file_whole(tmp_path, monkeypatch, signum, code):
+def test_a_signal_while_a_frame_is_written_keeps_files_whole(tmp_path, monkeypatch, signum, code):
     """The frame being written is finished, whole; no temporary is left; the steps kept are the last
     step in log.csv, and the last pictures are written for them."""
     real = whole_files.write_temporary
@@ -102,55 +101,64 @@ def test_a_signal_while_a_frame_is_written_keeps_every_file_whole(tmp_path, monk
     status, lines = main("--steps", "300", "--frame-stride", "1", "--out", str(tmp_path))
     assert status == code and lines[-1].startswith("simulator.py: stopped: "), lines
     steps = log_steps(tmp_path / "log.csv")
-    assert lines[-1].endswith(f"; {steps[-1]} steps kept in {tmp_path}/") and steps == list(range(steps[-1] + 1))
+    assert lines[-1].endswith(f"; {steps[-1]} steps kept in {tmp_path}/")
+    assert steps == list(range(steps[-1] + 1))
     assert (tmp_path / "frame_00003.png").stat().st_size > 0 and not leftovers(tmp_path)
     assert all((tmp_path / name).exists() for name in ("summary.png", "plots.png", "index.html"))
 
 
 @pytest.mark.parametrize("signum, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
-def test_a_signal_during_the_last_pictures_leaves_out_the_rest_and_says_which(tmp_path, monkeypatch, signum, code):
+def test_a_signal_during_the_last_pictures_leaves_out_the_rest(tmp_path, monkeypatch, signum, code):
     """summary.png is written before the signal; plots.png and index.html are left out, and the line
     says so; the frames and log are kept whole."""
     signal_during(monkeypatch, plots, "draw_plots", signum)
     status, lines = main("--steps", "20", "--out", str(tmp_path))
     said = [line for line in lines if line.startswith("simulator.py:")]    # the others: progress
     assert status == code and said == lines[-1:], lines
-    assert lines[-1].startswith("simulator.py: stopped: ") and "while writing the last pictures" in lines[-1]
-    assert lines[-1].endswith("20 steps kept in " + str(tmp_path) + "/; left out: plots.png, index.html")
+    assert lines[-1].startswith("simulator.py: stopped: ")
+    assert "while writing the last pictures" in lines[-1]
+    assert lines[-1].endswith(f"20 steps kept in {tmp_path}/; left out: plots.png, index.html")
     names = os.listdir(tmp_path)
     assert "summary.png" in names and "plots.png" not in names and "index.html" not in names
     assert log_steps(tmp_path / "log.csv") == list(range(21)) and not leftovers(tmp_path)
 
 
 def test_ctrl_c_at_any_moment_of_a_real_run_is_one_line(tmp_path):
-    """A real process, Ctrl+C at a few moments from loading numpy on: exit 130, its last line says it
-    stopped, no traceback, no temporary file."""
-    for delay in (0.5, 1.0, 2.0):       # (before 0.1 s Python itself is still starting: not yet ours)
-        out = tmp_path / f"after{delay}"
-        process = subprocess.Popen([sys.executable, os.path.join(ROOT, "simulator.py"), "--steps", "100000",
-                                    "--out", str(out)], env={**os.environ, "SDL_VIDEODRIVER": "dummy"},
-                                   stderr=subprocess.PIPE, text=True)
-        time.sleep(delay)
+    """Real processes, Ctrl+C at moments from loading numpy to the frames: exit 130, the last line
+    says it stopped, no traceback, no temporary file. Started together, one signal each."""
+    delays = (0.5, 1.0, 2.0)        # (before 0.1 s Python itself is still starting: not yet ours)
+    env = {**os.environ, "SDL_VIDEODRIVER": "dummy"}
+    processes = [subprocess.Popen([sys.executable, os.path.join(ROOT, "simulator.py"),
+                                   "--steps", "100000", "--out", str(tmp_path / str(k))],
+                                  env=env, stderr=subprocess.PIPE, text=True)
+                 for k in range(len(delays))]
+    began = time.monotonic()
+    for delay, process in zip(delays, processes):
+        time.sleep(max(0.0, began + delay - time.monotonic()))
         process.send_signal(signal.SIGINT)
+    for k, process in enumerate(processes):
         _, err = process.communicate(timeout=60)
         assert process.returncode == 130, err
-        assert "Traceback" not in err and err.strip().splitlines()[-1].startswith("simulator.py: stopped: interrupted")
-        assert not out.exists() or not leftovers(out)
+        assert "Traceback" not in err
+        assert err.strip().splitlines()[-1].startswith("simulator.py: stopped: interrupted")
+        assert not (tmp_path / str(k)).exists() or not leftovers(tmp_path / str(k))
 
 
-# ---- the command line -------------------------------------------------------------------------------
+# ---- the command line
 
 @pytest.mark.parametrize("args, flag", [(["--mu", "0,1", "--mu", "0.5"], "--mu"),
                                         (["--h", "0.01,0.02", "--dt", "0.005"], "--h"),
                                         (["--mu", "0.5", "--mu=0.1,0.2"], "--mu")])
 def test_a_list_flag_given_twice_is_refused(tmp_path, args, flag):
     code, lines = main(*args, "--out", str(tmp_path / "o"))
-    assert code == 2 and len(lines) == 1 and lines[0].startswith(f"simulator.py: error: {flag}: "), lines
+    assert code == 2 and len(lines) == 1, lines
+    assert lines[0].startswith(f"simulator.py: error: {flag}: ")
     assert not (tmp_path / "o").exists()
 
 
 @pytest.mark.parametrize("flag, values, parsed", [
-    ("--v0", "1,0;-2,0", [(1.0, 0.0), (-2.0, 0.0)]), ("--center", "0,0;-1,1", [(0.0, 0.0), (-1.0, 1.0)]),
+    ("--v0", "1,0;-2,0", [(1.0, 0.0), (-2.0, 0.0)]),
+    ("--center", "0,0;-1,1", [(0.0, 0.0), (-1.0, 1.0)]),
     ("--gravity", "0,-9.81;-1,-9.81", [(0.0, -9.81), (-1.0, -9.81)])])
 def test_lists_of_pairs_take_negative_numbers(flag, values, parsed):
     for argv in ([flag, values], [f"{flag}={values}"]):
@@ -174,13 +182,15 @@ def test_a_comparison_with_negative_values_runs_and_names_its_files(tmp_path):
     assert not [name for name in os.listdir(tmp_path) if "=" in name]
 
 
-@pytest.mark.parametrize("args, flag", [(["--speed", "-5"], "--speed"), (["--size", "nan"], "--size"),
-                                        (["--speed", "2"], "--speed"), (["--density", "500", "--mass", "10"], "--mass"),
-                                        (["--steps", "3", "--duration", "1"], "--duration"),
-                                        (["--no-slope", "--slope-angle", "10"], "--slope-angle")])
+@pytest.mark.parametrize("args, flag", [
+    (["--speed", "-5"], "--speed"), (["--size", "nan"], "--size"), (["--speed", "2"], "--speed"),
+    (["--density", "500", "--mass", "10"], "--mass"),
+    (["--steps", "3", "--duration", "1"], "--duration"),
+    (["--no-slope", "--slope-angle", "10"], "--slope-angle")])
 def test_flags_that_do_not_apply_or_contradict_are_refused(tmp_path, args, flag):
     code, lines = main(*args, "--out", str(tmp_path / "o"))
-    assert code == 2 and len(lines) == 1 and lines[0].startswith("simulator.py: error: ") and flag in lines[0], lines
+    assert code == 2 and len(lines) == 1, lines
+    assert lines[0].startswith("simulator.py: error: ") and flag in lines[0]
     assert not (tmp_path / "o").exists()
 
 
@@ -190,11 +200,11 @@ def test_the_library_refuses_density_and_mass_together():
     assert simulator.build_scene(mass=10.0).m.sum() == pytest.approx(10.0)
 
 
-# ---- the library -------------------------------------------------------------------------------------
+# ---- the library
 
 def test_an_accepted_iterate_beyond_float64_raises(monkeypatch):
-    """E(x^n) finite, a trial point's E = -inf (overflowed): it would be accepted as a decrease, and the
-    step raises NonFiniteState instead of returning it."""
+    """E(x^n) finite, a trial point's E = -inf (overflowed): it would be accepted as a decrease,
+    and the step raises NonFiniteState instead of returning it."""
     real = time_integrator.IP_val
 
     def overflowing(scene, lagged, x):
@@ -218,19 +228,19 @@ def test_a_step_from_a_state_beyond_float64_raises():
     scene = simulator.build_scene()
     with pytest.raises(time_integrator.NonFiniteState, match="not finite"):
         time_integrator.step(scene, scene.x0, scene.v0 + [0.0, -1e200])
-    x, v, report = time_integrator.step(scene, scene.x0, scene.v0 + [0.0, -1e3])   # large, but finite
+    x, v, report = time_integrator.step(scene, scene.x0, scene.v0 + [0.0, -1e3])  # large, finite
     assert np.isfinite(x).all() and not report.stalled
 
 
-# ---- a full disk ---------------------------------------------------------------------------------------
+# ---- a full disk
 
 @pytest.fixture
 def small_disk(tmp_path):
-    """A 256 KiB tmpfs, where this machine lets the test mount one (root on Linux); skipped elsewhere."""
+    """A 64 KiB tmpfs, where this machine lets the test mount one (root on Linux); else skipped."""
     mount = tmp_path / "disk"
     mount.mkdir()
-    if shutil.which("mount") is None or subprocess.run(["mount", "-t", "tmpfs", "-o", "size=256k", "tmpfs", str(mount)],
-                                                       capture_output=True).returncode != 0:
+    command = ["mount", "-t", "tmpfs", "-o", "size=64k", "tmpfs", str(mount)]
+    if shutil.which("mount") is None or subprocess.run(command, capture_output=True).returncode:
         pytest.skip("cannot mount a tmpfs here (needs root on Linux) to fill a disk for real")
     yield mount
     subprocess.run(["umount", str(mount)], check=True)
@@ -253,7 +263,8 @@ def test_a_run_refused_on_a_full_disk_leaves_nothing_behind(small_disk):
     fill(small_disk)
     before = sorted(os.listdir(small_disk))
     code, lines = main("--steps", "3", "--out", str(small_disk / "new" / "out"))
-    assert code == 2 and len(lines) == 1 and "cannot be written" in lines[0] and "No space left" in lines[0], lines
+    assert code == 2 and len(lines) == 1, lines
+    assert "cannot be written" in lines[0] and "No space left" in lines[0]
     assert sorted(os.listdir(small_disk)) == before
 
 
@@ -264,14 +275,17 @@ def test_an_empty_read_only_folder_is_refused(small_disk):
         code, lines = main("--steps", "2", "--out", str(small_disk))
     finally:
         subprocess.run(["mount", "-o", "remount,rw", str(small_disk)], check=True)
-    assert code == 2 and len(lines) == 1 and "cannot be written: Read-only file system" in lines[0], lines
+    assert code == 2 and len(lines) == 1, lines
+    assert "cannot be written: Read-only file system" in lines[0]
     assert os.listdir(small_disk) == []
 
 
 def test_a_disk_filling_mid_run_keeps_a_true_count(small_disk):
-    """--no-frames: log.csv fills the disk; the line's 'steps kept' is the last step log.csv holds."""
+    """--no-frames: log.csv fills the disk; 'steps kept' in the line is the last step it holds."""
     code, lines = main("--steps", "100000", "--no-frames", "--out", str(small_disk))
-    assert code == 1 and f"cannot write {small_disk / 'log.csv'}: No space left on device" in lines[-1], lines
+    said = f"cannot write {small_disk / 'log.csv'}: No space left on device"
+    assert code == 1 and said in lines[-1], lines
     steps = log_steps(small_disk / "log.csv")
-    assert f"; {steps[-1]} steps kept in {small_disk}/" in lines[-1] and steps == list(range(steps[-1] + 1))
+    assert f"; {steps[-1]} steps kept in {small_disk}/" in lines[-1]
+    assert steps == list(range(steps[-1] + 1))
     assert not leftovers(small_disk)
