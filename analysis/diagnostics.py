@@ -1,9 +1,5 @@
-"""What a state tells beyond the step's report: contacts, sticking and sliding, forces, inverted
-cells, the energy budget, the chalk's tip.
-
-Contact nodes are those with d_k = n . (x_k - o) < dhat; their tangential speed is ||(I - n n^T)
-v_k||, and a contact sticks below eps_v (the mollifier's static branch), slides otherwise.
-"""
+"""What a state tells beyond the step's report: contacts (d_k = n . (x_k - o) < dhat), sticking
+(||(I - n n^T) v_k|| < eps_v) and sliding, forces, inverted cells, the energy budget, the tip."""
 import math
 
 import numpy as np
@@ -49,8 +45,7 @@ def energies(scene, x, v, t=0.0):
 
 def hand_work(scene, x, t0, t1, before=None):
     """W_hand = P_hand(x^n, targets(t1)) - P_hand(x^n, targets(t0)) (J; 0 without a hand), so that
-    E^{n+1} - E^n = W_hand + W_friction - (numerical dissipation). `before`: the second term, if
-    known."""
+    E^{n+1} - E^n = W_hand + W_friction - (numerical dissipation). `before`: the second term."""
     if scene.hand is None or "hand" not in scene.terms:
         return 0.0
     before = term_energy(scene, "hand", x, targets(scene, t0)) if before is None else before
@@ -118,8 +113,8 @@ def tip_stuck(scene, x, v):
 
 
 def tip_figures(scene, x, v, t):
-    """The chalk's figures at time t: the tip's x and speed along the board, the hand's speed along
-    it over the last step, and the board's total normal force (N)."""
+    """The tip's x and speed along the board at time t, the hand's speed over the last step, and the
+    board's total normal force (N)."""
     k, _ = tip(scene, x)
     board = tangent(scene)
     drive = 0.0

@@ -54,8 +54,7 @@ class Deposit:
         self.lo, self.hi = lo, hi
 
     def step(self, scene, x0, x1):
-        """A step from x0 to x1: `archard` with lambda_k at x1 (diagnostics.normal_forces). Returns
-        the step's deposit, sum_k lambda_k |delta s_k| (N m)."""
+        """A step from x0 to x1 by `archard`, lambda_k at x1; returns sum_k lambda_k |delta s_k|."""
         tangent = diagnostics.tangent(scene)
         lam = diagnostics.normal_forces(scene, x1) @ scene.n
         j0, deposit = archard(x0 @ tangent, x1 @ tangent, lam, self.width)

@@ -53,22 +53,21 @@ def write(names, folder):
 def main(argv=None):
     """Write the figures asked for; returns the exit code."""
     with run.Signals() as signals:
+        folder = None
         try:
             names, out = parse(sys.argv[1:] if argv is None else argv)
             pngs = [f"{name}.png" for name in names]
             folder = files.RunFolder.make(out, "figures", pngs, signals)
+            write(names, folder)
+            return 0
         except (UsageError, ValueError) as err:
+            if folder is not None:      # not bad input: a bug in a figure
+                raise
             print(f"figures: error: {err}", file=sys.stderr)
             return 2
         except run.Stopped as stopped:
-            print(f"figures: stopped: {stopped.reason}; nothing written", file=sys.stderr)
-            return stopped.code
-        try:
-            write(names, folder)
-            return 0
-        except run.Stopped as stopped:
-            print(f"figures: stopped: {stopped.reason}; the figures written so far are whole",
-                  file=sys.stderr)
+            said = "nothing written" if folder is None else "the figures written so far are whole"
+            print(f"figures: stopped: {stopped.reason}; {said}", file=sys.stderr)
             return stopped.code
         except (OSError, time_integrator.SimulationError) as err:   # a full disk, a failed step
             print(f"figures: error: {err}", file=sys.stderr)

@@ -30,23 +30,20 @@ def line3_measures(scene, x, v, step_index):
 
 def compute(params=PARAMS, steps=STEPS):
     """Each as (step index, report, measures): `converging`, the converging step with the most
-    tests; `failing`, the first that did not converge (or None); `farthest`, the converging step
-    with the largest first measure."""
+    tests; `failing`, the first that did not converge (or None); `shown`, those two; `farthest`,
+    the converging step with the largest first measure."""
     scene = simulator.build_scene(**params)
     x, v, found = scene.x0, scene.v0, []
     for i in range(steps):
         x, v, report, measures = line3_measures(scene, x, v, i)
         found.append((i, report, np.array(measures)))
     converged = [f for f in found if f[1].friction_converged]
+    converging = max(converged, key=lambda f: len(f[2]))
+    failing = next((f for f in found if not f[1].friction_converged), None)
     return SimpleNamespace(scene=scene, steps=steps, failed=len(found) - len(converged),
-                           converging=max(converged, key=lambda f: len(f[2])),
-                           failing=next((f for f in found if not f[1].friction_converged), None),
+                           converging=converging, failing=failing,
+                           shown=[f for f in (converging, failing) if f is not None],
                            farthest=max(converged, key=lambda f: f[2][0]))
-
-
-def shown(r):
-    """The steps drawn: the converging one, and the failing one if any."""
-    return [f for f in (r.converging, r.failing) if f is not None]
 
 
 def caption(r):
@@ -59,7 +56,7 @@ def caption(r):
              "||p||_inf / h at it;",
              "below tol the step ends (report.friction_converged True), else Newton re-solves "
              "(line 4) and it repeats."]
-    for i, report, m in shown(r):
+    for i, report, m in r.shown:
         lines.append(f"step {i} (t = {i * p['h']:g} s): {len(m)} tests ({len(m) - 1} re-solves), "
                      f"measure {m[0]:.3g} -> {m[-1]:.3g} m/s, "
                      f"report.friction_converged {report.friction_converged}")
@@ -70,14 +67,13 @@ def caption(r):
 
 def draw(r):
     """The steps' measures on a log axis against the friction update, with tol."""
-    steps = shown(r)
-    measures = np.concatenate([f[2] for f in steps])
+    measures = np.concatenate([f[2] for f in r.shown])
     page = Page("Algorithm 5: the fixed-point iteration converges only when starting sufficiently "
                 "close", 1, caption(r))
-    ax = page.axes(0, max(len(f[2]) for f in steps) + 1, min(measures.min(), r.scene.tol) / 2,
+    ax = page.axes(0, max(len(f[2]) for f in r.shown) + 1, min(measures.min(), r.scene.tol) / 2,
                    measures.max() * 2, "line 3's measure ||p||_inf / h (m/s, log) at its j-th test "
                    "in the step (after j - 1 re-solves)", "j", "||p||/h (m/s)", log=True)
-    for k, (i, report, m) in enumerate(steps):
+    for k, (i, report, m) in enumerate(r.shown):
         j = np.arange(1, len(m) + 1)
         ax.line(j, m, run_color(k))
         ax.markers(j, m, run_color(k))

@@ -12,11 +12,6 @@ from viewer.pictures.draw import run_color
 EPSV_FACTORS = (0.5, 1.0, 2.0)      # eps_v as multiples of the default's
 
 
-def f1(vbarnorm, epsv):
-    """f1(||vbar||) = ||vbar|| FrictionEnergy.f1_div_vbarnorm(||vbar||)."""
-    return vbarnorm * FrictionEnergy.f1_div_vbarnorm(vbarnorm, epsv)
-
-
 def compute(epsv=simulator.DEFAULTS["epsv"], hhat=simulator.DEFAULTS["h"], points=801):
     """f1 at three eps_v, f0, and f0'(y) = (f0(||vbar|| + d) - f0(||vbar|| - d)) / (2 d hhat)
     against f1(y / hhat), ||vbar|| > 0: truncation d^2 / (3 eps_v^2) = 3e-11, round-off ~9e-11."""
@@ -25,7 +20,7 @@ def compute(epsv=simulator.DEFAULTS["epsv"], hhat=simulator.DEFAULTS["h"], point
     f0_up, f0_down = (FrictionEnergy.f0(checked + s, epsv, hhat) for s in (d, -d))
     df0_dy = (f0_up - f0_down) / (2 * d * hhat)
     epsvs = [factor * epsv for factor in EPSV_FACTORS]
-    f1s = [f1(vbarnorm, e) for e in epsvs]
+    f1s = [vbarnorm * FrictionEnergy.f1_div_vbarnorm(vbarnorm, e) for e in epsvs]
     f1_default = f1s[EPSV_FACTORS.index(1.0)][1:]
     return SimpleNamespace(vbarnorm=vbarnorm, checked=checked, epsv=epsv, hhat=hhat, f1s=f1s,
                            f1=f1_default, epsvs=epsvs, f0=FrictionEnergy.f0(vbarnorm, epsv, hhat),

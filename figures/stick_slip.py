@@ -47,12 +47,13 @@ def track(duration, **params):
 
 
 def measure(tr):
-    """counting.measure of a track, and `creep`: the tip's largest travel over a run of stuck
-    states, from the state before it (m)."""
-    counted = counting.measure(tr.t, tr.x, tr.u, tr.scene.epsv, tr.scene.params["drive"],
-                               tr.drive_start)
+    """counting.measure of a track with its k_hand and tip_lowest, and `creep`: the tip's largest
+    travel over a run of stuck states, from the state before it (m)."""
+    p = tr.scene.params
+    counted = counting.measure(tr.t, tr.x, tr.u, tr.scene.epsv, p["drive"], tr.drive_start)
     sticks = [tr.x[max(r[0] - 1, 0):r[-1] + 1] for r in counting.runs(tr.stuck) if tr.stuck[r[0]]]
-    return SimpleNamespace(**vars(counted), creep=max((np.ptp(x) for x in sticks), default=0.0))
+    return SimpleNamespace(**vars(counted), creep=max((np.ptp(x) for x in sticks), default=0.0),
+                           k_hand=p["k_hand"], tip_lowest=tr.tip_lowest)
 
 
 def mark_figures(tr):
@@ -88,12 +89,8 @@ def compute(duration=DURATION, grips=GRIPS, tilts=TILTS, tilt_duration=TILT_DURA
     chalk = simulator.CHALK
     pushed, dragged = track(duration), track(duration, drag=True)
     force = chalk["k_hand"] * chalk["press"]                # N per held node
-    grip_runs = []
-    for k_hand in grips:
-        tr = pushed if k_hand == chalk["k_hand"] else track(duration, k_hand=k_hand,
-                                                            press=force / k_hand)
-        grip_runs.append(SimpleNamespace(k_hand=k_hand, tip_lowest=tr.tip_lowest,
-                                         **vars(measure(tr))))
+    grip_runs = [measure(pushed if k == chalk["k_hand"] else
+                         track(duration, k_hand=k, press=force / k)) for k in grips]
     tilt_runs = [one_coefficient(tilt, tilt_duration) for tilt in tilts]
     return SimpleNamespace(pushed=pushed, dragged=dragged, push=measure(pushed),
                            drag=measure(dragged), push_mark=mark_figures(pushed),
@@ -161,7 +158,7 @@ def caption(r):
         where = "below" if high <= r.lock else "above" if low >= r.lock else "around"
         lines.append(said + f"between {low:g} and {high:g} deg, {where} the rigid strut's "
                      f"90 - atan mu = {r.lock:.1f} deg.")
-    runs = [("pushed", r.pushed), ("dragged", r.dragged)]
+    runs = [("pushed", push), ("dragged", drag)]
     runs += [(f"k_hand {g.k_hand:g}", g) for g in grips]
     runs += [(f"tilt {t.tilt:g}", t) for t in r.tilts]
     lost = [name for name, run in runs if not run.tip_lowest]

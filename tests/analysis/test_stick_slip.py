@@ -114,9 +114,9 @@ def test_the_definition_has_the_scenes_numbers():
 def test_the_figure_counts_with_it():
     """figures/stick_slip.py's measure is this count, with the marks' creep added."""
     t, x, u, _ = history(SEGMENTS)
-    scene = types.SimpleNamespace(epsv=EPSV, params={"drive": DRIVE})
+    scene = types.SimpleNamespace(epsv=EPSV, params={"drive": DRIVE, "k_hand": 2000.0})
     tr = types.SimpleNamespace(scene=scene, t=t, x=x, u=u, stuck=np.abs(u) < EPSV,
-                               drive_start=START)
+                               drive_start=START, tip_lowest=True)
     counted = vars(stick_slip.measure(t, x, u, EPSV, DRIVE, START))
     drawn = vars(figure.measure(tr))
     assert {k: drawn[k] for k in counted} == counted and drawn["creep"] > 0
