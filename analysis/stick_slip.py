@@ -41,29 +41,20 @@ def runs(stuck):
     return np.split(np.arange(len(stuck)), np.flatnonzero(np.diff(np.asarray(stuck, int))) + 1)
 
 
-def cycles(t, x, u, epsv, drive, start, steps=None):
-    """The cycles after `start` as (start time, length, peak speed), from the tip's states: times t,
-    position x and velocity u along the board; `steps`, each state's step (default consecutive)."""
+def measure(t, x, u, epsv, drive, start, steps=None):
+    """A run's StickSlip from its tip's states: times t, position x and velocity u along the
+    board, eps_v, the drive's speed and start; `steps`, each state's step (default 0, 1, ...)."""
     steps = np.arange(len(t)) if steps is None else np.asarray(steps)
-    driven = np.asarray(t, float) > start
-    t, x, steps = np.asarray(t, float)[driven], np.asarray(x, float)[driven], steps[driven]
-    speed = np.abs(np.asarray(u, float))[driven]
-    stuck = speed < epsv
-    parts, slips = runs(stuck), []
+    t, x, speed = np.asarray(t, float), np.asarray(x, float), np.abs(np.asarray(u, float))
+    stuck, driven = speed < epsv, t > start
+    parts = [np.flatnonzero(driven)[part] for part in runs(stuck[driven])]    # driven states
+    slips = []
     for stick, slip, _ in zip(parts, parts[1:], parts[2:]):     # a third part: the slip has ended
         long_enough = steps[stick[-1]] - steps[stick[0]] + 1 >= MIN_STICK
         if stuck[stick[0]] and long_enough and speed[slip].max() > drive:
             slips.append((float(t[slip[0]]), float(x[slip[-1]] - x[stick[-1]]),
                           float(speed[slip].max())))
-    return slips
-
-
-def measure(t, x, u, epsv, drive, start, steps=None):
-    """A run's StickSlip: its cycles (`cycles`, the same arguments) and what they add up to."""
-    t, speed = np.asarray(t, float), np.abs(np.asarray(u, float))
-    slips = cycles(t, x, u, epsv, drive, start, steps)
     starts, lengths, peaks = (np.array(a) for a in zip(*slips)) if slips else ([np.nan],) * 3
-    stuck, driven = speed < epsv, t > start
     moving = np.flatnonzero(driven & ~stuck)
     first = moving[0] if len(moving) else None
     period = float(np.mean(np.diff(starts))) if len(slips) > 1 else np.nan

@@ -2,7 +2,6 @@
 does (viewer.output.files.RunFolder). Bad input: one line `figures: error: ...`, exit code 2;
 Ctrl+C 130 (SIGTERM 143); a failed write or step: one line, exit code 1.
 """
-import argparse
 import importlib
 import sys
 import time
@@ -10,16 +9,8 @@ import time
 import figures
 import time_integrator
 from viewer.command import run
+from viewer.command.cli import CommandLineError, Parser
 from viewer.output import files
-
-
-class UsageError(Exception):
-    """Bad input: reported in one line, exit code 2."""
-
-
-class Parser(argparse.ArgumentParser):
-    def error(self, message):
-        raise UsageError(message)
 
 
 def parse(argv):
@@ -33,7 +24,7 @@ def parse(argv):
     args = parser.parse_args(argv)
     unknown = [name for name in args.names if name not in figures.FIGURES]
     if unknown:
-        raise UsageError(f"unknown figure {unknown[0]!r}; choose from {names}")
+        raise CommandLineError(f"unknown figure {unknown[0]!r}; choose from {names}")
     return [name for name in figures.FIGURES if name in args.names or not args.names], args.out
 
 
@@ -60,7 +51,7 @@ def main(argv=None):
             folder = files.RunFolder.make(out, "figures", pngs, signals)
             write(names, folder)
             return 0
-        except (UsageError, ValueError) as err:
+        except (CommandLineError, ValueError) as err:
             if folder is not None:      # not bad input: a bug in a figure
                 raise
             print(f"figures: error: {err}", file=sys.stderr)

@@ -27,7 +27,7 @@ def history(segments, pressing=START):
 
 
 def cycles(t, x, u, steps=None):
-    return stick_slip.cycles(t, x, u, EPSV, DRIVE, START, steps)
+    return stick_slip.measure(t, x, u, EPSV, DRIVE, START, steps).slips
 
 
 STUCK, FAST, SLOW = 1e-5, 0.1, 0.005      # below eps_v; above the drive; slipping below the drive
