@@ -29,15 +29,10 @@ def term_energy(scene, name, x, targets=None):
     return term.module.val_kernel(*term.args(scene, lagged, x, None))
 
 
-def targets(scene, t):
-    """The hand's targets at time t, or None without a hand."""
-    return scene.hand.targets(t) if scene.hand is not None else None
-
-
 def energies(scene, x, v, t=0.0):
     """Energy by term (J) at (x, v) and time t: kinetic, each of energy_terms, and their total."""
     out = {"kinetic": 0.5 * float(scene.m @ np.einsum("ij,ij->i", v, v))}
-    at_t = targets(scene, t)
+    at_t = scene.hand.targets(t) if scene.hand is not None else None
     out.update({name: term_energy(scene, name, x, at_t) for name in energy_terms(scene)})
     out["total"] = sum(out.values())
     return out
@@ -48,8 +43,9 @@ def hand_work(scene, x, t0, t1, before=None):
     E^{n+1} - E^n = W_hand + W_friction - (numerical dissipation). `before`: the second term."""
     if scene.hand is None or "hand" not in scene.terms:
         return 0.0
-    before = term_energy(scene, "hand", x, targets(scene, t0)) if before is None else before
-    return term_energy(scene, "hand", x, targets(scene, t1)) - before
+    if before is None:
+        before = term_energy(scene, "hand", x, scene.hand.targets(t0))
+    return term_energy(scene, "hand", x, scene.hand.targets(t1)) - before
 
 
 def centre_of_mass(scene, a):
