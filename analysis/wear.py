@@ -14,9 +14,9 @@ UNIT = "N m per 0.1 mm"     # what a bin holds: lambda_k times the length slid i
 RISE = 2.0                  # a dash begins at a bin holding more than this times the one before
 
 
-def archard(s0, s1, lam, width=BIN):
-    """One step's deposit: node k slides from s0_k to s1_k (m) under lam_k (N); bin j, [j width,
-    (j + 1) width), gets sum_k lam_k |[s0_k, s1_k] within it|. Returns (j0, deposit), deposit[i]
+def archard(s0, s1, lam):
+    """One step's deposit: node k slides from s0_k to s1_k (m) under lam_k (N); bin j, [j BIN,
+    (j + 1) BIN), gets sum_k lam_k |[s0_k, s1_k] within it|. Returns (j0, deposit), deposit[i]
     being bin j0 + i's (N m); it sums to sum_k lam_k |s1_k - s0_k|."""
     s0, s1, lam = (np.asarray(a, float) for a in (s0, s1, lam))
     lo, hi = np.minimum(s0, s1), np.maximum(s0, s1)
@@ -24,8 +24,8 @@ def archard(s0, s1, lam, width=BIN):
     if not on.any():
         return 0, np.zeros(0)
     lo, hi, lam = lo[on], hi[on], lam[on]
-    j0, j1 = int(np.floor(lo.min() / width)), int(np.floor(hi.max() / width)) + 1
-    edges = np.arange(j0, j1 + 1) * width
+    j0, j1 = int(np.floor(lo.min() / BIN)), int(np.floor(hi.max() / BIN)) + 1
+    edges = np.arange(j0, j1 + 1) * BIN
     # sum_k lam_k times the length of node k's slide below each edge; differenced, per bin
     below = (lam[:, None] * np.clip(edges - lo[:, None], 0.0, (hi - lo)[:, None])).sum(axis=0)
     return j0, np.diff(below)
@@ -35,8 +35,7 @@ class Deposit:
     """The mark so far: the deposit (N m) of the bins lo <= j < hi that it touched (`values`). Its
     store keeps room for as much again on each side, so it stays within 3 times the bins touched."""
 
-    def __init__(self, width=BIN):
-        self.width = width
+    def __init__(self):
         self.store, self.base = np.zeros(0), 0     # bins base, base + 1, ...
         self.lo = self.hi = 0
 
@@ -57,7 +56,7 @@ class Deposit:
         """A step from x0 to x1 by `archard`, lambda_k at x1; returns sum_k lambda_k |delta s_k|."""
         tangent = diagnostics.tangent(scene)
         lam = diagnostics.normal_forces(scene, x1) @ scene.n
-        j0, deposit = archard(x0 @ tangent, x1 @ tangent, lam, self.width)
+        j0, deposit = archard(x0 @ tangent, x1 @ tangent, lam)
         self.add(j0, deposit)
         return float(deposit.sum())
 
@@ -72,11 +71,11 @@ class Deposit:
 
     def centres(self):
         """The touched bins' middles along the board (m)."""
-        return (self.lo + np.arange(self.hi - self.lo) + 0.5) * self.width
+        return (self.lo + np.arange(self.hi - self.lo) + 0.5) * BIN
 
     def span(self):
         """The board the mark covers, (from, to) in m; None before any deposit."""
-        return None if self.hi == self.lo else (self.lo * self.width, self.hi * self.width)
+        return None if self.hi == self.lo else (self.lo * BIN, self.hi * BIN)
 
     def darkest(self):
         """The largest bin's deposit (N m; 0 before any)."""
@@ -84,7 +83,7 @@ class Deposit:
 
     def copy(self):
         """A Deposit of its own holding the same bins."""
-        other = Deposit(self.width)
+        other = Deposit()
         other.store, other.base, other.lo, other.hi = self.store.copy(), self.base, self.lo, self.hi
         return other
 
@@ -95,10 +94,10 @@ class Deposit:
         a, b = np.asarray(a, float), np.asarray(b, float)
         if darkest <= 0:
             return np.zeros(np.broadcast(a, b).shape)
-        edges = (self.lo + np.arange(self.hi - self.lo + 1)) * self.width
+        edges = (self.lo + np.arange(self.hi - self.lo + 1)) * BIN
         below = np.concatenate([[0.0], np.cumsum(self.values)])        # the deposit below each edge
         held = np.interp(b, edges, below) - np.interp(a, edges, below)
-        return np.clip(held / np.maximum(b - a, 1e-300) * self.width / darkest, 0.0, 1.0)
+        return np.clip(held / np.maximum(b - a, 1e-300) * BIN / darkest, 0.0, 1.0)
 
 
 def dashes(values):
@@ -120,4 +119,4 @@ def csv_text(deposit):
     """marks.csv: a header, then per bin its middle along the board (mm) and its deposit (N m)."""
     centres, values = deposit.centres().tolist(), deposit.values.tolist()
     rows = [f"{1e3 * s:.2f},{d!r}" for s, d in zip(centres, values)]
-    return "\n".join([f"x_mm,deposit_N_m_per_{deposit.width * 1e3:g}_mm"] + rows) + "\n"
+    return "\n".join([f"x_mm,deposit_N_m_per_{BIN * 1e3:g}_mm"] + rows) + "\n"
