@@ -33,8 +33,9 @@ def caption_fits(page, lines):
 
 
 def page_height(panels, lines):
+    """A page's height with `panels` panels and `lines` caption lines (figures.page)."""
     return figures.page.TITLE_HEIGHT + panels * plots.PANEL_HEIGHT \
-        + figures.page.LINE_HEIGHT * (len(lines) + 1)
+        + figures.page.LINE_HEIGHT * (lines + 1)
 
 
 def test_f0_derivative_is_f1():
@@ -44,6 +45,8 @@ def test_f0_derivative_is_f1():
     assert np.all(np.diff(r.f1) >= -4 * np.finfo(float).eps)   # rising (to round-off) ...
     assert all(values[0] == 0.0 for values in r.f1s)           # ... from f1(0) = 0 ...
     assert r.f1[0] < 2 * r.checked[0] / r.epsv                 # ... with slope 2 / eps_v there
+    page = mollifier.draw(r)
+    assert page.surface.get_height() == page_height(4, 3)
 
 
 def test_friction_power_is_never_above_round_off():
@@ -52,6 +55,8 @@ def test_friction_power_is_never_above_round_off():
     assert len(run.P) == 45 and len(run.beyond) == 0
     assert np.all(run.P <= run.bound)
     assert run.P.min() < 0.0 and run.bound.max() < 1e-10 * -run.P.min()   # worked; bound: round-off
+    page = dissipation.draw(r)
+    assert page.surface.get_height() == page_height(2, 2 + len(r.runs)) and is_png(page.png())
 
 
 def test_fixed_point_reports_a_step_that_does_not_converge():
@@ -71,7 +76,7 @@ def test_the_fixed_point_caption_fits_the_page():
     page = fixed_point.draw(r)
     assert caption_fits(page, lines)
     assert f"{r.failed} of its first {r.steps} steps did not converge." in lines
-    assert page.surface.get_height() == page_height(1, lines)
+    assert page.surface.get_height() == page_height(1, len(lines))
 
 
 @pytest.fixture(scope="module")
@@ -231,7 +236,7 @@ def test_the_stick_slip_caption_says_the_computed_numbers_and_fits_the_page(stic
     assert "between 67 and 68 deg, below the rigid strut's 90 - atan mu = 70.7 deg" in text
     assert "did not stay the lowest node" not in text
     page = stick_slip.draw(r)
-    assert caption_fits(page, lines) and page.surface.get_height() == page_height(4, lines)
+    assert caption_fits(page, lines) and page.surface.get_height() == page_height(4, len(lines))
     assert is_png(page.png())
 
 
