@@ -1,14 +1,8 @@
 """log.csv: one row per step (and one for t = 0), appended and flushed as each step ends.
 
-COLUMN is the one definition of a state's per-step figures: each one's name (log.csv's header, and
-its key in a row), unit, meaning, how log.csv writes it and how it is read off a recording.Sample.
-log.csv's lines (`line`), the page's figures beside each frame (page.FIGURES picks them by name) and
-plots.png's curves (plots.series) read the same named rows (`values`); docs/output.md's table of the
-columns is these definitions as written here (tests/analysis/test_log.py checks it).
-
-Each row goes to the file in one write before that step's frame is saved, so the file is never more
-than one row (or one frame stride) ahead of the frames on disk and never holds half a row: a write
-that fails part way (a full disk) is cut back to the last whole row (viewer.output.whole_files.LineFile).
+COLUMN defines each per-step figure once: its name (log.csv's header, a row's key), unit, label,
+meaning, format and how it is read off a recording.Sample. log.csv (`line`), the page and plots.png
+read the same named rows (`values`); docs/output.md's table is COLUMN as written here.
 """
 from dataclasses import dataclass
 from typing import Callable
@@ -18,9 +12,8 @@ from analysis import diagnostics
 
 @dataclass(frozen=True)
 class Column:
-    """One figure of a state. `unit` is "" for a count or a flag; `label` names it in a table's header
-    (the page's); `fmt` is how log.csv writes it (a format spec: "d" a whole number); `value` reads it
-    off a Sample, None where there is none (the solver's figures at t = 0: an empty field)."""
+    """One figure of a state: `unit` "" for a count or a flag; `label` for a table's header; `fmt`
+    a format spec; `value(sample)`, None where there is none (an empty field)."""
     name: str
     unit: str
     label: str
@@ -36,71 +29,84 @@ def with_hand(scene):
 
 
 def solver(figure, at_start):
-    """A figure of the step's StepReport (`figure(report)`), `at_start` at t = 0, where no step was taken."""
+    """figure(the step's StepReport), or `at_start` at t = 0, where no step was taken."""
     return lambda s: at_start if s.report is None else figure(s.report)
+
+
+def energy(term):
+    """The state's energy of `term` (diagnostics.energies)."""
+    return lambda s: s.energies[term]
 
 
 COLUMN = {c.name: c for c in [
     Column("step", "", "step", "the steps taken (0: the start)", "d", lambda s: s.step),
     Column("t", "s", "t", "the time after them", ".6f", lambda s: s.t),
     Column("wall_s", "s", "wall time", "the step's wall-clock time", ".6f", lambda s: s.wall),
-    Column("com_x", "m", "centre of mass x", "the centre of mass, x", ".9f", lambda s: float(s.com[0])),
-    Column("com_y", "m", "centre of mass y", "the centre of mass, y", ".9f", lambda s: float(s.com[1])),
-    Column("v_tangential", "m/s", "velocity along the slope", "the centre of mass's velocity along the slope",
-           ".9f", lambda s: s.v_tangential),
-    Column("newton_iterations", "", "Newton iterations", "Newton iterations of the step, summed over its solves",
-           "d", solver(lambda r: r.newton_iterations, 0)),
+    Column("com_x", "m", "centre of mass x", "the centre of mass, x", ".9f",
+           lambda s: float(s.com[0])),
+    Column("com_y", "m", "centre of mass y", "the centre of mass, y", ".9f",
+           lambda s: float(s.com[1])),
+    Column("v_tangential", "m/s", "velocity along the slope",
+           "the centre of mass's velocity along the slope", ".9f", lambda s: s.v_tangential),
+    Column("newton_iterations", "", "Newton iterations",
+           "Newton iterations of the step, summed over its solves", "d",
+           solver(lambda r: r.newton_iterations, 0)),
     Column("residual", "m/s", "residual",
-           "||p||_inf / h at the step's end; where the bound ||grad E||_2 / (min m h) already shows convergence, "
-           "that bound (an upper bound on ||p||_inf / h)", ".3e", solver(lambda r: r.residual, None)),
+           "||p||_inf / h at the step's end; where the bound ||grad E||_2 / (min m h) already "
+           "shows convergence, that bound (an upper bound on ||p||_inf / h)", ".3e",
+           solver(lambda r: r.residual, None)),
     Column("newton_stalled", "", "Newton stalled",
            "1 where Newton stopped at float64's round-off floor with the residual above tol", "d",
            solver(lambda r: int(r.stalled), 0)),
-    Column("alpha_min", "", "smallest alpha", "the smallest accepted line-search step alpha", ".6g",
-           solver(lambda r: min(r.alphas, default=1.0), None)),
+    Column("alpha_min", "", "smallest alpha", "the smallest accepted line-search step alpha",
+           ".6g", solver(lambda r: min(r.alphas, default=1.0), None)),
     Column("line_search_steps", "", "line searches", "how many line searches", "d",
            solver(lambda r: len(r.alphas), 0)),
     Column("min_distance", "m", "min distance", "the smallest node distance to the slope", ".9g",
            lambda s: s.min_distance),
     Column("friction_updates", "", "friction updates",
-           "how many times Algorithm 5 updated mu*lambda at the new iterate and solved the step again; 0 for "
-           "the lecture's lagged friction (the default) and without friction, at most --friction-iterations",
-           "d", solver(lambda r: r.friction_updates, 0)),
+           "how many times Algorithm 5 updated mu*lambda at the new iterate and solved the step "
+           "again; 0 for the lecture's lagged friction (the default) and without friction, at most "
+           "--friction-iterations", "d", solver(lambda r: r.friction_updates, 0)),
     Column("friction_converged", "", "friction converged",
-           "1 where the step ended at Algorithm 5's fixed point (the Newton residual with the updated mu*lambda "
-           "<= tol), 0 where it stopped at the cap above it; always 1 for lagged friction, which does not "
-           "iterate", "d", solver(lambda r: int(r.friction_converged), 1)),
+           "1 where the step ended at Algorithm 5's fixed point (the Newton residual with the "
+           "updated mu*lambda <= tol), 0 where it stopped at the cap above it; always 1 for lagged "
+           "friction, which does not iterate", "d", solver(lambda r: int(r.friction_converged), 1)),
     Column("contacts_sticking", "", "contacts sticking",
-           "nodes within dhat of the slope whose tangential speed ||(I - n n^T) v|| is below eps_v (the "
-           "mollifier's static regime)", "d", lambda s: s.sticking),
-    Column("contacts_sliding", "", "contacts sliding", "nodes within dhat of the slope at or above eps_v", "d",
-           lambda s: s.sliding),
-    Column("inverted_triangles", "", "inverted triangles", "mesh triangles turned over", "d", lambda s: s.inverted),
-    Column("E_kinetic", "J", "kinetic energy", "the kinetic energy", ".9g", lambda s: s.energies["kinetic"]),
-    Column("E_gravity", "J", "gravity", "gravity's potential energy", ".9g", lambda s: s.energies["gravity"]),
-    Column("E_spring", "J", "spring energy", "the springs' energy", ".9g", lambda s: s.energies["spring"]),
-    Column("E_barrier", "J", "barrier energy", "the barrier's energy", ".9g", lambda s: s.energies["barrier"]),
-    Column("E_hand", "J", "hand energy", "the hand's springs' energy, at the targets of the state's time (the "
-           "chalk)", ".9g", lambda s: s.energies["hand"], with_hand),
-    Column("E_total", "J", "total energy", "their sum, E", ".9g", lambda s: s.energies["total"]),
+           "nodes within dhat of the slope whose tangential speed ||(I - n n^T) v|| is below eps_v "
+           "(the mollifier's static regime)", "d", lambda s: s.sticking),
+    Column("contacts_sliding", "", "contacts sliding",
+           "nodes within dhat of the slope at or above eps_v", "d", lambda s: s.sliding),
+    Column("inverted_triangles", "", "inverted triangles", "mesh triangles turned over", "d",
+           lambda s: s.inverted),
+    Column("E_kinetic", "J", "kinetic energy", "the kinetic energy", ".9g", energy("kinetic")),
+    Column("E_gravity", "J", "gravity", "gravity's potential energy", ".9g", energy("gravity")),
+    Column("E_spring", "J", "spring energy", "the springs' energy", ".9g", energy("spring")),
+    Column("E_barrier", "J", "barrier energy", "the barrier's energy", ".9g", energy("barrier")),
+    Column("E_hand", "J", "hand energy",
+           "the hand's springs' energy, at the targets of the state's time (the chalk)", ".9g",
+           energy("hand"), with_hand),
+    Column("E_total", "J", "total energy", "their sum, E", ".9g", energy("total")),
     Column("W_friction", "J", "friction work",
-           "the work friction has done since t = 0 (<= 0), summed over steps as -grad P_f . (x^{n+1} - x^n)",
-           ".9g", lambda s: s.friction_work),
+           "the work friction has done since t = 0 (<= 0), summed over steps as "
+           "-grad P_f . (x^{n+1} - x^n)", ".9g", lambda s: s.friction_work),
     Column("W_hand", "J", "hand work",
-           "the work the hand's moving targets have done on its springs since t = 0, summed over steps as "
-           "P_hand(x^n, targets(t^{n+1})) - P_hand(x^n, targets(t^n)) (the chalk)", ".9g",
+           "the work the hand's moving targets have done on its springs since t = 0, summed over "
+           "steps as P_hand(x^n, targets(t^{n+1})) - P_hand(x^n, targets(t^n)) (the chalk)", ".9g",
            lambda s: s.hand_work, with_hand),
     Column("D_numerical", "J", "numerical dissipation",
-           "E(0) + W_friction - E (+ W_hand with a hand): what implicit Euler's numerical dissipation has taken out",
-           ".9g", lambda s: s.numerical_dissipation),
+           "E(0) + W_friction - E (+ W_hand with a hand): what implicit Euler's numerical "
+           "dissipation has taken out", ".9g", lambda s: s.numerical_dissipation),
     Column("tip_x", "m", "tip x", "the chalk's tip, its lowest node: x along the board", ".9f",
            lambda s: s.tip_x, with_hand),
     Column("tip_speed", "m/s", "tip speed", "the tip's speed along the board, |v_x|", ".6e",
            lambda s: s.tip_speed, with_hand),
-    Column("drive_speed", "m/s", "drive speed", "the hand's targets' speed along the board over the last step",
-           ".6e", lambda s: s.drive_speed, with_hand),
-    Column("normal_force", "N", "normal force", "the board's normal force on the chalk, the sum of lambda_k",
-           ".6e", lambda s: s.normal_force, with_hand),
+    Column("drive_speed", "m/s", "drive speed",
+           "the hand's targets' speed along the board over the last step", ".6e",
+           lambda s: s.drive_speed, with_hand),
+    Column("normal_force", "N", "normal force",
+           "the board's normal force on the chalk, the sum of lambda_k", ".6e",
+           lambda s: s.normal_force, with_hand),
 ]}
 
 
@@ -109,15 +115,15 @@ def columns(scene):
     return [name for name, c in COLUMN.items() if c.applies is None or c.applies(scene)]
 
 
-COLUMNS = [name for name, c in COLUMN.items() if c.applies is None]     # the square's log.csv header
+COLUMNS = [name for name, c in COLUMN.items() if c.applies is None]     # the square's header
 
 
 def values(sample, names=COLUMNS):
-    """The named row of one Sample (recording.Sample): {column name: its figure, None where there is none},
-    for the columns `names` (a scene's: `columns`)."""
+    """A Sample's named row for the columns `names`: {name: its figure, None where none}."""
     return {name: COLUMN[name].value(sample) for name in names}
 
 
 def line(row):
-    """log.csv's line of a named row (`values`): each figure as its column writes it, empty where none."""
-    return ",".join("" if value is None else format(value, COLUMN[name].fmt) for name, value in row.items())
+    """log.csv's line of a named row: each figure in its column's format, empty where None."""
+    return ",".join("" if value is None else format(value, COLUMN[name].fmt)
+                    for name, value in row.items())

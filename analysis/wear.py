@@ -1,13 +1,7 @@
-"""The mark the chalk leaves on the board, by Archard's wear law: the volume worn off a sliding body
-is k N L / H (N the normal force, L the length slid, H the hardness, k a wear coefficient), so the
-material left per unit length of board is proportional to the normal force times the length slid
-there. Over each step (`Deposit.step`), every node k within dhat of the board leaves lambda_k (the
-barrier's normal force on it at x^{n+1}, N) times its slide along the board from x^n to x^{n+1},
-spread evenly over the BIN-wide stretches of board it slid across (`archard`). The unknown k / H is
-left out: a bin holds N m, its sum over the run the sum over steps of lambda_k |delta s_k|. A run
-keeps the bins over the stretch of board its mark covers (its memory is bounded by the board
-touched, not by the run's length), and writes them as marks.csv (`csv_text`). docs/chalk.md says
-what the mark looks like and why; viewer/pictures/marks.py draws it.
+"""The chalk's mark by Archard's wear law (docs/chalk.md): the chalk left per length of board is
+proportional to the normal force times the length slid there. Over each step every node k leaves
+lambda_k (its normal force at x^{n+1}) times its slide along the board, binned per BIN of board;
+k / H is left out, so a bin holds N m. A run writes its bins as marks.csv (`csv_text`).
 """
 from itertools import pairwise
 
@@ -20,33 +14,30 @@ UNIT = "N m per 0.1 mm"     # what a bin holds: lambda_k times the length slid i
 RISE = 2.0                  # a dash begins at a bin holding more than this times the one before
 
 
-def archard(s0, s1, lam, width=BIN):
-    """One step's deposit by Archard's law: node k slides along the board from s0_k to s1_k (m)
-    under the normal force lam_k (N); bin j, the board from j width to (j + 1) width, receives lam_k
-    times the length of that slide within it, summed over k. Returns (j0, deposit): deposit[i] is
-    bin j0 + i's (N m), over the bins the slides cross; its sum is sum_k lam_k |s1_k - s0_k|."""
+def archard(s0, s1, lam):
+    """One step's deposit: node k slides from s0_k to s1_k (m) under lam_k (N); bin j, [j BIN,
+    (j + 1) BIN), gets sum_k lam_k |[s0_k, s1_k] within it|. Returns (j0, deposit), deposit[i]
+    being bin j0 + i's (N m); it sums to sum_k lam_k |s1_k - s0_k|."""
     s0, s1, lam = (np.asarray(a, float) for a in (s0, s1, lam))
     lo, hi = np.minimum(s0, s1), np.maximum(s0, s1)
     on = (lam > 0) & (hi > lo)
     if not on.any():
         return 0, np.zeros(0)
     lo, hi, lam = lo[on], hi[on], lam[on]
-    j0, j1 = int(np.floor(lo.min() / width)), int(np.floor(hi.max() / width)) + 1
-    edges = np.arange(j0, j1 + 1) * width
-    # lam_k times the length of node k's slide below each edge, summed over k; differenced, per bin
+    j0, j1 = int(np.floor(lo.min() / BIN)), int(np.floor(hi.max() / BIN)) + 1
+    edges = np.arange(j0, j1 + 1) * BIN
+    # sum_k lam_k times the length of node k's slide below each edge; differenced, per bin
     below = (lam[:, None] * np.clip(edges - lo[:, None], 0.0, (hi - lo)[:, None])).sum(axis=0)
     return j0, np.diff(below)
 
 
 class Deposit:
-    """The mark so far: the deposit (N m) of each bin from `first` on (`values`), over the stretch
-    of board the mark covers. Its storage grows by doubling as the mark spreads, so its memory stays
-    within a few times the bins touched however long the run."""
+    """The mark so far: the deposit (N m) of the bins lo <= j < hi that it touched (`values`). Its
+    store keeps room for as much again on each side, so it stays within 3 times the bins touched."""
 
-    def __init__(self, width=BIN):
-        self.width = width
-        self.store, self.base = np.zeros(0), 0     # bins base, base + 1, ...; some not reached yet
-        self.lo = self.hi = 0                      # the bins touched: lo <= j < hi
+    def __init__(self):
+        self.store, self.base = np.zeros(0), 0     # bins base, base + 1, ...
+        self.lo = self.hi = 0
 
     def add(self, j0, deposit):
         """Add `deposit` to the bins from j0 on (archard's result)."""
@@ -54,22 +45,18 @@ class Deposit:
             return
         j1 = j0 + len(deposit)
         lo, hi = (j0, j1) if self.lo == self.hi else (min(self.lo, j0), max(self.hi, j1))
-        end, empty = self.base + len(self.store), not len(self.store)
-        if empty or lo < self.base or hi > end:     # room for as much again on each side outgrown
-            base = lo - (hi - lo) if empty or lo < self.base else self.base
-            store = np.zeros((hi + (hi - lo) if empty or hi > end else end) - base)
-            store[self.base - base:end - base] = self.store
+        if lo < self.base or hi > self.base + len(self.store):
+            base, store = lo - (hi - lo), np.zeros(3 * (hi - lo))
+            store[self.lo - base:self.hi - base] = self.values
             self.store, self.base = store, base
         self.store[j0 - self.base:j1 - self.base] += deposit
         self.lo, self.hi = lo, hi
 
     def step(self, scene, x0, x1):
-        """A step from x0 to x1 (node positions): each node's normal force lambda_k at x1 (zero
-        beyond dhat; diagnostics.normal_forces) and its positions along the board, through
-        `archard`. Returns the step's deposit, sum_k lambda_k |delta s_k| (N m)."""
+        """A step from x0 to x1 by `archard`, lambda_k at x1; returns sum_k lambda_k |delta s_k|."""
         tangent = diagnostics.tangent(scene)
         lam = diagnostics.normal_forces(scene, x1) @ scene.n
-        j0, deposit = archard(x0 @ tangent, x1 @ tangent, lam, self.width)
+        j0, deposit = archard(x0 @ tangent, x1 @ tangent, lam)
         self.add(j0, deposit)
         return float(deposit.sum())
 
@@ -84,42 +71,39 @@ class Deposit:
 
     def centres(self):
         """The touched bins' middles along the board (m)."""
-        return (self.lo + np.arange(self.hi - self.lo) + 0.5) * self.width
+        return (self.lo + np.arange(self.hi - self.lo) + 0.5) * BIN
 
     def span(self):
         """The board the mark covers, (from, to) in m; None before any deposit."""
-        return None if self.hi == self.lo else (self.lo * self.width, self.hi * self.width)
+        return None if self.hi == self.lo else (self.lo * BIN, self.hi * BIN)
 
     def darkest(self):
         """The largest bin's deposit (N m; 0 before any)."""
         return float(self.values.max()) if self.hi > self.lo else 0.0
 
     def copy(self):
-        """A Deposit of its own holding the same bins (the tests keep runs at a step so)."""
-        other = Deposit(self.width)
+        """A Deposit of its own holding the same bins."""
+        other = Deposit()
         other.store, other.base, other.lo, other.hi = self.store.copy(), self.base, self.lo, self.hi
         return other
 
     def shade(self, a, b):
-        """How dark the mark is over each stretch of board [a_i, b_i] (m; a picture's pixel
-        columns): its deposit per metre there over the darkest bin's, 0 (none) to 1. The deposit is
-        taken as even within a bin, so a stretch inside one bin gets that bin's, one across several
-        their mean."""
+        """How dark the mark is over each stretch [a_i, b_i] of board (m), 0 to 1: its deposit per
+        metre there over the darkest bin's, the deposit taken as even within a bin."""
         darkest = self.darkest()
         a, b = np.asarray(a, float), np.asarray(b, float)
         if darkest <= 0:
             return np.zeros(np.broadcast(a, b).shape)
-        edges = (self.lo + np.arange(self.hi - self.lo + 1)) * self.width
+        edges = (self.lo + np.arange(self.hi - self.lo + 1)) * BIN
         below = np.concatenate([[0.0], np.cumsum(self.values)])        # the deposit below each edge
         held = np.interp(b, edges, below) - np.interp(a, edges, below)
-        return np.clip(held / np.maximum(b - a, 1e-300) * self.width / darkest, 0.0, 1.0)
+        return np.clip(held / np.maximum(b - a, 1e-300) * BIN / darkest, 0.0, 1.0)
 
 
 def dashes(values):
-    """The dashes of a mark, from its bins' deposits (`values`, along the board): each begins at a
-    bin holding more than RISE times the one before it (and a bin that only continues such a rise
-    begins none). For each dash that the next one's start ends: (its first bin's index, its darkest
-    bin's deposit, its faintest's: where it has faded to before the next begins)."""
+    """A mark's dashes: each begins at a bin holding more than RISE times the one before (not at
+    one that only continues a rise). For each dash that a next one ends: (its first bin's index,
+    its darkest bin's deposit, its faintest's)."""
     v = np.asarray(values, float)
     rises = np.r_[False, v[1:] > RISE * v[:-1]]
     starts = np.flatnonzero(rises & ~np.r_[False, rises[:-1]])
@@ -127,14 +111,12 @@ def dashes(values):
 
 
 def inside(values):
-    """A mark's bins but its first and last: those the tip started in and is in, slid only partly
-    across; what the percentiles of docs/chalk.md are taken over."""
+    """A mark's bins but its first and last, which the tip slid only partly across."""
     return np.asarray(values, float)[1:-1]
 
 
 def csv_text(deposit):
-    """marks.csv: a header, then a row per bin the mark covers: the bin's middle along the board
-    (mm) and its deposit (N m: lambda times the length slid in it, summed over the run)."""
+    """marks.csv: a header, then per bin its middle along the board (mm) and its deposit (N m)."""
     centres, values = deposit.centres().tolist(), deposit.values.tolist()
     rows = [f"{1e3 * s:.2f},{d!r}" for s, d in zip(centres, values)]
-    return "\n".join([f"x_mm,deposit_N_m_per_{deposit.width * 1e3:g}_mm"] + rows) + "\n"
+    return "\n".join([f"x_mm,deposit_N_m_per_{BIN * 1e3:g}_mm"] + rows) + "\n"

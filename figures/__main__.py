@@ -1,5 +1,4 @@
-"""python -m figures: one BLAS thread, and Ctrl+C while numpy loads in one line (viewer/command/startup.py, as
-`python simulator.py`), then figures.cli."""
+"""python -m figures: one BLAS thread and Ctrl+C set up before numpy loads, then figures.cli."""
 import sys
 
 from viewer.command import startup

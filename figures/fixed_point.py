@@ -1,6 +1,6 @@
-"""Slide "Fixed-point iteration (cont.)", Algorithm 5: "converges only when starting sufficiently close".
-Line 3's measure ||(grad^2 E)^-1 grad E||, as the project's ||p||_inf / h, after each friction update,
-for a step whose iteration converges and one whose does not, from the project's own step."""
+"""Slide "Fixed-point iteration (cont.)", Algorithm 5 "converges only when starting sufficiently
+close": line 3's measure ||p||_inf / h after each friction update, for a step that converges and
+one that does not, from the project's own step."""
 from types import SimpleNamespace
 
 import numpy as np
@@ -15,9 +15,9 @@ STEPS = 40
 
 
 def line3_measures(scene, x, v, step_index):
-    """One step by time_integrator.newton_iterates: (x^{n+1}, v^{n+1}, report, measures), measures[j - 1]
-    being line 3's ||p||_inf / h after friction update j: the first iterate of re-solve j (which starts
-    from that direction) and, after the last update, report.residual."""
+    """One step by time_integrator.newton_iterates: (x^{n+1}, v^{n+1}, report, measures), measures
+    being line 3's ||p||_inf / h after each friction update j >= 1 (re-solve j's first iterate),
+    then report.residual."""
     iterates, first = time_integrator.newton_iterates(scene, x, v, step_index=step_index), {}
     try:
         while True:
@@ -29,58 +29,55 @@ def line3_measures(scene, x, v, step_index):
 
 
 def compute(params=PARAMS, steps=STEPS):
-    """Each as (step index, report, measures): `converging`, the converging step with the most tests of
-    line 3; `failing`, the first step that did not converge (None if none); `farthest`, the converging
-    step whose first measure is the largest."""
+    """Each as (step index, report, measures): `converging`, the converging step with the most
+    tests; `failing`, the first that did not converge (or None); `shown`, those two; `farthest`,
+    the converging step with the largest first measure."""
     scene = simulator.build_scene(**params)
     x, v, found = scene.x0, scene.v0, []
     for i in range(steps):
         x, v, report, measures = line3_measures(scene, x, v, i)
         found.append((i, report, np.array(measures)))
     converged = [f for f in found if f[1].friction_converged]
-    return SimpleNamespace(scene=scene, steps=steps, converging=max(converged, key=lambda f: len(f[2])),
-                           failing=next((f for f in found if not f[1].friction_converged), None),
-                           farthest=max(converged, key=lambda f: f[2][0]), failed=len(found) - len(converged))
-
-
-def shown(r):
-    """The steps drawn: the converging one, and the failing one if any."""
-    return [f for f in (r.converging, r.failing) if f is not None]
+    converging = max(converged, key=lambda f: len(f[2]))
+    failing = next((f for f in found if not f[1].friction_converged), None)
+    return SimpleNamespace(scene=scene, steps=steps, failed=len(found) - len(converged),
+                           converging=converging, failing=failing,
+                           shown=[f for f in (converging, failing) if f is not None],
+                           farthest=max(converged, key=lambda f: f[2][0]))
 
 
 def caption(r):
-    """The caption's lines: the scene, line 3's test, each step drawn, how close is close enough."""
+    """The scene, line 3's test, each step drawn, and how close is close enough."""
     p = r.scene.params
-    lines = [(f"Scene: mu {p['mu']:g}, h {p['h']:g} s, v0 {p['v0']} m/s, friction_updates "
-              f"{p['friction_updates']} (at most that many re-solves a step);"),
+    lines = [f"Scene: mu {p['mu']:g}, h {p['h']:g} s, v0 {p['v0']} m/s, friction_updates "
+             f"{p['friction_updates']} (at most that many re-solves a step);",
              f"{r.failed} of its first {r.steps} steps did not converge.",
-             ("After each FrictionUpdate (lines 2, 5: mu*lambda at the new x), line 3 measures "
-              "||p||_inf / h at it;"),
-             ("below tol the step ends (report.friction_converged True), else Newton re-solves "
-              "(line 4) and it repeats.")]
-    for i, report, m in shown(r):
+             "After each FrictionUpdate (lines 2, 5: mu*lambda at the new x), line 3 measures "
+             "||p||_inf / h at it;",
+             "below tol the step ends (report.friction_converged True), else Newton re-solves "
+             "(line 4) and it repeats."]
+    for i, report, m in r.shown:
         lines.append(f"step {i} (t = {i * p['h']:g} s): {len(m)} tests ({len(m) - 1} re-solves), "
                      f"measure {m[0]:.3g} -> {m[-1]:.3g} m/s, "
                      f"report.friction_converged {report.friction_converged}")
     i, _, m = r.farthest
-    return lines + [(f"How close is close enough is not line 3's first measure: step {i} starts at "
-                     f"{m[0]:.3g} m/s and converges.")]
+    return lines + [f"How close is close enough is not line 3's first measure: step {i} starts "
+                    f"at {m[0]:.3g} m/s and converges."]
 
 
 def draw(r):
-    """The two steps' measures on a log axis against the friction update, with tol."""
-    steps = shown(r)
-    updates = max(len(f[2]) for f in steps)
-    measures = np.concatenate([f[2] for f in steps])
-    title = "Algorithm 5: the fixed-point iteration converges only when starting sufficiently close"
-    page = Page(title, 1, caption(r))
-    ax = page.axes(0, updates + 1, min(measures.min(), r.scene.tol) / 2, measures.max() * 2,
-                   "line 3's measure ||p||_inf / h (m/s, log) at its j-th test in the step (after j - 1 re-solves)",
-                   "j", "||p||/h (m/s)", log=True)
-    for k, (i, report, m) in enumerate(steps):
+    """The steps' measures on a log axis against the friction update, with tol."""
+    measures = np.concatenate([f[2] for f in r.shown])
+    page = Page("Algorithm 5: the fixed-point iteration converges only when starting sufficiently "
+                "close", 1, caption(r))
+    ax = page.axes(0, max(len(f[2]) for f in r.shown) + 1, min(measures.min(), r.scene.tol) / 2,
+                   measures.max() * 2, "line 3's measure ||p||_inf / h (m/s, log) at its j-th test "
+                   "in the step (after j - 1 re-solves)", "j", "||p||/h (m/s)", log=True)
+    for k, (i, report, m) in enumerate(r.shown):
         j = np.arange(1, len(m) + 1)
         ax.line(j, m, run_color(k))
-        page.markers(ax, j, m, run_color(k))
-        ax.legend(run_color(k), f"step {i}: " + ("converges" if report.friction_converged else "does not"))
+        ax.markers(j, m, run_color(k))
+        ends = "converges" if report.friction_converged else "does not"
+        ax.legend(run_color(k), f"step {i}: {ends}")
     ax.hline(r.scene.tol, RED, f"tol = {r.scene.tol:g} m/s")
     return page

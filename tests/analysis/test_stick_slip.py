@@ -1,22 +1,22 @@
-"""analysis/stick_slip.py: the one count of the chalk's stick-slip cycles (the closing line, the page, the
-pictures, the figure and tests/scenes/test_chalk.py use it), checked on tip histories built segment by segment,
-whose cycles are known from how they were built."""
+"""analysis/stick_slip.py: the one count of the chalk's stick-slip cycles, checked on tip histories
+built segment by segment, whose cycles are known from how they were built."""
 import types
 
 import numpy as np
 import pytest
 
 import simulator
-from figures import stick_slip as figure
 from analysis import stick_slip
+from figures import stick_slip as figure
 
 H, EPSV, DRIVE, START = 1e-3, 1e-4, 0.01, 0.2
+MIN = stick_slip.MIN_STICK
 
 
 def history(segments, pressing=START):
-    """A tip history at every step of H: stuck at rest while the hand presses (to `pressing`, s), then
-    `segments`, each (steps, speed) at a constant speed (m/s); x^{n+1} = x^n + h u^{n+1}. Returns t, x, u and
-    each segment's first state index."""
+    """A tip history at every step of H: at rest while the hand presses (to `pressing`, s), then
+    `segments`, each (steps, speed) at a constant speed (m/s); x^{n+1} = x^n + h u^{n+1}. Returns
+    t, x, u and each segment's first state index."""
     u = [0.0] * (int(round(pressing / H)) + 1)
     firsts = []
     for steps, speed in segments:
@@ -26,27 +26,31 @@ def history(segments, pressing=START):
     return np.arange(len(u)) * H, np.cumsum(H * u), u, firsts
 
 
-STUCK, FAST, SLOW = 1e-5, 0.1, 0.005          # below eps_v; above the drive; slipping but below the drive
+def cycles(t, x, u, steps=None):
+    return stick_slip.measure(t, x, u, EPSV, DRIVE, START, steps).slips
+
+
+STUCK, FAST, SLOW = 1e-5, 0.1, 0.005      # below eps_v; above the drive; slipping below the drive
 SEGMENTS = [(30, STUCK), (5, FAST),            # a cycle
             (30, STUCK), (5, -FAST),           # a cycle, backwards (the speed counts)
-            (stick_slip.MIN_STICK - 1, STUCK), (5, FAST),      # a stick too short: no cycle
+            (MIN - 1, STUCK), (5, FAST),       # a stick too short: no cycle
             (30, STUCK), (5, SLOW),            # a slip no faster than the drive: no cycle
             (30, STUCK), (3, 2 * FAST),        # a cycle
-            (20, STUCK), (4, FAST)]            # the run ends in this slip: no cycle, it has no length yet
+            (20, STUCK), (4, FAST)]            # the run ends in this slip: no cycle, no length yet
 CYCLES = (1, 3, 9)                             # the slips of SEGMENTS that make a cycle
 
 
 def test_a_cycle_is_a_long_enough_stick_then_a_slip_faster_than_the_drive_that_ends():
     t, x, u, firsts = history(SEGMENTS)
-    slips = stick_slip.cycles(t, x, u, EPSV, DRIVE, START)
     expected = []
     for k in CYCLES:
         steps, speed = SEGMENTS[k]
-        expected.append((t[firsts[k]], steps * H * speed, abs(speed)))   # its start, its travel, its peak
-    assert slips == [pytest.approx(e, rel=1e-9, abs=1e-15) for e in expected]
+        expected.append((t[firsts[k]], steps * H * speed, abs(speed)))   # start, travel, peak
+    assert cycles(t, x, u) == [pytest.approx(e, rel=1e-9, abs=1e-15) for e in expected]
     r = stick_slip.measure(t, x, u, EPSV, DRIVE, START)
     starts = [e[0] for e in expected]
-    assert r.period == pytest.approx((starts[-1] - starts[0]) / 2) and r.peak == pytest.approx(2 * FAST)
+    assert r.period == pytest.approx((starts[-1] - starts[0]) / 2)
+    assert r.peak == pytest.approx(2 * FAST)
     assert r.length == pytest.approx(np.mean([e[1] for e in expected]))
     stuck_steps = sum(steps for steps, speed in SEGMENTS if abs(speed) < EPSV)
     assert r.stuck == pytest.approx(stuck_steps / sum(steps for steps, _ in SEGMENTS))
@@ -55,55 +59,65 @@ def test_a_cycle_is_a_long_enough_stick_then_a_slip_faster_than_the_drive_that_e
 
 
 def test_a_stick_is_counted_in_the_steps_it_lasted_also_when_the_states_are_thinned():
-    """MIN_STICK steps make a stick; a run that kept every 2nd state (recording.History past its cap) counts
-    the steps from a stick's first state to its last."""
-    for stick, counted in ((stick_slip.MIN_STICK, 1), (stick_slip.MIN_STICK - 1, 0)):
+    """MIN_STICK steps make a stick; a run that kept every 2nd state (recording.History past its
+    cap) counts the steps from a stick's first state to its last."""
+    for stick, counted in ((MIN, 1), (MIN - 1, 0)):
         t, x, u, _ = history([(stick, STUCK), (6, FAST), (30, STUCK)])
-        assert len(stick_slip.cycles(t, x, u, EPSV, DRIVE, START)) == counted
+        assert len(cycles(t, x, u)) == counted
     t, x, u, firsts = history([(20, STUCK), (6, FAST), (30, STUCK)])
     last_stuck, steps, outcomes = firsts[1] - 1, np.arange(len(t)), set()
-    for first_kept in range(firsts[0], firsts[0] + 14, 2):           # every 2nd state kept from first_kept on
+    for first_kept in range(firsts[0], firsts[0] + 14, 2):   # every 2nd state from first_kept on
         kept = np.r_[np.arange(firsts[0]), np.arange(first_kept, len(t), 2)]
-        stick = kept[(kept >= firsts[0]) & (kept <= last_stuck)]           # the stick's kept states
-        counted = int(stick[-1] - stick[0] + 1 >= stick_slip.MIN_STICK)      # the steps from its first to its last
-        assert len(stick_slip.cycles(t[kept], x[kept], u[kept], EPSV, DRIVE, START, steps[kept])) == counted
-        assert len(stick_slip.cycles(t[kept], x[kept], u[kept], EPSV, DRIVE, START)) == \
-            int(len(stick) >= stick_slip.MIN_STICK)                           # without the steps: counted in states
+        stick = kept[(kept >= firsts[0]) & (kept <= last_stuck)]       # the stick's kept states
+        counted = int(stick[-1] - stick[0] + 1 >= MIN)     # the steps from its first to its last
+        assert len(cycles(t[kept], x[kept], u[kept], steps[kept])) == counted
+        in_states = int(len(stick) >= MIN)                     # without the steps: in states
+        assert len(cycles(t[kept], x[kept], u[kept])) == in_states
         outcomes.add(counted)
     assert outcomes == {0, 1}
 
 
 def test_the_words_say_what_the_tip_did():
     def words(segments, **kw):
-        return stick_slip.words(stick_slip.measure(*history(segments, **kw)[:3], EPSV, DRIVE, START))
+        t, x, u, _ = history(segments, **kw)
+        return stick_slip.words(stick_slip.measure(t, x, u, EPSV, DRIVE, START))
     t, x, u, _ = history(SEGMENTS)
     r = stick_slip.measure(t, x, u, EPSV, DRIVE, START)
-    assert words(SEGMENTS) == (f"stick-slip: 3 slips, mean slip {1e3 * r.length:.2f} mm, period {1e3 * r.period:.0f} ms, "
+    assert words(SEGMENTS) == (f"stick-slip: 3 slips, mean slip {1e3 * r.length:.2f} mm, "
+                               f"period {1e3 * r.period:.0f} ms, "
                                f"tip stuck {100 * r.stuck:.0f} % of the drive")
-    assert words([(30, STUCK), (5, FAST), (30, STUCK)]) == \
-        f"stick-slip: 1 slip, slip {5 * H * FAST * 1e3:.2f} mm, tip stuck {100 * 60 / 65:.0f} % of the drive"
+    assert words([(30, STUCK), (5, FAST), (30, STUCK)]) == (
+        f"stick-slip: 1 slip, slip {5 * H * FAST * 1e3:.2f} mm, "
+        f"tip stuck {100 * 60 / 65:.0f} % of the drive")
     start_up = START + 91 * H                  # the first state after the 90 stuck ones
-    assert words([(90, STUCK), (500, 0.01)]) == f"the tip slid without a stick after its start-up at t = {start_up:.2f} s"
+    assert words([(90, STUCK), (500, 0.01)]) == (
+        f"the tip slid without a stick after its start-up at t = {start_up:.2f} s")
     assert words([(300, STUCK)]) == "the tip jammed, stuck throughout the drive"
-    assert words([(5, STUCK), (5, FAST), (3, STUCK), (50, FAST)]) == \
-        f"no stick-slip cycle: the tip slid from t = {START + 6 * H:.2f} s, stuck at 3 of its 58 states since"
-    assert words([], pressing=0.15) == "not driven yet at t = 0.15 s (the hand drives from t = 0.2 s)"
+    assert words([(5, STUCK), (5, FAST), (3, STUCK), (50, FAST)]) == (
+        f"no stick-slip cycle: the tip slid from t = {START + 6 * H:.2f} s, "
+        "stuck at 3 of its 58 states since")
+    assert words([], pressing=0.15) == (
+        "not driven yet at t = 0.15 s (the hand drives from t = 0.2 s)")
 
 
 def test_the_definition_has_the_scenes_numbers():
     scene = simulator.build_chalk_scene(h=5e-4, epsv=2e-4)
     first, second = stick_slip.definition(scene)
-    assert stick_slip.drive_start(scene) == scene.params["t_press"] + scene.params["t_hold"] == 0.2
-    assert first == "counted once the hand drives, from t = 0.2 s: the tip is stuck below eps_v = 0.0002 m/s;"
-    assert second == (f"a cycle is a stick of at least {stick_slip.MIN_STICK} steps ({stick_slip.MIN_STICK * 0.5:g} ms), "
+    p = scene.params
+    assert stick_slip.drive_start(scene) == p["t_press"] + p["t_hold"] == 0.2
+    assert first == ("counted once the hand drives, from t = 0.2 s: "
+                     "the tip is stuck below eps_v = 0.0002 m/s;")
+    assert second == (f"a cycle is a stick of at least {MIN} steps ({MIN * 0.5:g} ms), "
                       "then a slip faster than the drive's 0.01 m/s")
 
 
 def test_the_figure_counts_with_it():
     """figures/stick_slip.py's measure is this count, with the marks' creep added."""
     t, x, u, _ = history(SEGMENTS)
-    scene = types.SimpleNamespace(epsv=EPSV, params={"drive": DRIVE})
-    tr = types.SimpleNamespace(scene=scene, t=t, x=x, u=u, stuck=np.abs(u) < EPSV, drive_start=START)
-    counted, drawn = vars(stick_slip.measure(t, x, u, EPSV, DRIVE, START)), vars(figure.measure(tr))
+    scene = types.SimpleNamespace(epsv=EPSV, params={"drive": DRIVE, "k_hand": 2000.0})
+    tr = types.SimpleNamespace(scene=scene, t=t, x=x, u=u, stuck=np.abs(u) < EPSV,
+                               drive_start=START, tip_lowest=True)
+    counted = vars(stick_slip.measure(t, x, u, EPSV, DRIVE, START))
+    drawn = vars(figure.measure(tr))
     assert {k: drawn[k] for k in counted} == counted and drawn["creep"] > 0
-    assert figure.MIN_STICK is stick_slip.MIN_STICK and not hasattr(figure, "cycles")
+    assert not hasattr(figure, "cycles") and not hasattr(figure, "MIN_STICK")
