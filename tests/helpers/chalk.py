@@ -27,7 +27,8 @@ class Track:
 
     def first(self, steps):
         """The run's first `steps` steps."""
-        arrays = {f.name: getattr(self, f.name)[:steps] for f in dataclasses.fields(self)[1:]}
+        arrays = {f.name: getattr(self, f.name)[:steps] for f in dataclasses.fields(self)
+                  if f.name != "scene"}
         return dataclasses.replace(self, **arrays)
 
 
