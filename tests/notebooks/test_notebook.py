@@ -7,7 +7,6 @@ python tests/notebooks/test_notebook.py
 """
 import asyncio
 import contextlib
-import copy
 import json
 import math
 import os
@@ -109,7 +108,7 @@ def runs(tmp_path_factory):
     repository. {"here", "copy": (the run notebook, its error or None)}, the copy's folder, and
     the listing of the repository before and after."""
     nbformat, _ = jupyter()
-    here = copy.deepcopy(read())
+    here = read()
     here.cells.append(nbformat.v4.new_code_cell(INTERPRETER))      # the copy in memory only
     folder = tmp_path_factory.mktemp("notes") / "my notes é"
     folder.mkdir()
