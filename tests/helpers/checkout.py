@@ -19,5 +19,6 @@ def checkout_state():
                             capture_output=True, text=True)
     if status.returncode != 0:
         pytest.skip(f"not inside a git checkout: {status.stderr.strip()}")
-    stamps = {entry.name: (entry.stat().st_size, entry.stat().st_mtime_ns) for entry in os.scandir(RESULTS)}
+    stamps = {entry.name: (entry.stat().st_size, entry.stat().st_mtime_ns)
+              for entry in os.scandir(RESULTS)}
     return status.stdout, stamps

@@ -21,13 +21,15 @@ def run_main(*args):
 
 def recorded(folder, scenes, steps):
     """The scenes run side by side for `steps` steps into `folder`, as a run without frames records
-    them (viewer.command.recording): their Tracks, with what the pictures need, and each one's log."""
+    them (viewer.command.recording): their Tracks, with what the pictures need, and their logs."""
     tags = [f"run{i}" for i in range(len(scenes))] if len(scenes) > 1 else [""]
-    plan = run.Plan(scenes, [f"run {i}" for i in range(len(scenes))], tags, [steps] * len(scenes), str(folder),
+    labels = [f"run {i}" for i in range(len(scenes))]
+    plan = run.Plan(scenes, labels, tags, [steps] * len(scenes), str(folder),
                     stride=3, frames=False, forces=False)
     signals = run.Signals()
     out = plan.folder(signals)
-    tracks = [recording.Track(scene, steps, simulator.simulate(scene, steps), label, tag, draw.run_color(i), out)
+    tracks = [recording.Track(scene, steps, simulator.simulate(scene, steps), label, tag,
+                              draw.run_color(i), out)
               for i, (scene, label, tag) in enumerate(zip(scenes, plan.labels, tags))]
     recording.record(tracks, out, plan.stride, False, False, io.StringIO(), [])
     for track in tracks:

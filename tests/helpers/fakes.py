@@ -9,9 +9,9 @@ from viewer.output import whole_files
 
 
 def fill_disk_after(monkeypatch, writes):
-    """Let `writes` whole-file writes (whole_files.write_temporary: frames, OBJs, pictures) through, then
-    fail every later one with ENOSPC, as a full disk does (the folder's probe, files.check_writable,
-    goes through: the disk fills during the run)."""
+    """Let `writes` whole-file writes (whole_files.write_temporary: frames, OBJs, pictures) through,
+    then fail every later one with ENOSPC, as a full disk does (the folder's probe,
+    files.check_writable, goes through: the disk fills during the run)."""
     real, calls = whole_files.write_temporary, []
 
     def fill_up(path, data):
@@ -28,9 +28,10 @@ _RUNS = {}      # drag -> {index: the chalk's live.LiveRun after that many steps
 
 
 def chalk_at(index, drag=False, steps=3000):
-    """A live.LiveRun of the chalk (pushed, or dragged) after `index` steps, marks and all, in a run of
-    `steps`: a copy of one stepped once per test session from the nearest state kept (a chalk step costs
-    about 5 ms), to put in a window (`window.run = ...`; its scene is `run.scene`, the same each call)."""
+    """A live.LiveRun of the chalk (pushed, or dragged) after `index` steps, marks and all, in a run
+    of `steps`: a copy of one stepped once per test session from the nearest state kept (a chalk
+    step costs about 5 ms), to put in a window (`window.run = ...`; its scene is `run.scene`, the
+    same each call)."""
     kept = _RUNS.setdefault(drag, {})
     if not kept:
         kept[0] = live.LiveRun(simulator.build_chalk_scene(drag=drag), steps)

@@ -50,7 +50,10 @@ def cielab(color):
     """CIE 1976 L*a*b* of an sRGB colour (D65 white)."""
     c = np.asarray(color, float) / 255.0
     linear = np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
-    xyz = np.array([[0.4124, 0.3576, 0.1805], [0.2126, 0.7152, 0.0722], [0.0193, 0.1192, 0.9505]]) @ linear
+    srgb_to_xyz = np.array([[0.4124, 0.3576, 0.1805],
+                            [0.2126, 0.7152, 0.0722],
+                            [0.0193, 0.1192, 0.9505]])
+    xyz = srgb_to_xyz @ linear
     t = xyz / [0.95047, 1.0, 1.08883]
     f = np.where(t > (6 / 29) ** 3, np.cbrt(t), t / (3 * (6 / 29) ** 2) + 4 / 29)
     return np.array([116 * f[1] - 16, 500 * (f[0] - f[1]), 200 * (f[1] - f[2])])
@@ -63,10 +66,11 @@ def delta_e(a, b):
 
 
 def swatch_and_label_rows(pixels, color, bottom):
-    """Where the legend swatch of `color` (the only pixels of that colour in the rows above `bottom`,
-    left of the text) and its label are: (swatch top, swatch bottom, label top, label bottom, gap),
-    the label being the band of rows with dark ink to the swatch's right that holds the swatch's
-    middle row, and gap the pixels between the swatch and the label's first ink. `pixels` [x, y, rgb]."""
+    """Where the legend swatch of `color` (the only pixels of that colour in the rows above
+    `bottom`, left of the text) and its label are: (swatch top, swatch bottom, label top, label
+    bottom, gap), the label being the band of rows with dark ink to the swatch's right that holds
+    the swatch's middle row, and gap the pixels between the swatch and the label's first ink.
+    `pixels` is [x, y, rgb]."""
     mask = np.all(pixels[:, :bottom] == color, axis=2)
     xs, ys = np.nonzero(mask)
     assert len(xs), f"no swatch of {color}"

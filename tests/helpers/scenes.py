@@ -11,8 +11,9 @@ SLOPE_POINT = (0.0, -1.0)
 
 
 def clear_scene(angle_deg=math.degrees(math.atan(0.1)), gap=0.05, v_in=0.0, **kw):
-    """The axis-aligned square `gap` metres above a slope of `angle_deg`, moving into it at `v_in` m/s.
-    Its half-extent along the normal is side/2 (|n_x| + |n_y|), so its lowest corner is `gap` away."""
+    """The axis-aligned square `gap` metres above a slope of `angle_deg`, moving into it at `v_in`
+    m/s. Its half-extent along the normal is side/2 (|n_x| + |n_y|), so its lowest corner is `gap`
+    away."""
     n = np.array(slope_normal(math.tan(math.radians(angle_deg))))
     side = kw.get("side_len", simulator.DEFAULTS["side_len"])
     center = np.array(SLOPE_POINT) + n * (0.5 * side * (abs(n[0]) + abs(n[1])) + gap)

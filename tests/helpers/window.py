@@ -10,8 +10,9 @@ from viewer.command import cli, run
 from viewer.demo import window
 
 H = simulator.DEFAULTS["h"]
-needs_newton_hook = pytest.mark.skipif(not hasattr(time_integrator, "newton_iterates"),
-                                       reason="time_integrator.newton_iterates (the Newton-iteration hook) not there yet")
+needs_newton_hook = pytest.mark.skipif(
+    not hasattr(time_integrator, "newton_iterates"),
+    reason="time_integrator.newton_iterates (the Newton-iteration hook) not there yet")
 
 
 def pygame():
@@ -29,9 +30,9 @@ def press(key_name):
 
 
 class ScriptClock:
-    """A fake wall clock for the window's loop: sleep() moves it on, then runs the test's script up to
-    its next `yield` (one frame of the loop), where the script posts events and checks the window.
-    When the script ends, the close button is pressed; a loop that outlives max_frames fails."""
+    """A fake wall clock for the window's loop: sleep() moves it on, then runs the test's script up
+    to its next `yield` (one frame of the loop), where the script posts events and checks the
+    window. When the script ends, the close button is pressed; a loop outliving max_frames fails."""
 
     def __init__(self, script=None, max_frames=20000):
         self.t, self.script, self.frames, self.max_frames = 0.0, script, 0, max_frames

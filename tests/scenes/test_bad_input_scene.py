@@ -21,7 +21,7 @@ LIBRARY = [
     (dict(mu=-0.1), "mu must be >= 0, got -0.1"),
     (dict(slope=(0.0, 0.0)), "slope normal must be non-zero, got [0.0, 0.0]"),
     (dict(slope_point=(0.0, 0.0)), "the square starts touching or below the slope"),
-    (dict(slope_point=(0.0, -0.52)), "the square starts touching or below the slope"),  # corner 0 cut
+    (dict(slope_point=(0.0, -0.52)), "the square starts touching or below the slope"),  # corner 0
     (dict(friction_updates=-1), "friction_updates must be a whole number >= 0, got -1"),
     (dict(max_newton_iterations=0), "max_newton_iterations must be a whole number >= 1, got 0"),
     (dict(colour="red"), "unknown scene parameter(s): colour"),
@@ -30,7 +30,8 @@ LIBRARY = [
 ] + [(dict([(name, value)]), f"{name} must be") for name in
      ("side_len", "rho", "k", "h", "dhat", "kappa", "epsv", "tol", "mu", "angle", "n_seg", "mass")
      for value in (float("nan"), float("inf"))] + [
-    (dict([(name, bad)]), f"{name} must be") for name in ("gravity", "slope", "slope_point", "v0", "center")
+    (dict([(name, bad)]), f"{name} must be")
+    for name in ("gravity", "slope", "slope_point", "v0", "center")
     for bad in ((float("nan"), 1.0), (0.0, float("inf")), (1.0,))]
 
 
@@ -42,9 +43,10 @@ def test_build_scene_refuses(kwargs, message):
 
 
 def test_touching_slope_names_the_node_and_distance():
-    with pytest.raises(ValueError, match=r"node 0 at \[-0.5, -0.5\] has distance -0.05 m, not above"):
+    message = r"node 0 at \[-0.5, -0.5\] has distance -0.05 m, not above"
+    with pytest.raises(ValueError, match=message):
         simulator.build_scene(slope=(0.0, 1.0), slope_point=(0.0, -0.45))
-    scene = simulator.build_scene(slope=(0.0, 1.0), slope_point=(0.0, -0.5 - 1e-9))   # just clear: fine
+    scene = simulator.build_scene(slope=(0.0, 1.0), slope_point=(0.0, -0.5 - 1e-9))   # just clear
     assert "barrier" in scene.terms
 
 
