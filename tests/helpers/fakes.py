@@ -10,8 +10,8 @@ from viewer.output import whole_files
 
 def fill_disk_after(monkeypatch, writes):
     """Let `writes` whole-file writes (whole_files.write_temporary: frames, OBJs, pictures) through,
-    then fail every later one with ENOSPC, as a full disk does (the folder's probe,
-    files.check_writable, goes through: the disk fills during the run)."""
+    then fail every later one with ENOSPC, as a full disk does (the folder's probe, written by
+    files.RunFolder.make, goes through: the disk fills during the run)."""
     real, calls = whole_files.write_temporary, []
 
     def fill_up(path, data):
