@@ -69,7 +69,7 @@ def test_the_pacer_says_the_time_due_and_the_rate_reached():
         clock.t = 3.0 + 0.01 * k
         pacer.sample(0.0025 * k)
     assert pacer.rate() == pytest.approx(0.5)                       # 0.25x of the 0.5x asked
-    pacer.forget()
+    pacer.start(0.0)                                                # a resume: measured afresh
     pacer.sample(0.0)
     assert pacer.rate() is None                                     # not a span of play yet
 

@@ -61,20 +61,22 @@ def test_each_marker_is_drawn_on_the_side_of_the_slope_its_point_is_on(overrides
 
 
 @pytest.mark.parametrize("overrides, step, iteration", IMPACT[:1] + HALVING)
-def test_the_inset_magnifies_the_view_not_the_vectors(overrides, step, iteration):
+def test_the_inset_magnifies_the_view_not_the_vectors(monkeypatch, overrides, step, iteration):
     """Every marker is its point seen through one view, `magnification` times the window's scale
     (1, 2, 3 or 5 times a power of ten, on screen in the inset's title): the distances between them
     are alpha p at that scale, and p is at least a quarter of the inset long. The node is the one whose
     CCD bound is alpha_CCD, or where the CCD does not cut the step, the one nearest the slope. Where
     the slope is too far to frame with p (the halving demo), the inset leaves it out and says how far
     it is."""
+    drawn = legibility.record_text(monkeypatch)
     w = paused_at(overrides, step, iteration)
     inset, it, scene = w.inset, w.run.iterate, w.scene
     scale = inset.view.scale
     assert scale == pytest.approx(inset.magnification * w.view.scale, rel=1e-12)
     mantissa = inset.magnification / 10.0 ** np.floor(np.log10(inset.magnification))
-    assert round(mantissa, 9) in newton_view.ZOOMS and f"x{inset.magnification:g}" in inset.title
     k = inset.node
+    assert round(mantissa, 9) in newton_view.ZOOMS
+    assert f"node {k}, x{inset.magnification:g}" in [text for text, _, _ in drawn]   # the title
     for name, alpha in (("x^i + p", 1.0), ("x^i + alpha_CCD p", it.alpha_ccd), ("x^i + alpha p", it.alpha)):
         offset = inset.markers[name] - inset.markers["x^i"]
         assert offset == pytest.approx(alpha * it.p[k] * [scale, -scale], abs=1e-6), name
@@ -244,7 +246,7 @@ def test_the_newton_view_keeps_its_phrases_and_labels_apart(monkeypatch, size, o
     w = paused_at(overrides, step, iteration, size)
     width = size - 24
     for text in [t for t, _ in w.status_lines()] + w.help_lines():
-        rows = w.rows(text, width)
+        rows = newton_view.phrase_rows(w.font, text, width)
         assert all(w.font.size(row)[0] <= width for row in rows), rows
         assert all(phrase_break(text, a, b) for a, b in itertools.pairwise(rows)), rows
     import pygame
@@ -262,7 +264,7 @@ def test_the_newton_view_keeps_its_phrases_and_labels_apart(monkeypatch, size, o
     assert not numbers[left:left + w_label, top:top + h_label].any()
     a, b, c, d = w.inset.rect
     assert left + w_label <= a or left >= a + c or top + h_label <= b or top >= b + d
-    hint_rows = [row for text in w.help_lines() for row in w.rows(text, width)]
+    hint_rows = [row for text in w.help_lines() for row in newton_view.phrase_rows(w.font, text, width)]
     hints = size - 6 - len(hint_rows) * w.font.get_linesize()        # the key hints' first row
     assert 0 <= left and left + w_label <= size and w.text_bottom <= top and top + h_label <= hints
     near = np.ones((small.get_height(), 1), bool)          # one number's glyphs: closer than a line
