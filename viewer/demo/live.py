@@ -24,8 +24,7 @@ class WallClock:
 
 
 class LiveRun:
-    """The state (x, v) after `index` steps, and the step in progress: time_integrator.step, or
-    newton_iterates an iteration at a time (the same x^{n+1})."""
+    """The state after `index` steps, and the step in progress, whole or by Newton iteration."""
 
     def __init__(self, scene, steps):
         self.scene, self.steps = scene, steps
@@ -33,16 +32,13 @@ class LiveRun:
 
     def restart(self):
         self.index, self.x, self.v = 0, self.scene.x0.copy(), self.scene.v0.copy()
-        self.report = None          # the last step's StepReport, None at t = 0
-        # the chalk's mark on the board so far, as recording.Track.marks keeps it
-        self.marks = wear.Deposit() if self.scene.hand is not None else None
+        self.report = None          # the last step's StepReport
+        self.marks = wear.Deposit() if self.scene.hand is not None else None   # as Track.marks
         self._end_iterates()
 
     def _end_iterates(self):
-        self.iterates = None        # the generator of the step begun by n
-        self.iterate = None         # its last NewtonIterate
-        self.iteration = 0          # how many it has yielded
-        self.wall = 0.0             # s computing them
+        # the generator of the step begun by n, its last NewtonIterate, their count, s computing
+        self.iterates, self.iterate, self.iteration, self.wall = None, None, 0, 0.0
 
     @property
     def t(self):
@@ -67,7 +63,7 @@ class LiveRun:
         return self._advance(x, v, report, time.perf_counter() - start)
 
     def newton_iteration(self):
-        """The next Newton iterate (self.iterate): None, or the StepRecord where the step is done."""
+        """The next Newton iterate, self.iterate: None, or the StepRecord when the step is done."""
         if self.iterates is None:
             self.iterates = time_integrator.newton_iterates(self.scene, self.x, self.v,
                                                             step_index=self.index)
@@ -103,8 +99,7 @@ def tip_lines(scene, x, v, t):
 
 
 class Pacer:
-    """Simulated time due now, t_0 + speed (now - wall_0) since the start at (wall_0, t_0), and the
-    rate reached: simulated over wall time across the last `span` s of play, / speed."""
+    """Simulated time due, t_0 + speed (now - wall_0); the rate reached over `span` s of play."""
 
     def __init__(self, clock, speed, h):
         self.clock, self.speed = clock, speed
@@ -136,8 +131,7 @@ class Pacer:
 
 
 class Files:
-    """What a run without the window writes, by the same code (recording, frames), each step once:
-    those computed again after r are the same, and not written again."""
+    """What a run without the window writes, by its code, each step once (r recomputes the same)."""
 
     def __init__(self, plan, folder, log):
         self.plan, self.frame_log = plan, []
@@ -160,8 +154,7 @@ class Files:
 
 
 class LiveDemo:
-    """The run playing or paused at `speed` times the wall clock, and what each key does to it;
-    its steps go to `output` (Files, or None), its warnings to `warnings` (kind -> text), `log`."""
+    """The run at `speed` times the wall clock, what each key does; its steps go to `output`."""
 
     def __init__(self, scene, steps, speed=1.0, output=None, clock=None, log=None):
         self.scene, self.log = scene, log or sys.stderr
@@ -170,10 +163,8 @@ class LiveDemo:
         self.speed, self.output = speed, output
         self.pacer = Pacer(self.clock, speed, scene.h)
         self.playing, self.done = True, False
-        self.failure = None         # the SimulationError that stopped the run, if one did
-        self.write_error = None     # the OSError that stopped the files, if one did
-        self.message = None         # what the last key did, shown until the next key
-        self.slow = None            # the rate reached, when below SLOW
+        self.failure = self.write_error = None     # what stopped the run, the files (if any)
+        self.message = self.slow = None             # the last key's message; the rate, < SLOW
         self.warnings = {f"scene {i}": text for i, text in enumerate(scene.warnings)}
         self.triangles = diagnostics.mesh_triangles(scene)
 
@@ -193,8 +184,7 @@ class LiveDemo:
         self.pacer.start(0.0)
 
     def play(self):
-        """Take the steps due by now (for at most FRAME_BUDGET of wall time), then note the rate;
-        further behind than CATCH_UP, go on from where it is."""
+        """Take the steps due, for FRAME_BUDGET s at most; over CATCH_UP behind, go on from here."""
         deadline, h = self.clock.now() + FRAME_BUDGET, self.scene.h
         while not self.run.finished and self.run.t + h <= self.pacer.due() + DUE_SLACK * h:
             if not self.one_step() or self.clock.now() > deadline:
@@ -212,31 +202,27 @@ class LiveDemo:
 
     def one_step(self):
         """Complete the current time step; False when there was none to take or it failed."""
-        return not self.stopped() and self._keep(self._attempt(self.run.step))
+        return self._take(self.run.step) is not None
 
     def one_newton_iteration(self):
-        record = None if self.stopped() else self._attempt(self.run.newton_iteration)
+        record = self._take(self.run.newton_iteration)
         if record is not None:
             self.message = (f"step {record.index + 1} done: Newton converged, ||p||_inf / h = "
                             f"{record.report.residual:.3g} <= tol = {self.scene.tol:g} m/s")
-            self._keep(record)
 
-    def _attempt(self, action):
+    def _take(self, action):
+        """Run `action` (run.step, run.newton_iteration) unless stopped; note the warnings of the
+        step it completes (progress.step_warnings), hand it to the files; returns its record."""
         try:
-            return action()
+            record = None if self.stopped() else action()
         except time_integrator.SimulationError as err:
-            self.failure, self.playing = err, False
+            self.failure, self.playing, record = err, False, None
             print(f"simulator.py: simulation failed: {err}", file=self.log)
-            return None
-
-    def _keep(self, record):
-        """Note a step's warnings (progress.step_warnings), hand it to the files; False: none."""
         if record is None:
-            return False
+            return None
         inverted = diagnostics.inverted_triangles(record.x, self.triangles)
-        warnings = progress.step_warnings(self.scene, record.index + 1, record.t, record.report,
-                                          inverted)
-        for kind, text in warnings.items():
+        for kind, text in progress.step_warnings(self.scene, record.index + 1, record.t,
+                                                 record.report, inverted).items():
             self.note(kind, text)
         if self.output is not None and self.write_error is None:
             try:
@@ -245,10 +231,10 @@ class LiveDemo:
                 self.write_error = err
                 print(f"simulator.py: writing the files failed, none written after step "
                       f"{record.index}: {err.strerror or err}", file=self.log)
-        return True
+        return record
 
     def note(self, kind, text):
-        """A warning, the first of its kind: on screen, and on `log` where the files do not say it."""
+        """A warning, the first of its kind: on screen, and on `log` unless the files say it."""
         if kind in self.warnings:
             return
         self.warnings[kind] = text

@@ -1,6 +1,5 @@
-"""The Newton view (key n): an iterate of Algorithm 4, x^i in grey under x^i + alpha p in blue,
-the direction of p at each node, and an inset magnifying one node and the slope together (p,
-alpha_CCD and alpha at their true size against it).
+"""The Newton view (key n): an iterate of Algorithm 4, x^i under x^i + alpha p, the direction of p,
+and an inset magnifying one node and the slope together (p, alpha_CCD, alpha at true size).
 """
 import math
 import re
@@ -22,8 +21,7 @@ SLOPE_REACH = 1.5         # ... the slope framed within this many |p_k| of the n
 MAX_ZOOM = 1e4            # ... magnified at most this much (p_k = 0 asks for infinitely much)
 ZOOMS = (1, 2, 3, 5)      # ... by one of these times a power of ten
 GROUND = (219, 219, 255)  # the inset's tint below the slope
-# where a line may break, the strongest first: between the key hints, after a semicolon, before a
-# parenthesis, after a comma, between words
+# where a line breaks, the strongest first: between key hints, after ";", before "(", after ",", " "
 BREAKS = ("   ", r"(?<=;) ", r" (?=\()", r"(?<=,) ", " ")
 
 
@@ -47,9 +45,8 @@ def ground(scene):
 
 
 def focus(scene, it):
-    """(k, why, d, framed): the node that sets alpha_CCD (Algorithm 4, line 1) where it is below 1,
-    else the nearest the slope (without one, the lowest); why; d = n^T (x_k - o) (inf without a
-    slope); whether the inset frames the slope, d <= SLOPE_REACH |p_k|."""
+    """(k, why, d, framed): the node setting alpha_CCD (Algorithm 4, line 1) where it is < 1, else
+    the nearest the slope (or the lowest); why; d = n^T (x_k - o); d <= SLOPE_REACH |p_k|."""
     if "barrier" not in scene.terms:
         return int(np.argmin(it.x[:, 1])), "the lowest", math.inf, False
     d = BarrierEnergy.distances(it.x, scene.n, scene.o)
@@ -62,9 +59,8 @@ def focus(scene, it):
 
 def newton_inset(scene, it, view, rect, header=0, footer=0, whole=False):
     """The Inset in `rect` of the focus node: x^i, x^i + p and the slope's foot (if framed) fill
-    INSET_FILL of the rows between `header` and `footer`, magnified by one of ZOOMS times a power
-    of ten (at most MAX_ZOOM); its height cut to what they need (at least half its width) unless
-    `whole`."""
+    INSET_FILL of the rows between `header` and `footer`, magnified by ZOOMS times a power of ten;
+    its height cut to what they need (at least half its width) unless `whole`."""
     k, why, d, with_slope = focus(scene, it)
     x, p = it.x[k], it.p[k]
     points = {"x^i": x, "x^i + p": x + p, "x^i + alpha_CCD p": x + it.alpha_ccd * p,
@@ -85,16 +81,6 @@ def newton_inset(scene, it, view, rect, header=0, footer=0, whole=False):
     markers = {name: inset_view(point) for name, point in points.items()}
     slope = draw.slope_ends(scene, inset_view) if with_slope else None
     return Inset((*rect[:3], height), k, why, inset_view, magnification, points, markers, slope, d)
-
-
-def inset_notes(scene, it):
-    """(text, colour) under the inset's title: why its node, where the slope is when out of frame,
-    that thin lines are springs (not the slope)."""
-    k, why, d, with_slope = focus(scene, it)
-    notes = [(f"({why})", draw.BLACK)]
-    if math.isfinite(d) and not with_slope:
-        notes.append((f"{ground(scene)}: {length_text(d)} below x^i, out of frame", draw.BLUE))
-    return notes + [("thin lines: springs", draw.BLACK)]
 
 
 def length_text(metres):
@@ -119,8 +105,8 @@ def iterate_lines(run, scene):
 
 
 def draw_iterate(pygame, surface, scene, it, view):
-    """x^i in grey under x^i + alpha p in blue, and an arrow along p, HINT of the window long (at
-    most a node spacing), at each node where |p_k| >= HINT_FLOOR max |p|: p is too short to see."""
+    """x^i in grey under x^i + alpha p in blue; along p an arrow HINT of the window long (at most a
+    node spacing) at each node where |p_k| >= HINT_FLOOR max |p|: p is too short to see."""
     reach = min(HINT * view.size, draw.spacing(scene) * view.scale)         # px
     draw.draw_square(pygame, surface, scene, it.x, view, draw.GREY, nodes=False)
     draw.draw_square(pygame, surface, scene, it.x_next, view)
@@ -135,9 +121,8 @@ def draw_iterate(pygame, surface, scene, it, view):
 
 
 def draw_inset(pygame, surface, scene, it, inset, fonts, notes):
-    """The inset on its own `surface`: the slope tinted below, the springs of x^i (grey) and x^i +
-    alpha p (blue), p as a red arrow from x^i, a black ring at x^i + alpha_CCD p, a green dot at
-    x^i + alpha p; its title and `notes` ((text, colour) rows) at the top, a scale bar, a border."""
+    """The inset on its `surface`: the slope tinted below, x^i (grey), x^i + alpha p (blue), p (red)
+    from x^i, a black ring at x^i + alpha_CCD p, a green dot at x^i + alpha p; title, notes, bar."""
     view, m = inset.view, inset.markers
     width, height = surface.get_size()
     surface.fill((255, 255, 255))
@@ -171,16 +156,18 @@ def draw_inset(pygame, surface, scene, it, inset, fonts, notes):
 
 
 def place_inset(pygame, surface, scene, it, view, fonts, top, bottom):
-    """Draw the inset between rows `top` and `bottom`, beside the square on the side with more
-    room (else over it), covering each number of the slope whole or ending above it; circle and
-    label its node (label_corner). Returns the Inset, or None where there is no room."""
+    """Draw the inset between rows `top` and `bottom` beside the body (else over it), covering a
+    number of the slope whole or ending above it; circle and label its node. The Inset, or None."""
     size, px = view.size, view(it.x)
     room_left, room_right = px[:, 0].min(), size - px[:, 0].max()
     width = int(min(INSET * size, max(max(room_left, room_right) - 24, MIN_INSET * size)))
     height = int(min(INSET_TALL * size, bottom - top))
     big, small = fonts
-    notes = [(row, color) for text, color in inset_notes(scene, it)
-             for row in phrase_rows(small, text, width - 16)]
+    _, why, d, framed = focus(scene, it)        # the notes: why this node, where the slope is,
+    notes = [(f"({why})", draw.BLACK), ("thin lines: springs", draw.BLACK)]     # not a spring
+    if math.isfinite(d) and not framed:
+        notes.insert(1, (f"{ground(scene)}: {length_text(d)} below x^i, out of frame", draw.BLUE))
+    notes = [(row, color) for text, color in notes for row in phrase_rows(small, text, width - 16)]
     line = small.get_linesize()
     header, footer = 8 + big.get_linesize() + len(notes) * line, 12 + line
     if height < header + footer + line:                    # no room left under the text
@@ -189,40 +176,28 @@ def place_inset(pygame, surface, scene, it, view, fonts, top, bottom):
     inset = newton_inset(scene, it, view, rect, header, footer)
     numbers = slope_numbers(pygame, scene, view, small)
     for _ in numbers:               # a number the border cuts: covered whole, else ended above
-        cut = [box for box in numbers if overlap(box, inset.rect) and not inside(box, inset.rect)]
+        border = pygame.Rect(inset.rect)
+        cut = [box for box in numbers if border.colliderect(box) and not border.contains(box)]
         if not cut:
             break
-        box = min(cut, key=lambda box: box[1])
-        whole = box[3] + 2 - rect[1] <= height and rect[0] <= box[0] and box[2] <= rect[0] + width
-        if not whole and box[1] - 2 - rect[1] < header + footer + line:
+        box = min(cut, key=lambda box: box.top)
+        whole = pygame.Rect(rect).contains(box.inflate(0, 4))     # the whole inset covers it
+        if not whole and box.top - 2 - rect[1] < header + footer + line:
             break
-        cut_height = (box[3] + 2 if whole else box[1] - 2) - rect[1]
+        cut_height = (box.bottom + 2 if whole else box.top - 2) - rect[1]
         inset = newton_inset(scene, it, view, (*rect[:3], cut_height), header, footer, whole)
     node = px[inset.node]
     label = small.render(f"node {inset.node}", True, draw.BLACK, (255, 255, 255))    # on white
     pygame.draw.circle(surface, draw.BLACK, node, 9, 1)
-    corner = label_corner(scene, view, px, node, label.get_size(), inset.rect, (top, bottom),
-                          numbers)
+    corner = label_corner(pygame, scene, view, px, node, label.get_size(), inset.rect,
+                          (top, bottom), numbers)
     surface.blit(label, corner)
     draw_inset(pygame, surface.subsurface(inset.rect), scene, it, inset, fonts, notes)
     return inset
 
 
-def overlap(box, rect, gap=0):
-    """Do the box (left, top, right, bottom) and rect (left, top, width, height) come `gap` near?"""
-    a, b, c, d = rect
-    return box[0] < a + c + gap and a < box[2] + gap and box[1] < b + d + gap and b < box[3] + gap
-
-
-def inside(box, rect):
-    """Is the box (left, top, right, bottom) inside the rect (left, top, width, height)?"""
-    a, b, c, d = rect
-    return a <= box[0] and box[2] <= a + c and b <= box[1] and box[3] <= b + d
-
-
 def phrase_rows(font, text, width, breaks=BREAKS):
-    """`text` in rows at most `width` px wide, broken at the strongest of `breaks` that is needed
-    (a word wider than `width` stays whole): no row a stray fragment ("p)")."""
+    """`text` in rows within `width` px, broken at the strongest of `breaks` needed: no row "p)"."""
     if font.size(text)[0] <= width or not breaks:
         return [text]
     joiner, rows = ("   " if breaks[0] == "   " else " "), []
@@ -234,12 +209,11 @@ def phrase_rows(font, text, width, breaks=BREAKS):
     return [part for row in rows for part in phrase_rows(font, row, width, breaks[1:])]
 
 
-def label_corner(scene, view, px, node, size, inset, rows=None, numbers=()):
-    """The top-left corner of the label, `size` (w, h) px, of the circled node at `node` (`px`: the
-    body's nodes): off the node diagonally away from the body's middle, else on its other sides, a
-    row further off; the chalk's on the board beside the body. The first clear of the `inset`
-    rect, inside `rows` (top, bottom), a fifth of its height off the slope's `numbers` (boxes) and
-    off the body's convex hull; else the first clear of all but the body; else of the inset."""
+def label_corner(pygame, scene, view, px, node, size, inset, rows=None, numbers=()):
+    """The corner of the label, `size` (w, h) px, of the node at `node` (`px`: all nodes): off it
+    diagonally away from the body, else on its other sides, a row further (the chalk's: on the board
+    beside it). The first clear of the `inset`, within `rows`, h/5 off the slope's `numbers` and off
+    the body's hull; else the first clear of all but the body; else the first clear of the inset."""
     w, h = size
     out = np.where(node >= px.mean(axis=0), 1, -1)
     top_row, bottom_row = (0, view.height) if rows is None else rows
@@ -254,20 +228,20 @@ def label_corner(scene, view, px, node, size, inset, rows=None, numbers=()):
         left = min(level.min(initial=node[0]), node[0] - 4) - 8 - w
         sides = (right, left) if out[0] > 0 else (left, right)
         corners = [(min(max(side, 0), view.size - w), top) for side in sides]
-    clear = [c for c in corners if not overlap((c[0], c[1], c[0] + w, c[1] + h), inset)]
-    free = [c for c in clear if inside((c[0], c[1], c[0] + w, c[1] + h),
-                                       (0, top_row, view.size, bottom_row - top_row))
-            and not any(overlap(number, (*c, w, h), h // 5) for number in numbers)]
+    labels = [pygame.FRect(corner, size) for corner in corners]
+    within = pygame.FRect(0, top_row, view.size, bottom_row - top_row)
+    clear = [label for label in labels if not label.colliderect(inset)]
+    free = [label for label in clear if within.contains(label)
+            and label.inflate(2 * (h // 5), 2 * (h // 5)).collidelist(numbers) < 0]
     hull = spatial.ConvexHull(px, qhull_options="QJ").equations      # n . q + c <= 0 inside
     grid = np.stack(np.meshgrid(np.linspace(0, w, 5), np.linspace(0, h, 3)), -1).reshape(-1, 2)
-    off_body = [c for c in free
-                if not ((c + grid) @ hull[:, :2].T + hull[:, 2] <= 0).all(axis=1).any()]
-    return (off_body or free or clear or corners)[0]
+    off_body = [label for label in free if not (
+        (label.topleft + grid) @ hull[:, :2].T + hull[:, 2] <= 0).all(axis=1).any()]
+    return (off_body or free or clear or labels)[0].topleft
 
 
 def slope_numbers(pygame, scene, view, font):
-    """The boxes (left, top, right, bottom; px) of the slope's numbers: the pixels draw.draw_slope
-    draws with `font` and not without, each number's glyphs together (none without a slope)."""
+    """The Rects of the slope's numbers: what draw.draw_slope draws with `font` and not without."""
     if scene.n is None:
         return []
     ink = []
@@ -279,4 +253,4 @@ def slope_numbers(pygame, scene, view, font):
     glyphs, word = ink[0] & ~ink[1], font.get_height()     # px: one number's glyphs are closer
     numbers, _ = ndimage.label(ndimage.binary_dilation(glyphs, np.ones((word, 1), bool)))
     boxes = ndimage.find_objects(np.where(glyphs, numbers, 0))
-    return [(x.start, y.start, x.stop, y.stop) for x, y in boxes]
+    return [pygame.Rect(x.start, y.start, x.stop - x.start, y.stop - y.start) for x, y in boxes]

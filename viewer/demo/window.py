@@ -51,7 +51,10 @@ class LiveWindow(live.LiveDemo):
             playing = self.playing and not self.done
             if playing:
                 self.play()
-            if events or self.frames == 0 or (playing and self.frame_due()):
+            # behind: the time goes to the steps, a frame drawn every 1/MIN_FPS s (the rest dropped)
+            behind = self.pacer.due() - self.run.t >= self.scene.h and not self.stopped()
+            due = not behind or self.clock.now() - self.drawn_at >= 1.0 / MIN_FPS
+            if events or self.frames == 0 or (playing and due):
                 self.draw()
             self.clock.sleep(max(0.0, started + 1.0 / FPS - self.clock.now()))
         return 0 if self.failure is None and self.write_error is None else 1
@@ -68,15 +71,9 @@ class LiveWindow(live.LiveDemo):
             self.message = None
             keys.get(event.key, lambda: None)()
 
-    def frame_due(self):
-        """Draw now? While the steps keep up, yes; behind, every 1/MIN_FPS s (frames dropped)."""
-        behind = self.pacer.due() - self.run.t >= self.scene.h
-        return not behind or self.stopped() or self.clock.now() - self.drawn_at >= 1.0 / MIN_FPS
-
     def draw(self):
-        """The frame the files show (draw.draw_frame), the Newton iterate in progress instead of the
-        forces; the status under its legends, the key hints at the bottom, the chalk's strip off
-        both (self.reserve), or the Newton view's inset between them (self.inset)."""
+        """The frame the files show (or the Newton iterate), the status under its legends, the key
+        hints at the bottom, and the chalk's strip (self.reserve) or the Newton inset between."""
         run, pg, it = self.run, self.pygame, self.run.iterate
         self.view.follow(diagnostics.centre_of_mass(self.scene, run.shown_x)[None])
         forces = self.newton_per_metre if it is None else None
@@ -144,20 +141,17 @@ class LiveWindow(live.LiveDemo):
 
 
 def display_problem(driver, requested):
-    """Why a window on SDL's `driver` would show nothing, or None: SDL falls back to a driver that
-    draws into memory when it finds no display, fine only when asked for (SDL_VIDEODRIVER=dummy)."""
+    """Why SDL's `driver` shows nothing (it falls back to a memory driver), unless `requested`."""
     if driver in MEMORY_DRIVERS and driver != requested:
         where = os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")
         found = f"none at DISPLAY={where}" if where else "DISPLAY is not set"
-        return (f"no display to open the window on ({found}; SDL fell back to its {driver!r} "
-                f"driver): run on a desktop, under Xvfb, or without --window")
+        return f"{found}; SDL fell back to its {driver!r} driver"
     return None
 
 
 @contextlib.contextmanager
 def c_stderr_hidden():
-    """Hide what SDL's C code writes to file descriptor 2 ("XDG_RUNTIME_DIR is invalid") while the
-    display opens, so that a failure reads as one line."""
+    """Hide what SDL's C code writes to fd 2 while the display opens: a failure is one line."""
     sys.stderr.flush()
     saved = os.dup(2)
     try:
@@ -178,13 +172,13 @@ def open_display():
     try:
         with c_stderr_hidden():
             pygame.display.init()
+        problem = display_problem(pygame.display.get_driver(), requested)
     except pygame.error as err:
-        raise ValueError(f"no display to open the window on (SDL: {err}): run on a desktop, "
-                         f"under Xvfb, or without --window") from None
-    problem = display_problem(pygame.display.get_driver(), requested)
+        problem = f"SDL: {err}"
     if problem:
         pygame.display.quit()
-        raise ValueError(problem)
+        raise ValueError(f"no display to open the window on ({problem}): run on a desktop, "
+                         f"under Xvfb, or without --window")
     pygame.font.init()
     return pygame
 
@@ -200,8 +194,7 @@ def window_size(size, pygame):
 
 
 def check_flags(speed, size):
-    """--speed (simulated seconds per wall second, default 1), finite and > 0, and --size, whole
-    pixels in [MIN_SIZE, MAX_SIZE]: the speed, or utils.ParameterError."""
+    """--speed (default 1), finite and > 0; --size, whole pixels in [MIN_SIZE, MAX_SIZE]."""
     speed = 1.0 if speed is None else speed
     if not (math.isfinite(speed) and speed > 0.0):
         raise utils.ParameterError("speed", f"speed must be a finite number > 0 (simulated seconds "
@@ -214,9 +207,8 @@ def check_flags(speed, size):
 
 
 def run_window(plan, speed, size, signals, clock=None, log=None):
-    """`python simulator.py --window`: check the flags, open the window, run the demo until closed
-    (with --out, writing what a run without the window writes), end as that run ends
-    (command.run.end). The exit code: 0; 1 after a failed step or write; 130, 143 (signals)."""
+    """`python simulator.py --window`: the demo until closed (with --out, its files), ended as a
+    run without it ends (command.run.end); exit code 0, 1 (a failed step or write), 130, 143."""
     speed, log, scene = check_flags(speed, size), log or sys.stderr, plan.scenes[0]
     with signals.held():                        # SDL starts after the run's signal handlers
         pygame = open_display()                 # before anything is written
