@@ -1,9 +1,9 @@
 """The live demo without its window (no pygame): the run a step or a Newton iteration at a time,
-paced to the wall clock, what the keys do, its files (--out) and warnings.
-"""
+paced to the wall clock, what the keys do, its files (--out) and warnings."""
 import sys
 import time
 from collections import deque
+from types import SimpleNamespace
 
 import time_integrator
 from simulator import StepRecord
@@ -15,12 +15,6 @@ FRAME_BUDGET = 1.0 / 30   # s of stepping before the loop draws and reads the ke
 DUE_SLACK = 1e-9          # of a step: t + h and the time due may differ by round-off
 CATCH_UP = 0.1            # s of wall time the steps may fall behind and catch up
 SLOW = 0.9                # "slower than real time" below this fraction of the asked speed
-
-
-class WallClock:
-    """Wall-clock time for the pacing (tests hand the demo a fake clock)."""
-    now = staticmethod(time.perf_counter)
-    sleep = staticmethod(time.sleep)
 
 
 class LiveRun:
@@ -146,22 +140,20 @@ class Files:
     def record(self, record):
         """A step's log.csv row, and frame j at step j stride (and the last step)."""
         track, stride = self.track, self.plan.stride
-        if record.index != track.step:          # computed before a restart: written then
-            return
-        track.take(record, self.progress)
-        if self.writer is not None and (track.step % stride == 0 or track.step == track.steps):
-            self.writer.write(-(-track.step // stride))
+        if record.index == track.step:          # else computed before a restart: written then
+            track.take(record, self.progress)
+            if self.writer is not None and (track.step % stride == 0 or track.step == track.steps):
+                self.writer.write(-(-track.step // stride))
 
 
 class LiveDemo:
     """The run at `speed` times the wall clock, what each key does; its steps go to `output`."""
 
     def __init__(self, scene, steps, speed=1.0, output=None, clock=None, log=None):
-        self.scene, self.log = scene, log or sys.stderr
-        self.clock = clock or WallClock()
-        self.run = LiveRun(scene, steps)
-        self.speed, self.output = speed, output
-        self.pacer = Pacer(self.clock, speed, scene.h)
+        self.scene, self.speed, self.output, self.log = scene, speed, output, log or sys.stderr
+        # the wall clock (tests hand the demo a fake one with these two methods)
+        self.clock = clock or SimpleNamespace(now=time.perf_counter, sleep=time.sleep)
+        self.run, self.pacer = LiveRun(scene, steps), Pacer(self.clock, speed, scene.h)
         self.playing, self.done = True, False
         self.failure = self.write_error = None     # what stopped the run, the files (if any)
         self.message = self.slow = None             # the last key's message; the rate, < SLOW
@@ -235,8 +227,6 @@ class LiveDemo:
 
     def note(self, kind, text):
         """A warning, the first of its kind: on screen, and on `log` unless the files say it."""
-        if kind in self.warnings:
-            return
-        self.warnings[kind] = text
-        if self.output is None or kind == "slow":
+        if kind not in self.warnings and (self.output is None or kind == "slow"):
             print(f"simulator.py: warning: {text}", file=self.log, flush=True)
+        self.warnings.setdefault(kind, text)

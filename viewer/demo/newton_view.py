@@ -1,6 +1,5 @@
 """The Newton view (key n): an iterate of Algorithm 4, x^i under x^i + alpha p, the direction of p,
-and an inset magnifying one node and the slope together (p, alpha_CCD, alpha at true size).
-"""
+and an inset magnifying one node and the slope together (p, alpha_CCD, alpha at true size)."""
 import math
 import re
 from dataclasses import dataclass

@@ -1,6 +1,5 @@
 """The live window, `python simulator.py --window` (docs/live-demo.md): its loop (keys, status,
-drawing), opening the display, the entry point. The keys' effects, pacing and files: demo.live.
-"""
+drawing), opening the display, the entry point. The keys' effects, pacing and files: demo.live."""
 import contextlib
 import math
 import os
@@ -35,8 +34,8 @@ class LiveWindow(live.LiveDemo):
             self.view.center[1] = (BOARD_ROW - 0.5) * self.size / self.view.scale
         self.fonts = draw.fonts(pygame, self.size)      # (title, text): the frames', resized
         self.font = self.fonts[1]
-        self.frames = self.slow_frames = 0      # drawn; of them, with "slower than real time"
-        self.drawn_at = -math.inf
+        # frames drawn, those with "slower than real time", when the last was
+        self.frames, self.slow_frames, self.drawn_at = 0, 0, -math.inf
         # as last drawn: the Newton inset, the first row under the status, draw_frame's reserve
         self.inset, self.text_bottom, self.reserve = None, 0, None
 
@@ -94,11 +93,9 @@ class LiveWindow(live.LiveDemo):
             surface.blit(self.font.render(text, True, color), (12, top + row * line))
         for row, text in enumerate(reversed(hints), start=1):
             surface.blit(self.font.render(text, True, KEYS), (12, self.size - 6 - row * line))
-        self.inset, self.text_bottom = None, top + len(rows) * line
-        if it is not None:
-            self.inset = newton_view.place_inset(pg, surface, self.scene, it, self.view, self.fonts,
-                                                 self.text_bottom + 8,
-                                                 self.size - 6 - len(hints) * line - 8)
+        self.text_bottom, hints_top = top + len(rows) * line, self.size - 6 - len(hints) * line
+        self.inset = None if it is None else newton_view.place_inset(
+            pg, surface, self.scene, it, self.view, self.fonts, self.text_bottom + 8, hints_top - 8)
         self.screen.blit(surface, (0, 0))
         pg.display.flip()
         self.frames += 1
@@ -132,12 +129,9 @@ class LiveWindow(live.LiveDemo):
         return lines + [(text, draw.BLACK) for text in figures]
 
     def help_lines(self):
-        if self.stopped():
-            return ["r: restart   q, Esc: quit"]
-        if self.playing:
-            return ["space: pause   r: restart   q, Esc: quit"]
-        return ["space: play   right arrow: one step   n: one Newton iteration   r: restart   "
-                "q, Esc: quit"]
+        keys = ("" if self.stopped() else "space: pause   " if self.playing else
+                "space: play   right arrow: one step   n: one Newton iteration   ")
+        return [keys + "r: restart   q, Esc: quit"]
 
 
 def display_problem(driver, requested):
@@ -185,12 +179,10 @@ def open_display():
 
 def window_size(size, pygame):
     """--size, or the largest square that fits the display: FIT of its smaller side."""
-    if size is not None:
-        return int(size)
     info = pygame.display.Info()
-    if info.current_w > 0 and info.current_h > 0:
+    if size is None and min(info.current_w, info.current_h) > 0:
         return max(MIN_SIZE, int(FIT * min(info.current_w, info.current_h)))
-    return draw.RESOLUTION
+    return draw.RESOLUTION if size is None else int(size)
 
 
 def check_flags(speed, size):
@@ -222,8 +214,8 @@ def run_window(plan, speed, size, signals, clock=None, log=None):
                     else f"chalk, grip {scene.hand.k_hand:g} N/m")
             pygame.display.set_caption(f"simulator.py: mu = {scene.mu:g}, {what}")
             output = live.Files(plan, folder, log) if folder is not None else None
-            window = LiveWindow(pygame, screen, scene, plan.steps[0], speed, output,
-                                clock or live.WallClock(), log, plan.labels[0], plan.forces)
+            window = LiveWindow(pygame, screen, scene, plan.steps[0], speed, output, clock, log,
+                                plan.labels[0], plan.forces)
             window.loop()
             failure = window.write_error or window.failure
             failure = failure and orchestration.failure_of(failure, plan)
@@ -233,8 +225,7 @@ def run_window(plan, speed, size, signals, clock=None, log=None):
         done = f"simulator.py: {steps} steps ({steps * scene.h:.2f} s) in the window"
         if output:
             done += f"; {orchestration.written(plan)} in {orchestration.where(plan, folder)}"
-        tracks = [output.track] if output else []
-        return orchestration.end(plan, signals, folder, tracks, output and output.frame_log,
-                                 failure, log, done)
+        return orchestration.end(plan, signals, folder, [output.track] if output else [],
+                                 output and output.frame_log, failure, log, done)
     finally:
         pygame.display.quit()
