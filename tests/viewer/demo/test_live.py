@@ -1,10 +1,11 @@
-"""viewer/demo/live.py: the live demo without its window (no pygame): the run one step or one Newton
-iteration at a time, its pacing to a clock, what the keys do, and its warnings. Driven here with a fake
-clock; tests/viewer/demo/test_window.py drives the same through the window's keys."""
+"""viewer/demo/live.py: the live demo without its window (no pygame): the run one step or one
+Newton iteration at a time, its pacing to a clock, what the keys do, and its warnings. Driven here
+with a fake clock; test_window.py drives the same through the window's keys."""
 import io
 import os
 import subprocess
 import sys
+import textwrap
 
 import numpy as np
 import pytest
@@ -34,17 +35,18 @@ class FakeClock:
 
 
 def test_a_step_is_the_same_whole_or_one_newton_iteration_at_a_time():
-    """LiveRun.step is time_integrator.step; n after n (newton_iteration) yields each iterate and the
-    n after the last completes the same step; a step begun with n and finished with step()
+    """LiveRun.step is time_integrator.step; n after n (newton_iteration) yields each iterate and
+    the n after the last completes the same step; a step begun with n and finished with step()
     (time_integrator.run_out) too."""
     scene = simulator.build_scene()
-    whole, by_iteration, mixed = live.LiveRun(scene, 100), live.LiveRun(scene, 100), live.LiveRun(scene, 100)
+    whole, by_iteration, mixed = (live.LiveRun(scene, 100) for _ in range(3))
     for _ in range(30):                                             # to the impact
         for run in (whole, by_iteration, mixed):
             run.step()
     expected = time_integrator.step(scene, whole.x, whole.v, step_index=30)[0]
     record = whole.step()
-    assert record.index == 30 and record.t == pytest.approx(0.31) and np.array_equal(record.x, expected)
+    assert record.index == 30 and record.t == pytest.approx(0.31)
+    assert np.array_equal(record.x, expected)
     count = 0
     while (record := by_iteration.newton_iteration()) is None:
         count += 1
@@ -65,11 +67,11 @@ def test_the_pacer_says_the_time_due_and_the_rate_reached():
     pacer.start(0.3)
     clock.t = 2.4
     assert pacer.due() == pytest.approx(0.5)
-    for k in range(200):                                            # playing at a quarter of real time
+    for k in range(200):                                # playing at a quarter of real time
         clock.t = 3.0 + 0.01 * k
         pacer.sample(0.0025 * k)
     assert pacer.rate() == pytest.approx(0.5)                       # 0.25x of the 0.5x asked
-    pacer.forget()
+    pacer.start(0.0)                                                # a resume: measured afresh
     pacer.sample(0.0)
     assert pacer.rate() is None                                     # not a span of play yet
 
@@ -79,7 +81,7 @@ def test_the_demo_takes_the_steps_due_and_no_more():
     step's end that is due, t <= wall < t + h."""
     clock = FakeClock()
     demo = live.LiveDemo(simulator.build_scene(), 300, 1.0, None, clock, io.StringIO())
-    for frame in range(1, 61):                                      # one second at 60 frames a second
+    for frame in range(1, 61):                          # one second at 60 frames a second
         clock.t = frame / 60
         demo.play()
         assert demo.run.t <= clock.t + 1e-9 < demo.run.t + H
@@ -101,7 +103,7 @@ def test_steps_slower_than_real_time_are_not_caught_up_and_are_said(monkeypatch)
     while demo.run.index < 150:
         started = clock.t
         demo.play()
-        clock.t = max(clock.t, started + 1 / 60)                    # the window's loop: 60 frames a second
+        clock.t = max(clock.t, started + 1 / 60)        # the window's loop: 60 frames a second
         assert demo.pacer.due() - demo.run.t <= live.CATCH_UP + 2 * H
     assert demo.slow == pytest.approx(1 / 3, abs=0.02)
     assert demo.warnings["slow"].startswith("the window ran slower than real time: 0.3")
@@ -122,7 +124,7 @@ def test_the_keys_pause_step_and_restart():
         pass
     assert demo.stopped() and demo.run.index == 10 and not demo.one_step()
     demo.restart()
-    assert demo.playing and demo.run.index == 0                     # stopped at the end: plays again
+    assert demo.playing and demo.run.index == 0         # stopped at the end: plays again
 
 
 def test_the_demo_notes_each_warning_once_as_a_run_to_files_words_it():
@@ -136,13 +138,25 @@ def test_the_demo_notes_each_warning_once_as_a_run_to_files_words_it():
 
 
 def test_the_demo_needs_no_pygame():
-    code = ("import io, sys, simulator; from viewer.demo import live\n"
-            "class Clock:\n    t = 0.0\n    def now(self): return self.t\n    def sleep(self, s): self.t += s\n"
-            "clock = Clock(); demo = live.LiveDemo(simulator.build_scene(), 20, 1.0, None, clock, io.StringIO())\n"
-            "clock.t = 0.1; demo.play(); demo.toggle_pause(); demo.one_newton_iteration(); demo.one_step()\n"
-            "print(demo.run.index, 'pygame' in sys.modules)")
-    out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, timeout=120,
-                         env={**os.environ, "OPENBLAS_NUM_THREADS": "1"})
+    code = textwrap.dedent("""
+        import io, sys, simulator
+        from viewer.demo import live
+        class Clock:
+            t = 0.0
+            def now(self):
+                return self.t
+            def sleep(self, s):
+                self.t += s
+        clock = Clock()
+        demo = live.LiveDemo(simulator.build_scene(), 20, 1.0, None, clock, io.StringIO())
+        clock.t = 0.1
+        demo.play()
+        demo.toggle_pause()
+        demo.one_newton_iteration()
+        demo.one_step()
+        print(demo.run.index, 'pygame' in sys.modules)""")
+    out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True,
+                         timeout=120, env={**os.environ, "OPENBLAS_NUM_THREADS": "1"})
     assert out.returncode == 0 and out.stdout.split() == ["11", "False"], out.stderr
 
 
@@ -150,7 +164,8 @@ def test_the_demo_needs_no_pygame():
 # The chalk: its marks and its figures, as a run to files keeps and logs them
 # ------------------------------------------------------------------------------------------------
 
-CHALK_STEPS = 215       # the pushed chalk sticks from step 2, slips over steps 206 to 220 (and at step 1; measured)
+# the pushed chalk sticks from step 2, slips over steps 206 to 220 (and at step 1; measured)
+CHALK_STEPS = 215
 
 
 def test_the_chalks_mark_and_figures_are_those_a_run_to_files_keeps(tmp_path):
@@ -166,8 +181,10 @@ def test_the_chalks_mark_and_figures_are_those_a_run_to_files_keeps(tmp_path):
     assert diagnostics.tip_stuck(run.scene, run.x, run.v) is False               # slipping now
     last = track.samples.last
     text = " ".join(live.tip_lines(run.scene, run.x, run.v, run.t))
-    assert f"tip at {last.tip_x * 100:.2f} cm, slipping: {last.tip_speed * 1e3:.3g} mm/s >= eps_v = 0.1 mm/s" in text
-    assert f"the hand's drive {last.drive_speed * 1e3:.3g} mm/s" in text and last.drive_speed == pytest.approx(0.01)
+    slipping = f"slipping: {last.tip_speed * 1e3:.3g} mm/s >= eps_v = 0.1 mm/s"
+    assert f"tip at {last.tip_x * 100:.2f} cm, {slipping}" in text
+    assert f"the hand's drive {last.drive_speed * 1e3:.3g} mm/s" in text
+    assert last.drive_speed == pytest.approx(0.01)
     assert f"the board's normal force {last.normal_force:.3g} N" in text
     stuck = chalk_at(200)
     assert " stuck: " in live.tip_lines(stuck.scene, stuck.x, stuck.v, stuck.t)[0]

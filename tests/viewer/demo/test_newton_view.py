@@ -33,8 +33,15 @@ def paused_at(overrides, step, iteration, size=SIZE):
 
 
 def side(a, b, q):
-    """Which side of the line through pixels a and b the pixel q is on: the sign of (b - a) x (q - a)."""
+    """Which side of the line through pixels a and b the pixel q is on: sign((b - a) x (q - a))."""
     return np.sign((b[0] - a[0]) * (q[1] - a[1]) - (b[1] - a[1]) * (q[0] - a[0]))
+
+
+def drawn_notes(drawn, inset):
+    """The rows drawn under the inset's title ("node k, xM") and above its scale bar's label."""
+    texts = [text for text, _, _ in drawn]
+    first = len(texts) - 1 - texts[::-1].index(f"node {inset.node}, x{inset.magnification:g}")
+    return texts[first + 1:-1]
 
 
 # the impact's steps, where the CCD bound cuts the step (alpha_CCD = 0.71, 0.59, 0.41)
@@ -57,25 +64,28 @@ def test_each_marker_is_drawn_on_the_side_of_the_slope_its_point_is_on(overrides
     for name, marker in inset.markers.items():
         assert (side(a, b, marker) == above) == (d[name] > 0.0), name
     assert d["x^i"] > 0.0 and d["x^i + alpha_CCD p"] > 0.0 and d["x^i + alpha p"] > 0.0
-    assert d["x^i + p"] < 0.0 and w.run.iterate.alpha_ccd < 1.0     # the full step would cross the slope
+    assert d["x^i + p"] < 0.0 and w.run.iterate.alpha_ccd < 1.0     # the full step crosses it
 
 
 @pytest.mark.parametrize("overrides, step, iteration", IMPACT[:1] + HALVING)
-def test_the_inset_magnifies_the_view_not_the_vectors(overrides, step, iteration):
+def test_the_inset_magnifies_the_view_not_the_vectors(monkeypatch, overrides, step, iteration):
     """Every marker is its point seen through one view, `magnification` times the window's scale
-    (1, 2, 3 or 5 times a power of ten, on screen in the inset's title): the distances between them
-    are alpha p at that scale, and p is at least a quarter of the inset long. The node is the one whose
-    CCD bound is alpha_CCD, or where the CCD does not cut the step, the one nearest the slope. Where
-    the slope is too far to frame with p (the halving demo), the inset leaves it out and says how far
-    it is."""
+    (1, 2, 3 or 5 times a power of ten, on screen in the inset's title): the distances between
+    them are alpha p at that scale, and p is at least a quarter of the inset long. The node is the
+    one whose CCD bound is alpha_CCD, or where the CCD does not cut the step, the one nearest the
+    slope. Where the slope is too far to frame with p (the halving demo), the inset leaves it out
+    and says how far it is."""
+    drawn = legibility.record_text(monkeypatch)
     w = paused_at(overrides, step, iteration)
     inset, it, scene = w.inset, w.run.iterate, w.scene
     scale = inset.view.scale
     assert scale == pytest.approx(inset.magnification * w.view.scale, rel=1e-12)
     mantissa = inset.magnification / 10.0 ** np.floor(np.log10(inset.magnification))
-    assert round(mantissa, 9) in newton_view.ZOOMS and f"x{inset.magnification:g}" in inset.title
     k = inset.node
-    for name, alpha in (("x^i + p", 1.0), ("x^i + alpha_CCD p", it.alpha_ccd), ("x^i + alpha p", it.alpha)):
+    assert round(mantissa, 9) in newton_view.ZOOMS
+    assert f"node {k}, x{inset.magnification:g}" in [text for text, _, _ in drawn]   # the title
+    for name, alpha in (("x^i + p", 1.0), ("x^i + alpha_CCD p", it.alpha_ccd),
+                        ("x^i + alpha p", it.alpha)):
         offset = inset.markers[name] - inset.markers["x^i"]
         assert offset == pytest.approx(alpha * it.p[k] * [scale, -scale], abs=1e-6), name
     width, height = inset.rect[2:]
@@ -88,7 +98,8 @@ def test_the_inset_magnifies_the_view_not_the_vectors(overrides, step, iteration
         # product than for N rows (and another per CPU), so the two agree to a few ulps, not bits
         assert alone == pytest.approx(it.alpha_ccd, rel=1e-12) and inset.why == "sets alpha_CCD"
     else:
-        assert k == np.argmin(BarrierEnergy.distances(it.x, scene.n, scene.o)) and inset.why == "nearest the slope"
+        assert k == np.argmin(BarrierEnergy.distances(it.x, scene.n, scene.o))
+        assert inset.why == "nearest the slope"
     if inset.slope is None:
         assert inset.distance > newton_view.SLOPE_REACH * np.hypot(*it.p[k])
 
@@ -127,30 +138,34 @@ def test_the_inset_fits_the_window_at_any_size(size):
 
 
 @pytest.mark.parametrize("overrides, step, iteration", IMPACT[:1] + HALVING[:1])
-def test_the_inset_says_which_lines_are_springs_and_where_the_slope_is(monkeypatch, overrides, step, iteration):
+def test_the_inset_says_which_lines_are_springs_and_where_the_slope_is(monkeypatch, overrides,
+                                                                       step, iteration):
     """A spring lying along the slope (in the halving demo, the mesh's bottom row crosses the whole
     inset) must not read as the slope: the inset's notes call its thin lines springs, and where the
     slope is out of frame they say how far below x^i it is; the slope, where it is in frame, is the
-    line with the tint below it (3 px; springs are 1 px). The notes, wrapped, fit the inset's width."""
+    line with the tint below it (3 px; springs are 1 px). The notes, wrapped, fit the inset."""
     import pygame
     drawn = legibility.record_text(monkeypatch)
     w = paused_at(overrides, step, iteration)
-    inset, it = w.inset, w.run.iterate
-    text = " ".join(t for t, _, _ in drawn)
-    assert "thin lines: springs" in text
-    distance = newton_view.length_text(BarrierEnergy.distances(it.x[inset.node][None], w.scene.n, w.scene.o)[0])
-    assert (f"the slope: {distance} below x^i, out of frame" in text) == (inset.slope is None)
+    inset, it, scene = w.inset, w.run.iterate, w.scene
+    notes = drawn_notes(drawn, inset)
+    text = " ".join(notes)
+    assert text.startswith("(sets alpha_CCD) " if it.alpha_ccd < 1 else "(nearest the slope) ")
+    assert text.endswith("thin lines: springs")
+    d = BarrierEnergy.distances(it.x[inset.node][None], scene.n, scene.o)[0]
+    out_of_frame = f"the slope: {newton_view.length_text(d)} below x^i, out of frame"
+    assert (out_of_frame in text) == (inset.slope is None)
     left, top, width, height = inset.rect
     pixels = pygame.surfarray.array3d(w.screen)[left:left + width, top:top + height]
-    tinted = np.all(pixels == newton_view.GROUND, axis=2).mean()      # a few pixels of anti-aliased lines have it too
+    # a few pixels of anti-aliased lines have the tint too
+    tinted = np.all(pixels == newton_view.GROUND, axis=2).mean()
     assert (tinted > 0.01) == (inset.slope is not None)
-    for note, _ in newton_view.inset_notes(w.scene, it):
-        for row in newton_view.phrase_rows(w.fonts[1], note, width - 16):
-            assert w.fonts[1].size(row)[0] <= width - 16 or " " not in row, row
+    for row in notes:
+        assert w.fonts[1].size(row)[0] <= width - 16 or " " not in row, row
 
 
 def chalk_paused(steps, drag, iteration=1, size=SIZE):
-    """A LiveWindow of the chalk paused in step `steps` + 1 after `iteration` presses of n, drawn once."""
+    """A LiveWindow of the chalk paused in step `steps` + 1 after `iteration` presses of n."""
     run = chalk_at(steps, drag)
     pg = window.open_display()
     w = window.LiveWindow(pg, pg.display.set_mode((size, size)), run.scene, run.steps)
@@ -162,37 +177,43 @@ def chalk_paused(steps, drag, iteration=1, size=SIZE):
 
 
 @pytest.mark.parametrize("steps, drag", [(235, False), (300, False), (20, True)])
-def test_the_chalks_inset_magnifies_its_tip_against_the_board(steps, drag):
-    """For the chalk (pushed, slipping at step 236 and stuck at 301; dragged, pressed onto the board at
-    step 21) the inset magnifies the tip, the node nearest the board, as computed: its markers are
-    x^i + alpha p through one view (the board, about 0.9 mm below, out of frame where p is microns,
-    and said so); the tip's label sits on the board beside the chalk, off its marks and numbers, the
-    chalk's nodes and the inset; the direction arrows are no longer than a node spacing (5 mm)."""
+def test_the_chalks_inset_magnifies_its_tip_against_the_board(monkeypatch, steps, drag):
+    """For the chalk (pushed, slipping at step 236 and stuck at 301; dragged, pressed onto the
+    board at step 21) the inset magnifies the tip, the node nearest the board, as computed: its
+    markers are x^i + alpha p through one view (the board, about 0.9 mm below, out of frame where p
+    is microns, and said so); the tip's label sits on the board beside the chalk, off its marks
+    and numbers, the chalk's nodes and the inset; the direction arrows are no longer than a node
+    spacing (5 mm)."""
+    import pygame
+    drawn = legibility.record_text(monkeypatch)
     w = chalk_paused(steps, drag)
     inset, it, scene = w.inset, w.run.iterate, w.scene
     k, d = diagnostics.tip(scene, it.x)
-    assert inset.node == k and inset.why == "nearest the board" and inset.distance == pytest.approx(d)
+    assert inset.node == k and inset.why == "nearest the board"
+    assert inset.distance == pytest.approx(d)
+    scale = inset.view.scale
     for name, alpha in (("x^i + p", 1.0), ("x^i + alpha p", it.alpha)):
         offset = inset.markers[name] - inset.markers["x^i"]
-        assert offset == pytest.approx(alpha * it.p[k] * [inset.view.scale, -inset.view.scale], abs=1e-6), name
+        assert offset == pytest.approx(alpha * it.p[k] * [scale, -scale], abs=1e-6), name
     assert (inset.slope is None) == (d > newton_view.SLOPE_REACH * np.hypot(*it.p[k]))
-    notes = [text for text, _ in newton_view.inset_notes(scene, it)]
+    notes = " ".join(drawn_notes(drawn, inset))
     out_of_frame = f"the board: {newton_view.length_text(d)} below x^i, out of frame"
-    assert notes[0] == "(nearest the board)" and (inset.slope is not None or out_of_frame in notes)
+    assert notes.startswith("(nearest the board) ")
+    assert inset.slope is not None or out_of_frame in notes
     px = w.view(it.x)
     size = w.fonts[1].size(f"node {k}")
-    left, top = newton_view.label_corner(scene, w.view, px, px[k], size, inset.rect)
+    left, top = newton_view.label_corner(pygame, scene, w.view, px, px[k], size, inset.rect)
     right, low = left + size[0], top + size[1]
-    assert low < w.view(scene.o)[1]                                             # above the board's line
+    assert low < w.view(scene.o)[1]                                 # above the board's line
     assert not ((px[:, 0] > left) & (px[:, 0] < right) & (px[:, 1] > top) & (px[:, 1] < low)).any()
     a, b, c, e = inset.rect
     assert right <= a or left >= a + c or low <= b or top >= b + e
     assert 0 <= left and right <= w.size
-    import pygame
     red = np.all(pygame.surfarray.array3d(w.screen) == draw.RED, axis=2)
     red[a:a + c, b:b + e] = False
-    reach = np.hypot(*(np.argwhere(red)[:, None, :] - px[None, :, :]).T).min(axis=0)     # px to the nearest node
-    assert red.sum() > 100 and reach.max() <= draw.spacing(scene) * w.view.scale + 2     # 14.5 px, not HINT's 23
+    # px from each red pixel to the nearest node: 14.5 px (a node spacing), not HINT's 23
+    reach = np.hypot(*(np.argwhere(red)[:, None, :] - px[None, :, :]).T).min(axis=0)
+    assert red.sum() > 100 and reach.max() <= draw.spacing(scene) * w.view.scale + 2
 
 
 class TenPixelFont:
@@ -244,7 +265,7 @@ def test_the_newton_view_keeps_its_phrases_and_labels_apart(monkeypatch, size, o
     w = paused_at(overrides, step, iteration, size)
     width = size - 24
     for text in [t for t, _ in w.status_lines()] + w.help_lines():
-        rows = w.rows(text, width)
+        rows = newton_view.phrase_rows(w.font, text, width)
         assert all(w.font.size(row)[0] <= width for row in rows), rows
         assert all(phrase_break(text, a, b) for a, b in itertools.pairwise(rows)), rows
     import pygame
@@ -262,7 +283,8 @@ def test_the_newton_view_keeps_its_phrases_and_labels_apart(monkeypatch, size, o
     assert not numbers[left:left + w_label, top:top + h_label].any()
     a, b, c, d = w.inset.rect
     assert left + w_label <= a or left >= a + c or top + h_label <= b or top >= b + d
-    hint_rows = [row for text in w.help_lines() for row in w.rows(text, width)]
+    hint_rows = [row for text in w.help_lines()
+                 for row in newton_view.phrase_rows(w.font, text, width)]
     hints = size - 6 - len(hint_rows) * w.font.get_linesize()        # the key hints' first row
     assert 0 <= left and left + w_label <= size and w.text_bottom <= top and top + h_label <= hints
     near = np.ones((small.get_height(), 1), bool)          # one number's glyphs: closer than a line

@@ -1,6 +1,6 @@
-"""The live window (`python simulator.py --window`), driven as an instructor drives it: keys and the close
-button posted as events into the running loop, under SDL's dummy video driver (conftest), with a fake
-wall clock so that nothing waits on real time and the pacing is exact."""
+"""The live window (`python simulator.py --window`), driven as an instructor drives it: keys and the
+close button posted as events into the running loop, under SDL's dummy video driver (conftest), with
+a fake wall clock so that nothing waits on real time and the pacing is exact."""
 import io
 import os
 import subprocess
@@ -15,11 +15,12 @@ import time_integrator
 from viewer.command import run
 from analysis import diagnostics
 from viewer.pictures import draw
-from viewer.demo import live, window
+from viewer.demo import live, newton_view, window
 import viewer.main
 
 from helpers import ROOT
-from helpers.window import (H, ScriptClock, frames_until, live_window, needs_newton_hook, press, pygame, read_log)
+from helpers.window import (H, ScriptClock, frames_until, live_window, needs_newton_hook, press,
+                            pygame, read_log)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -59,7 +60,8 @@ def test_right_arrow_advances_exactly_one_time_step():
                 yield
             x_next, v_next, _ = time_integrator.step(scene, x, v, step_index=index)
             assert w.run.index == index + 1
-            assert np.array_equal(w.run.x, x_next) and np.array_equal(w.run.v, v_next)  # the same computation
+            # the same computation
+            assert np.array_equal(w.run.x, x_next) and np.array_equal(w.run.v, v_next)
 
     w, clock = live_window(scene)
     clock.script = script()
@@ -67,12 +69,13 @@ def test_right_arrow_advances_exactly_one_time_step():
 
 
 def test_r_restarts_from_the_initial_state_and_replays_the_same_run(tmp_path):
-    """r puts back x0 and v0 at t = 0 and plays on; the steps computed again are the same, so the files
-    keep every step computed (rows replaced, none dropped)."""
+    """r puts back x0 and v0 at t = 0 and plays on; the steps computed again are the same, so the
+    files keep every step computed (rows replaced, none dropped)."""
     scene = simulator.build_scene()
     pg = window.open_display()
     clock = ScriptClock()
-    plan = run.Plan([scene], ["mu = 0.11"], [""], [300], str(tmp_path), stride=1, frames=False, forces=True)
+    plan = run.Plan([scene], ["mu = 0.11"], [""], [300], str(tmp_path), stride=1, frames=False,
+                    forces=True)
     signals = run.Signals()
     folder = plan.folder(signals)
     output = live.Files(plan, folder, io.StringIO())
@@ -124,8 +127,9 @@ def test_the_window_stays_open_on_the_last_frame_until_closed():
 
 @pytest.mark.parametrize("speed, cost", [(1.0, 0.0), (0.25, 0.0), (1.0, 0.5)])
 def test_simulated_time_follows_the_wall_clock_at_speed(monkeypatch, speed, cost):
-    """A step costing `cost` of its own simulated time (in fake wall time): the loop takes exactly the
-    steps whose end is due, t <= speed * wall < t + h, and never says it is slower than real time."""
+    """A step costing `cost` of its own simulated time (in fake wall time): the loop takes exactly
+    the steps whose end is due, t <= speed * wall < t + h, and never says it is slower than real
+    time."""
     step = time_integrator.step
 
     def timed_step(*args, **kw):
@@ -136,9 +140,10 @@ def test_simulated_time_follows_the_wall_clock_at_speed(monkeypatch, speed, cost
 
     def script():
         while not w.run.finished:
-            if w.playing and cost == 0.0:                   # free steps: wall time stands still in play()
+            if w.playing and cost == 0.0:       # free steps: wall time stands still in play()
                 due = speed * clock.frame_end
-                assert w.run.t <= due + 1e-9 and due < w.run.t + H      # 1e-9 s: round-off in t and due
+                # 1e-9 s: round-off in t and due
+                assert w.run.t <= due + 1e-9 and due < w.run.t + H
             assert w.slow is None
             yield
 
@@ -152,8 +157,8 @@ def test_simulated_time_follows_the_wall_clock_at_speed(monkeypatch, speed, cost
 
 
 def test_slower_than_real_time_is_said_on_screen(monkeypatch):
-    """Steps costing 3x their simulated time: the window plays at 1/3 of real time (it does not rush to
-    catch up) and says so, with the rate it reaches."""
+    """Steps costing 3x their simulated time: the window plays at 1/3 of real time (it does not rush
+    to catch up) and says so, with the rate it reaches."""
     step = time_integrator.step
 
     def slow_step(*args, **kw):
@@ -164,7 +169,7 @@ def test_slower_than_real_time_is_said_on_screen(monkeypatch):
 
     def script():
         yield from frames_until(lambda: w.run.index >= 100)
-        # the rate over the pacer's last second: 1/3, within one step (0.01 s) over >= 0.5 s of samples
+        # the rate over the pacer's last second: 1/3, within one step (0.01 s) over >= 0.5 s
         assert w.slow == pytest.approx(1 / 3, abs=0.01 / 0.5)
         assert any("slower than real time: 0.33x" in text for text, _ in w.status_lines())
 
@@ -174,8 +179,8 @@ def test_slower_than_real_time_is_said_on_screen(monkeypatch):
 
 
 def test_frames_are_dropped_not_simulated_time_when_behind(monkeypatch):
-    """Steps costing 1.2x their simulated time: the loop draws only every 1/MIN_FPS s, the rest of the
-    time goes to the steps."""
+    """Steps costing 1.2x their simulated time: the loop draws only every 1/MIN_FPS s, the rest of
+    the time goes to the steps."""
     step = time_integrator.step
 
     def slow_step(*args, **kw):
@@ -204,7 +209,8 @@ def test_frames_are_dropped_not_simulated_time_when_behind(monkeypatch):
 # ------------------------------------------------------------------------------------------------
 
 def test_window_fits_the_display_or_takes_size():
-    """The dummy driver reports a 1024x768 desktop, as the projector: the window takes FIT of 768."""
+    """The dummy driver reports a 1024x768 desktop, as the projector: the window takes FIT of
+    768."""
     pg = window.open_display()
     info = pg.display.Info()
     assert window.window_size(None, pg) == int(window.FIT * min(info.current_w, info.current_h))
@@ -220,16 +226,18 @@ def test_every_line_of_text_fits_the_window(size):
     w.failure = time_integrator.NewtonNotConverged("Newton did not converge", 12, iterations=1000,
                                                    residual=0.5, tol=0.01, h=0.01)
     width = size - 24
-    texts = [f"t = {999.99:.2f} s   mu = {w.scene.mu:g}"] + [t for t, _ in w.status_lines()] + w.help_lines()
+    caption = f"t = {999.99:.2f} s   mu = {w.scene.mu:g}"
+    texts = [caption] + [t for t, _ in w.status_lines()] + w.help_lines()
     for text in texts:
-        for row in w.rows(text, width):
+        for row in newton_view.phrase_rows(w.font, text, width):
             assert w.font.size(row)[0] <= width or " " not in row.strip(), row
     w.draw()
     assert w.screen.get_size() == (size, size)
 
 
 def paused_window(overrides, step, iteration, size):
-    """A LiveWindow of `size` px paused in `step` (counted from 1) after `iteration` presses of n."""
+    """A LiveWindow of `size` px paused in `step` (counted from 1) after `iteration` presses of
+    n."""
     w, _ = live_window(simulator.build_scene(**overrides), size=size)
     w.playing = False
     for _ in range(step - 1):
@@ -241,12 +249,12 @@ def paused_window(overrides, step, iteration, size):
 
 @pytest.mark.parametrize("size", [600, 652, 900])
 def test_no_text_in_the_window_is_smaller_than_the_projector_minimum(monkeypatch, size):
-    """Every text the window draws in each of its views (the forces' legend, the slope's numbers, the
-    status with a key's message and a warning, the key hints; the Newton view at the impact and in the
-    halving demo, its inset's title, notes and scale bar, the node's label) has capitals at least
-    draw.MIN_CAP_HEIGHT of the window tall, measured in pixels: 15 px at 652 (the legend, the numbers
-    and the inset's notes had 7), and is in a colour of WCAG contrast at least 4.5:1 against the white
-    background (the key hints: 5.9:1 in window.KEYS; they were 2.3:1 in light grey)."""
+    """Every text the window draws in each of its views (the forces' legend, the slope's numbers,
+    the status with a key's message and a warning, the key hints; the Newton view at the impact and
+    in the halving demo, its inset's title, notes and scale bar, the node's label) has capitals at
+    least draw.MIN_CAP_HEIGHT of the window tall, measured in pixels: 15 px at 652 (the legend, the
+    numbers and the inset's notes had 7), and is in a colour of WCAG contrast at least 4.5:1 against
+    the white background (the key hints: 5.9:1 in window.KEYS; they were 2.3:1 in light grey)."""
     drawn = legibility.record_text(monkeypatch)
     for overrides, step, iteration in [({}, 40, 0), ({}, 30, 1), ({"h": 0.03}, 18, 4)]:
         w = paused_window(overrides, step, iteration, size)
@@ -255,8 +263,8 @@ def test_no_text_in_the_window_is_smaller_than_the_projector_minimum(monkeypatch
         w.draw()
         assert iteration == 0 or w.inset is not None
     texts = {text for text, _, _ in drawn}
-    assert {"normal force lambda_k n", "0 m", "paused before step 40", "node 0, x30", "(sets alpha_CCD)",
-            "thin lines: springs", "node 15"} <= texts
+    assert {"normal force lambda_k n", "0 m", "paused before step 40", "node 0, x30",
+            "(sets alpha_CCD)", "thin lines: springs", "node 15"} <= texts
     in_order = " ".join(text for text, _, _ in drawn)           # a note wrapped over rows reads on
     assert "below x^i, out of frame" in in_order and "q, Esc: quit" in in_order
     smallest = min(cap for _, cap, _ in drawn)
@@ -269,13 +277,15 @@ def test_no_text_in_the_window_is_smaller_than_the_projector_minimum(monkeypatch
 
 @pytest.mark.parametrize("size", [600, 652, 900])
 def test_the_windows_legend_swatch_sits_on_its_labels_row(size):
-    """The forces' legend in the window (600 px: its swatches sat off their labels), laid out from the
-    font's measured size: the normal force's red swatch (the only red at t = 0, in the air) within the
-    rows of its label's ink and just left of it; the status lines start below the legend."""
+    """The forces' legend in the window (600 px: its swatches sat off their labels), laid out from
+    the font's measured size: the normal force's red swatch (the only red at t = 0, in the air)
+    within the rows of its label's ink and just left of it; the status lines start below the
+    legend."""
     w, _ = live_window(size=size)
     w.draw()
     pixels = pygame().surfarray.array3d(w.screen)
-    top, low, first, last, gap = legibility.swatch_and_label_rows(pixels, draw.NORMAL_COLOR, size // 3)
+    rows = legibility.swatch_and_label_rows(pixels, draw.NORMAL_COLOR, size // 3)
+    top, low, first, last, gap = rows
     assert first <= top and low <= last and low - top + 1 >= 0.5 * (last - first + 1)
     assert gap <= draw.cap_height(w.font)
 
@@ -283,8 +293,9 @@ def test_the_windows_legend_swatch_sits_on_its_labels_row(size):
 def test_no_display_is_one_line_and_exit_code_2(tmp_path):
     """A video driver that cannot start (as on a machine with no display): one line, exit code 2,
     nothing written."""
-    result = subprocess.run([sys.executable, os.path.join(ROOT, "simulator.py"), "--window", "--out",
-                             str(tmp_path / "o")], env={**os.environ, "SDL_VIDEODRIVER": "no-such-display"},
+    argv = [sys.executable, os.path.join(ROOT, "simulator.py"), "--window", "--out",
+            str(tmp_path / "o")]
+    result = subprocess.run(argv, env={**os.environ, "SDL_VIDEODRIVER": "no-such-display"},
                             capture_output=True, text=True, timeout=120)
     assert result.returncode == 2
     lines = result.stderr.strip().splitlines()
@@ -293,31 +304,37 @@ def test_no_display_is_one_line_and_exit_code_2(tmp_path):
 
 
 def test_falling_back_to_a_memory_driver_is_no_display():
-    """With no display SDL quietly picks its 'offscreen' driver: that is refused unless asked for."""
-    assert "no display" in window.display_problem("offscreen", None)
-    assert "no display" in window.display_problem("dummy", "x11")
+    """With no display SDL quietly picks its 'offscreen' driver: that is refused unless asked
+    for."""
+    assert "fell back to its 'offscreen' driver" in window.display_problem("offscreen", None)
+    assert "fell back to its 'dummy' driver" in window.display_problem("dummy", "x11")
     assert window.display_problem("dummy", "dummy") is None
     assert window.display_problem("x11", None) is None
 
 
 def test_a_shell_with_no_display_gets_the_error():
-    """The instructor's case: no DISPLAY, no SDL_VIDEODRIVER. Skipped where SDL finds a screen anyway."""
-    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY", "SDL_VIDEODRIVER")}
+    """The instructor's case: no DISPLAY, no SDL_VIDEODRIVER. Skipped where SDL finds a screen
+    anyway."""
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("DISPLAY", "WAYLAND_DISPLAY", "SDL_VIDEODRIVER")}
     probe = subprocess.run([sys.executable, "-c", "import pygame; pygame.display.init(); "
-                            "print(pygame.display.get_driver())"], env={**env, "PYGAME_HIDE_SUPPORT_PROMPT": "1"},
+                            "print(pygame.display.get_driver())"],
+                           env={**env, "PYGAME_HIDE_SUPPORT_PROMPT": "1"},
                            capture_output=True, text=True, timeout=60)
     if probe.returncode != 0 or probe.stdout.strip() not in window.MEMORY_DRIVERS:
-        pytest.skip(f"SDL opens a display here without DISPLAY ({probe.stdout.strip() or probe.stderr.strip()})")
-    result = subprocess.run([sys.executable, os.path.join(ROOT, "simulator.py"), "--window"], env=env,
-                            capture_output=True, text=True, timeout=120)
+        found = probe.stdout.strip() or probe.stderr.strip()
+        pytest.skip(f"SDL opens a display here without DISPLAY ({found})")
+    result = subprocess.run([sys.executable, os.path.join(ROOT, "simulator.py"), "--window"],
+                            env=env, capture_output=True, text=True, timeout=120)
     assert result.returncode == 2
     assert result.stderr.strip().splitlines() == [result.stderr.strip()]
     assert "no display" in result.stderr and "DISPLAY is not set" in result.stderr
 
 
 @pytest.mark.parametrize("flags, message", [
-    (["--size", "10"], "--size: "), (["--size", "1e9"], "--size: "), (["--size", "650.5"], "--size: "),
-    (["--speed", "0"], "--speed: "), (["--speed", "-1"], "--speed: "), (["--speed", "nan"], "--speed: ")])
+    (["--size", "10"], "--size: "), (["--size", "1e9"], "--size: "),
+    (["--size", "650.5"], "--size: "), (["--speed", "0"], "--speed: "),
+    (["--speed", "-1"], "--speed: "), (["--speed", "nan"], "--speed: ")])
 def test_bad_window_flags_are_one_line_and_exit_code_2(capsys, flags, message):
     assert viewer.main.main(["--window", *flags]) == 2
     err = capsys.readouterr().err.strip().splitlines()
@@ -329,8 +346,9 @@ def test_bad_window_flags_are_one_line_and_exit_code_2(capsys, flags, message):
 # ------------------------------------------------------------------------------------------------
 
 @needs_newton_hook
-@pytest.mark.parametrize("overrides, index", [({}, 31), ({}, 40), ({"h": 0.03}, 17), ({"friction_updates": 3}, 31),
-                                              ({"chalk": True}, 210), ({"chalk": True, "drag": True}, 20)])
+@pytest.mark.parametrize("overrides, index", [
+    ({}, 31), ({}, 40), ({"h": 0.03}, 17), ({"friction_updates": 3}, 31),
+    ({"chalk": True}, 210), ({"chalk": True, "drag": True}, 20)])
 def test_n_advances_exactly_one_newton_iteration_and_completes_the_step(overrides, index):
     """While paused, each n takes the next iterate of time_integrator.newton_iterates for the
     current step and shows it; the n after the last iterate completes the step, with the x^{n+1} of
@@ -341,7 +359,7 @@ def test_n_advances_exactly_one_newton_iteration_and_completes_the_step(override
     is pushed."""
     overrides = dict(overrides)
     chalk = overrides.pop("chalk", False)
-    scene = simulator.build_chalk_scene(**overrides) if chalk else simulator.build_scene(**overrides)
+    scene = (simulator.build_chalk_scene if chalk else simulator.build_scene)(**overrides)
 
     def script():
         press("K_SPACE")                                            # paused at once,
@@ -363,7 +381,8 @@ def test_n_advances_exactly_one_newton_iteration_and_completes_the_step(override
                 x_next, v_next, _ = done.value
                 break
             assert w.run.index == index and w.run.iteration == count
-            assert np.array_equal(w.run.shown_x, expected.x_next) and np.array_equal(w.run.iterate.x, expected.x)
+            assert np.array_equal(w.run.shown_x, expected.x_next)
+            assert np.array_equal(w.run.iterate.x, expected.x)
             lines = " ".join(text for text, _ in w.status_lines())
             assert f"Newton iteration {count}" in lines and f"{expected.alpha:.4g}" in lines
             assert f"{expected.alpha_ccd:.4g}" in lines and f"{expected.residual:.3g} m/s" in lines
@@ -373,8 +392,9 @@ def test_n_advances_exactly_one_newton_iteration_and_completes_the_step(override
             updates.add(expected.friction_update)
             assert red_pixels(w) > red_before                       # p drawn as red arrows
         assert count >= 2 and w.run.index == index + 1 and w.run.iterate is None
-        assert updates == set(range(len(updates)))                  # the lagged solve, then updates 1, 2, ...
-        assert "friction_updates" not in overrides or 1 in updates  # (measured: the impact's step 32 re-solves)
+        # the lagged solve, then updates 1, 2, ... (measured: the impact's step 32 re-solves)
+        assert updates == set(range(len(updates)))
+        assert "friction_updates" not in overrides or 1 in updates
         assert np.array_equal(w.run.x, x_next) and np.array_equal(w.run.v, v_next)
         assert np.array_equal(w.run.x, time_integrator.step(scene, x, v, step_index=index)[0])
         if chalk:
@@ -435,17 +455,18 @@ def showing_the_current_state(w):
 # ------------------------------------------------------------------------------------------------
 
 @pytest.mark.parametrize("overrides, steps, words", [
-    ({"n_seg": 8}, 60, "mesh triangles are inverted"),              # folds at the impact (docs/limits.md)
-    ({"tol": 1e-8}, 40, "round-off floor"),                          # stalls within the first 0.4 s
+    ({"n_seg": 8}, 60, "mesh triangles are inverted"),  # folds at the impact (docs/limits.md)
+    ({"tol": 1e-8}, 40, "round-off floor"),             # stalls within the first 0.4 s
     ({"h": 1.0, "slope": None}, 1, "impacts are not resolved in time")])
 def test_the_window_says_what_a_run_to_files_warns_about(overrides, steps, words):
     log = io.StringIO()
     pg = window.open_display()
-    w = window.LiveWindow(pg, pg.display.set_mode((400, 400)), simulator.build_scene(**overrides), steps, 1.0,
-                          None, ScriptClock(), log)
+    w = window.LiveWindow(pg, pg.display.set_mode((400, 400)), simulator.build_scene(**overrides),
+                          steps, 1.0, None, ScriptClock(), log)
     w.clock.script = frames_until(lambda: w.run.finished)
     assert w.loop() == 0
     on_screen = [text for text, color in w.status_lines() if words in text]
     assert len(on_screen) == 1 and on_screen[0].startswith("warning: ")
-    if "impacts" not in words:                       # a scene's warnings are printed when the run starts
-        assert log.getvalue().count(words) == 1 and log.getvalue().startswith("simulator.py: warning: ")
+    if "impacts" not in words:          # a scene's warnings are printed when the run starts
+        assert log.getvalue().count(words) == 1
+        assert log.getvalue().startswith("simulator.py: warning: ")

@@ -9,7 +9,7 @@ from helpers.fakes import chalk_at
 from helpers import legibility
 from analysis import diagnostics
 from viewer.pictures import draw, frames, marks
-from viewer.demo import live
+from viewer.demo import live, newton_view
 
 from helpers.window import (live_window, pygame)
 
@@ -32,13 +32,16 @@ def chalk_window(steps, drag=False, size=652):
 
 def key_hints_top(w):
     """The first row of pixels of the key hints at the bottom."""
-    rows = [row for text in w.help_lines() for row in w.rows(text, w.size - 24)]
+    rows = [row for text in w.help_lines()
+            for row in newton_view.phrase_rows(w.font, text, w.size - 24)]
     return w.size - 6 - len(rows) * w.font.get_linesize()
 
 
 def chalk_top(w):
-    """The highest row of pixels of the chalk and its hand's targets (7 px squares) in the window."""
-    return min(w.view(w.run.shown_x)[:, 1].min(), w.view(w.scene.hand.targets(w.run.t))[:, 1].min() - 3)
+    """The highest row of pixels of the chalk and its hand's targets (7 px squares) in the
+    window."""
+    targets = w.view(w.scene.hand.targets(w.run.t))
+    return min(w.view(w.run.shown_x)[:, 1].min(), targets[:, 1].min() - 3)
 
 
 def mark_columns(w):
@@ -61,22 +64,26 @@ def test_the_chalk_window_draws_the_frame_of_the_chalk_its_hand_forces_and_mark(
     are there, and the mark in grey under the board over the stretch it covers."""
     w = chalk_window(steps, drag)
     scene, size, frame_view = w.scene, w.size, draw.View.of(w.scene)
-    assert w.view.scale == pytest.approx(frame_view.scale * size / draw.RESOLUTION) and w.view.unit == frame_view.unit
+    assert w.view.scale == pytest.approx(frame_view.scale * size / draw.RESOLUTION)
+    assert w.view.unit == frame_view.unit
     run_ = frames.frame_run(scene, w.run.x, w.run.report, w.label, draw.BLUE, True)
     run_["marks"] = w.run.marks
     top, bottom = w.text_bottom, key_hints_top(w)
-    frame, legends = draw.draw_frame(pygame(), [run_], w.run.t, w.view, w.fonts, w.newton_per_metre, w.reserve)
+    frame, legends = draw.draw_frame(pygame(), [run_], w.run.t, w.view, w.fonts,
+                                     w.newton_per_metre, w.reserve)
     assert w.reserve == (top - legends, size - bottom)
     shown, drawn = pygame().surfarray.array3d(w.screen), pygame().surfarray.array3d(frame)
     assert np.array_equal(shown[:, top:bottom], drawn[:, top:bottom])
     px = w.view(w.run.x)
-    assert px[:, 0].min() > 0 and px[:, 0].max() < size and top < px[:, 1].min() and px[:, 1].max() < bottom
-    box = shown[int(px[:, 0].min()):int(px[:, 0].max()) + 1, int(px[:, 1].min()):int(px[:, 1].max()) + 1]
-    bluish = box[:, :, 2].astype(int) - box[:, :, :2].max(axis=2) > 60              # the chalk's springs, anti-aliased
-    assert bluish.sum() > 2000                                                      # (3300 at 652 px)
+    (left, high), (right, low) = px.min(axis=0), px.max(axis=0)
+    assert left > 0 and right < size and top < high and low < bottom
+    box = shown[int(left):int(right) + 1, int(high):int(low) + 1]
+    # the chalk's springs, anti-aliased: 3300 px at 652 px
+    bluish = box[:, :, 2].astype(int) - box[:, :, :2].max(axis=2) > 60
+    assert bluish.sum() > 2000
     for q in np.rint(w.view(scene.hand.targets(w.run.t))).astype(int):
-        assert tuple(shown[q[0], q[1]]) == draw.HAND_COLOR                            # the hand's targets
-    assert np.all(shown[:, top:bottom] == draw.NORMAL_COLOR, axis=2).sum() > 20      # the board's push
+        assert tuple(shown[q[0], q[1]]) == draw.HAND_COLOR                # the hand's targets
+    assert np.all(shown[:, top:bottom] == draw.NORMAL_COLOR, axis=2).sum() > 20  # the board's push
     lo, hi = (float(w.view(marks.board_point(scene, s))[0, 0]) for s in w.run.marks.span())
     columns = mark_columns(w)
     assert min(columns) >= lo - 1 and max(columns) <= hi + 1 and len(columns) >= 0.8 * (hi - lo) > 2
@@ -114,16 +121,19 @@ def test_the_chalk_windows_status_says_the_chalks_figures_and_no_slope(monkeypat
     slipping, stuck = chalk_window((first_slip + slip_end) // 2 + 1), chalk_window(300)
     for w, state in ((slipping, "slipping: "), (stuck, "stuck: ")):
         lines = [text for text, _ in w.status_lines()]
-        assert lines == [f"paused before step {w.run.index + 1}"] + live.tip_lines(w.scene, w.run.x, w.run.v, w.run.t)
-        assert lines[1].startswith("tip at ") and state in lines[1] and "the hand's drive 10 mm/s" in lines[2]
+        figures = live.tip_lines(w.scene, w.run.x, w.run.v, w.run.t)
+        assert lines == [f"paused before step {w.run.index + 1}"] + figures
+        assert lines[1].startswith("tip at ") and state in lines[1]
+        assert "the hand's drive 10 mm/s" in lines[2]
     texts = [text for text, _, _ in drawn]
     assert set(live.tip_lines(stuck.scene, stuck.run.x, stuck.run.v, stuck.run.t)) <= set(texts)
     stuck.one_newton_iteration()
     stuck.draw()
     lines = [text for text, _ in stuck.status_lines()]
-    assert lines[0] == "paused in step 301" and lines[1] == "step 301, Newton iteration 1 (lagged friction)"
+    assert lines[:2] == ["paused in step 301", "step 301, Newton iteration 1 (lagged friction)"]
     assert "inset: one node and the board magnified together; p (red) to scale" in lines
-    assert stuck.inset.why == "nearest the board" and stuck.inset.node == diagnostics.tip(stuck.scene, stuck.run.x)[0]
+    assert stuck.inset.why == "nearest the board"
+    assert stuck.inset.node == diagnostics.tip(stuck.scene, stuck.run.x)[0]
     texts = " ".join(text for text, _, _ in drawn)
     assert "(nearest the board)" in texts and "the board: " in texts and "slope" not in texts
 
@@ -132,10 +142,11 @@ def test_the_chalk_windows_status_says_the_chalks_figures_and_no_slope(monkeypat
 def test_no_text_in_the_chalk_window_is_small_faint_or_over_the_chalk(monkeypatch, size):
     """The chalk's window is as legible as the square's: every text (the legends of the forces, the
     hand and the mark, the board's numbers in cm, the chalk's figures, the mark's strip's title and
-    scale bar, the Newton view's lines and inset) with capitals at least draw.MIN_CAP_HEIGHT of the window tall, in a colour of contrast at
-    least 4.5:1 on white; the legends' swatches on their labels' rows. The board is low enough that
-    the status lines end above the chalk and its hand, and its numbers above the key hints (the
-    Newton view's lines too from 652 px; at 600 they wrap onto a row more, over the hand)."""
+    scale bar, the Newton view's lines and inset) with capitals at least draw.MIN_CAP_HEIGHT of the
+    window tall, in a colour of contrast at least 4.5:1 on white; the legends' swatches on their
+    labels' rows. The board is low enough that the status lines end above the chalk and its hand,
+    and its numbers above the key hints (the Newton view's lines too from 652 px; at 600 they wrap
+    onto a row more, over the hand)."""
     drawn = legibility.record_text(monkeypatch)
     w = chalk_window(240, size=size)
     assert w.text_bottom < chalk_top(w)
@@ -145,8 +156,9 @@ def test_no_text_in_the_chalk_window_is_small_faint_or_over_the_chalk(monkeypatc
         assert first <= top and low <= last and gap <= draw.cap_height(w.font)
     numbers = [text for text, _, color in drawn if text.endswith(" cm") and color == draw.BLUE]
     assert "0 cm" in numbers
-    ink = np.nonzero((pixels[:, int(w.view(w.scene.o)[1]) + 2:] == draw.BLUE).all(axis=2).any(axis=0))[0]
-    assert int(w.view(w.scene.o)[1]) + 2 + ink.max() < key_hints_top(w)      # the numbers' blue, above the hints
+    under = int(w.view(w.scene.o)[1]) + 2                   # the rows under the board's line
+    ink = np.nonzero((pixels[:, under:] == draw.BLUE).all(axis=2).any(axis=0))[0]
+    assert under + ink.max() < key_hints_top(w)             # the numbers' blue, above the hints
     w.one_newton_iteration()
     w.draw()
     assert w.inset is not None and (size == 600 or w.text_bottom < chalk_top(w))
@@ -162,13 +174,14 @@ def strip_of(w):
     """The Strip of the mark draw.draw_frame drew in the window `w` (marks.layout on the window's
     rows)."""
     run_ = {"scene": w.scene, "x": w.run.shown_x, "marks": w.run.marks, "color": draw.BLUE}
-    below = draw.draw_slope(pygame(), pygame().Surface((w.size, w.size)), w.scene, w.view, draw.BLUE, w.font)
+    scratch = pygame().Surface((w.size, w.size))
+    below = draw.draw_slope(pygame(), scratch, w.scene, w.view, draw.BLUE, w.font)
     return marks.layout([run_], w.run.t, w.view, w.font, w.text_bottom, key_hints_top(w), below)
 
 
 @pytest.mark.parametrize("size", [600, 652, 900])
 @pytest.mark.parametrize("drag, steps", [PUSHED, DRAGGED])
-def test_the_windows_strip_sits_beside_the_chalk_over_nothing_and_goes_for_the_newton_view(size, drag, steps):
+def test_the_windows_strip_sits_beside_the_chalk_and_goes_for_the_newton_view(size, drag, steps):
     """No room under the window's board (its numbers, then the key hints): the mark's strip stands
     above the board beside the chalk, on the side with more room, clear of the chalk and its hand's
     targets, under the status lines and above the board, inside the window, at x8 of the window's
@@ -181,11 +194,13 @@ def test_the_windows_strip_sits_beside_the_chalk_over_nothing_and_goes_for_the_n
     left, top, width, height = strip.rect
     body = np.vstack([w.view(w.run.x), w.view(w.scene.hand.targets(w.run.t))])
     board = int(w.view(w.scene.o)[1])
-    assert strip.where == "beside the chalk" and strip.scale == pytest.approx(8 * 4000.0 * size / draw.RESOLUTION)
+    assert strip.where == "beside the chalk"
+    assert strip.scale == pytest.approx(8 * 4000.0 * size / draw.RESOLUTION)
     assert left + width < body[:, 0].min() - 3 or left > body[:, 0].max() + 3
     assert w.text_bottom < top and top + height < board and 0 <= left and left + width <= size
     shown = pygame().surfarray.array3d(w.screen)
-    assert np.all(shown[left:left + width, top] == 0) and np.all(shown[left, top:top + height] == 0)      # its border
+    # its border
+    assert np.all(shown[left:left + width, top] == 0) and np.all(shown[left, top:top + height] == 0)
     lo, hi = (float(strip.column(s)) for s in w.run.marks.span())
     columns = np.arange(max(int(np.floor(lo)), 2), min(int(np.ceil(hi)), width - 2))
     y = top + strip.rows[0][0] + strip.board + 2 + strip.band // 2

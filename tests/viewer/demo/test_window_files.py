@@ -50,13 +50,17 @@ def test_close_button_esc_and_q_end_the_run_with_exit_0_and_files_intact(tmp_pat
     assert stride == 3 and frames == [f"frame_{j:05d}.png" for j in range(steps // stride + 1)]
     assert len(list(tmp_path.glob("frame_*.obj"))) == len(frames)
     assert not hidden(tmp_path)                                             # no temporaries left
-    last = np.loadtxt(tmp_path / f"frame_{len(frames) - 1:05d}.obj", usecols=(1, 2), comments=("#", "l", "f"))
+    last = np.loadtxt(tmp_path / f"frame_{len(frames) - 1:05d}.obj", usecols=(1, 2),
+                      comments=("#", "l", "f"))
     at = rows[(len(frames) - 1) * stride]                           # the step of the last frame
-    assert last[:, 1].mean() == pytest.approx(float(at["com_y"]), abs=1e-6)  # equal masses: the mean
+    # equal masses: the centre of mass is the nodes' mean
+    assert last[:, 1].mean() == pytest.approx(float(at["com_y"]), abs=1e-6)
     for name in ("summary.png", "plots.png"):
         assert pygame().image.load(str(tmp_path / name)).get_width() > 0
-    page = json.loads(re.search(r"const run = (\{.*\});", (tmp_path / "index.html").read_text()).group(1))
-    assert [frame["runs"][0]["step"] for frame in page["frames"]] == [stride * j for j in range(len(frames))]
+    html = (tmp_path / "index.html").read_text()
+    page = json.loads(re.search(r"const run = (\{.*\});", html).group(1))
+    framed = [frame["runs"][0]["step"] for frame in page["frames"]]
+    assert framed == [stride * j for j in range(len(frames))]
 
 
 @pytest.mark.parametrize("flags, frame_count", [(["--steps", "20", "--mu", "0.2"], 8),
@@ -106,22 +110,24 @@ def test_without_out_nothing_is_written(tmp_path, monkeypatch):
 
 
 def test_main_hands_window_runs_to_the_window(monkeypatch):
-    """--window goes to viewer.demo.window.run_window, with no output folder unless --out is given; other
-    runs to viewer.command.run.to_files, a comparison as one plan."""
+    """--window goes to viewer.demo.window.run_window, with no output folder unless --out is given;
+    other runs to viewer.command.run.to_files, a comparison as one plan."""
     seen = []
-    monkeypatch.setattr(window, "run_window", lambda plan, speed, size, signals: seen.append((plan, speed, size)) or 0)
+    monkeypatch.setattr(window, "run_window",
+                        lambda plan, speed, size, signals: seen.append((plan, speed, size)) or 0)
     monkeypatch.setattr(run, "to_files", lambda plan, signals: seen.append(plan) or 0)
     assert viewer.main.main(["--window", "--speed", "0.25", "--size", "500"]) == 0
     assert viewer.main.main(["--steps", "3", "--mu", "0.1,0.2"]) == 0
     assert seen[0][0].out is None and seen[0][1:] == (0.25, 500)
-    assert [scene.mu for scene in seen[1].scenes] == [0.1, 0.2] and seen[1].out is None      # a new folder
+    assert [scene.mu for scene in seen[1].scenes] == [0.1, 0.2]
+    assert seen[1].out is None                                      # a new folder
 
 
 def test_a_comparison_in_the_window_is_refused_in_one_line(capsys):
     assert viewer.main.main(["--window", "--mu", "0.1,0.2,0.3"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert err == ["simulator.py: error: --window shows one run; --mu was given 3 values (compare them without "
-                   "--window)"]
+    assert err == ["simulator.py: error: --window shows one run; --mu was given 3 values "
+                   "(compare them without --window)"]
 
 
 def test_without_out_a_run_writes_to_a_new_folder(tmp_path, monkeypatch):
@@ -134,11 +140,12 @@ def test_without_out_a_run_writes_to_a_new_folder(tmp_path, monkeypatch):
 
 
 def test_sigterm_ends_the_window_as_it_ends_a_run_without_it(tmp_path):
-    """SIGTERM (which SDL would turn into the close button) stops the run as without the window: exit
-    code 143, one line saying so, the files kept (log.csv whole, a frame every stride of its steps,
-    the pictures written)."""
-    process = subprocess.Popen([sys.executable, os.path.join(ROOT, "simulator.py"), "--window", "--steps", "100000",
-                                "--out", str(tmp_path)], env={**os.environ, "SDL_VIDEODRIVER": "dummy"},
+    """SIGTERM (which SDL would turn into the close button) stops the run as without the window:
+    exit code 143, one line saying so, the files kept (log.csv whole, a frame every stride of its
+    steps, the pictures written)."""
+    argv = [sys.executable, os.path.join(ROOT, "simulator.py"), "--window", "--steps", "100000",
+            "--out", str(tmp_path)]
+    process = subprocess.Popen(argv, env={**os.environ, "SDL_VIDEODRIVER": "dummy"},
                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
         deadline = time.monotonic() + 120
@@ -150,7 +157,8 @@ def test_sigterm_ends_the_window_as_it_ends_a_run_without_it(tmp_path):
     finally:
         process.kill()
     assert process.returncode == 143, err
-    assert err.strip().splitlines()[-1].startswith("simulator.py: stopped: terminated (SIGTERM); "), err
+    last = err.strip().splitlines()[-1]
+    assert last.startswith("simulator.py: stopped: terminated (SIGTERM); "), err
     steps = int(read_log(tmp_path)[-1]["step"])
     frames = len(list(tmp_path.glob("frame_*.obj")))
     # a row is written before its frame: the log holds every frame's step (3 * (frames - 1)), and up
@@ -160,13 +168,15 @@ def test_sigterm_ends_the_window_as_it_ends_a_run_without_it(tmp_path):
 
 
 def test_a_full_disk_stops_the_files_not_the_demo(tmp_path, monkeypatch):
-    """A write failing (ENOSPC) at frame 3 (after frames 0-2 as PNG and OBJ): the window plays on to the end, the files stop where they
-    were (log.csv whole, no pictures, as without the window), and closing says so in one line, exit 1."""
+    """A write failing (ENOSPC) at frame 3 (after frames 0-2 as PNG and OBJ): the window plays on to
+    the end, the files stop where they were (log.csv whole, no pictures, as without the window), and
+    closing says so in one line, exit 1."""
     fill_disk_after(monkeypatch, 6)
 
     def script():
         yield from frames_until(lambda: live[0].run.finished)
-        assert any("files stopped: No space left on device" in text for text, _ in live[0].status_lines())
+        status = " ".join(text for text, _ in live[0].status_lines())
+        assert "files stopped: No space left on device" in status
 
     live, real_init = [], window.LiveWindow.__init__
 
@@ -175,12 +185,15 @@ def test_a_full_disk_stops_the_files_not_the_demo(tmp_path, monkeypatch):
         live.append(self)
     monkeypatch.setattr(window.LiveWindow, "__init__", init)
     log = io.StringIO()
-    code = run_window(["--window", "--steps", "30", "--out", str(tmp_path)], clock=ScriptClock(script()), log=log)
+    code = run_window(["--window", "--steps", "30", "--out", str(tmp_path)],
+                      clock=ScriptClock(script()), log=log)
     assert code == 1 and live[0].run.index == 30
     lines = log.getvalue().strip().splitlines()
-    assert lines[-1].startswith("simulator.py: error: cannot write") and "No space left on device" in lines[-1]
+    assert lines[-1].startswith("simulator.py: error: cannot write")
+    assert "No space left on device" in lines[-1]
     assert f"steps kept in {tmp_path}/; left out: summary.png, plots.png, index.html" in lines[-1]
     steps = [int(r["step"]) for r in read_log(tmp_path)]
-    assert steps == list(range(10))                     # frame 3 is step 9's: its row was written first
-    assert sorted(p.name for p in tmp_path.glob("frame_*.png")) == [f"frame_{j:05d}.png" for j in range(3)]
+    assert steps == list(range(10))         # frame 3 is step 9's: its row was written first
+    frames = sorted(p.name for p in tmp_path.glob("frame_*.png"))
+    assert frames == [f"frame_{j:05d}.png" for j in range(3)]
     assert not (tmp_path / "summary.png").exists()
