@@ -1,8 +1,5 @@
-"""Gravitational potential: P_g(x) = -sum_i m_i g . x_i.
-
-`val`, `grad`, `hess` check their input, then call the `*_kernel` of the same name (the formula,
-trusting its input; the time integrator calls the kernels on a scene checked once).
-"""
+"""Gravitational potential: P_g(x) = -sum_i m_i g . x_i (val/grad/hess check their input, the
+*_kernel of the same name trusts it)."""
 import numpy as np
 
 import utils

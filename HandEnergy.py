@@ -2,10 +2,8 @@
 
     P_hand(x) = sum_{i held} 1/2 k_hand ||x_i - target_i||^2,
 
-the penalty form of a moving boundary condition (the tutorial's 5_mov_dirichlet), the targets
-those of t^{n+1}.
-`val`, `grad`, `hess` check their input, then call the `*_kernel` of the same name (the formula,
-trusting its input). k_hand is one stiffness, or one per held node.
+the penalty form of a moving boundary condition (the tutorial's 5_mov_dirichlet), targets at
+t^{n+1}, k_hand one or one per held node (val/grad/hess check, the *_kernel trusts its input).
 """
 from dataclasses import dataclass
 

@@ -1,8 +1,5 @@
-"""Inertia term of the Incremental Potential: E_I(x) = 1/2 ||x - x_tilde||_M^2 (lumped masses).
-
-`val`, `grad`, `hess` check their input, then call the `*_kernel` of the same name (the formula,
-trusting its input; the time integrator calls the kernels on a scene checked once).
-"""
+"""The Incremental Potential's inertia term E_I(x) = 1/2 ||x - x_tilde||_M^2, lumped masses
+(val/grad/hess check their input, the *_kernel of the same name trusts it)."""
 import numpy as np
 
 import utils

@@ -1,8 +1,5 @@
-"""Mass-spring elasticity: P_e(x) = sum_e 1/2 k_e l_e^2 (||x_a - x_b||^2 / l_e^2 - 1)^2.
-
-`l2` holds the squared rest lengths l_e^2, as in the lecture's code. `val`, `grad`, `hess` check
-their input, then call the `*_kernel` of the same name (the formula, trusting its input).
-"""
+"""Mass-spring elasticity: P_e(x) = sum_e 1/2 k_e l_e^2 (||x_a - x_b||^2 / l_e^2 - 1)^2, `l2` the
+squared rest lengths (val/grad/hess check their input, the *_kernel of the same name trusts it)."""
 import numpy as np
 
 import utils

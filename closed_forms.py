@@ -167,23 +167,18 @@ def run(scene, duration, progress=None):
     steps = int(round(duration / scene.h))
     if steps < 1 or abs(steps * scene.h - duration) > 1e-9 * duration:
         raise ValueError(f"duration {duration} s is not a whole number of steps of h = {scene.h} s")
-    t, coms, vs = [0.0], [com(scene, scene.x0)], [com(scene, scene.v0)]
-    slips = [_slip(scene, scene.x0, scene.v0)]
-    newton, friction, converged, wall = [], [], [], 0.0
-    every = max(1, steps // 20)
+    states = [(0.0, com(scene, scene.x0), com(scene, scene.v0), _slip(scene, scene.x0, scene.v0))]
+    reports, wall, every = [], 0.0, max(1, steps // 20)
     for rec in simulator.simulate(scene, steps):
-        t.append(rec.t)
-        coms.append(com(scene, rec.x))
-        vs.append(com(scene, rec.v))
-        slips.append(_slip(scene, rec.x, rec.v))
-        newton.append(rec.report.newton_iterations)
-        friction.append(rec.report.friction_updates)
-        converged.append(rec.report.friction_converged)
+        states.append((rec.t, com(scene, rec.x), com(scene, rec.v), _slip(scene, rec.x, rec.v)))
+        reports.append(rec.report)
         wall += rec.wall
         if progress is not None and (rec.index + 1) % every == 0:
             progress((rec.index + 1) / steps)
-    return Run(np.array(t), np.array(coms), np.array(vs), np.array(slips), np.array(newton),
-               np.array(friction), np.array(converged), wall)
+    t, coms, vs, slips = (np.array(column) for column in zip(*states))
+    costs = [np.array([getattr(r, name) for r in reports])
+             for name in ("newton_iterations", "friction_updates", "friction_converged")]
+    return Run(t, coms, vs, slips, *costs, wall)
 
 
 # Excluded from the acceleration fit: friction is static until the speed passes eps_v and the

@@ -26,7 +26,7 @@ MEMORY_PER_NODE = 16 * 1024
 
 
 def check_params(defaults, aliases, overrides):
-    """`defaults` updated by `overrides` (each alias renamed to its parameter), every value checked."""
+    """`defaults` updated by `overrides` (aliases renamed to their parameter), values checked."""
     unknown = sorted(set(overrides) - set(defaults) - set(aliases))
     if unknown:
         raise ParameterError(unknown[0], f"unknown scene parameter(s): {', '.join(unknown)}; "
@@ -88,15 +88,15 @@ def physical_memory():
 
 
 def check_memory(n_seg):
-    """ValueError if (n_seg + 1)^2 nodes of MEMORY_PER_NODE each do not fit this machine's memory."""
+    """ValueError if (n_seg + 1)^2 nodes of MEMORY_PER_NODE each do not fit this machine."""
     nodes, have = (n_seg + 1) ** 2, physical_memory()      # Python ints: exact at any n_seg
     if have is not None and MEMORY_PER_NODE * nodes > have:
         need = decimal.Decimal(MEMORY_PER_NODE * nodes) / 2**30
-        raise ParameterError("n_seg", f"n_seg = {float(n_seg):g} makes {decimal.Decimal(nodes):.3g} "
-                                      f"nodes, about {need:.3g} GiB of memory at "
-                                      f"{MEMORY_PER_NODE // 1024} KiB each, more than this "
-                                      f"machine's {have / 2**30:.3g} GiB (largest n_seg that fits: "
-                                      f"{math.isqrt(have // MEMORY_PER_NODE) - 1})")
+        message = (f"n_seg = {float(n_seg):g} makes {decimal.Decimal(nodes):.3g} nodes, about "
+                   f"{need:.3g} GiB of memory at {MEMORY_PER_NODE // 1024} KiB each, more than "
+                   f"this machine's {have / 2**30:.3g} GiB (largest n_seg that fits: "
+                   f"{math.isqrt(have // MEMORY_PER_NODE) - 1})")
+        raise ParameterError("n_seg", message)
 
 
 def roundoff(x, o):
@@ -159,21 +159,21 @@ def check_start(p, defaults, x, n, o, d):
     for what, value, powers in _scales(p, x, o, d):
         if not value <= FLOAT64_SCALE_LIMIT:
             name = _culprit(p, defaults, powers)
-            raise ParameterError(name, f"{name} = {_shown(p[name])} is beyond float64's range in "
-                                       f"this scene: {what} would be {value:.3g}, above the "
-                                       f"{FLOAT64_SCALE_LIMIT:g} whose squares still sum to a "
-                                       f"finite number")
+            message = (f"{name} = {_shown(p[name])} is beyond float64's range in this scene: "
+                       f"{what} would be {value:.3g}, above the {FLOAT64_SCALE_LIMIT:g} whose "
+                       f"squares still sum to a finite number")
+            raise ParameterError(name, message)
     h, k = p["h"], p["k"]
     Mp = {"mass": 1} if p["mass"] is not None else {"rho": 1, "side_len": 2}
     m = total_mass(p) / len(x)
-    ratio = h * h * k / m if m > 0.0 else math.inf         # a mass that underflowed resolves nothing
+    ratio = h * h * k / m if m > 0.0 else math.inf     # a mass that underflowed resolves nothing
     if not ratio <= NEWTON_RATIO_LIMIT:
         name = _culprit(p, defaults, {"k": 1, "h": 2, "n_seg": 2, **{a: -b for a, b in Mp.items()}})
-        raise ParameterError(name, f"{name} = {_shown(p[name])}: float64 cannot resolve the Newton "
-                                   f"matrix M + h^2 K, as h^2 k / m = {ratio:.3g} (h = {h:g} s, k = "
-                                   f"{k:g}, node mass m = {m:.3g} kg) is above 0.1/eps = "
-                                   f"{NEWTON_RATIO_LIMIT:.2g}, where m is lost in the round-off of "
-                                   f"h^2 k (lower k or h, or raise the mass)")
+        message = (f"{name} = {_shown(p[name])}: float64 cannot resolve the Newton matrix "
+                   f"M + h^2 K, as h^2 k / m = {ratio:.3g} (h = {h:g} s, k = {k:g}, node mass "
+                   f"m = {m:.3g} kg) is above 0.1/eps = {NEWTON_RATIO_LIMIT:.2g}, where m is lost "
+                   f"in the round-off of h^2 k (lower k or h, or raise the mass)")
+        raise ParameterError(name, message)
     if not h * h >= np.finfo(float).tiny:
         raise ParameterError("h", f"h = {h:g} s is too small for float64: h^2 = {h * h:.3g} "
                                   f"underflows (h >= 1.5e-154 s)")
@@ -186,19 +186,20 @@ def check_start(p, defaults, x, n, o, d):
         if not length > ROUNDOFF_ULPS * EPS * scale:
             moved = {"center": 1, "slope_point": 1, "v0": 1, "gravity": 1, "h": 1, **powers}
             name = _culprit(p, defaults, moved)
-            raise ParameterError(name, f"{name} = {_shown(p[name])} leaves {what} = {length:.3g} m "
-                                       f"below the round-off of the first step's coordinates, "
-                                       f"which reach {scale:.3g} m (keep every coordinate below "
-                                       f"{1 / (ROUNDOFF_ULPS * EPS):.2g} times the spacing and dhat)")
+            message = (f"{name} = {_shown(p[name])} leaves {what} = {length:.3g} m below the "
+                       f"round-off of the first step's coordinates, which reach {scale:.3g} m "
+                       f"(keep every coordinate below {1 / (ROUNDOFF_ULPS * EPS):.2g} times the "
+                       f"spacing and dhat)")
+            raise ParameterError(name, message)
     if d is not None and not d.min() > roundoff(x, o):
         i = int(np.argmin(d))
         moved = _shown(np.array(p["center"]) + (p["dhat"] - d[i]) * n).replace(", ", ",")
-        raise ParameterError("center", f"the square starts touching or below the slope: node {i} "
-                                       f"at {x[i].tolist()} has distance {d[i]:.3g} m, not above "
-                                       f"the round-off of its coordinates ({roundoff(x, o):.2g} m); "
-                                       f"move center (now {_shown(p['center'])}) away from the "
-                                       f"slope, e.g. to {moved}, which puts that node dhat = "
-                                       f"{p['dhat']:g} m above it")
+        message = (f"the square starts touching or below the slope: node {i} at {x[i].tolist()} "
+                   f"has distance {d[i]:.3g} m, not above the round-off of its coordinates "
+                   f"({roundoff(x, o):.2g} m); move center (now {_shown(p['center'])}) away from "
+                   f"the slope, e.g. to {moved}, which puts that node dhat = {p['dhat']:g} m "
+                   f"above it")
+        raise ParameterError("center", message)
 
 
 def scene_warnings(p, x, n, d):

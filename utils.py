@@ -79,10 +79,12 @@ def check_points(name, x, shape=None):
     """`x` as a finite float64 (N, 2) array, of `shape` if given."""
     x = x if isinstance(x, np.ndarray) and x.dtype == np.float64 else _real_array(name, x)
     if x.ndim != 2 or x.shape[1] != 2 or shape not in (None, x.shape):
-        raise ParameterError(name, f"{name} must have shape {shape or '(N, 2)'}, got shape {x.shape}")
+        message = f"{name} must have shape {shape or '(N, 2)'}, got shape {x.shape}"
+        raise ParameterError(name, message)
     if not np.isfinite(x).all():
         bad = np.argwhere(~np.isfinite(x))[0]
-        raise ParameterError(name, f"{name} has a non-finite value {x[tuple(bad)]} at node {bad[0]}")
+        message = f"{name} has a non-finite value {x[tuple(bad)]} at node {bad[0]}"
+        raise ParameterError(name, message)
     return x
 
 
@@ -121,8 +123,9 @@ def check_vector(name, a):
     try:
         a = np.array([_real(c) for c in a])
     except OverflowError:
-        raise ParameterError(name, f"{name} must be a 2-vector of numbers, got "
-                                   f"({', '.join(map(_typed, a))}), beyond float64's range") from None
+        message = (f"{name} must be a 2-vector of numbers, got ({', '.join(map(_typed, a))}), "
+                   f"beyond float64's range")
+        raise ParameterError(name, message) from None
     except (TypeError, ValueError):
         raise ParameterError(name, f"{name} must be a 2-vector of numbers, got {a!r}") from None
     if not np.isfinite(a).all():
@@ -232,7 +235,7 @@ def ijv_to_csr(ijv, n_dofs):
 
 
 def add_to_pairs(e, f, n):
-    """(n, 2): each pair (a, b) of `e` adds its row of f (E, 2) to node a and subtracts it from b."""
+    """(n, 2): each pair (a, b) of `e` adds its row of f (E, 2) to node a, subtracts it from b."""
     a, b = (2 * e[:, i:i + 1] + np.arange(2) for i in (0, 1))       # the DOFs of a and b
     added = np.bincount(a.ravel(), f.ravel(), 2 * n) - np.bincount(b.ravel(), f.ravel(), 2 * n)
     return added.reshape(n, 2)
