@@ -79,6 +79,11 @@ def total_mass(p):
     return p["mass"] if p["mass"] is not None else p["rho"] * p["side_len"] * p["side_len"]
 
 
+def _mass_powers(p):
+    """The parameters the total mass grows with, and their exponents."""
+    return {"mass": 1} if p["mass"] is not None else {"rho": 1, "side_len": 2}
+
+
 def physical_memory():
     """This machine's physical memory in bytes, or None where the OS does not say."""
     try:
@@ -125,8 +130,7 @@ def _culprit(p, defaults, powers):
 def _scales(p, x, o, d):
     """The first step's scales (what, value, the parameters' exponents in it) (docs/limits.md)."""
     h, k, v, g = p["h"], p["k"], math.hypot(*p["v0"]), math.hypot(*p["gravity"])
-    Mp = {"mass": 1} if p["mass"] is not None else {"rho": 1, "side_len": 2}
-    M = total_mass(p)
+    M, Mp = total_mass(p), _mass_powers(p)
     l, D, X = p["side_len"] / p["n_seg"], v * h + g * h * h, float(np.abs(x).max())
     scales = [
         ("the total mass M", M, Mp),
@@ -164,11 +168,11 @@ def check_start(p, defaults, x, n, o, d):
                        f"squares still sum to a finite number")
             raise ParameterError(name, message)
     h, k = p["h"], p["k"]
-    Mp = {"mass": 1} if p["mass"] is not None else {"rho": 1, "side_len": 2}
     m = total_mass(p) / len(x)
     ratio = h * h * k / m if m > 0.0 else math.inf     # a mass that underflowed resolves nothing
     if not ratio <= NEWTON_RATIO_LIMIT:
-        name = _culprit(p, defaults, {"k": 1, "h": 2, "n_seg": 2, **{a: -b for a, b in Mp.items()}})
+        mass = {a: -b for a, b in _mass_powers(p).items()}
+        name = _culprit(p, defaults, {"k": 1, "h": 2, "n_seg": 2, **mass})
         message = (f"{name} = {_shown(p[name])}: float64 cannot resolve the Newton matrix "
                    f"M + h^2 K, as h^2 k / m = {ratio:.3g} (h = {h:g} s, k = {k:g}, node mass "
                    f"m = {m:.3g} kg) is above 0.1/eps = {NEWTON_RATIO_LIMIT:.2g}, where m is lost "
