@@ -1,8 +1,5 @@
-"""Gravitational potential: P_g(x) = -sum_i m_i g . x_i.
-
-`val`, `grad`, `hess` check their input and call the `*_kernel` of the same name, which holds the
-formula and trusts its input (the time integrator calls the kernels on a scene validated once).
-"""
+"""Gravitational potential: P_g(x) = -sum_i m_i g . x_i (val/grad/hess check their input, the
+*_kernel of the same name trusts it)."""
 import numpy as np
 
 import utils
@@ -17,12 +14,12 @@ def _check(x, m, g):
 
 
 def val(x, m, g=GRAVITY):
-    """P_g = -sum_i m_i g . x_i (checked; see val_kernel)."""
+    """P_g = -sum_i m_i g . x_i (checked)."""
     return utils.finite_result("GravityEnergy.val", val_kernel(*_check(x, m, g)), ARGUMENTS)
 
 
 def grad(x, m, g=GRAVITY):
-    """grad P_g = -m_i g at every node (checked; see grad_kernel)."""
+    """grad P_g = -m_i g at every node (checked)."""
     return utils.finite_result("GravityEnergy.grad", grad_kernel(*_check(x, m, g)), ARGUMENTS)
 
 
@@ -33,12 +30,10 @@ def hess(x, m, g=GRAVITY):
 
 
 def val_kernel(x, m, g):
-    """P_g = -sum_i m_i g . x_i."""
     return -float(m @ (x @ g))
 
 
 def grad_kernel(x, m, g):
-    """grad P_g = -m_i g at every node (constant in x)."""
     return -m[:, None] * g
 
 

@@ -1,13 +1,9 @@
-"""The hand (the chalk's grip): zero-rest-length springs from the held nodes to targets that move with time,
+"""The hand (the chalk's grip): zero-rest-length springs from the held nodes to moving targets,
 
     P_hand(x) = sum_{i held} 1/2 k_hand ||x_i - target_i||^2,
 
-the penalty form of a moving boundary condition (the tutorial's 5_mov_dirichlet `SpringEnergy`). The
-targets are those of the time the step goes to, t^{n+1}: `Hand.targets(t)`, the scene's data, gives them.
-
-`val`, `grad`, `hess` check their input and call the `*_kernel` of the same name, which holds the formula
-and trusts its input (the time integrator calls the kernels on a scene validated once). k_hand is one
-stiffness for every held node, or one per held node.
+the penalty form of a moving boundary condition (the tutorial's 5_mov_dirichlet), targets at
+t^{n+1}, k_hand one or one per held node (val/grad/hess check, the *_kernel trusts its input).
 """
 from dataclasses import dataclass
 
@@ -18,9 +14,8 @@ import utils
 
 @dataclass(frozen=True)
 class Hand:
-    """The grip as scene data (never changed by stepping): which nodes are held, how stiffly, and where
-    their targets are at time t: rest + d(t), d piecewise linear through the keyframes (key_t, key_d) and
-    continued at the last segment's velocity after key_t[-1]."""
+    """The grip as scene data: the held nodes, their stiffness, and their targets rest + d(t), d
+    linear through the keyframes (key_t, key_d), at the last segment's velocity after key_t[-1]."""
     nodes: np.ndarray       # (H,) held node indices
     rest: np.ndarray        # (H, 2) the targets at d = 0 (the held nodes' start positions), m
     k_hand: float           # spring stiffness per held node, N/m
@@ -28,11 +23,11 @@ class Hand:
     key_d: np.ndarray       # (K, 2) the targets' displacement at key_t, m
 
     def displacement(self, t):
-        """d(t): linear between keyframes (constant before key_t[0]), at the last segment's velocity after."""
+        """d(t), constant before key_t[0]."""
         t0, t1 = self.key_t[-2:]
         if t > t1:
             return self.key_d[-1] + (t - t1) / (t1 - t0) * (self.key_d[-1] - self.key_d[-2])
-        return np.array([np.interp(t, self.key_t, self.key_d[:, 0]), np.interp(t, self.key_t, self.key_d[:, 1])])
+        return np.array([np.interp(t, self.key_t, d) for d in self.key_d.T])
 
     def targets(self, t):
         """target_i(t) = rest_i + d(t), (H, 2)."""
@@ -43,7 +38,8 @@ def _check(x, nodes, target, k_hand):
     x = utils.check_points("x", x)
     nodes = np.asarray(nodes)
     if nodes.ndim != 1 or (nodes.size and not np.issubdtype(nodes.dtype, np.integer)):
-        raise ValueError(f"nodes must be a 1-D array of integer node indices, got {nodes.dtype} of shape {nodes.shape}")
+        raise ValueError("nodes must be a 1-D array of integer node indices, "
+                         f"got {nodes.dtype} of shape {nodes.shape}")
     if nodes.size and (nodes.min() < 0 or nodes.max() >= len(x)):
         bad = nodes[(nodes < 0) | (nodes >= len(x))][0]
         raise ValueError(f"nodes has node index {bad} outside [0, {len(x)}) for {len(x)} nodes")
@@ -58,36 +54,33 @@ def _check(x, nodes, target, k_hand):
 
 
 def val(x, nodes, target, k_hand):
-    """P_hand = sum_i 1/2 k_hand ||x_i - target_i||^2 over the held nodes (checked; see val_kernel)."""
+    """P_hand = sum_i 1/2 k_hand ||x_i - target_i||^2 over the held nodes (checked)."""
     return val_kernel(*_check(x, nodes, target, k_hand))
 
 
 def grad(x, nodes, target, k_hand):
-    """grad_i P_hand = k_hand (x_i - target_i) at the held nodes, zero elsewhere (checked; see grad_kernel)."""
+    """grad_i P_hand = k_hand (x_i - target_i) at the held nodes, zero elsewhere (checked)."""
     return grad_kernel(*_check(x, nodes, target, k_hand))
 
 
 def hess(x, nodes, target, k_hand):
-    """hess_i P_hand = k_hand I at the held nodes, as an IJV triplet (checked; see hess_kernel)."""
+    """hess_i P_hand = k_hand I at the held nodes, as an IJV triplet (checked)."""
     return utils.blocks_to_ijv(*hess_kernel(*_check(x, nodes, target, k_hand)))
 
 
 def val_kernel(x, nodes, target, k_hand):
-    """P_hand = sum_i 1/2 k_hand ||x_i - target_i||^2."""
     diff = x.take(nodes, axis=0) - target
     return 0.5 * float((k_hand * np.einsum("ij,ij->i", diff, diff)).sum())
 
 
 def grad_kernel(x, nodes, target, k_hand):
-    """grad_i P_hand = k_hand (x_i - target_i) at the held nodes, zero elsewhere."""
     g = np.zeros(x.shape)
-    g[nodes] = np.asarray(k_hand)[..., None] * (x.take(nodes, axis=0) - target)     # k_hand: one, or (H,)
+    g[nodes] = np.asarray(k_hand)[..., None] * (x.take(nodes, axis=0) - target)   # one, or (H,)
     return g
 
 
 def hess_kernel(x, nodes, target, k_hand):
-    """hess_i P_hand = k_hand I: a 2x2 block on each held node alone (PSD as it is, constant in x), so it
-    couples no node to another and the Newton matrix keeps the mesh's band."""
+    """A 2x2 block k_hand I on each held node alone: PSD, constant, within the mesh's band."""
     blocks = np.zeros((len(nodes), 2, 2))
     blocks[:, 0, 0] = blocks[:, 1, 1] = k_hand
     return nodes[:, None], blocks

@@ -1,8 +1,5 @@
-"""Inertia term of the Incremental Potential: E_I(x) = 1/2 ||x - x_tilde||_M^2 (lumped masses).
-
-`val`, `grad`, `hess` check their input and call the `*_kernel` of the same name, which holds the
-formula and trusts its input (the time integrator calls the kernels on a scene validated once).
-"""
+"""The Incremental Potential's inertia term E_I(x) = 1/2 ||x - x_tilde||_M^2, lumped masses
+(val/grad/hess check their input, the *_kernel of the same name trusts it)."""
 import numpy as np
 
 import utils
@@ -19,32 +16,30 @@ def _check(x, x_tilde, m):
 
 
 def val(x, x_tilde, m):
-    """E_I = 1/2 sum_i m_i ||x_i - x_tilde_i||^2 (checked; see val_kernel)."""
+    """E_I = 1/2 sum_i m_i ||x_i - x_tilde_i||^2 (checked)."""
     return utils.finite_result("InertiaEnergy.val", val_kernel(*_check(x, x_tilde, m)), ARGUMENTS)
 
 
 def grad(x, x_tilde, m):
-    """grad E_I = M (x - x_tilde) (checked; see grad_kernel)."""
+    """grad E_I = M (x - x_tilde) (checked)."""
     return utils.finite_result("InertiaEnergy.grad", grad_kernel(*_check(x, x_tilde, m)), ARGUMENTS)
 
 
 def hess(x, x_tilde, m):
-    """hess E_I = M as an IJV triplet (checked; see hess_kernel)."""
+    """hess E_I = M as an IJV triplet (checked)."""
     nodes, blocks = hess_kernel(*_check(x, x_tilde, m))
     return utils.blocks_to_ijv(nodes, utils.finite_result("InertiaEnergy.hess", blocks, ARGUMENTS))
 
 
 def val_kernel(x, x_tilde, m):
-    """E_I = 1/2 sum_i m_i ||x_i - x_tilde_i||^2."""
     diff = x - x_tilde
     return 0.5 * float(m @ np.einsum("ij,ij->i", diff, diff))
 
 
 def grad_kernel(x, x_tilde, m):
-    """grad E_I = M (x - x_tilde)."""
     return m[:, None] * (x - x_tilde)
 
 
 def hess_kernel(x, x_tilde, m):
-    """hess E_I = M: the 2x2 block m_i I at every node, constant in x."""
+    """The 2x2 block m_i I at every node, constant in x."""
     return np.arange(len(m))[:, None], m[:, None, None] * np.eye(2)

@@ -1,9 +1,5 @@
-"""Mass-spring elasticity: P_e(x) = sum_e 1/2 k_e l_e^2 (||x_a - x_b||^2 / l_e^2 - 1)^2.
-
-`l2` holds the squared rest lengths l_e^2, as in the lecture's code. `val`, `grad`, `hess` check their
-input and call the `*_kernel` of the same name, which holds the formula and trusts its input (the time
-integrator calls the kernels on a scene validated once).
-"""
+"""Mass-spring elasticity: P_e(x) = sum_e 1/2 k_e l_e^2 (||x_a - x_b||^2 / l_e^2 - 1)^2, `l2` the
+squared rest lengths (val/grad/hess check their input, the *_kernel of the same name trusts it)."""
 import numpy as np
 
 import utils
@@ -19,53 +15,50 @@ def _check(x, e, l2, k):
 
 
 def val(x, e, l2, k):
-    """P_e = sum_e 1/2 k l2 (||diff||^2 / l2 - 1)^2 (checked; see val_kernel)."""
+    """P_e = sum_e 1/2 k l2 (||diff||^2 / l2 - 1)^2 (checked)."""
     return utils.finite_result("MassSpringEnergy.val", val_kernel(*_check(x, e, l2, k)), ARGUMENTS)
 
 
 def grad(x, e, l2, k):
-    """dP_e/dx_a = -dP_e/dx_b = 2 k (||diff||^2 / l2 - 1) diff (checked; see grad_kernel)."""
-    return utils.finite_result("MassSpringEnergy.grad", grad_kernel(*_check(x, e, l2, k)), ARGUMENTS)
+    """dP_e/dx_a = -dP_e/dx_b = 2 k (||diff||^2 / l2 - 1) diff (checked)."""
+    g = grad_kernel(*_check(x, e, l2, k))
+    return utils.finite_result("MassSpringEnergy.grad", g, ARGUMENTS)
 
 
 def hess(x, e, l2, k, project_psd=True):
-    """Per edge [[H, -H], [-H, H]] as an IJV triplet (checked; see hess_kernel). `project_psd=False`
-    gives the true, possibly indefinite, Hessian."""
+    """Per edge [[H, -H], [-H, H]] as an IJV triplet (checked); `project_psd=False` gives the true,
+    possibly indefinite, Hessian."""
     nodes, blocks = hess_kernel(*_check(x, e, l2, k), project_psd=project_psd)
-    return utils.blocks_to_ijv(nodes, utils.finite_result("MassSpringEnergy.hess", blocks, ARGUMENTS))
+    blocks = utils.finite_result("MassSpringEnergy.hess", blocks, ARGUMENTS)
+    return utils.blocks_to_ijv(nodes, blocks)
 
 
 def _edges(x, e):
     """diff = x_a - x_b (E, 2) of every edge, and ||diff||^2 (E,)."""
-    diff = x.take(e[:, 0], axis=0) - x.take(e[:, 1], axis=0)        # (take: x[e[:, 0]], 4-7x faster)
+    diff = x.take(e[:, 0], axis=0) - x.take(e[:, 1], axis=0)   # take: x[e[:, 0]], faster
     return diff, diff[:, 0] ** 2 + diff[:, 1] ** 2
 
 
 def squared_lengths(x, e):
-    """||x_a - x_b||^2 of every edge (E,): a scene's rest lengths l2, measured with the operations P_e
-    measures the springs with, so a spring at rest has strain 0.0 exactly."""
+    """||x_a - x_b||^2 of every edge: a scene's rest lengths l2, measured as P_e measures them, so a
+    spring at rest has strain 0.0 exactly."""
     return _edges(np.asarray(x, dtype=float), np.asarray(e))[1]
 
 
 def val_kernel(x, e, l2, k):
-    """P_e = sum_e 1/2 k l2 (||diff||^2 / l2 - 1)^2."""
     strain = _edges(x, e)[1] / l2 - 1.0
     return 0.5 * float((k * l2) @ (strain * strain))
 
 
 def grad_kernel(x, e, l2, k):
-    """dP_e/dx_a = -dP_e/dx_b = 2 k (||diff||^2 / l2 - 1) diff, summed per node."""
     diff, sq = _edges(x, e)
     return utils.add_to_pairs(e, (2.0 * k * (sq / l2 - 1.0))[:, None] * diff, len(x))
 
 
 def hess_kernel(x, e, l2, k, project_psd=True):
-    """Per edge the 4x4 block [[H, -H], [-H, H]], H = 2k/l2 (2 diff diff^T + (||diff||^2 - l2) I).
-
-    H has the eigenvector diff with eigenvalue lam_par = 2k/l2 (3 ||diff||^2 - l2) and the one across it
-    with lam_perp = 2k/l2 (||diff||^2 - l2): H = lam_perp I + (lam_par - lam_perp) diff diff^T / ||diff||^2.
-    The block's eigenvalues are 2 eig(H) and 0, so its PSD projection (the lecture's make_PD) is
-    [[H+, -H+], [-H+, H+]] with H+ clamping lam_par and lam_perp at zero."""
+    """Per edge [[H, -H], [-H, H]], H = 2k/l2 (2 diff diff^T + (||diff||^2 - l2) I)
+    = lam_perp I + (lam_par - lam_perp) diff diff^T / ||diff||^2; its PSD projection (make_PD)
+    clamps lam_par = 2k/l2 (3 ||diff||^2 - l2) and lam_perp = 2k/l2 (||diff||^2 - l2) at zero."""
     diff, sq = _edges(x, e)
     c = 2.0 * k / l2
     lam_perp = c * (sq - l2)
@@ -79,5 +72,5 @@ def hess_kernel(x, e, l2, k, project_psd=True):
     return e, np.tile(H, (1, 2, 2)) * _PAIR_SIGNS
 
 
-_PAIR_SIGNS = np.kron([[1.0, -1.0], [-1.0, 1.0]], np.ones((2, 2)))     # [[H, -H], [-H, H]] = tile(H) * signs
+_PAIR_SIGNS = np.kron([[1.0, -1.0], [-1.0, 1.0]], np.ones((2, 2)))     # tile(H) * signs
 _PAIR_SIGNS.setflags(write=False)

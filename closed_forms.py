@@ -1,17 +1,10 @@
-"""The closed-form cases: their scenes, their exact answers, and how a run is measured against them.
+"""The closed-form cases, their exact answers, and how a run is measured against them, shared by
+tests/physics/test_accuracy.py (asserts) and benchmarks/error_vs_runtime.py (reports).
 
-Shared by tests/physics/test_accuracy.py (which asserts) and benchmarks/error_vs_runtime.py (which reports),
-so both measure the same thing the same way; a module of its own, so that neither a test imports a
-benchmark nor a benchmark a test.
-
-- Sliding and sticking: a nearly rigid square (spring stiffness STIFF_K) starts at rest with its
-  bottom edge on the slope, at the pose where the barrier carries its weight (`resting_scene`).
-  Sliding (mu < tan theta): the centre of mass accelerates along the slope at
-  g (sin theta - mu cos theta). Sticking (mu > tan theta): Coulomb friction holds it still; the
-  mollified friction lets it creep at `creep_speed`, below eps_v.
-- Free fall without a slope: the centre of mass follows x0 + v0 t + 1/2 g t^2.
-- The full scene (the lecture's drop, impact and slide) has no closed form; it is measured
-  against a run with a much smaller time step.
+- Sliding (mu < tan theta): a rigid square at rest on the slope (`resting_scene`) accelerates at
+  g (sin theta - mu cos theta); sticking (mu > tan theta): it creeps at `creep_speed` < eps_v.
+- Free fall without a slope: x0 + v0 t + 1/2 g t^2.
+- The lecture's full scene has no closed form: measured against a run with a smaller step.
 """
 import math
 from dataclasses import dataclass
@@ -23,14 +16,11 @@ import BarrierEnergy
 import FrictionEnergy
 import simulator
 
-# Spring stiffness of the closed-form cases. The lecture's k = 2e4 holding 1000 kg is very soft: under
-# its own weight the square sags by 2 cm and oscillates, which no rigid-block formula describes.
-# At 1e8 it deforms by 5e-6 m under its weight, so it is a rigid block for the formulas, and implicit
-# Euler (unconditionally stable) takes it at every h of the sweep.
+# Rigid for the formulas: deforms by 5e-6 m under its weight (the lecture's k = 2e4 sags by 2 cm).
 STIFF_K = 1e8
 
 LECTURE_TAN = 0.1                           # the lecture's slope, normal (0.1, 1)
-STEEP_TAN = math.tan(math.radians(20.0))    # the steeper slope of the tests: 20 degrees, tan 0.364
+STEEP_TAN = math.tan(math.radians(20.0))    # the steeper slope of the tests: 20 degrees
 
 
 def slope_normal(tan_theta):
@@ -50,8 +40,7 @@ def com(scene, x):
 
 
 def _loads(scene):
-    """Normal load N, downhill drive G_t and the friction force F the slope must supply at rest or
-    while sliding (F = G_t if mu N can hold it, else mu N), all for the whole square, in newtons."""
+    """Normal load N, downhill drive G_t and friction force F = min(G_t, mu N) on the square, N."""
     total = float(np.sum(scene.m))
     normal_load = -total * float(scene.g @ scene.n)
     drive = total * float(scene.g @ downhill(scene))
@@ -59,29 +48,28 @@ def _loads(scene):
 
 
 def sliding_acceleration(scene):
-    """Rigid block, Coulomb friction: a = g (sin theta - mu cos theta) along the downhill tangent."""
+    """Rigid block, Coulomb friction: a = g (sin theta - mu cos theta) downhill."""
     normal_load, drive, _ = _loads(scene)
     return (drive - scene.mu * normal_load) / float(np.sum(scene.m))
 
 
 def creep_speed(scene):
-    """Steady creep of a sticking block under the lecture's mollifier f1(y) = 2y/eps_v - y^2/eps_v^2:
-    friction mu N f1(v) balances the drive m g sin theta where f1(v) = tan(theta)/mu, so
-    v = eps_v (1 - sqrt(1 - tan(theta)/mu)), always below eps_v. Implicit Euler reproduces it exactly
-    once the velocity is steady (it is a force balance at constant velocity)."""
+    """Steady creep under the mollifier f1(v) = 2v/eps_v - v^2/eps_v^2 where mu N f1(v) balances
+    the drive: v = eps_v (1 - sqrt(1 - tan(theta)/mu)); implicit Euler reproduces it exactly."""
     normal_load, drive, _ = _loads(scene)
     ratio = drive / (scene.mu * normal_load)
     if not 0.0 <= ratio < 1.0:
-        raise ValueError(f"no creep: tan(theta)/mu = {ratio:.3g} is not in [0, 1) (the block slides)")
+        raise ValueError(f"no creep: tan(theta)/mu = {ratio:.3g} is not in [0, 1) "
+                         f"(the block slides)")
     return scene.epsv * (1.0 - math.sqrt(1.0 - ratio))
 
 
 def barrier_force(scene, d):
-    """Normal force of the barrier on a bottom node at distance d: -w dhat b'(d) for d < dhat, else 0."""
+    """Normal force of the barrier on a bottom node at distance d: -w dhat b'(d) for d < dhat."""
     d = np.asarray(d, dtype=np.float64)
-    inside = np.minimum(d, scene.dhat)
-    return np.where(d < scene.dhat,
-                    -BarrierEnergy.dP_dd(inside, scene.contact_area[0], scene.dhat, scene.kappa), 0.0)
+    w = scene.contact_area[0]
+    force = -BarrierEnergy.dP_dd(np.minimum(d, scene.dhat), w, scene.dhat, scene.kappa)
+    return np.where(d < scene.dhat, force, 0.0)
 
 
 def _bracketed_root(f, lo, hi):
@@ -89,28 +77,17 @@ def _bracketed_root(f, lo, hi):
 
 
 def resting_pose(scene):
-    """Distance d0 of the bottom edge's midpoint from the slope and the tilt s = sin(-beta) of the edge
-    (beta: its rotation away from the slope, counter-clockwise positive) at which the barrier carries a
-    rigid square at rest, or sliding steadily, without rocking:
-
-        sum_i f_i = N,   f_i = f(d0 - s r_i)                  (normal forces)
-        sum_i r_i f_i = (side/2) N tan(gamma - beta)          (moments about the centre of mass)
-
-    f: barrier force per bottom node (`barrier_force`); r_i: the node's position along the edge,
-    downhill positive; N, F: normal load and friction force at the base (`_loads`), tan(gamma) = F/N.
-    The moment equation is that of the normal forces f_i and the friction forces (F/N) f_i (sliding:
-    mu f_i; sticking: every node creeps at the same speed, so mu f1(v) f_i) at the tilted nodes. F acts
-    half a side below the centre of mass and tips the square downhill, so the downhill nodes sit
-    deeper (s > 0). With an edge parallel to the slope instead, the square rocks onto this pose in its
-    first steps and its centre of mass moves by ~1e-4 m. Solved by bisection (brentq): d0 for a given
-    s (the load falls monotonically with d0), then s (the moment excess grows with it)."""
+    """Distance d0 of the bottom edge's midpoint from the slope and tilt s = sin(-beta) of the edge
+    at which the barrier carries a rigid square at rest, or sliding steadily, without rocking:
+    sum_i f(d0 - s r_i) = N and sum_i r_i f(d0 - s r_i) = (side/2) N tan(gamma - beta), tan(gamma)
+    = F/N (docs/limits.md). Solved by brentq: d0 for a given s, then s."""
     normal_load, _, friction = _loads(scene)
     side, n_seg = scene.params["side_len"], scene.params["n_seg"]
     r = -side / 2 + np.arange(n_seg + 1) * side / n_seg
     reach = float(np.abs(r).max())
 
     def d0_for(s):
-        # from the deepest node touching the slope (infinite force) to every node beyond dhat (none)
+        # from the deepest node touching the slope (infinite force) to every node beyond dhat
         return _bracketed_root(lambda d0: barrier_force(scene, d0 - s * r).sum() - normal_load,
                                s * reach * (1 + 1e-12) + 1e-15, scene.dhat + s * reach)
 
@@ -130,10 +107,9 @@ def resting_pose(scene):
 
 
 def resting_scene(tan_theta, mu, k=STIFF_K, **overrides):
-    """A square at rest on a slope of tan(theta) (descending to the right, through the default o), its
-    bottom edge on the slope at the pose of `resting_pose`, so no settling is needed."""
+    """A square at rest on a slope of tan(theta) through the default o, at `resting_pose`."""
     overrides = {"slope": slope_normal(tan_theta), "mu": mu, "k": k, **overrides}
-    probe = simulator.build_scene(**{**overrides, "center": (0.0, 10.0)})   # masses, loads, barrier
+    probe = simulator.build_scene(**{**overrides, "center": (0.0, 10.0)})   # masses, loads
     d0, tilt = resting_pose(probe)
     theta = math.atan2(probe.n[0], probe.n[1])
     angle = -theta - math.asin(tilt)
@@ -159,20 +135,18 @@ def full_scene(**overrides):
     return simulator.build_scene(**overrides)
 
 
-# ------------------------------------------------------------------------------------------------
-# Measuring a run
-# ------------------------------------------------------------------------------------------------
+# ---- Measuring a run -----------------------------------------------------------------------------
 
 @dataclass
 class Run:
-    """What a run is measured by: the centre of mass at every step (index 0: the start) and the cost."""
+    """A run's centre of mass at every step (index 0: the start) and its cost."""
     t: np.ndarray                   # (steps+1,) times
     com: np.ndarray                 # (steps+1, 2) centre of mass
     v_com: np.ndarray               # (steps+1, 2) velocity of the centre of mass
-    slip: np.ndarray                # (steps+1,) fastest downhill speed of a node within dhat (nan: none)
+    slip: np.ndarray                # (steps+1,) fastest downhill speed within dhat (nan: none)
     newton_iterations: np.ndarray   # (steps,)
-    friction_updates: np.ndarray    # (steps,) Algorithm 5's updates that re-solved the step (0: lagged)
-    friction_converged: np.ndarray  # (steps,) bool, the fixed point reached (always True when lagged)
+    friction_updates: np.ndarray    # (steps,) Algorithm 5's updates that re-solved the step
+    friction_converged: np.ndarray  # (steps,) bool, the fixed point reached (True when lagged)
     wall: float                     # wall-clock seconds spent in the time steps
 
     def downhill(self, scene):
@@ -189,53 +163,36 @@ def _slip(scene, x, v):
 
 
 def run(scene, duration, progress=None):
-    """Simulate `duration` seconds (a whole number of steps) from the scene's start and measure it.
-    `progress(fraction)` is called now and then."""
+    """Simulate `duration` seconds (whole steps) and measure it; calls `progress(fraction)`."""
     steps = int(round(duration / scene.h))
     if steps < 1 or abs(steps * scene.h - duration) > 1e-9 * duration:
         raise ValueError(f"duration {duration} s is not a whole number of steps of h = {scene.h} s")
-    t, coms, vs, slips = [0.0], [com(scene, scene.x0)], [com(scene, scene.v0)], [_slip(scene, scene.x0, scene.v0)]
-    newton, friction, converged, wall = [], [], [], 0.0
-    every = max(1, steps // 20)
+    states = [(0.0, com(scene, scene.x0), com(scene, scene.v0), _slip(scene, scene.x0, scene.v0))]
+    reports, wall, every = [], 0.0, max(1, steps // 20)
     for rec in simulator.simulate(scene, steps):
-        t.append(rec.t)
-        coms.append(com(scene, rec.x))
-        vs.append(com(scene, rec.v))
-        slips.append(_slip(scene, rec.x, rec.v))
-        newton.append(rec.report.newton_iterations)
-        friction.append(rec.report.friction_updates)
-        converged.append(rec.report.friction_converged)
+        states.append((rec.t, com(scene, rec.x), com(scene, rec.v), _slip(scene, rec.x, rec.v)))
+        reports.append(rec.report)
         wall += rec.wall
         if progress is not None and (rec.index + 1) % every == 0:
             progress((rec.index + 1) / steps)
-    return Run(np.array(t), np.array(coms), np.array(vs), np.array(slips), np.array(newton),
-               np.array(friction), np.array(converged), wall)
+    t, coms, vs, slips = (np.array(column) for column in zip(*states))
+    costs = [np.array([getattr(r, name) for r in reports])
+             for name in ("newton_iterations", "friction_updates", "friction_converged")]
+    return Run(t, coms, vs, slips, *costs, wall)
 
 
-def fit_acceleration(t, s):
-    """Least-squares fit of s(t) = s0 + v0 t + a t^2 / 2; returns a. Implicit Euler under a constant
-    force gives s_n = s0 + v0 t + a t^2/2 + a h t/2 exactly, so the fit recovers a exactly: any
-    error it reports comes from the physics the scene adds (friction, contact) or from Newton."""
-    t = np.asarray(t, dtype=np.float64)
-    A = np.stack([np.ones_like(t), t, 0.5 * t * t], axis=1)
-    return float(np.linalg.lstsq(A, np.asarray(s, dtype=np.float64), rcond=None)[0][2])
-
-
-# Settling excluded from the acceleration fit. The start is computed (no settling of the pose), but
-# the first steps are a transient: the friction is in its static regime until the speed passes eps_v
-# (eps_v / a ~ 2 ms, the first step), and the springs take up the load (5e-6 m). Measured at
-# h = 0.01, tol 1e-6: the acceleration of single steps is off by up to 0.3 % in the first 0.05 s,
-# and by less than 1e-4 from 0.1 s on.
+# Excluded from the acceleration fit: friction is static until the speed passes eps_v and the
+# springs take up the load (single steps off by 0.3 % before 0.05 s, by < 1e-4 from 0.1 s on).
 SETTLING = 0.1
 
 
 def acceleration_error(scene, run, start=SETTLING):
-    """Relative error (signed) of the acceleration fitted to the centre of mass's displacement down
-    the slope over [start, end of run], against `sliding_acceleration`."""
+    """Relative error (signed) against `sliding_acceleration` of a, fitted as s0 + v0 t + a t^2/2
+    to the downhill displacement over [start, end] (exact for implicit Euler at constant force)."""
     s, _ = run.downhill(scene)
     window = run.t >= start
     exact = sliding_acceleration(scene)
-    return (fit_acceleration(run.t[window], s[window]) - exact) / exact
+    return (2.0 * np.polyfit(run.t[window], s[window], 2)[0] - exact) / exact
 
 
 def observed_orders(hs, errors):
@@ -245,8 +202,8 @@ def observed_orders(hs, errors):
 
 
 def max_com_error(run, reference):
-    """Largest distance between the centres of mass of `run` and `reference` at the run's times; the
-    reference's time step must divide the run's, and the reference must last at least as long."""
+    """Largest distance between the centres of mass of `run` and `reference` at the run's times;
+    the reference's step must divide the run's, and it must last at least as long."""
     stride = int(round((run.t[1] - run.t[0]) / (reference.t[1] - reference.t[0])))
     ref_t = reference.t[::stride][:len(run.t)]
     if len(ref_t) != len(run.t) or not np.allclose(ref_t, run.t, rtol=0, atol=1e-9):

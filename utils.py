@@ -1,8 +1,6 @@
-"""Shared helpers: input checks, IJV triplets, and (below its own banner) the SPD solve of the Newton system.
+"""Shared helpers: input checks, IJV triplets, and the SPD solve of the Newton system.
 
-Every energy returns its Hessian as an IJV triplet (rows, cols, values) with DOF index 2*node + axis;
-duplicate entries are summed when the matrix is built. The helpers here turn a batch of dense
-per-element blocks into such a triplet, so no energy repeats that bookkeeping.
+A Hessian is an IJV triplet (rows, cols, values), DOF index 2*node + axis, duplicates summed.
 """
 import decimal
 from dataclasses import dataclass
@@ -12,14 +10,11 @@ import scipy.sparse
 import scipy.sparse.linalg
 from scipy.linalg import lapack
 
+# ---- Input checks: one line each in the energies, a ValueError that names the argument ----------
 
-# ----------------------------------------------------------------------------------------------
-# Input checks: one line each in the energies, a ValueError that names the argument.
-# ----------------------------------------------------------------------------------------------
 
 class ParameterError(ValueError):
-    """A bad value of one parameter or argument, `parameter` its name (the command line finds its flag
-    by it). Still a ValueError, as every check promises."""
+    """A ValueError about one parameter, `parameter` its name (the command line finds its flag)."""
 
     def __init__(self, parameter, message):
         super().__init__(message)
@@ -27,81 +22,83 @@ class ParameterError(ValueError):
 
 
 def _real(value):
-    """float(value) for one real number; TypeError for anything else, even where float() would convert
-    it: a bool, text ('4' is text, not a count), a complex number (even 1+0j), an array of any size.
-    OverflowError for an int beyond float64's range (10**400)."""
+    """float(value) for one real number; TypeError for a bool, text, a complex number or an array,
+    even where float() would convert it; OverflowError for an int beyond float64 (10**400)."""
     try:
         a = np.asarray(value)
     except ValueError:                      # a ragged nesting of lists
         raise TypeError from None
-    if a.ndim != 0 or a.dtype.kind not in "iufO":       # O: a Python int too large for int64, a Fraction
+    if a.ndim != 0 or a.dtype.kind not in "iufO":   # O: an int beyond int64, a Fraction
         raise TypeError
     return float(value)                     # TypeError or ValueError where an object is no number
 
 
 def _typed(value):
-    """repr(value), an int beyond float64's range in 3 digits (10**400: 1.00e+400, not its 401)."""
+    """repr(value), an int beyond float64's range in 3 digits (10**400: 1.00e+400)."""
     if isinstance(value, int) and not -2 ** 1024 < value < 2 ** 1024:
         return f"{decimal.Decimal(value):.3g}"
     return repr(value)
 
 
 def as_float(name, value, requirement):
-    """float(value), or a ValueError saying `name` {requirement} for anything that is not one real number
-    (see _real): booleans, text, complex numbers, arrays, ints beyond float64's range."""
+    """float(value), or a ValueError saying `name` {requirement} unless it is one real number."""
     try:
-        return float(value) if type(value) in (int, float) else _real(value)     # a plain number: as it is
+        return float(value) if type(value) in (int, float) else _real(value)
     except OverflowError:
-        raise ParameterError(name, f"{name} {requirement}, got {_typed(value)}, beyond float64's range") from None
+        message = f"{name} {requirement}, got {_typed(value)}, beyond float64's range"
+        raise ParameterError(name, message) from None
     except (TypeError, ValueError):
         raise ParameterError(name, f"{name} {requirement}, got {value!r}") from None
 
 
 def _as_array(name, a):
-    """np.asarray(a); a ValueError naming `name` where numpy cannot make one array of it (ragged lists)."""
+    """np.asarray(a); a ValueError naming `name` where numpy cannot (ragged lists)."""
     try:
         return np.asarray(a)
     except ValueError:
-        raise ParameterError(name, f"{name} must be an array of numbers, got a ragged {type(a).__name__}") from None
+        message = f"{name} must be an array of numbers, got a ragged {type(a).__name__}"
+        raise ParameterError(name, message) from None
 
 
 def _real_array(name, a):
-    """`a` as a float64 array; ValueError naming `name` unless it holds real numbers: a dtype of int or
-    float, or objects that are each one real number (_real: Decimal, Fraction, an int beyond int64),
-    converted as float() converts each. Booleans, text and complex numbers (even with zero imaginary
-    parts) are refused, as objects too."""
+    """`a` as a float64 array of real numbers (an int or float dtype, or objects each _real);
+    a ValueError naming `name` for booleans, text and complex numbers."""
     a = _as_array(name, a)
-    if a.dtype.kind == "O":                 # item by item: only an object array takes this path
+    if a.dtype.kind == "O":
         try:
             return np.array([_real(item) for item in a.ravel()], dtype=np.float64).reshape(a.shape)
         except (TypeError, ValueError, OverflowError):
-            raise ParameterError(name, f"{name} must hold real numbers, got an object array that holds "
-                                       f"another kind of object") from None
+            raise ParameterError(name, f"{name} must hold real numbers, got an object array that "
+                                       f"holds another kind of object") from None
     if a.dtype.kind not in "iuf":
         raise ParameterError(name, f"{name} must hold real numbers, got dtype {a.dtype}")
     return a.astype(np.float64, copy=False)
 
 
 def check_points(name, x, shape=None):
-    """Return `x` as a float64 (N, 2) array, of `shape` if given; ValueError if it holds no real numbers
-    (_real_array), the shape is wrong or a value is not finite."""
+    """`x` as a finite float64 (N, 2) array, of `shape` if given."""
     x = x if isinstance(x, np.ndarray) and x.dtype == np.float64 else _real_array(name, x)
     if x.ndim != 2 or x.shape[1] != 2 or shape not in (None, x.shape):
-        raise ParameterError(name, f"{name} must have shape {shape or '(N, 2)'}, got shape {x.shape}")
+        message = f"{name} must have shape {shape or '(N, 2)'}, got shape {x.shape}"
+        raise ParameterError(name, message)
     if not np.isfinite(x).all():
         bad = np.argwhere(~np.isfinite(x))[0]
-        raise ParameterError(name, f"{name} has a non-finite value {x[tuple(bad)]} at node {bad[0]}")
+        message = f"{name} has a non-finite value {x[tuple(bad)]} at node {bad[0]}"
+        raise ParameterError(name, message)
     return x
 
 
 def check_per_item(name, a, count, what="node", must_be=None):
-    """Return `a` as a float64 (count,) array (one real number is broadcast); ValueError if it holds no
-    real numbers, on length or non-finite values, and, with must_be "> 0" or ">= 0", naming the first
-    item that is not."""
+    """`a` as a finite float64 (count,) array (one number is broadcast); with must_be "> 0" or
+    ">= 0", a ValueError naming the first item that is not."""
     array = _as_array(name, a)
-    a = np.full(count, as_float(name, a, "must be a number")) if array.ndim == 0 else _real_array(name, array)
+    if array.ndim == 0:
+        a = np.full(count, as_float(name, a, "must be a number"))
+    else:
+        a = _real_array(name, array)
     if a.shape != (count,):
-        raise ParameterError(name, f"{name} must have one value per {what} ({count}), got shape {a.shape}")
+        message = f"{name} must have one value per {what} ({count}), got shape {a.shape}"
+        raise ParameterError(name, message)
     if not np.isfinite(a).all():
         i = int(np.argmax(~np.isfinite(a)))
         raise ParameterError(name, f"{name} has a non-finite value {a[i]} at {what} {i}")
@@ -109,25 +106,26 @@ def check_per_item(name, a, count, what="node", must_be=None):
         bad = a <= 0.0 if must_be == "> 0" else a < 0.0
         if bad.any():
             i = int(np.argmax(bad))
-            raise ParameterError(name, f"{name} must be {must_be} at every {what}, got {a[i]} at {what} {i}")
+            message = f"{name} must be {must_be} at every {what}, got {a[i]} at {what} {i}"
+            raise ParameterError(name, message)
     return a
 
 
 def check_vector(name, a):
-    """Return `a` as a finite float64 2-vector; ValueError unless it is two real numbers: an array of an
-    int or float dtype, or a sequence of two real numbers each (see _real: no text, booleans or complex
-    numbers, even where they convert; an object array of such numbers converts)."""
+    """`a` as a finite float64 2-vector of two real numbers (see _real)."""
     try:
         shape = np.shape(a)
     except ValueError:                      # a ragged nesting of lists
         shape = None
     if shape != (2,):
-        raise ParameterError(name, f"{name} must be a 2-vector, got " + (f"shape {shape}" if shape is not None else repr(a)))
+        got = f"shape {shape}" if shape is not None else repr(a)
+        raise ParameterError(name, f"{name} must be a 2-vector, got {got}")
     try:
         a = np.array([_real(c) for c in a])
     except OverflowError:
-        raise ParameterError(name, f"{name} must be a 2-vector of numbers, got ({', '.join(map(_typed, a))}), beyond "
-                         f"float64's range") from None
+        message = (f"{name} must be a 2-vector of numbers, got ({', '.join(map(_typed, a))}), "
+                   f"beyond float64's range")
+        raise ParameterError(name, message) from None
     except (TypeError, ValueError):
         raise ParameterError(name, f"{name} must be a 2-vector of numbers, got {a!r}") from None
     if not np.isfinite(a).all():
@@ -136,16 +134,17 @@ def check_vector(name, a):
 
 
 def check_unit_normal(name, n):
-    """Return the half-space normal `n` as a 2-vector; it must have unit length (normalize it first)."""
+    """The half-space normal `n` as a 2-vector of unit length (normalize it first)."""
     n = check_vector(name, n)
     length = float(np.hypot(n[0], n[1]))
     if abs(length - 1.0) > 1e-9:
-        raise ParameterError(name, f"{name} must be a unit vector, got {n.tolist()} of length {length:.6g}")
+        message = f"{name} must be a unit vector, got {n.tolist()} of length {length:.6g}"
+        raise ParameterError(name, message)
     return n
 
 
 def check_positive(name, value):
-    """Return `value` as a float; ValueError unless it is a finite number > 0."""
+    """`value` as a float, a finite number > 0."""
     value = as_float(name, value, "must be a finite number > 0")
     if not np.isfinite(value) or value <= 0.0:
         raise ParameterError(name, f"{name} must be a finite number > 0, got {value}")
@@ -153,8 +152,8 @@ def check_positive(name, value):
 
 
 def check_whole(name, value, minimum):
-    """Return `value` as an int; ValueError unless it is a whole number >= minimum."""
-    if type(value) is int and minimum <= value <= 2 ** 53:      # a count float64 holds exactly: as it is
+    """`value` as an int, a whole number >= minimum."""
+    if type(value) is int and minimum <= value <= 2 ** 53:      # exact in float64: as it is
         return value
     number = as_float(name, value, f"must be a whole number >= {minimum}")
     if not np.isfinite(number) or not number.is_integer() or number < minimum:
@@ -166,26 +165,27 @@ NEWTON_STARTS = ("x_n", "x_tilde")     # where Newton may start (time_integrator
 
 
 def check_choice(name, value, choices):
-    """Return `value` if it is one of the strings `choices`; a ValueError naming `name` otherwise."""
+    """`value` if it is one of the strings `choices`."""
     if not isinstance(value, str) or value not in choices:
-        raise ParameterError(name, f"{name} must be one of {', '.join(map(repr, choices))}, got {value!r}")
+        message = f"{name} must be one of {', '.join(map(repr, choices))}, got {value!r}"
+        raise ParameterError(name, message)
     return value
 
 
-# eps_v below this makes f_hess_term's 1/eps_v^2 overflow float64 (1/eps_v^2 < 1.8e308 needs eps_v > 7.5e-155)
-EPSV_MIN = 1e-150
+EPSV_MIN = 1e-150       # below it, f_hess_term's 1/eps_v^2 overflows float64 (from 7.5e-155)
 
 
 def check_epsv(epsv):
-    """Return eps_v as a float; ValueError unless it is a finite number >= EPSV_MIN."""
+    """eps_v as a float, a finite number >= EPSV_MIN."""
     epsv = check_positive("epsv", epsv)
     if epsv < EPSV_MIN:
-        raise ParameterError("epsv", f"epsv must be >= {EPSV_MIN:g} (f_hess_term's 1/eps_v^2 must fit in float64), got {epsv}")
+        raise ParameterError("epsv", f"epsv must be >= {EPSV_MIN:g} (f_hess_term's 1/eps_v^2 "
+                                     f"must fit in float64), got {epsv}")
     return epsv
 
 
 def check_edges(name, e, n_nodes):
-    """Return `e` as an int (E, 2) array of node indices in [0, n_nodes)."""
+    """`e` as an int (E, 2) array of node indices in [0, n_nodes)."""
     e = _as_array(name, e)
     if e.ndim != 2 or e.shape[1] != 2:
         raise ParameterError(name, f"{name} must have shape (E, 2), got shape {e.shape}")
@@ -194,23 +194,21 @@ def check_edges(name, e, n_nodes):
     e = e.astype(np.int64, copy=False)
     if e.size and (e.min() < 0 or e.max() >= n_nodes):
         bad = e[(e < 0) | (e >= n_nodes)][0]
-        raise ParameterError(name, f"{name} has node index {bad} outside [0, {n_nodes}) for {n_nodes} nodes")
+        message = f"{name} has node index {bad} outside [0, {n_nodes}) for {n_nodes} nodes"
+        raise ParameterError(name, message)
     return e
 
 
 def finite_result(what, value, arguments):
-    """Return `value` if every entry is finite; a ValueError otherwise, never a NaN: an overflow of finite
-    `arguments` (their names, for the message) beyond float64's range, e.g. a node 1e-160 m from the slope
-    in the barrier's Hessian, or springs stretched to 1e308 m."""
+    """`value` if every entry is finite; else a ValueError (never a NaN): finite `arguments` (their
+    names) overflowed float64, e.g. springs stretched to 1e308 m."""
     if not np.isfinite(value).all():
-        raise ValueError(f"{what} overflowed to a non-finite value: its arguments are beyond float64's "
-                         f"range (check {arguments})")
+        raise ValueError(f"{what} overflowed to a non-finite value: its arguments are beyond "
+                         f"float64's range (check {arguments})")
     return value
 
 
-# ----------------------------------------------------------------------------------------------
-# IJV triplets
-# ----------------------------------------------------------------------------------------------
+# ---- IJV triplets --------------------------------------------------------------------------------
 
 def block_dofs(nodes):
     """The DOFs (B, 2m) of element node lists (B, m): node a has DOFs 2a (x) and 2a + 1 (y)."""
@@ -218,15 +216,15 @@ def block_dofs(nodes):
 
 
 def blocks_to_ijv(nodes, blocks):
-    """The IJV triplet of dense blocks (B, 2m, 2m) on element node lists (B, m): entry (r, c) of element
-    b's block is H[dofs[b, r], dofs[b, c]] (block_dofs)."""
+    """The IJV triplet of dense blocks (B, 2m, 2m) on element node lists (B, m): entry (r, c) of
+    block b is H[dofs[b, r], dofs[b, c]] (block_dofs)."""
     dofs = block_dofs(nodes)
     size = dofs.shape[1]
-    return np.repeat(dofs, size, axis=1).ravel(), np.tile(dofs, (1, size)).ravel(), blocks.reshape(-1)
+    return np.repeat(dofs, size, axis=1).ravel(), np.tile(dofs, (1, size)).ravel(), blocks.ravel()
 
 
 def concat_ijv(triplets):
-    """Several IJV triplets joined into one (their entries are summed when the matrix is built)."""
+    """Several IJV triplets joined into one."""
     return tuple(np.concatenate(parts) for parts in zip(*triplets))
 
 
@@ -237,57 +235,50 @@ def ijv_to_csr(ijv, n_dofs):
 
 
 def add_to_pairs(e, f, n):
-    """(n, 2) array: each pair (a, b) of `e` adds its row of f (E, 2) to node a and subtracts it from node b."""
-    a, b = (2 * e[:, i:i + 1] + np.arange(2) for i in (0, 1))       # the DOFs of a and b, (E, 2) each
-    return (np.bincount(a.ravel(), f.ravel(), 2 * n) - np.bincount(b.ravel(), f.ravel(), 2 * n)).reshape(n, 2)
+    """(n, 2): each pair (a, b) of `e` adds its row of f (E, 2) to node a, subtracts it from b."""
+    a, b = (2 * e[:, i:i + 1] + np.arange(2) for i in (0, 1))       # the DOFs of a and b
+    added = np.bincount(a.ravel(), f.ravel(), 2 * n) - np.bincount(b.ravel(), f.ravel(), 2 * n)
+    return added.reshape(n, 2)
 
 
-# ----------------------------------------------------------------------------------------------
-# The Newton system's SPD solve: what exists for speed, behind one call, solver.solve(H, b).
-# A student can read it as scipy.sparse.linalg.spsolve(H, b).
-# ----------------------------------------------------------------------------------------------
+# ---- The Newton system's SPD solve, solver.solve(H, b): read it as spsolve(H, b) ----------------
 
-# Banded Cholesky while the band holds at most this many times the matrix's nonzeros (the lecture's
-# grid, numbered row by row, has a band of about 2 n_seg); beyond that SuperLU's fill-reducing ordering
-# needs less time and memory.
+# Banded Cholesky while the band holds at most this many times the nonzeros (the lecture's grid has
+# a band of about 2 n_seg); beyond it SuperLU's fill-reducing ordering is faster.
 BAND_LIMIT = 40
 
 
 class OutOfBand(RuntimeError):
-    """A block of H couples two DOFs further apart than the band its SPDSolver was built for: the banded
-    solve would drop it and return a wrong p, so it is refused. Not a ValueError: the time step reports
-    it as it is (a scene that did not declare a term's elements), not as a numerical breakdown."""
+    """A block of H couples DOFs further apart than the solver's band: refused, never a wrong p.
+    Not a ValueError: the step reports it as it is (a scene that did not declare its elements)."""
 
 
 @dataclass(frozen=True)
 class SPDSolver:
-    """Solves H p = b for the Incremental Potential's Hessian H, symmetric positive definite (M plus
-    PSD-projected terms), given as element blocks on one mesh. `kind` is fixed per mesh by `for_mesh`:
-    "banded", LAPACK's banded Cholesky (dpbtrf, dpbtrs) on the upper band; or "superlu", a sparse LU.
-
-    The band rule: the band is derived once from every element a scene's terms can produce (the mesh's
-    edges, and `elements` for any other coupling); a block that does not fit raises OutOfBand at once,
-    never a silently wrong banded solve. (Node blocks, 2x2 on one node, always fit.)"""
+    """Solves H p = b for the SPD Hessian H of the Incremental Potential, given as element blocks
+    on one mesh: "banded", LAPACK's banded Cholesky (dpbtrf, dpbtrs), or "superlu", a sparse LU.
+    The band covers every element the scene's terms produce; a block beyond it raises OutOfBand."""
     n_dofs: int
     bandwidth: int              # max |row - col| of an entry H can have
     kind: str
-    node_slots: np.ndarray      # (N, 3) band positions of the upper triangle of node i's 2x2 block
+    node_slots: np.ndarray      # (N, 3) band positions of node i's 2x2 block's upper triangle
     edges: np.ndarray           # (E, 2) the mesh's edges
-    edge_slots: np.ndarray      # (E, 10) band positions of the upper triangle of edge j's 4x4 block
+    edge_slots: np.ndarray      # (E, 10) band positions of edge j's 4x4 block's upper triangle
 
     @classmethod
     def for_mesh(cls, n_nodes, e, kind=None, elements=()):
-        """The solver for H on n_nodes nodes joined by edges e (H has a 2x2 block per node and a 4x4 one per
-        edge) and the element node lists (B, m) of `elements`, the other blocks the scene's terms produce;
-        its band, 2 max(node span) + 1, covers them all. `kind` None picks "banded" unless the band is over
-        BAND_LIMIT times the nonzeros of the nodes' and edges' blocks."""
+        """The solver for H with a 2x2 block per node, a 4x4 one per edge of e and the blocks of
+        the element node lists (B, m) in `elements`; band 2 max(node span) + 1. `kind` None picks
+        "banded" unless the band is over BAND_LIMIT times the nodes' and edges' nonzeros."""
         e = np.array(e, dtype=np.int64).reshape(-1, 2)
         spans = [np.abs(e[:, 0] - e[:, 1]).max(initial=0)]
-        spans += [np.ptp(np.asarray(nodes, dtype=np.int64), axis=1).max(initial=0) for nodes in elements]
+        spans += [np.ptp(np.asarray(nodes, dtype=np.int64), axis=1).max(initial=0)
+                  for nodes in elements]
         bandwidth = int(2 * max(spans) + 1)
         nonzeros = 4 * n_nodes + 8 * len(e)
         if kind is None:
-            kind = "banded" if (bandwidth + 1) * 2 * n_nodes <= BAND_LIMIT * nonzeros else "superlu"
+            banded = (bandwidth + 1) * 2 * n_nodes <= BAND_LIMIT * nonzeros
+            kind = "banded" if banded else "superlu"
         if kind not in ("banded", "superlu"):
             raise ParameterError("kind", f"kind must be 'banded' or 'superlu', got {kind!r}")
         node_slots = _band_slots(bandwidth, np.arange(n_nodes)[:, None], *_UPPER_TRIANGLE[2])
@@ -297,17 +288,17 @@ class SPDSolver:
         return cls(2 * n_nodes, bandwidth, kind, node_slots, e, edge_slots)
 
     def solve(self, H, b):
-        """p = H^-1 b, H given as element blocks: a list of (nodes (B, m), blocks (B, 2m, 2m)) whose sum it
-        is (see blocks_to_ijv). np.linalg.LinAlgError when H is not positive definite."""
+        """p = H^-1 b, H the sum of a list of (nodes (B, m), blocks (B, 2m, 2m)) (blocks_to_ijv).
+        np.linalg.LinAlgError when H is not positive definite."""
         if self.kind == "superlu":
             return self._superlu_solve(H, b)
         factor, info = lapack.dpbtrf(self.upper_band(H), lower=0, overwrite_ab=1)
         if info != 0:
-            raise np.linalg.LinAlgError(f"banded Cholesky failed (dpbtrf info {info}): H is not positive definite")
+            raise np.linalg.LinAlgError(f"banded Cholesky failed (dpbtrf info {info}): "
+                                        f"H is not positive definite")
         return lapack.dpbtrs(factor, b, lower=0)[0]
 
     def _superlu_solve(self, H, b):
-        """p = H^-1 b by SuperLU on H in CSC form (a mesh numbered with a wide band)."""
         rows, cols, vals = concat_ijv(blocks_to_ijv(nodes, blocks) for nodes, blocks in H)
         A = scipy.sparse.csc_matrix((vals, (rows, cols)), shape=(self.n_dofs, self.n_dofs))
         try:
@@ -316,8 +307,8 @@ class SPDSolver:
             raise np.linalg.LinAlgError(str(err)) from None
 
     def upper_band(self, H):
-        """H's upper band in LAPACK's storage, ab[bandwidth + r - c, c] = H[r, c] for r <= c, from each
-        symmetric element block's upper triangle (its lower one mirrors it), duplicates summed."""
+        """H's upper band in LAPACK's storage, ab[bandwidth + r - c, c] = H[r, c] for r <= c, from
+        each symmetric block's upper triangle, duplicates summed."""
         slots, values = [], []
         for nodes, blocks in H:
             i, j = _UPPER_TRIANGLE[blocks.shape[1]]
@@ -328,7 +319,7 @@ class SPDSolver:
         return band.reshape(self.bandwidth + 1, self.n_dofs, order="F")
 
     def _slots(self, nodes, i, j):
-        """_band_slots(nodes, i, j), looked up where the elements are nodes or the mesh's edges."""
+        """_band_slots, looked up where the elements are nodes or the mesh's edges."""
         if nodes.shape[1] == 1:
             return self.node_slots.take(nodes[:, 0], axis=0)
         if nodes.shape == self.edges.shape and np.array_equal(nodes, self.edges):
@@ -337,19 +328,18 @@ class SPDSolver:
 
 
 def _band_slots(bandwidth, nodes, i, j):
-    """Where entry (i, j) of each element's block lands in the flat upper band: H[r, c] with r <= c is at
-    bandwidth + r - c + (bandwidth + 1) c = bandwidth + r + bandwidth c, (B, len(i)). OutOfBand where an
-    entry has |r - c| > bandwidth: its slot would be another entry's, or outside the band."""
+    """Where entry (i, j) of each element's block lands in the flat upper band, (B, len(i)):
+    H[r, c], r <= c, at bandwidth + r + bandwidth c. OutOfBand where |r - c| > bandwidth."""
     dofs = block_dofs(nodes)
     r, c = dofs[:, i], dofs[:, j]
     reach = np.abs(r - c).max(axis=1, initial=0)
     if reach.size and reach.max() > bandwidth:
         b = int(np.argmax(reach))
-        raise OutOfBand(f"a block on nodes {nodes[b].tolist()} couples DOFs {reach[b]} apart, beyond the band "
-                        f"of {bandwidth} this banded solver was built for: build it with every element the "
-                        f"scene's terms produce (SPDSolver.for_mesh(..., elements=...)), or kind='superlu'")
+        raise OutOfBand(f"a block on nodes {nodes[b].tolist()} couples DOFs {reach[b]} apart, "
+                        f"beyond the band of {bandwidth} this banded solver was built for: build "
+                        f"it with every element the scene's terms produce "
+                        f"(SPDSolver.for_mesh(..., elements=...)), or kind='superlu'")
     return bandwidth + np.minimum(r, c) + bandwidth * np.maximum(r, c)
 
 
-# the (row, col) indices of the upper triangle of a 2x2 and a 4x4 element block, constants
-_UPPER_TRIANGLE = {size: np.triu_indices(size) for size in (2, 4)}
+_UPPER_TRIANGLE = {size: np.triu_indices(size) for size in (2, 4)}  # of 2x2 and 4x4 blocks

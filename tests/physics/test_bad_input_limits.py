@@ -1,7 +1,7 @@
-"""Scenes at the edge of float64 and of the machine: a start within round-off of the slope, values whose
-first step would overflow or whose Newton matrix float64 cannot resolve, meshes too large for memory,
-and the library's parameter names. Refused at scene build with a ValueError naming the parameter and
-its value; on the command line in one line, exit code 2, with nothing written."""
+"""Scenes at the edge of float64 and of the machine: a start within round-off of the slope, values
+whose first step would overflow or whose Newton matrix float64 cannot resolve, meshes too large for
+memory, and the library's parameter names. Refused at scene build with a ValueError naming the
+parameter and its value; on the command line in one line, exit code 2, with nothing written."""
 import decimal
 import math
 import os
@@ -19,16 +19,18 @@ import square_checks
 import time_integrator
 
 from helpers import ROOT
+
 EPS = np.finfo(float).eps
 
 
-# ---- a start within round-off of the slope (issue 13, part 3) ---------------------------------------
+# ---- a start within round-off of the slope (issue 13, part 3) ------------------------------------
 
-
-@pytest.mark.parametrize("gap, refused", [(0.0, True), (1.2e-16, True), (1e-15, True), (1e-12, False)])
+@pytest.mark.parametrize("gap, refused",
+                         [(0.0, True), (1.2e-16, True), (1e-15, True), (1e-12, False)])
 def test_round_off_threshold_on_a_flat_slope(gap, refused):
-    """Corner 0 at (-0.5, -0.5) above y = -0.5 - gap: the threshold is ROUNDOFF_ULPS eps (max|x| + |o|),
-    3e-15 m here; a gap of 1e-12 m is a real (if tiny) gap and builds, one ulp of 0.5 does not."""
+    """Corner 0 at (-0.5, -0.5) above y = -0.5 - gap: the threshold is ROUNDOFF_ULPS eps
+    (max|x| + |o|), 3e-15 m here; a gap of 1e-12 m is a real (if tiny) gap and builds, one ulp of
+    0.5 does not."""
     kwargs = dict(slope=(0.0, 1.0), slope_point=(0.0, -0.5 - gap))
     if refused:
         with pytest.raises(ValueError, match="starts touching or below the slope"):
@@ -39,8 +41,7 @@ def test_round_off_threshold_on_a_flat_slope(gap, refused):
     assert (gap <= threshold) == refused
 
 
-# ---- absurd values (issue 13, part 5) ----------------------------------------------------------------
-
+# ---- absurd values (issue 13, part 5) ------------------------------------------------------------
 
 LIBRARY_OVERFLOW = [
     (dict(v0=(1e308, 0.0)), "v0", "the kinetic energy"),
@@ -56,7 +57,8 @@ LIBRARY_OVERFLOW = [
 ]
 
 
-@pytest.mark.parametrize("kwargs, culprit, what", LIBRARY_OVERFLOW, ids=[str(k) for k, _, _ in LIBRARY_OVERFLOW])
+@pytest.mark.parametrize("kwargs, culprit, what", LIBRARY_OVERFLOW,
+                         ids=[str(k) for k, _, _ in LIBRARY_OVERFLOW])
 def test_build_scene_refuses_first_step_overflow(kwargs, culprit, what):
     with pytest.raises(ValueError) as info:
         simulator.build_scene(**kwargs)
@@ -77,8 +79,9 @@ def test_newton_matrix_bound():
     m = simulator.DEFAULTS["rho"] / 25                       # n_seg 4: 25 nodes, 40 kg each
     h = simulator.DEFAULTS["h"]
     k_limit = square_checks.NEWTON_RATIO_LIMIT * m / h ** 2
-    with pytest.raises(ValueError, match=r"^k = .*: float64 cannot resolve the Newton matrix M \+ h\^2 K, "
-                                         r"as h\^2 k / m = 9\.0\de\+14"):
+    message = (r"^k = .*: float64 cannot resolve the Newton matrix M \+ h\^2 K, "
+               r"as h\^2 k / m = 9\.0\de\+14")
+    with pytest.raises(ValueError, match=message):
         simulator.build_scene(k=2 * k_limit)
     scene = simulator.build_scene(k=k_limit / 10, tol=1e-6)
     x, v, report = time_integrator.step(scene, scene.x0.copy(), scene.v0.copy())
@@ -92,19 +95,20 @@ def test_newton_matrix_bound():
 
 
 def test_lectures_scene_and_stability_extremes_are_far_inside_the_limits():
-    """The stability suite's extremes (k 1e9 at h 1 s, kappa 1e9, dhat 1e-4, eps_v 1e-6, 100 m/s, n_seg 32)
-    build: the limits refuse only what float64 cannot do."""
+    """The stability suite's extremes (k 1e9 at h 1 s, kappa 1e9, dhat 1e-4, eps_v 1e-6, 100 m/s,
+    n_seg 32) build: the limits refuse only what float64 cannot do."""
     simulator.build_scene(k=1e9, h=1.0, kappa=1e9, dhat=1e-4, epsv=1e-6, mu=10.0, v0=(0.0, -100.0))
     simulator.build_scene(k=1e9, h=1.0, n_seg=32)
 
 
-# ---- memory -------------------------------------------------------------------------------------------
+# ---- memory --------------------------------------------------------------------------------------
 
 def test_memory_check_refuses_what_does_not_fit(monkeypatch):
     """With 1 GiB of memory, the largest n_seg the message names fits and the next does not."""
     monkeypatch.setattr(square_checks, "physical_memory", lambda: 2 ** 30)
-    with pytest.raises(ValueError, match=r"^n_seg = 300 makes 9.06e\+4 nodes, about 1.38 GiB .* more than "
-                                         r"this machine's 1 GiB \(largest n_seg that fits: (\d+)\)") as info:
+    message = (r"^n_seg = 300 makes 9.06e\+4 nodes, about 1.38 GiB .* more than "
+               r"this machine's 1 GiB \(largest n_seg that fits: (\d+)\)")
+    with pytest.raises(ValueError, match=message) as info:
         simulator.build_scene(n_seg=300)
     largest = int(str(info.value).rsplit(" ", 1)[1].rstrip(")"))
     square_checks.check_memory(largest)
@@ -112,38 +116,41 @@ def test_memory_check_refuses_what_does_not_fit(monkeypatch):
         square_checks.check_memory(largest + 1)
 
 
-# The peak as VmHWM, not ru_maxrss: a forked child keeps its parent's ru_maxrss across exec, so the
-# 1-segment baseline read the pytest process's own peak once that was larger (a 60 MB child under a
-# 100 MB pytest), and the per-node figure came out too small; VmHWM starts afresh with the program.
-PEAK = """import sys, simulator, time_integrator
-scene = simulator.build_scene(n_seg=int(sys.argv[1]))
-if scene.params["n_seg"] > 1:
-    time_integrator.step(scene, scene.x0.copy(), scene.v0.copy())
-print([line.split()[1] for line in open("/proc/self/status") if line.startswith("VmHWM:")][0])"""
+# The peak as VmHWM, not ru_maxrss: a forked child keeps its parent's ru_maxrss across exec, so a
+# baseline read the pytest process's own peak once that was larger; VmHWM starts afresh with the
+# program. One child: the 1-segment scene's peak first, then that of n_seg 128 and one step.
+PEAK = """import simulator, time_integrator
+def peak():
+    print([line.split()[1] for line in open("/proc/self/status") if line.startswith("VmHWM:")][0])
+simulator.build_scene(n_seg=1)
+peak()
+scene = simulator.build_scene(n_seg=128)
+time_integrator.step(scene, scene.x0.copy(), scene.v0.copy())
+peak()"""
 
 
-@pytest.mark.skipif(sys.platform != "linux", reason="reads VmHWM (KiB) from Linux's /proc/self/status")
+@pytest.mark.skipif(sys.platform != "linux", reason="reads VmHWM (KiB) from /proc/self/status")
 def test_memory_per_node_bounds_the_measured_peak():
     """MEMORY_PER_NODE against the peak resident memory of build_scene and one step at n_seg = 128
     (16641 nodes), less that of a 1-segment scene: at least the measurement, at most 4 times it (so
     the check refuses no scene that would fit by a wide margin)."""
-    def peak(n_seg):
-        out = subprocess.run([sys.executable, "-c", PEAK, str(n_seg)], cwd=ROOT, capture_output=True, text=True,
-                             timeout=120, env={**os.environ, "OPENBLAS_NUM_THREADS": "1"})
-        return int(out.stdout.split()[-1]) * 1024
-    per_node = (peak(128) - peak(1)) / 129 ** 2
+    out = subprocess.run([sys.executable, "-c", PEAK], cwd=ROOT, capture_output=True, text=True,
+                         timeout=120, env={**os.environ, "OPENBLAS_NUM_THREADS": "1"})
+    one, many = (int(kib) * 1024 for kib in out.stdout.split()[-2:])
+    per_node = (many - one) / 129 ** 2
     assert per_node <= square_checks.MEMORY_PER_NODE <= 4 * per_node
 
 
-# ---- the too-large-h warning -------------------------------------------------------------------------
+# ---- the too-large-h warning ---------------------------------------------------------------------
 
 @pytest.mark.parametrize("params", [dict(h=1.0), dict(v0=(1e10, 0.0)), dict(v0=(100.0, 0.0)),
-                                    dict(h=0.5, gravity=(0.0, 0.0), v0=(3.0, 0.0)), dict(h=1.0, gravity=(0.0, -1e6)),
+                                    dict(h=0.5, gravity=(0.0, 0.0), v0=(3.0, 0.0)),
+                                    dict(h=1.0, gravity=(0.0, -1e6)),
                                     dict(v0=(1e70, 0.0), h=1e-60)], ids=str)
 def test_warning_suggests_the_largest_h_that_resolves(params):
-    """The warning's 'use h <= H s' is the largest h with |v0| h + |g| h^2 <= side_len, to its 3 digits:
-    H itself resolves, H plus one unit in its third digit reaches the size (it said 0 s for 1e10 m/s;
-    4 eps: the rounding of travel's two products and sum)."""
+    """The warning's 'use h <= H s' is the largest h with |v0| h + |g| h^2 <= side_len, to its 3
+    digits: H itself resolves, H plus one unit in its third digit reaches the size (it said 0 s for
+    1e10 m/s; 4 eps: the rounding of travel's two products and sum)."""
     scene = simulator.build_scene(**params, slope=None)
     p, (warning,) = scene.params, [w for w in scene.warnings if "use h <=" in w]
     text = warning.split("use h <= ")[1].split(" s)")[0]
@@ -154,7 +161,7 @@ def test_warning_suggests_the_largest_h_that_resolves(params):
     assert 0.0 < H and travel(H) <= p["side_len"] <= travel(H + unit) * (1 + 4 * EPS)
 
 
-# ---- library edges (issue 13, part 7) ----------------------------------------------------------------
+# ---- library edges (issue 13, part 7) ------------------------------------------------------------
 
 def test_dt_is_an_alias_of_h():
     assert simulator.build_scene(dt=0.005).h == 0.005 == simulator.build_scene(h=0.005).params["h"]
@@ -170,15 +177,16 @@ def test_unknown_parameter_lists_the_valid_names():
     assert set(message.split("valid: ")[1].split(", ")) == {*simulator.DEFAULTS, "dt"}
 
 
-@pytest.mark.parametrize("name, value", [("n_seg", "4"), ("h", "0.01"), ("mu", "0.2"), ("k", b"2e4"),
-                                         ("angle", "0"), ("mass", "10"), ("v0", ("1", "2")),
-                                         ("center", ["0", "0"]), ("friction_updates", "2"), ("v0", (True, False))])
+@pytest.mark.parametrize("name, value", [("n_seg", "4"), ("h", "0.01"), ("mu", "0.2"),
+                                         ("k", b"2e4"), ("angle", "0"), ("mass", "10"),
+                                         ("v0", ("1", "2")), ("center", ["0", "0"]),
+                                         ("friction_updates", "2"), ("v0", (True, False))])
 def test_text_for_numbers_is_refused(name, value):
     with pytest.raises(ValueError, match=f"^{name} must be .*, got {re.escape(repr(value))}"):
         simulator.build_scene(**{name: value})
 
 
-# ---- numbers that are not float64 numbers (issue 25, item 7) -----------------------------------------
+# ---- numbers that are not float64 numbers (issue 25, item 7) -------------------------------------
 
 SCALARS = [name for name, value in simulator.DEFAULTS.items()
            if isinstance(value, (int, float)) and not isinstance(value, bool)] + ["mass"]
@@ -188,34 +196,36 @@ VECTORS = [name for name, value in simulator.DEFAULTS.items() if isinstance(valu
 @pytest.mark.parametrize("name", SCALARS)
 @pytest.mark.parametrize("value", [10 ** 400, -10 ** 400], ids=["10**400", "-10**400"])
 def test_an_int_beyond_float64_is_refused_naming_the_parameter(name, value):
-    """float(10**400) raises OverflowError: refused as a ValueError naming the parameter, the value shown
-    in 3 digits (not its 401)."""
-    with pytest.raises(ValueError, match=rf"^{name} must be .*, got -?1\.00e\+400, beyond float64's range$"):
+    """float(10**400) raises OverflowError: refused as a ValueError naming the parameter, the value
+    shown in 3 digits (not its 401)."""
+    message = rf"^{name} must be .*, got -?1\.00e\+400, beyond float64's range$"
+    with pytest.raises(ValueError, match=message):
         simulator.build_scene(**{name: value})
 
 
 @pytest.mark.parametrize("name", VECTORS + ["slope"])
-@pytest.mark.parametrize("value, shown", [((10 ** 400, 0.0), r"\(1\.00e\+400, 0\.0\), beyond float64's range"),
-                                          ((0.0, -10 ** 400), r"\(0\.0, -1\.00e\+400\), beyond float64's range"),
-                                          ((1j, 0.0), r"\(1j, 0\.0\)"), ((0.0, 2 + 0j), r"\(0\.0, \(2\+0j\)\)"),
-                                          ((True, 0.5), r"\(True, 0\.5\)"), ((None, 0.0), r"\(None, 0\.0\)"),
-                                          (np.array([1.0, 0.0], dtype=complex), r"array\(\[1\.\+0\.j, 0\.\+0\.j\]\)"),
-                                          (np.array(["1", 0.0], dtype=object),
-                                           r"array\(\['1', 0\.0\], dtype=object\)")],
+@pytest.mark.parametrize("value, shown", [
+    ((10 ** 400, 0.0), r"\(1\.00e\+400, 0\.0\), beyond float64's range"),
+    ((0.0, -10 ** 400), r"\(0\.0, -1\.00e\+400\), beyond float64's range"),
+    ((1j, 0.0), r"\(1j, 0\.0\)"), ((0.0, 2 + 0j), r"\(0\.0, \(2\+0j\)\)"),
+    ((True, 0.5), r"\(True, 0\.5\)"), ((None, 0.0), r"\(None, 0\.0\)"),
+    (np.array([1.0, 0.0], dtype=complex), r"array\(\[1\.\+0\.j, 0\.\+0\.j\]\)"),
+    (np.array(["1", 0.0], dtype=object), r"array\(\['1', 0\.0\], dtype=object\)")],
                          ids=["10**400", "-10**400", "1j", "2+0j", "True", "None", "complex array",
                               "object array of text"])
 def test_a_vector_of_no_real_numbers_is_refused_naming_the_parameter(name, value, shown):
-    """A complex component (even 2+0j, or a complex array with zero imaginary parts, which numpy would
-    convert dropping them), a bool, None, an int beyond float64: a ValueError naming the parameter."""
+    """A complex component (even 2+0j, or a complex array with zero imaginary parts, which numpy
+    would convert dropping them), a bool, None, an int beyond float64: a ValueError naming the
+    parameter."""
     with pytest.raises(ValueError, match=f"^{name} must be a 2-vector of numbers, got {shown}$"):
         simulator.build_scene(**{name: value})
 
 
 @pytest.mark.parametrize("name", SCALARS)
-@pytest.mark.parametrize("value", [1j, 0.01 + 0j, np.complex128(1.0), np.array(1.0 + 0j), np.array(True),
-                                   np.array("4"), np.array([1.0]), [1.0], None],
-                         ids=["1j", "0.01+0j", "complex128", "0-d complex", "0-d bool", "0-d text", "1 value",
-                              "list", "None"])
+@pytest.mark.parametrize("value", [1j, 0.01 + 0j, np.complex128(1.0), np.array(1.0 + 0j),
+                                   np.array(True), np.array("4"), np.array([1.0]), [1.0], None],
+                         ids=["1j", "0.01+0j", "complex128", "0-d complex", "0-d bool",
+                              "0-d text", "1 value", "list", "None"])
 def test_a_scalar_of_no_real_number_is_refused_naming_the_parameter(name, value):
     if name == "mass" and value is None:
         return                                  # mass None is the default: rho side_len^2
@@ -224,22 +234,25 @@ def test_a_scalar_of_no_real_number_is_refused_naming_the_parameter(name, value)
 
 
 def test_real_numbers_of_other_types_are_taken():
-    """What is one real number is accepted, whatever its type: numpy scalars and 0-d arrays, a Fraction."""
+    """What is one real number is accepted, whatever its type: numpy scalars and 0-d arrays, a
+    Fraction."""
     import fractions
-    scene = simulator.build_scene(k=np.float32(2e4), n_seg=np.int64(3), mu=np.array(0.2), h=fractions.Fraction(1, 100),
+    scene = simulator.build_scene(k=np.float32(2e4), n_seg=np.int64(3), mu=np.array(0.2),
+                                  h=fractions.Fraction(1, 100),
                                   center=np.array([0, 1], dtype=np.int8), v0=[np.float16(1.0), 0])
     assert (scene.k[0], scene.params["n_seg"], scene.mu, scene.h) == (2e4, 3, 0.2, 0.01)
     assert scene.params["center"] == (0.0, 1.0) and scene.params["v0"] == (1.0, 0.0)
 
 
-# ---- a slope normal of any float64 components (issue 33, item 7) ----------------------------------------
+# ---- a slope normal of any float64 components (issue 33, item 7) ---------------------------------
 
-@pytest.mark.parametrize("slope", [(1e-320, 1e-319), (1e-310, 1e-310), (-3e-322, 5e-323), (1e308, 1e308)],
-                         ids=str)
+@pytest.mark.parametrize("slope", [(1e-320, 1e-319), (1e-310, 1e-310), (-3e-322, 5e-323),
+                                   (1e308, 1e308)], ids=str)
 def test_a_slope_normal_of_any_size_is_normalized_exactly(slope):
-    """Scaled by its largest component first, a subnormal slope (1e-320 is 2024 of float64's smallest
-    step) normalizes as the same direction in whole numbers of that step does, bit for bit (one code
-    path: each division by a power of two is exact); 1e308 components (|slope| beyond float64) too."""
+    """Scaled by its largest component first, a subnormal slope (1e-320 is 2024 of float64's
+    smallest step) normalizes as the same direction in whole numbers of that step does, bit for bit
+    (one code path: each division by a power of two is exact); 1e308 components (|slope| beyond
+    float64) too."""
     unit = 5e-324 if max(map(abs, slope)) < 1e-300 else 2.0 ** 1000      # exact powers of two
     whole = tuple(c / unit for c in slope)
     assert all(float(c).is_integer() for c in whole) or unit > 1.0
@@ -268,9 +281,10 @@ def test_the_lectures_slope_is_normalized_as_the_lecture_does():
 
 
 def test_an_object_array_of_numbers_converts_as_float_does():
-    """An object array of decimal.Decimal (or Fraction) converts item by item as float() does, wherever
-    a float64 array is taken: a scene's vectors, an energy's positions, a per-node array; one that holds
-    text, a bool or a complex number is refused as any other array of no real numbers."""
+    """An object array of decimal.Decimal (or Fraction) converts item by item as float() does,
+    wherever a float64 array is taken: a scene's vectors, an energy's positions, a per-node array;
+    one that holds text, a bool or a complex number is refused as any other array of no real
+    numbers."""
     D = decimal.Decimal
     objects = np.array([D("0.1"), D("0.25")], dtype=object)
     assert simulator.build_scene(center=objects).params["center"] == (0.1, 0.25)

@@ -19,12 +19,28 @@ O_SLOPE = np.array([0.0, -1.0])
 
 def check_derivatives(val, grad, hess, x, eps, rtol=1e-6):
     """grad == FD(val) and dense(hess) == FD(grad) at x; also hess is symmetric and 2N x 2N."""
-    assert_close(grad(x), fd_gradient(val, x, eps), rtol, "grad vs FD of val", roundoff(val(x), eps))
+    fd = fd_gradient(val, x, eps)
+    assert_close(grad(x), fd, rtol, "grad vs FD of val", roundoff(val(x), eps))
     ijv = hess(x)
     assert all(a.ndim == 1 for a in ijv) and len({len(a) for a in ijv}) == 1
     H = dense(ijv, x.size)
     assert_close(H, H.T, 1e-12, "hess symmetry")
     assert_close(H, fd_jacobian(grad, x, eps), rtol, "hess vs FD of grad", roundoff(grad(x), eps))
+
+
+def check_energy(module, x, eps, *args, **hess_kw):
+    """check_derivatives of module.val, grad and hess(y, *args, **hess_kw)."""
+    check_derivatives(lambda y: module.val(y, *args), lambda y: module.grad(y, *args),
+                      lambda y: module.hess(y, *args, **hess_kw), x, eps)
+
+
+def check_friction(x, x_n, hhat, args, eps):
+    """check_derivatives of P_f as a function of x, v = (x - x_n) / hhat, its true Hessian."""
+    def vel(y):
+        return (y - x_n) / hhat
+    check_derivatives(lambda y: FrictionEnergy.val(vel(y), *args),
+                      lambda y: FrictionEnergy.grad(vel(y), *args),
+                      lambda y: FrictionEnergy.hess(vel(y), *args, project_psd=False), x, eps)
 
 
 # --- inertia and gravity --------------------------------------------------------------------
@@ -33,16 +49,14 @@ def check_derivatives(val, grad, hess, x, eps, rtol=1e-6):
 def test_inertia(seed):
     rng = np.random.default_rng(seed)
     x, x_tilde, m = rng.normal(size=(7, 2)), rng.normal(size=(7, 2)), rng.uniform(0.5, 3, 7)
-    check_derivatives(lambda y: InertiaEnergy.val(y, x_tilde, m), lambda y: InertiaEnergy.grad(y, x_tilde, m),
-                      lambda y: InertiaEnergy.hess(y, x_tilde, m), x, 1e-5)
+    check_energy(InertiaEnergy, x, 1e-5, x_tilde, m)
 
 
 @pytest.mark.parametrize("seed", SEEDS)
 def test_gravity(seed):
     rng = np.random.default_rng(seed)
     x, m, g = rng.normal(size=(6, 2)), rng.uniform(0.5, 3, 6), rng.normal(size=2)
-    check_derivatives(lambda y: GravityEnergy.val(y, m, g), lambda y: GravityEnergy.grad(y, m, g),
-                      lambda y: GravityEnergy.hess(y, m, g), x, 1e-5)
+    check_energy(GravityEnergy, x, 1e-5, m, g)
     assert all(len(a) == 0 for a in GravityEnergy.hess(x, m, g))
     assert GravityEnergy.val(np.array([[0.0, 2.0]]), [3.0]) == pytest.approx(3.0 * 9.81 * 2.0)
 
@@ -64,8 +78,7 @@ def spring_setup(seed, stretch):
 @pytest.mark.parametrize("stretch", [0.6, 0.97, 1.03, 1.5])
 def test_mass_spring_true_hessian(seed, stretch):
     x, e, l2, k = spring_setup(seed, stretch)
-    check_derivatives(lambda y: MassSpringEnergy.val(y, e, l2, k), lambda y: MassSpringEnergy.grad(y, e, l2, k),
-                      lambda y: MassSpringEnergy.hess(y, e, l2, k, project_psd=False), x, 1e-6)
+    check_energy(MassSpringEnergy, x, 1e-6, e, l2, k, project_psd=False)
 
 
 def test_mass_spring_projection_only_changes_compressed_springs():
@@ -73,8 +86,8 @@ def test_mass_spring_projection_only_changes_compressed_springs():
     diff = x[e[:, 0]] - x[e[:, 1]]
     assert (np.einsum("ij,ij->i", diff, diff) > l2).all()
     n = x.size
-    assert_close(dense(MassSpringEnergy.hess(x, e, l2, k), n),
-                 dense(MassSpringEnergy.hess(x, e, l2, k, project_psd=False), n), 1e-12, "stretched")
+    H_true = dense(MassSpringEnergy.hess(x, e, l2, k, project_psd=False), n)
+    assert_close(dense(MassSpringEnergy.hess(x, e, l2, k), n), H_true, 1e-12, "stretched")
     x, e, l2, k = spring_setup(0, 0.6)           # compressed: the true Hessian is indefinite
     H_true = dense(MassSpringEnergy.hess(x, e, l2, k, project_psd=False), n)
     H_proj = dense(MassSpringEnergy.hess(x, e, l2, k), n)
@@ -86,11 +99,12 @@ def test_mass_spring_value_at_rest_and_by_hand():
     x0, e = square_mesh.generate(1.0, 2)
     d = x0[e[:, 0]] - x0[e[:, 1]]
     l2 = np.einsum("ij,ij->i", d, d)
-    # exact by construction: every coordinate is a multiple of 0.5, so each edge vector, its squared
-    # length and the strain ||d||^2 / l^2 - 1 = 0 are exact in float64, whatever order or FMA is used
+    # exact by construction: every coordinate is a multiple of 0.5, so each edge vector, its
+    # squared length and the strain ||d||^2 / l^2 - 1 = 0 are exact in float64, with or without FMA
     assert MassSpringEnergy.val(x0, e, l2, 5.0) == 0.0
     # one spring of rest length 1 stretched to 2: 1/2 k l^2 (4/1 - 1)^2 = 4.5 k
-    assert MassSpringEnergy.val([[0.0, 0.0], [2.0, 0.0]], [[0, 1]], [1.0], [3.0]) == pytest.approx(13.5)
+    stretched = MassSpringEnergy.val([[0.0, 0.0], [2.0, 0.0]], [[0, 1]], [1.0], [3.0])
+    assert stretched == pytest.approx(13.5)
 
 
 # --- barrier --------------------------------------------------------------------------------
@@ -113,8 +127,7 @@ def test_barrier(seed, where):
     x, w = barrier_points(rng, d), rng.uniform(0.1, 0.5, len(d))
     args = (N_SLOPE, O_SLOPE, w, dhat, kappa)
     eps = 1e-3 * min(d.min(), abs(d - dhat).min())   # never straddles the branch at d = dhat
-    check_derivatives(lambda y: BarrierEnergy.val(y, *args), lambda y: BarrierEnergy.grad(y, *args),
-                      lambda y: BarrierEnergy.hess(y, *args), x, eps)
+    check_energy(BarrierEnergy, x, eps, *args)
     if where == "just_above_dhat":          # empty active set: the sum of nothing, 0.0 exactly
         assert BarrierEnergy.val(x, *args) == 0.0 and len(BarrierEnergy.hess(x, *args)[0]) == 0
 
@@ -123,9 +136,11 @@ def test_barrier_keyword_constants_and_value():
     x = np.array([[0.0, 0.005]])
     # w dhat kappa/2 (s - 1) ln s with s = 1/2
     expect = 0.25 * 0.01 * 1e5 / 2 * (-0.5) * np.log(0.5)
-    assert BarrierEnergy.val(x, [0.0, 1.0], [0.0, 0.0], [0.25]) == pytest.approx(expect)
-    assert BarrierEnergy.val(x, [0.0, 1.0], [0.0, 0.0], [0.25], kappa=2e5) == pytest.approx(2 * expect)
-    assert BarrierEnergy.val(x, [0.0, 1.0], [0.0, 0.0], [0.25], dhat=0.004) == 0.0     # inactive: 0.0 exactly
+    up, origin = [0.0, 1.0], [0.0, 0.0]
+    assert BarrierEnergy.val(x, up, origin, [0.25]) == pytest.approx(expect)
+    assert BarrierEnergy.val(x, up, origin, [0.25], kappa=2e5) == pytest.approx(2 * expect)
+    # inactive: 0.0 exactly
+    assert BarrierEnergy.val(x, up, origin, [0.25], dhat=0.004) == 0.0
 
 
 def test_mu_lambda_is_mu_times_contact_force():
@@ -135,7 +150,8 @@ def test_mu_lambda_is_mu_times_contact_force():
     mu_lambda = BarrierEnergy.compute_mu_lambda(x, N_SLOPE, O_SLOPE, w, 0.3)
     force = -BarrierEnergy.grad(x, N_SLOPE, O_SLOPE, w)       # contact force on each node
     assert_close(mu_lambda, 0.3 * np.linalg.norm(force, axis=1), 1e-12, "mu*lambda")
-    assert (mu_lambda[:2] > 0).all() and (mu_lambda[2:] == 0).all()     # beyond dhat: no force at all, 0.0 exactly
+    # beyond dhat: no force at all, 0.0 exactly
+    assert (mu_lambda[:2] > 0).all() and (mu_lambda[2:] == 0).all()
 
 
 def test_init_step_size_is_ccd_scaled_by_0_9():
@@ -166,7 +182,8 @@ def friction_setup(rng, speeds, epsv, hhat):
 
 
 @pytest.mark.parametrize("seed", SEEDS)
-@pytest.mark.parametrize("where", ["static", "just_below_epsv", "just_above_epsv", "sliding", "zero"])
+@pytest.mark.parametrize("where",
+                         ["static", "just_below_epsv", "just_above_epsv", "sliding", "zero"])
 def test_friction(seed, where):
     rng = np.random.default_rng(seed)
     epsv, hhat = 1e-3, 0.01
@@ -177,21 +194,16 @@ def test_friction(seed, where):
               "zero": np.zeros(6)}[where]
     x_n, x, mu_lambda = friction_setup(rng, speeds, epsv, hhat)
     args = (mu_lambda, hhat, N_SLOPE, epsv)
-
-    def vel(y):
-        return (y - x_n) / hhat
-
     # a step eps in x moves the tangential speed by eps/hhat: keep it far below the distance of
     # every speed to a branch point (eps_v, and 0 where |vbar| is not smooth)
     # at vbar = 0 exactly, grad contains |vbar| vbar (C1 only), so the FD error is ~ step/eps_v
     gap = min(np.abs(speeds - epsv).min(), speeds.min()) if where != "zero" else 1e-3 * epsv
-    eps = 1e-4 * hhat * gap
-    check_derivatives(lambda y: FrictionEnergy.val(vel(y), *args), lambda y: FrictionEnergy.grad(vel(y), *args),
-                      lambda y: FrictionEnergy.hess(vel(y), *args, project_psd=False), x, eps)
+    check_friction(x, x_n, hhat, args, 1e-4 * hhat * gap)
+    g = FrictionEnergy.grad((x - x_n) / hhat, *args)
     if where == "zero":
-        assert not FrictionEnergy.grad(vel(x), *args).any()
-    g = FrictionEnergy.grad(vel(x), *args)
-    assert np.abs(g @ N_SLOPE).max() <= 1e-12 * max(np.abs(g).max(), 1.0), "friction acts along the slope only"
+        assert not g.any()
+    along_slope_only = np.abs(g @ N_SLOPE).max() <= 1e-12 * max(np.abs(g).max(), 1.0)
+    assert along_slope_only, "friction acts along the slope only"
 
 
 def lecture_f0(vbarnorm, epsv, hhat):
@@ -199,7 +211,8 @@ def lecture_f0(vbarnorm, epsv, hhat):
     if vbarnorm >= epsv:
         return vbarnorm * hhat
     vbarnormhhat, epsvhhat = vbarnorm * hhat, epsv * hhat
-    return vbarnormhhat * vbarnormhhat * (-vbarnormhhat / 3.0 + epsvhhat) / (epsvhhat * epsvhhat) + epsvhhat / 3.0
+    return (vbarnormhhat * vbarnormhhat * (-vbarnormhhat / 3.0 + epsvhhat) / (epsvhhat * epsvhhat)
+            + epsvhhat / 3.0)
 
 
 def lecture_f1_div_vbarnorm(vbarnorm, epsv):
@@ -211,15 +224,18 @@ def lecture_f_hess_term(vbarnorm, epsv):
 
 
 def test_mollifier_functions_are_the_lecture_s():
-    """f0, f1_div_vbarnorm and f_hess_term take the lecture's arguments and give its numbers (written
-    in ||vbar|| / eps_v, so they agree to round-off, a few ulps)."""
+    """f0, f1_div_vbarnorm and f_hess_term take the lecture's arguments and give its numbers
+    (written in ||vbar|| / eps_v, so they agree to round-off, a few ulps)."""
     epsv, hhat = 1e-3, 0.01
-    assert FrictionEnergy.f0(5e-4, epsv, hhat) == pytest.approx(5.0e-6 * 5.0e-6 * (-5.0e-6 / 3 + 1e-5) / 1e-10 + 1e-5 / 3, rel=1e-14)
-    vbarnorm = np.concatenate([[0.0, 1e-300, np.nextafter(epsv, 0), epsv], np.linspace(0, 4 * epsv, 101)])
+    by_hand = 5.0e-6 * 5.0e-6 * (-5.0e-6 / 3 + 1e-5) / 1e-10 + 1e-5 / 3
+    assert FrictionEnergy.f0(5e-4, epsv, hhat) == pytest.approx(by_hand, rel=1e-14)
+    vbarnorm = np.concatenate([[0.0, 1e-300, np.nextafter(epsv, 0), epsv],
+                               np.linspace(0, 4 * epsv, 101)])
     for mine, lecture, args in ((FrictionEnergy.f0, lecture_f0, (epsv, hhat)),
                                 (FrictionEnergy.f1_div_vbarnorm, lecture_f1_div_vbarnorm, (epsv,)),
                                 (FrictionEnergy.f_hess_term, lecture_f_hess_term, (epsv,))):
-        with np.errstate(divide="raise", invalid="raise"):      # no division by zero at ||vbar|| = 0
+        # no division by zero at ||vbar|| = 0
+        with np.errstate(divide="raise", invalid="raise"):
             values = mine(vbarnorm, *args)
         assert_close(values, [lecture(v, *args) for v in vbarnorm], 1e-14, mine.__name__)
 
@@ -229,9 +245,9 @@ def test_tangent_spans_the_tangent_operator():
     for n in (N_SLOPE, np.array([0.0, 1.0]), np.array([-0.6, 0.8])):
         t = FrictionEnergy.tangent(n)
         assert_close(np.outer(t, t), np.eye(2) - np.outer(n, n), 1e-15, "t t^T")
-        # t . n = n_y n_x - n_x n_y is zero in exact arithmetic; numpy's dot may fuse the two products
-        # (an FMA kernel on AVX-512 CPUs), which leaves the rounding of one product, at most
-        # eps/2 |n_x n_y| <= eps/4 for a unit n.
+        # t . n = n_y n_x - n_x n_y is zero in exact arithmetic; numpy's dot may fuse the two
+        # products (an FMA kernel on AVX-512 CPUs), which leaves the rounding of one product, at
+        # most eps/2 |n_x n_y| <= eps/4 for a unit n.
         assert abs(t @ n) <= 0.25 * np.finfo(float).eps
 
 
@@ -243,17 +259,17 @@ def test_friction_force_magnitude_is_mu_lambda_when_sliding():
 
 
 def test_friction_projection_is_identity_on_psd_bracket():
-    """The bracket of the lecture's hess_k P_f is PSD for its f1, so projecting it changes nothing beyond
-    round-off of the terms it is made of, mu_lambda/hhat * f1(||vbar||)/||vbar|| (in 2-D the sliding
-    Hessian is exactly zero: both sides are then round-off of that size)."""
+    """The bracket of the lecture's hess_k P_f is PSD for its f1, so projecting it changes nothing
+    beyond round-off of the terms it is made of, mu_lambda/hhat * f1(||vbar||)/||vbar|| (in 2-D the
+    sliding Hessian is exactly zero: both sides are then round-off of that size)."""
     rng = np.random.default_rng(1)
     for speeds in (np.zeros(6), np.full(6, 5e-4), np.full(6, 0.2)):
         x_n, x, mu_lambda = friction_setup(rng, speeds, 1e-3, 0.01)
         v = (x - x_n) / 0.01
         natural = mu_lambda.max() / 0.01 * FrictionEnergy.f1_div_vbarnorm(speeds, 1e-3).max()
-        assert_close(dense(FrictionEnergy.hess(v, mu_lambda, 0.01, N_SLOPE), x.size),
-                     dense(FrictionEnergy.hess(v, mu_lambda, 0.01, N_SLOPE, project_psd=False), x.size),
-                     1e-12, "projection of a PSD bracket", atol=1e-12 * natural)
+        projected = dense(FrictionEnergy.hess(v, mu_lambda, 0.01, N_SLOPE), x.size)
+        true = dense(FrictionEnergy.hess(v, mu_lambda, 0.01, N_SLOPE, project_psd=False), x.size)
+        assert_close(projected, true, 1e-12, "projection of a PSD bracket", atol=1e-12 * natural)
 
 
 # --- mollifier --------------------------------------------------------------------------------
@@ -266,20 +282,23 @@ def f1(vbarnorm, epsv):
 def test_f0_derivative_is_f1():
     """d f0(||vbar|| hhat) / d||vbar|| = hhat f1(||vbar||) (the lecture's f0'(y) = f1(y / hhat))."""
     epsv, hhat = 1e-3, 0.01
-    vbarnorm = np.concatenate([np.linspace(0, 3 * epsv, 301), [epsv * (1 - 1e-4), epsv * (1 + 1e-4)]])
+    vbarnorm = np.concatenate([np.linspace(0, 3 * epsv, 301),
+                               [epsv * (1 - 1e-4), epsv * (1 + 1e-4)]])
     step = 1e-4 * epsv
-    vbarnorm = vbarnorm[(np.abs(vbarnorm - epsv) > 2 * step) & (vbarnorm > 2 * step)]   # off the branch points
-    numeric = (FrictionEnergy.f0(vbarnorm + step, epsv, hhat) - FrictionEnergy.f0(vbarnorm - step, epsv, hhat)) / (2 * step)
+    # off the branch points
+    vbarnorm = vbarnorm[(np.abs(vbarnorm - epsv) > 2 * step) & (vbarnorm > 2 * step)]
+    numeric = (FrictionEnergy.f0(vbarnorm + step, epsv, hhat)
+               - FrictionEnergy.f0(vbarnorm - step, epsv, hhat)) / (2 * step)
     assert_close(numeric, hhat * f1(vbarnorm, epsv), 1e-7, "f0' = hhat f1")
 
 
 def test_mollifier_continuity_at_branch_point():
     epsv, hhat = 2e-3, 0.02
     below, above = np.nextafter(epsv, 0), epsv
-    assert FrictionEnergy.f0(below, epsv, hhat) == pytest.approx(FrictionEnergy.f0(above, epsv, hhat), rel=1e-12)
-    assert f1(below, epsv) == pytest.approx(f1(above, epsv), rel=1e-12)
-    assert FrictionEnergy.f1_div_vbarnorm(below, epsv) == pytest.approx(FrictionEnergy.f1_div_vbarnorm(above, epsv), rel=1e-12)
-    assert FrictionEnergy.f_hess_term(below, epsv) == pytest.approx(FrictionEnergy.f_hess_term(above, epsv), rel=1e-12)
+    for f, args in ((FrictionEnergy.f0, (epsv, hhat)), (f1, (epsv,)),
+                    (FrictionEnergy.f1_div_vbarnorm, (epsv,)),
+                    (FrictionEnergy.f_hess_term, (epsv,))):
+        assert f(below, *args) == pytest.approx(f(above, *args), rel=1e-12), f.__name__
     assert FrictionEnergy.f0(0.0, epsv, hhat) == pytest.approx(epsv * hhat / 3)
 
 
@@ -290,8 +309,8 @@ def test_f_hess_term_is_f1_prime_y_minus_f1_over_y_squared():
     step = 1e-9
     y = y[np.abs(y - epsv) > 2 * step]
     f1_prime = (f1(y + step, epsv) - f1(y - step, epsv)) / (2 * step)
-    assert_close(FrictionEnergy.f_hess_term(y, epsv), (f1_prime * y - f1(y, epsv)) / y ** 2, 1e-5, "f_hess_term",
-                 atol=1e-5 / epsv ** 2)
+    assert_close(FrictionEnergy.f_hess_term(y, epsv), (f1_prime * y - f1(y, epsv)) / y ** 2, 1e-5,
+                 "f_hess_term", atol=1e-5 / epsv ** 2)
 
 
 def test_f1_div_vbarnorm_finite_at_zero():
@@ -300,13 +319,15 @@ def test_f1_div_vbarnorm_finite_at_zero():
         term = FrictionEnergy.f_hess_term(np.array([0.0, 5.0]), 1e-3)
         g = FrictionEnergy.grad(np.zeros((3, 2)), np.ones(3), 0.01, N_SLOPE)
         H = FrictionEnergy.hess(np.zeros((3, 2)), np.ones(3), 0.01, N_SLOPE)
-    assert value[0] == pytest.approx(2 / 1e-3) and np.isfinite(value).all() and np.isfinite(term).all()
+    assert value[0] == pytest.approx(2 / 1e-3)
+    assert np.isfinite(value).all() and np.isfinite(term).all()
     assert not g.any() and np.isfinite(H[2]).all()
 
 
 # --- the FD check itself catches wrong formulas --------------------------------------------------
 
-@pytest.mark.parametrize("break_it", ["sign", "factor_2", "f1_div_vbarnorm_factor_2", "f_hess_term_factor_2"])
+@pytest.mark.parametrize("break_it",
+                         ["sign", "factor_2", "f1_div_vbarnorm_factor_2", "f_hess_term_factor_2"])
 def test_fd_check_catches_broken_formula(break_it, monkeypatch):
     """Break a formula on purpose; the same checks as above must fail."""
     x, e, l2, k = spring_setup(0, 1.2)
@@ -317,19 +338,17 @@ def test_fd_check_catches_broken_formula(break_it, monkeypatch):
         with pytest.raises(AssertionError):
             check_derivatives(lambda y: MassSpringEnergy.val(y, e, l2, k),
                               lambda y: factor * MassSpringEnergy.grad(y, e, l2, k),
-                              lambda y: MassSpringEnergy.hess(y, e, l2, k, project_psd=False), x, 1e-6)
+                              lambda y: MassSpringEnergy.hess(y, e, l2, k, project_psd=False),
+                              x, 1e-6)
         return
     name = "f1_div_vbarnorm" if break_it == "f1_div_vbarnorm_factor_2" else "f_hess_term"
     original = getattr(FrictionEnergy, name)
     monkeypatch.setattr(FrictionEnergy, name, lambda vbarnorm, epsv: 2.0 * original(vbarnorm, epsv))
-    args = (mu_lambda, 0.01, N_SLOPE, 1e-3)
     with pytest.raises(AssertionError):
-        check_derivatives(lambda y: FrictionEnergy.val((y - x_n) / 0.01, *args),
-                          lambda y: FrictionEnergy.grad((y - x_n) / 0.01, *args),
-                          lambda y: FrictionEnergy.hess((y - x_n) / 0.01, *args, project_psd=False), xf, 1e-9)
+        check_friction(xf, x_n, 0.01, (mu_lambda, 0.01, N_SLOPE, 1e-3), 1e-9)
 
 
-# --- the hand (the chalk's grip): zero-rest-length springs to moving targets -------------------------
+# --- the hand (the chalk's grip): zero-rest-length springs to moving targets ----------------------
 
 @pytest.mark.parametrize("seed", SEEDS)
 def test_hand(seed):
@@ -337,41 +356,49 @@ def test_hand(seed):
     x = rng.normal(size=(9, 2))
     nodes = rng.choice(9, size=4, replace=False)
     target = x[nodes] + 0.1 * rng.normal(size=(4, 2))
-    for k_hand in (rng.uniform(500, 8000), rng.uniform(500, 8000, 4)):         # one stiffness, or one per node
-        check_derivatives(lambda y: HandEnergy.val(y, nodes, target, k_hand),
-                          lambda y: HandEnergy.grad(y, nodes, target, k_hand),
-                          lambda y: HandEnergy.hess(y, nodes, target, k_hand), x, 1e-5)
+    # one stiffness, or one per node
+    for k_hand in (rng.uniform(500, 8000), rng.uniform(500, 8000, 4)):
+        check_energy(HandEnergy, x, 1e-5, nodes, target, k_hand)
     free = np.setdiff1d(np.arange(9), nodes)
-    assert not HandEnergy.grad(x, nodes, target, 1e3)[free].any()             # only the held nodes are pulled
+    # only the held nodes are pulled
+    assert not HandEnergy.grad(x, nodes, target, 1e3)[free].any()
 
 
 def test_hand_value_by_hand_and_its_blocks_are_node_blocks():
     # one held node 3 m and 4 m from its target: 1/2 k 5^2
-    assert HandEnergy.val([[0.0, 0.0], [1.0, 1.0]], [1], [[4.0, 5.0]], 4.0) == 50.0
-    assert HandEnergy.grad([[0.0, 0.0], [1.0, 1.0]], [1], [[4.0, 5.0]], 4.0).tolist() == [[0, 0], [-12, -16]]
-    nodes, blocks = HandEnergy.hess_kernel(np.zeros((5, 2)), np.array([1, 4]), np.zeros((2, 2)), 7.0)
-    assert nodes.shape == (2, 1) and np.array_equal(blocks, [7.0 * np.eye(2)] * 2)   # k_hand I on each node alone
+    x = [[0.0, 0.0], [1.0, 1.0]]
+    assert HandEnergy.val(x, [1], [[4.0, 5.0]], 4.0) == 50.0
+    assert HandEnergy.grad(x, [1], [[4.0, 5.0]], 4.0).tolist() == [[0, 0], [-12, -16]]
+    nodes, blocks = HandEnergy.hess_kernel(np.zeros((5, 2)), np.array([1, 4]), np.zeros((2, 2)),
+                                           7.0)
+    # k_hand I on each node alone
+    assert nodes.shape == (2, 1) and np.array_equal(blocks, [7.0 * np.eye(2)] * 2)
 
 
 def test_hand_targets_follow_the_keyframes_and_then_the_last_velocity():
-    hand = HandEnergy.Hand(nodes=np.array([0, 1]), rest=np.array([[0.0, 1.0], [1.0, 1.0]]), k_hand=2000.0,
-                           key_t=np.array([0.0, 0.1, 0.2, 1.2]),
+    hand = HandEnergy.Hand(nodes=np.array([0, 1]), rest=np.array([[0.0, 1.0], [1.0, 1.0]]),
+                           k_hand=2000.0, key_t=np.array([0.0, 0.1, 0.2, 1.2]),
                            key_d=np.array([[0.0, 0.0], [0.0, -5e-4], [0.0, -5e-4], [0.01, -5e-4]]))
     assert np.array_equal(hand.targets(0.0), hand.rest)
-    assert np.allclose(hand.displacement(0.05), [0.0, -2.5e-4], rtol=0, atol=1e-18)      # halfway down
-    assert np.allclose(hand.displacement(0.15), [0.0, -5e-4], rtol=0, atol=1e-18)        # holding
-    assert np.allclose(hand.displacement(0.7), [0.005, -5e-4], rtol=0, atol=1e-15)       # moving at 0.01 m/s
-    assert np.allclose(hand.displacement(3.2), [0.03, -5e-4], rtol=0, atol=1e-15)        # and on, past key_t[-1]
+    # halfway down
+    assert np.allclose(hand.displacement(0.05), [0.0, -2.5e-4], rtol=0, atol=1e-18)
+    # holding
+    assert np.allclose(hand.displacement(0.15), [0.0, -5e-4], rtol=0, atol=1e-18)
+    # moving at 0.01 m/s
+    assert np.allclose(hand.displacement(0.7), [0.005, -5e-4], rtol=0, atol=1e-15)
+    # and on, past key_t[-1]
+    assert np.allclose(hand.displacement(3.2), [0.03, -5e-4], rtol=0, atol=1e-15)
     assert np.allclose(hand.targets(3.2), hand.rest + [0.03, -5e-4], rtol=0, atol=1e-15)
 
 
-# --- friction that weakens with slip: mu per node ----------------------------------------------------
+# --- friction that weakens with slip: mu per node -------------------------------------------------
 
 def test_slip_weakened_mu_from_static_to_kinetic():
     mu, mu_s, v_c = 0.35, 0.5, 1e-3
     vbarnorm = np.array([0.0, v_c, 10 * v_c, 1.0])
-    assert_close(FrictionEnergy.slip_weakened_mu(vbarnorm, mu, mu_s, v_c),
-                 [mu_s, mu + (mu_s - mu) / np.e, mu + (mu_s - mu) * np.exp(-10), mu], 1e-15, "mu(||vbar||)")
+    expected = [mu_s, mu + (mu_s - mu) / np.e, mu + (mu_s - mu) * np.exp(-10), mu]
+    assert_close(FrictionEnergy.slip_weakened_mu(vbarnorm, mu, mu_s, v_c), expected, 1e-15,
+                 "mu(||vbar||)")
     # one coefficient (mu_s = mu) is mu exactly, at every speed: mu + 0 * exp(...)
     assert (FrictionEnergy.slip_weakened_mu(vbarnorm, mu, mu, v_c) == mu).all()
 
@@ -382,7 +409,8 @@ def test_mu_lambda_with_a_mu_per_node_is_each_node_s_mu_times_its_contact_force(
     x, w = barrier_points(rng, d), np.full(5, 0.25)
     mu = rng.uniform(0.1, 0.6, 5)
     force = np.linalg.norm(-BarrierEnergy.grad(x, N_SLOPE, O_SLOPE, w), axis=1)
-    assert_close(BarrierEnergy.compute_mu_lambda(x, N_SLOPE, O_SLOPE, w, mu), mu * force, 1e-12, "mu_k lambda_k")
+    mu_lambda = BarrierEnergy.compute_mu_lambda(x, N_SLOPE, O_SLOPE, w, mu)
+    assert_close(mu_lambda, mu * force, 1e-12, "mu_k lambda_k")
     # an array of one value is the scalar's result, bit for bit
     assert np.array_equal(BarrierEnergy.compute_mu_lambda(x, N_SLOPE, O_SLOPE, w, np.full(5, 0.3)),
                           BarrierEnergy.compute_mu_lambda(x, N_SLOPE, O_SLOPE, w, 0.3))
@@ -391,31 +419,29 @@ def test_mu_lambda_with_a_mu_per_node_is_each_node_s_mu_times_its_contact_force(
 @pytest.mark.parametrize("seed", SEEDS)
 @pytest.mark.parametrize("where", ["static", "sliding", "zero"])
 def test_friction_with_a_slip_weakened_mu_per_node(seed, where):
-    """The lagged solve's P_f with mu_k = slip_weakened_mu(|t . v^n_k|), mu_lambda = mu_k lambda_k(x^n):
-    fixed through the solve, so P_f(x) is still a potential and its grad and hess still match FD."""
+    """The lagged solve's P_f with mu_k = slip_weakened_mu(|t . v^n_k|), mu_lambda = mu_k
+    lambda_k(x^n): fixed through the solve, so P_f(x) is still a potential and its grad and hess
+    still match FD."""
     rng = np.random.default_rng(seed)
     epsv, hhat, v_c = 1e-3, 0.01, 1e-3
     speeds = {"static": rng.uniform(0.05, 0.9, 6) * epsv, "sliding": rng.uniform(2, 500, 6) * epsv,
               "zero": np.zeros(6)}[where]
     x_n, x, _ = friction_setup(rng, speeds, epsv, hhat)
-    contact = O_SLOPE + np.outer(rng.uniform(-1, 1, 6), FrictionEnergy.tangent(N_SLOPE)) \
-        + np.outer(rng.uniform(0.1, 1.5, 6) * 0.01, N_SLOPE)         # some nodes within dhat = 0.01, some beyond
+    tangent = FrictionEnergy.tangent(N_SLOPE)
+    along = np.outer(rng.uniform(-1, 1, 6), tangent)
+    # some nodes within dhat = 0.01, some beyond
+    contact = O_SLOPE + along + np.outer(rng.uniform(0.1, 1.5, 6) * 0.01, N_SLOPE)
     v_n = rng.normal(size=(6, 2)) * rng.uniform(0, 5 * v_c, 6)[:, None]
-    mu = FrictionEnergy.slip_weakened_mu(np.abs(v_n @ FrictionEnergy.tangent(N_SLOPE)), 0.35, 0.5, v_c)
+    mu = FrictionEnergy.slip_weakened_mu(np.abs(v_n @ tangent), 0.35, 0.5, v_c)
     mu_lambda = BarrierEnergy.compute_mu_lambda(contact, N_SLOPE, O_SLOPE, np.full(6, 0.25), mu)
     assert ((mu >= 0.35) & (mu <= 0.5)).all() and (mu_lambda > 0).any()
-    args = (mu_lambda, hhat, N_SLOPE, epsv)
-
-    def vel(y):
-        return (y - x_n) / hhat
     gap = min(np.abs(speeds - epsv).min(), speeds.min()) if where != "zero" else 1e-3 * epsv
-    check_derivatives(lambda y: FrictionEnergy.val(vel(y), *args), lambda y: FrictionEnergy.grad(vel(y), *args),
-                      lambda y: FrictionEnergy.hess(vel(y), *args, project_psd=False), x, 1e-4 * hhat * gap)
+    check_friction(x, x_n, hhat, (mu_lambda, hhat, N_SLOPE, epsv), 1e-4 * hhat * gap)
 
 
 def eig_route(H):
-    """Reference: numpy's eigen-decomposition, negative eigenvalues clamped, one matrix at a time (the
-    lecture's make_PD)."""
+    """Reference: numpy's eigen-decomposition, negative eigenvalues clamped, one matrix at a time
+    (the lecture's make_PD)."""
     out = []
     for A in H:
         lam, Q = np.linalg.eigh(A)

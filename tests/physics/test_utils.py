@@ -1,5 +1,5 @@
-"""utils: IJV assembly and the Newton system's SPD solve (banded Cholesky or SuperLU, the band derived
-from every declared element)."""
+"""utils: IJV assembly and the Newton system's SPD solve (banded Cholesky or SuperLU, the band
+derived from every declared element)."""
 import numpy as np
 import pytest
 import scipy.sparse.linalg
@@ -17,9 +17,10 @@ def test_ijv_assembles_symmetric_matrix_of_right_size():
                             InertiaEnergy.hess(x, x, np.ones(len(x)))])
     A = utils.ijv_to_csr(ijv, 2 * len(x))
     assert A.shape == (2 * len(x), 2 * len(x))
-    # symmetric up to the order of summation: entry (i, j) and (j, i) add the same values (every block
-    # is exactly symmetric), but scipy sorts each row's duplicates on its own, so two orders may differ
-    # by up to (count - 1) eps times the sum of the magnitudes added (count: duplicates per entry)
+    # symmetric up to the order of summation: entry (i, j) and (j, i) add the same values (every
+    # block is exactly symmetric), but scipy sorts each row's duplicates on its own, so two orders
+    # may differ by up to (count - 1) eps times the sum of the magnitudes added (count: duplicates
+    # per entry)
     count = utils.ijv_to_csr((ijv[0], ijv[1], np.ones(len(ijv[2]))), 2 * len(x)).toarray()
     magnitude = utils.ijv_to_csr((ijv[0], ijv[1], np.abs(ijv[2])), 2 * len(x)).toarray()
     asymmetry = abs(A - A.T).toarray()
@@ -27,9 +28,14 @@ def test_ijv_assembles_symmetric_matrix_of_right_size():
     assert all(a.ndim == 1 and len(a) == len(ijv[0]) for a in ijv)
 
 
+def to_csr(blocks, n_dofs):
+    """The sparse matrix that element blocks [(nodes, blocks), ...] sum to."""
+    return utils.ijv_to_csr(utils.concat_ijv(utils.blocks_to_ijv(*h) for h in blocks), n_dofs)
+
+
 def system_setup(n_seg, seed=0):
-    """M = I, the springs' blocks on the mesh's edges and random SPD 2x2 blocks on a few nodes, as element
-    blocks, and the dense matrix they sum to (built from their IJV triplets)."""
+    """M = I, the springs' blocks on the mesh's edges and random SPD 2x2 blocks on a few nodes, as
+    element blocks, and the dense matrix they sum to (built from their IJV triplets)."""
     rng = np.random.default_rng(seed)
     x, e = square_mesh.generate(1.0, n_seg)
     d = x[e[:, 0]] - x[e[:, 1]]
@@ -37,9 +43,9 @@ def system_setup(n_seg, seed=0):
     l2, k = np.einsum("ij,ij->i", d, d), np.full(len(e), 1e3)
     nodes = rng.choice(len(x), size=len(x) // 3, replace=False)[:, None]
     A = rng.normal(size=(len(nodes), 2, 2))
-    H = [InertiaEnergy.hess_kernel(x, x, np.ones(len(x))), MassSpringEnergy.hess_kernel(y, e, l2, k),
-         (nodes, A @ np.swapaxes(A, 1, 2))]
-    dense = utils.ijv_to_csr(utils.concat_ijv(utils.blocks_to_ijv(*h) for h in H), 2 * len(x)).toarray()
+    H = [InertiaEnergy.hess_kernel(x, x, np.ones(len(x))),
+         MassSpringEnergy.hess_kernel(y, e, l2, k), (nodes, A @ np.swapaxes(A, 1, 2))]
+    dense = to_csr(H, 2 * len(x)).toarray()
     return x, e, H, dense
 
 
@@ -48,20 +54,24 @@ def test_upper_band_is_lapack_s_storage_of_the_summed_blocks():
     solver = utils.SPDSolver.for_mesh(len(x), e)
     band = solver.upper_band(H)
     assert band.shape == (solver.bandwidth + 1, 2 * len(x))
-    i, j = np.triu_indices(2 * len(x))              # LAPACK's upper band storage: ab[u + i - j, j] = A[i, j]
+    # LAPACK's upper band storage: ab[u + i - j, j] = A[i, j]
+    i, j = np.triu_indices(2 * len(x))
     inside = j - i <= solver.bandwidth
-    assert np.allclose(band[solver.bandwidth + i[inside] - j[inside], j[inside]], expected[i[inside], j[inside]],
+    r, c = i[inside], j[inside]
+    assert np.allclose(band[solver.bandwidth + r - c, c], expected[r, c],
                        rtol=0, atol=1e-12 * np.abs(expected).max())
     assert not expected[i[~inside], j[~inside]].any()
     # elements given on other node lists than the mesh's edges land where their DOFs say
     reversed_edges = [(n[:, ::-1], b[:, [2, 3, 0, 1]][:, :, [2, 3, 0, 1]]) for n, b in H[1:2]]
-    assert np.allclose(solver.upper_band(H[:1] + reversed_edges + H[2:]), band, rtol=0, atol=1e-12 * np.abs(band).max())
+    assert np.allclose(solver.upper_band(H[:1] + reversed_edges + H[2:]), band,
+                       rtol=0, atol=1e-12 * np.abs(band).max())
 
 
 def test_both_solvers_solve_the_spd_system():
     x, e, H, dense = system_setup(6, seed=1)
     b = np.random.default_rng(2).normal(size=2 * len(x))
-    solutions = [utils.SPDSolver.for_mesh(len(x), e, kind).solve(H, b) for kind in ("banded", "superlu")]
+    solutions = [utils.SPDSolver.for_mesh(len(x), e, kind).solve(H, b)
+                 for kind in ("banded", "superlu")]
     for p in solutions:
         assert np.allclose(dense @ p, b, rtol=0, atol=1e-10 * np.abs(b).max())
     assert np.allclose(solutions[0], solutions[1], rtol=1e-10, atol=1e-12)
@@ -69,7 +79,8 @@ def test_both_solvers_solve_the_spd_system():
 
 def test_solver_choice_follows_the_band():
     x, e = square_mesh.generate(1.0, 32)
-    assert utils.SPDSolver.for_mesh(len(x), e).kind == "banded"             # the lecture's numbering
+    # the lecture's numbering
+    assert utils.SPDSolver.for_mesh(len(x), e).kind == "banded"
     shuffled = np.random.default_rng(0).permutation(len(x))[e]               # a wide band
     assert utils.SPDSolver.for_mesh(len(x), shuffled).kind == "superlu"
     with pytest.raises(ValueError, match="kind must be"):
@@ -96,23 +107,27 @@ def test_add_to_pairs_sums_each_pair_s_rows():
 
 
 def test_a_block_outside_the_band_is_refused_and_a_declared_one_solves_as_spsolve():
-    """Issue 28: a 4x4 block coupling nodes 0 and 24 of the n_seg 4 mesh lies outside the band its edges
-    give (before, the banded solve then differed from spsolve by 0.89, silently). It is refused at once;
-    declared as an element of the scene, the band covers it and the banded solve agrees with spsolve."""
+    """Issue 28: a 4x4 block coupling nodes 0 and 24 of the n_seg 4 mesh lies outside the band its
+    edges give (before, the banded solve then differed from spsolve by 0.89, silently). It is
+    refused at once; declared as an element of the scene, the band covers it and the banded solve
+    agrees with spsolve."""
     x, e, H, _ = system_setup(4, seed=3)
     rng = np.random.default_rng(4)
     A = rng.normal(size=(1, 4, 4))
     coupled = H + [(np.array([[0, 24]]), A @ np.swapaxes(A, 1, 2))]
-    matrix = utils.ijv_to_csr(utils.concat_ijv(utils.blocks_to_ijv(*h) for h in coupled), 2 * len(x)).tocsc()
+    matrix = to_csr(coupled, 2 * len(x)).tocsc()
     b = rng.normal(size=2 * len(x))
     reference = scipy.sparse.linalg.spsolve(matrix, b)
     mesh_only = utils.SPDSolver.for_mesh(len(x), e)
     assert mesh_only.kind == "banded" and mesh_only.bandwidth == 2 * 6 + 1
-    with pytest.raises(utils.OutOfBand, match=r"nodes \[0, 24\] couples DOFs 49 apart, beyond the band of 13"):
+    message = r"nodes \[0, 24\] couples DOFs 49 apart, beyond the band of 13"
+    with pytest.raises(utils.OutOfBand, match=message):
         mesh_only.solve(coupled, b)
     declared = utils.SPDSolver.for_mesh(len(x), e, elements=[np.array([[0, 24]])])
     assert declared.kind == "banded" and declared.bandwidth == 2 * 24 + 1
     for solver in (declared, utils.SPDSolver.for_mesh(len(x), e, "superlu")):
-        assert np.allclose(solver.solve(coupled, b), reference, rtol=0, atol=1e-10 * np.abs(reference).max())
-    # node blocks (the hand's, the barrier's) couple a node to itself only: they keep the mesh's band
-    assert utils.SPDSolver.for_mesh(len(x), e, elements=[np.arange(20, 25)[:, None]]).bandwidth == 13
+        assert np.allclose(solver.solve(coupled, b), reference,
+                           rtol=0, atol=1e-10 * np.abs(reference).max())
+    # node blocks (the hand's, the barrier's) couple a node to itself only: the mesh's band
+    nodes = [np.arange(20, 25)[:, None]]
+    assert utils.SPDSolver.for_mesh(len(x), e, elements=nodes).bandwidth == 13
