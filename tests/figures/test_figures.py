@@ -56,7 +56,7 @@ def test_friction_power_is_never_above_round_off():
     assert np.all(run.P <= run.bound)
     assert run.P.min() < 0.0 and run.bound.max() < 1e-10 * -run.P.min()   # worked; bound: round-off
     page = dissipation.draw(r)
-    assert page.surface.get_height() == page_height(2, 2 + len(r.runs)) and is_png(page.png())
+    assert page.surface.get_height() == page_height(2, 3 + len(r.runs)) and is_png(page.png())
 
 
 def test_fixed_point_reports_a_step_that_does_not_converge():
