@@ -1,5 +1,6 @@
 """Slide "Properties of dry friction": kinetic energy turns into heat, never back. Friction's power
-P = W / h, W the step's friction work (StepReport.friction_work), is <= 0 at every step."""
+in the surface's frame, P = -(surface_work - friction_work) / h (StepReport's), is <= 0 at every
+step; on the lecture's still slope (surface_work = 0) it is friction_work / h."""
 from types import SimpleNamespace
 
 import numpy as np
@@ -14,13 +15,14 @@ DURATION = 6.0              # s, as long as `python simulator.py --mu 0.1,0.11,0
 
 def power(scene, steps):
     """t (s), P = W / h (W) and its round-off bound (W) at every step. W = sum_k F_k . d_k <= 0 in
-    exact arithmetic; in float64 it is off by at most (2N + 8) eps sum_k |F_k| |d_k| (Higham, 3.1),
-    F the step's friction force (StepReport.friction_force), d_k = x_k^{n+1} - x_k^n."""
+    exact arithmetic, the work in the surface's frame; in float64 it is off by at most (2N + 8) eps
+    sum_k |F_k| |d_k| (Higham, 3.1), F the step's friction force (StepReport.friction_force),
+    d_k = x_k^{n+1} - x_k^n (still slope: the surface's frame is the lab's)."""
     t, P, bound, x_n, eps = [], [], [], scene.x0, np.finfo(float).eps
     for record in simulator.simulate(scene, steps):
         F, d = record.report.friction_force, record.x - x_n
         t.append(record.t)
-        P.append(record.report.friction_work / scene.h)
+        P.append((record.report.friction_work - record.report.surface_work) / scene.h)
         bound.append((2 * len(d) + 8) * eps * np.hypot(*F.T) @ np.hypot(*d.T) / scene.h)
         x_n = record.x
     return np.array(t), np.array(P), np.array(bound)
@@ -41,8 +43,10 @@ def draw(r):
     """P against t for every mu, steps beyond round-off ringed in red; W(t) below."""
     t_max = max(run.t[-1] for run in r.runs)
     bound = max(run.bound.max() for run in r.runs)
-    caption = [f"P = StepReport.friction_work / h at every step of the lecture's mu comparison "
-               f"(its first 3 s at mu = {r.default_mu:g} are the default run).",
+    caption = ["P = -(surface_work - friction_work) / h (StepReport's): friction's power in the "
+               "surface's frame, here the still slope's,",
+               f"at every step of the lecture's mu comparison (its first 3 s at mu = "
+               f"{r.default_mu:g} are the default run).",
                f"Round-off bound per step (dissipation.power): (2N + 8) eps sum_k |F_k| |d_k| / h, "
                f"at most {bound:.2g} W; P = 0 where no node touches."]
     for run in r.runs:
@@ -50,11 +54,11 @@ def draw(r):
         caption.append(f"mu = {run.mu:g}{name}: P from {run.P.min():.4g} to {run.P.max():.3g} W; "
                        f"{len(run.beyond)} of {len(run.P)} steps above round-off; "
                        f"W = {run.W[-1]:.4g} J")
-    page = Page("Friction takes kinetic energy out and never gives it back: its power P <= 0", 2,
-                caption)
+    page = Page("Friction turns kinetic energy into heat, never back: its power P <= 0 in the "
+                "surface's frame", 2, caption)
     P_lo, P_hi = min(run.P.min() for run in r.runs), max(0.0, *(run.P.max() for run in r.runs))
-    top = page.axes(0, t_max, P_lo, P_hi, "friction's power P (W) at every step, against time (s)",
-                    "t (s)", "P (W)")
+    top = page.axes(0, t_max, P_lo, P_hi, "friction's power P (W) in the surface's frame at every "
+                    "step, against time (s)", "t (s)", "P (W)")
     top.hline(0.0, (0, 0, 0), "P = 0")
     bottom = page.axes(1, t_max, min(run.W.min() for run in r.runs) / 1e3, 0.0,
                        "friction's work so far W (kJ), against time (s): it only falls", "t (s)",

@@ -1,5 +1,6 @@
 """figures/: each figure's numbers on a small case (the lecture's claims), and `python -m figures`
 as a user runs it: whole PNGs, one-line errors with exit code 2, Ctrl+C ends in 130."""
+import math
 import os
 import re
 import signal
@@ -10,11 +11,13 @@ import numpy as np
 import pytest
 
 import BarrierEnergy
+import closed_forms
 import FrictionEnergy
 import figures.page
 import simulator
 from analysis import wear
-from figures import cli, dissipation, fixed_point, mollifier, semi_implicit, stick_slip
+from figures import (cli, dissipation, fixed_point, mollifier, relative_velocity, semi_implicit,
+                     stick_slip)
 from helpers import ROOT
 from viewer.output import whole_files
 
@@ -56,7 +59,7 @@ def test_friction_power_is_never_above_round_off():
     assert np.all(run.P <= run.bound)
     assert run.P.min() < 0.0 and run.bound.max() < 1e-10 * -run.P.min()   # worked; bound: round-off
     page = dissipation.draw(r)
-    assert page.surface.get_height() == page_height(2, 2 + len(r.runs)) and is_png(page.png())
+    assert page.surface.get_height() == page_height(2, 3 + len(r.runs)) and is_png(page.png())
 
 
 def test_fixed_point_reports_a_step_that_does_not_converge():
@@ -238,6 +241,79 @@ def test_the_stick_slip_caption_says_the_computed_numbers_and_fits_the_page(stic
     page = stick_slip.draw(r)
     assert caption_fits(page, lines) and page.surface.get_height() == page_height(4, len(lines))
     assert is_png(page.png())
+
+
+@pytest.fixture(scope="module")
+def tablecloth_pulls():
+    """The relative_velocity figure's numbers on four pulls: the slow and fast ones it draws over
+    time (1 and 4 m/s), and one each side of sqrt(mu g L) = 1.40 m/s (1 and 1.6 m/s)."""
+    return relative_velocity.compute(speeds=(1.0, 1.6, 4.0, 8.0))
+
+
+def on_the_closed_form(r):
+    """Each pull's travel within 5 % of closed_forms.tablecloth_travel, and the dish at rest at the
+    end. 5 %: the closed form leaves out the mollifier's creep below eps_v (at most eps_v for the
+    ~1 s the dish rides the cloth: 1e-3 m, 0.1 % of L) and the elastic dish's settling; measured,
+    every pull is within 0.012 % (L / U a whole number of steps: relative_velocity.SPEEDS)."""
+    epsv = simulator.TABLECLOTH["epsv"]
+    for run in r.runs:
+        assert run.closed == closed_forms.tablecloth_travel(run.U, r.L, r.mu, r.g)
+        assert run.travel == pytest.approx(run.closed, rel=0.05), run.U
+        assert abs(run.v_p[-1]) < epsv and run.v_s[-1] == 0.0
+    return True
+
+
+def test_the_dish_travels_as_the_closed_form_says(tablecloth_pulls):
+    assert on_the_closed_form(tablecloth_pulls)
+
+
+def test_the_crossover_is_at_sqrt_mu_g_l_between_riding_and_outrun_pulls(tablecloth_pulls):
+    """The closed form's branches L and mu g L^2 / U^2 meet at U = sqrt(0.2 x 9.81 x 1 m) = 1.40
+    m/s, and the simulated pulls put it there: 1 m/s rides along (travels L), 1.6 m/s is outrun."""
+    r = tablecloth_pulls
+    p = simulator.TABLECLOTH
+    assert r.crossover == pytest.approx(math.sqrt(p["mu"] * -p["gravity"][1] * p["pull_length"]))
+    below, above = (closed_forms.tablecloth_travel(r.crossover * f, r.L, r.mu, r.g)
+                    for f in (1 - 1e-9, 1 + 1e-9))
+    assert below == r.L and above == pytest.approx(r.L) and above < r.L
+    assert r.bracket == (1.0, 1.6)
+
+
+def test_friction_pulls_the_dish_toward_the_cloth_s_velocity(tablecloth_pulls):
+    """Where the dish slides on the cloth (|v_p - v_s| > 10 eps_v after the step) its speed changes
+    by mu g h toward v_s: sped up under the pulled cloth, slowed on the still one (measured to
+    1e-5; 1 %: the elastic dish); where it rides along, v_p stays within eps_v of v_s."""
+    r = tablecloth_pulls
+    epsv, h = simulator.TABLECLOTH["epsv"], simulator.TABLECLOTH["h"]
+    for run in r.runs:
+        relative = run.v_p[1:] - run.v_s[1:]
+        slides = np.abs(relative) > 10 * epsv
+        acceleration = np.diff(run.v_p) / h
+        assert acceleration[slides] == pytest.approx(-r.mu * r.g * np.sign(relative[slides]),
+                                                     rel=0.01)
+        assert (acceleration[slides] > 0).any() and (acceleration[slides] < 0).any()
+    slow = r.runs[0]
+    rides = slow.v_s > 0.0
+    assert slow.v_p[rides].max() == pytest.approx(slow.U, abs=epsv)
+
+
+def test_the_relative_velocity_figure_is_written_whole(tablecloth_pulls, tmp_path, monkeypatch):
+    """As `python -m figures relative_velocity` writes it (its numbers: the four pulls)."""
+    monkeypatch.setattr(relative_velocity, "compute", lambda: tablecloth_pulls)
+    assert cli.main(["relative_velocity", "--out", str(tmp_path)]) == 0
+    assert os.listdir(tmp_path) == ["relative_velocity.png"]
+    assert is_png((tmp_path / "relative_velocity.png").read_bytes())
+    lines = relative_velocity.caption(tablecloth_pulls)
+    page = relative_velocity.draw(tablecloth_pulls)
+    assert caption_fits(page, lines) and page.surface.get_height() == page_height(2, len(lines))
+
+
+@pytest.mark.slow
+def test_every_pull_of_the_relative_velocity_figure_is_on_the_closed_form():
+    r = relative_velocity.compute()
+    assert on_the_closed_form(r)
+    assert r.bracket[0] < r.crossover < r.bracket[1]
+    assert caption_fits(relative_velocity.draw(r), relative_velocity.caption(r))
 
 
 def run_cli(*args):
