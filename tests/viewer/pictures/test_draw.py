@@ -31,14 +31,6 @@ def test_arrow_heads_sit_behind_the_tip_on_either_side():
     assert np.array_equal(corners[1], [[5.0, 5.0], [5.0, 5.0]])          # an arrow of no length: its tip
 
 
-def test_wrap_breaks_at_spaces_within_the_width():
-    class Font:                                                         # 10 px a character
-        def size(self, text):
-            return 10 * len(text), 12
-    assert draw.wrap(Font(), "space: play   r: restart", 120) == ["space: play", "r: restart"]
-    assert draw.wrap(Font(), "a_very_long_word fits", 50) == ["a_very_long_word", "fits"]
-
-
 def test_the_arrows_scale_coarsens_at_the_impact_so_no_arrow_is_longer_than_arrow_fit(monkeypatch):
     """The default run's first 60 steps drawn as frames.FrameWriter draws them (one view): no arrow
     (normal, or friction drawn FRICTION_ZOOM longer) is longer than ARROW_FIT m, 3/4 of the square's
