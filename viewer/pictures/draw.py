@@ -1,7 +1,5 @@
-"""One frame, drawn by pygame off-screen in the lecture's style (white, the slope a line, springs
-and nodes in blue): marks every 0.5 m along the slope, the contact forces as arrows, one colour per
-run; and a frame's PNG bytes (encode_png: about 5 ms, against 20-25 ms with pygame.image.save).
-"""
+"""One frame, drawn by pygame off-screen in the lecture's style: the slope with marks every 0.5 m,
+the bodies, the contact forces as arrows, one colour per run; and PNG bytes (encode_png)."""
 import io
 import math
 import os
@@ -17,8 +15,7 @@ from viewer.pictures import marks as tip_marks
 RESOLUTION = 900            # pixels, square frames
 SCALE = 200.0               # pixels per metre, the lecture's
 WHITE, BLUE = (255, 255, 255), (0, 0, 255)
-# text colours stand 4.5:1 or more against white (WCAG AA); GREY (2.3:1) draws only the Newton
-# view's iterate x^i
+# text colours stand 4.5:1 against white or more; GREY (2.3:1) draws only the Newton view's x^i
 BLACK, GREY, RED, GREEN = (0, 0, 0), (170, 170, 170), (200, 0, 0), (0, 128, 0)
 RUN_COLORS = [BLUE, (255, 146, 0), (0, 146, 0), (219, 0, 170), (146, 73, 0), (0, 182, 255),
               (109, 109, 85)]      # PALETTE's colours, so that frames show them exactly
@@ -33,7 +30,7 @@ TITLE_SCALE = 1.2           # the title's capitals this much taller
 
 
 def load_pygame():
-    """pygame, with the dummy video driver unless one is set (no display needed), and its fonts."""
+    """pygame and its fonts, with the dummy video driver unless one is set (no display needed)."""
     os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
     os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
     import pygame
@@ -55,18 +52,18 @@ def zoom(scene):
 
 class View:
     """World to pixels at `scale` px/m; `unit`, the metres that stand for one of the lecture's
-    (1 / zoom), scales margins, slope marks and arrows; arrow_factor: see arrow_factor."""
+    (1 / zoom), scales margins, slope marks and arrows."""
 
     def __init__(self, scale=SCALE, size=RESOLUTION, height=None, unit=1.0):
         self.scale, self.size, self.center, self.unit = scale, size, np.zeros(2), unit
         self.height = size if height is None else height
-        self.arrow_factor = 1.0
+        self.arrow_factor = 1.0         # see arrow_factor
 
     @classmethod
-    def of(cls, scene, size=RESOLUTION, height=None):
+    def of(cls, scene, size=RESOLUTION):
         """A scene's view in a picture `size` px across: SCALE x zoom, as a frame shows it."""
         z = zoom(scene)
-        view = cls(SCALE * z * size / RESOLUTION, size, height, 1.0 / z)
+        view = cls(SCALE * z * size / RESOLUTION, size, unit=1.0 / z)
         if scene.hand is not None:          # the board low, the chalk under the legends
             view.center = np.array([float(scene.x0[:, 0].mean()), 0.25 * view.size / view.scale])
         return view
@@ -88,8 +85,7 @@ class View:
 
 
 def slope_span(scene, view):
-    """(t, s_lo, s_hi): the slope's tangent and the arc lengths from o it is drawn between, a view's
-    width either side of the view's centre."""
+    """(t, s_lo, s_hi): the slope's tangent and the arc lengths from o it is drawn between."""
     tangent = FrictionEnergy.tangent(scene.n)
     reach = view.size / view.scale
     s_center = float(np.dot(view.center - scene.o, tangent))
@@ -125,8 +121,7 @@ def draw_slope(pygame, surface, scene, view, color=BLUE, font=None):
         lowest = max(lowest, end[1])
         if font is None or not w:
             continue
-        text = f"{metres:g} m" if view.unit == 1.0 else f"{round(metres * 100, 6):g} cm"
-        label = font.render(text, True, color)
+        label = font.render(length_text(metres, view.unit), True, color)
         left = end[0] - label.get_width() / 2
         if 0 <= left <= surface.get_width() - label.get_width():
             surface.blit(label, (left, end[1] + 2))
@@ -134,8 +129,13 @@ def draw_slope(pygame, surface, scene, view, color=BLUE, font=None):
     return lowest
 
 
+def length_text(metres, unit=1.0):
+    """A length in words: in m for the square (unit 1), in cm for a smaller body."""
+    return f"{metres:g} m" if unit == 1.0 else f"{round(metres * 100, 6):g} cm"
+
+
 def draw_square(pygame, surface, scene, x, view, color=BLUE, nodes=True):
-    """The springs as the mesh's polylines, and the nodes as dots of a tenth of the spacing."""
+    """The springs as the mesh's polylines, the nodes as dots a tenth of the spacing across."""
     px = view(x)
     for line in square_mesh.polylines(*scene.cells):
         pygame.draw.aalines(surface, color, False, px[line].tolist())
@@ -171,7 +171,7 @@ def newton_per_metre(scene):
 
 
 def arrow_heads(tail, head, length):
-    """(K, 2, 2): the back corners of each arrow's head, tail to head (K, 2) px, `length` behind
+    """(K, 2, 2): the back corners of the heads of arrows tail to head (K, 2) px, `length` behind
     the tip, half that to either side (an arrow of no length: its tip)."""
     back = (tail - head) / np.maximum(np.hypot(*(tail - head).T), 1e-9)[:, None]
     side = np.stack([-back[:, 1], back[:, 0]], axis=1)
@@ -210,13 +210,13 @@ def draw_hand(pygame, surface, scene, x, t, view):
         pygame.draw.rect(surface, HAND_COLOR, (q[0] - 3, q[1] - 3, 7, 7))
 
 
-def draw_legend(pygame, surface, font, entries, top, left=12):
+def draw_legend(pygame, surface, font, entries, top):
     """(colour, text) rows from `top` down, a line apart, each swatch as tall as the capitals and
     level with them, twice as wide; returns the next free row."""
     line, baseline, cap = font.get_linesize(), font.get_ascent(), cap_height(font)
     for color, text in entries:
-        pygame.draw.rect(surface, color, (left, top + baseline - cap, 2 * cap, cap))
-        surface.blit(font.render(text, True, BLACK), (left + 2 * cap + cap // 2, top))
+        pygame.draw.rect(surface, color, (12, top + baseline - cap, 2 * cap, cap))
+        surface.blit(font.render(text, True, BLACK), (12 + 2 * cap + cap // 2, top))
         top += line
     return top
 
@@ -235,19 +235,16 @@ def cap_height(font):
     return font.metrics("H")[0][3]
 
 
-def font_with_caps(pygame, cap):
-    """pygame's default font at the smallest size whose capitals are at least `cap` px tall."""
-    size = max(1, math.floor(cap / 0.6))        # capitals are at most 0.6 of the size
-    while cap_height(pygame.font.Font(None, size)) < cap:
-        size += 1
-    return pygame.font.Font(None, size)
-
-
 def fonts(pygame, height=RESOLUTION):
-    """(title, text) fonts of a picture `height` px tall: the text's capitals MIN_CAP_HEIGHT of it,
-    the title's (and the runs' legend) TITLE_SCALE taller."""
+    """(title, text) fonts of a picture `height` px tall: pygame's default font at the least size
+    whose capitals are MIN_CAP_HEIGHT of the height, the title's TITLE_SCALE taller."""
+    def with_caps(cap):
+        size = max(1, math.floor(cap / 0.6))        # capitals are at most 0.6 of the size
+        while cap_height(pygame.font.Font(None, size)) < cap:
+            size += 1
+        return pygame.font.Font(None, size)
     cap = MIN_CAP_HEIGHT * height
-    return font_with_caps(pygame, TITLE_SCALE * cap), font_with_caps(pygame, cap)
+    return with_caps(TITLE_SCALE * cap), with_caps(cap)
 
 
 def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None, reserve=(0, 0)):
@@ -303,29 +300,26 @@ def arrows_legend(scene, view, factor, newton_per_metre):
             (WHITE, f"{metres:g} m of arrow = {newtons:.5g} N ({words})")]
 
 
-# 3-3-2 bits of colour, index r << 5 | g << 2 | b (each channel's top bits): every colour drawn
-# here (white, black, BLUE, RUN_COLORS, ...) is one of them
+# 3-3-2 bits of colour, index r << 5 | g << 2 | b: every colour named here is one of them
 PALETTE = np.array([(round(r * 255 / 7), round(g * 255 / 7), round(b * 255 / 3))
                     for r in range(8) for g in range(8) for b in range(4)], np.uint8)
 
 
-def png_chunk(kind, body):
-    """A PNG chunk: length, kind, body, CRC-32 (PNG specification, section 5.3)."""
-    return struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body))
-
-
 def encode_png(pygame, surface):
-    """The surface as an 8-bit palette PNG: each pixel its PALETTE index (the top 3, 3, 2 bits of
-    red, green, blue), each row after a 0 byte (no filter), one zlib stream at level 1."""
+    """The surface as an 8-bit palette PNG (5 ms, not pygame's 20-25): each pixel its PALETTE index,
+    each row after a 0 byte (no filter), one zlib stream at level 1; chunks as PNG's section 5."""
     rgb = pygame.surfarray.pixels3d(surface)            # a view, [x, y, channel]
     width, height = rgb.shape[:2]
     rows = np.zeros((height, 1 + width), np.uint8)
     rows[:, 1:] = ((rgb[:, :, 0] & 0xE0) | ((rgb[:, :, 1] & 0xE0) >> 3) | (rgb[:, :, 2] >> 6)).T
     del rgb                                             # unlocks the surface
+
+    def chunk(kind, body):
+        crc = struct.pack(">I", zlib.crc32(kind + body))
+        return struct.pack(">I", len(body)) + kind + body + crc
     header = struct.pack(">IIBBBBB", width, height, 8, 3, 0, 0, 0)     # 8 bits, palette
-    return (b"\x89PNG\r\n\x1a\n" + png_chunk(b"IHDR", header)
-            + png_chunk(b"PLTE", PALETTE.tobytes())
-            + png_chunk(b"IDAT", zlib.compress(rows.tobytes(), 1)) + png_chunk(b"IEND", b""))
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"PLTE", PALETTE.tobytes())
+            + chunk(b"IDAT", zlib.compress(rows.tobytes(), 1)) + chunk(b"IEND", b""))
 
 
 def png_data(pygame, surface, exact=False):

@@ -1,8 +1,5 @@
-"""The chalk's mark (analysis.wear: Archard's deposit), as the frames, the window and the stick-slip
-figure draw it: grey on white, black at a run's darkest bin; under the board at the picture's scale
-(a pixel column: its bins' mean), and in a strip about the tip magnified MAGNIFICATION times.
-pygame comes in as an argument; viewer.pictures.draw, which draws the frame, calls these.
-"""
+"""The chalk's mark (analysis.wear: Archard's deposit) in grey, black at a run's darkest bin: under
+the board at the picture's scale, and in a strip about the tip magnified MAGNIFICATION times."""
 from dataclasses import dataclass
 
 import numpy as np
@@ -19,7 +16,7 @@ MARK_DEPTH = 2 / 7          # of a row: the mark's depth under the strip's board
 MIN_WIDTH = 0.25            # of the picture's width: the narrowest strip beside the chalk
 PAD = 8                     # px between the strip and what it sits beside, and inside its border
 SWATCH = (73, 73, 85)       # the legend's swatch of the mark: a dark grey of the frames' PALETTE
-WHITE, INK = (255, 255, 255), (0, 0, 0)
+WHITE, INK, BOARD = (255, 255, 255), (0, 0, 0), (0, 0, 255)
 
 
 def greys(shade):
@@ -79,8 +76,7 @@ class Strip:
     """The strip: board arc length s at its column tip_column + scale (s - s_tip), a height d above
     the board at row board - scale d of each run's row; px from the strip's top left."""
     rect: tuple             # (left, top, width, height) in the picture, px
-    magnification: float
-    scale: float            # px per m: magnification times the picture's
+    scale: float            # px per m: MAGNIFICATION times the picture's
     s_tip: float            # m along the board: the first run's tip (diagnostics.tip), ...
     tip_column: float       # ... at this column, px
     rows: tuple             # (top, height) of each run's row, px from the strip's top
@@ -96,10 +92,6 @@ class Strip:
         """The board's arc lengths (m) at strip columns c (px): column's inverse."""
         return self.s_tip + (np.asarray(c, float) - self.tip_column) / self.scale
 
-    def span(self):
-        """The board's arc lengths (m) at the strip's left and right edges."""
-        return self.board_at(0.0), self.board_at(self.rect[2])
-
 
 def layout(runs, t, view, font, top, bottom, below):
     """The Strip of the runs (scene, x, marks), None where it does not fit. Across the picture from
@@ -113,7 +105,7 @@ def layout(runs, t, view, font, top, bottom, below):
 
     def fit(room, width):
         """(each run's row, the header) in `room` px down a strip `width` px across."""
-        head = header(font, width, view.scale)
+        head = header_rows(font, width, view.scale) * font.get_linesize() + 4
         return min(want, int(room - head - PAD) // len(runs)), head
     width, where = size - 24, "below the board"
     row, head = fit(bottom - below - 2 * PAD, width)
@@ -138,13 +130,11 @@ def layout(runs, t, view, font, top, bottom, below):
         column = (0.25 if ahead else 0.75) * width
     band = max(4, round(MARK_DEPTH * row))
     rows = tuple((head + i * row, row) for i in range(len(runs)))
-    return Strip(rect, MAGNIFICATION, MAGNIFICATION * view.scale, s_tip, column, rows,
-                 row - band - 4, band, where)
+    return Strip(rect, MAGNIFICATION * view.scale, s_tip, column, rows, row - band - 4, band, where)
 
 
-def title(magnification=MAGNIFICATION):
-    """The strip's title: what it shows, and how much it is magnified."""
-    return f"the chalk's mark, x{magnification:g}"
+def title():
+    return f"the chalk's mark, x{MAGNIFICATION:g}"
 
 
 def bar_label():
@@ -158,12 +148,7 @@ def header_rows(font, width, scale):
     return 1 if 4 * PAD + font.size(title())[0] + bar + font.size(bar_label())[0] <= width else 2
 
 
-def header(font, width, scale):
-    """The height (px) of the strip's header."""
-    return header_rows(font, width, scale) * font.get_linesize() + 4
-
-
-def draw_strip(pygame, surface, runs, strip, font, board_color):
+def draw_strip(pygame, surface, runs, strip, font):
     """The strip on its own surface, at strip.scale: per run a row with the board's line, the mark
     under it, the chalk about its tip (of several runs, each row's colour at its left end); the
     title and a SCALE_BAR scale bar on top; a border."""
@@ -171,7 +156,7 @@ def draw_strip(pygame, surface, runs, strip, font, board_color):
     surface.fill(WHITE)
     for run, (top, row) in zip(runs, strip.rows):
         scene, sub, board = run["scene"], surface.subsurface((0, top, width, row)), strip.board
-        pygame.draw.line(sub, board_color, (0, board), (width, board), 3)
+        pygame.draw.line(sub, BOARD, (0, board), (width, board), 3)
         paint_mark(pygame, sub, run["marks"], strip.column, strip.board_at, board + 2, strip.band)
         x = run["x"]
         px = np.stack([strip.column(x @ diagnostics.tangent(scene)),
@@ -180,9 +165,9 @@ def draw_strip(pygame, surface, runs, strip, font, board_color):
             pygame.draw.lines(sub, run["color"], False, px[line].tolist(), 2)
         if len(runs) > 1:
             pygame.draw.rect(sub, run["color"], (0, 1, PAD, row - 2))
-    surface.blit(font.render(title(strip.magnification), True, INK), (PAD, 4))
+    surface.blit(font.render(title(), True, INK), (PAD, 4))
     bar, label = SCALE_BAR * strip.scale, font.render(bar_label(), True, INK)
-    one_row = header_rows(font, width, strip.scale / strip.magnification) == 1
+    one_row = header_rows(font, width, strip.scale / MAGNIFICATION) == 1
     left = width - PAD - label.get_width() - 6 - bar if one_row else PAD
     top = 4 if one_row else 4 + font.get_linesize()
     y = top + font.get_ascent() - font.metrics("H")[0][3] // 2      # the capitals' middle
@@ -194,22 +179,17 @@ def draw_strip(pygame, surface, runs, strip, font, board_color):
     pygame.draw.rect(surface, INK, surface.get_rect(), 2)
 
 
-def draw_span(pygame, surface, scene, strip, view):
-    """In the picture, a box around the board the strip's first row magnifies: from its left to
-    its right edge, from the row's top (above the board) to its bottom."""
+def place_strip(pygame, surface, runs, t, view, font, rows, below):
+    """The strip of the runs laid out (layout) between `rows` (top, bottom) and under row `below`,
+    and a box around the board its first row magnifies; returns its Strip (None: no room)."""
+    strip = layout(runs, t, view, font, *rows, below)
+    if strip is None:
+        return None
     above = strip.board / strip.scale                               # m
     under = (strip.rows[0][1] - strip.board) / strip.scale
-    s_lo, s_hi = strip.span()
-    corners = [board_point(scene, s)[0] + d * scene.n
+    s_lo, s_hi = strip.board_at(0.0), strip.board_at(strip.rect[2])
+    corners = [board_point(runs[0]["scene"], s)[0] + d * runs[0]["scene"].n
                for s, d in ((s_lo, above), (s_hi, above), (s_hi, -under), (s_lo, -under))]
     pygame.draw.polygon(surface, INK, view(np.array(corners)).tolist(), 1)
-
-
-def place_strip(pygame, surface, runs, t, view, font, rows, below, board_color=(0, 0, 255)):
-    """The strip of the runs laid out (layout) between `rows` (top, bottom) and under row `below`,
-    drawn with the box of what it magnifies; returns its Strip (None: no room)."""
-    strip = layout(runs, t, view, font, *rows, below)
-    if strip is not None:
-        draw_span(pygame, surface, runs[0]["scene"], strip, view)
-        draw_strip(pygame, surface.subsurface(strip.rect), runs, strip, font, board_color)
+    draw_strip(pygame, surface.subsurface(strip.rect), runs, strip, font)
     return strip

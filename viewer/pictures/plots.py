@@ -49,11 +49,11 @@ class Axes:
         pad = 0.05 * (y_hi - y_lo)
         self.y_lo, self.y_hi = y_lo - pad, y_hi + pad
         self.legend_row = self.top
-        self.text(title, LEFT, top + 4)
+        surface.blit(font.render(title, True, BLACK), (LEFT, top + 4))
         box = (LEFT, self.top, RIGHT - LEFT + 1, self.bottom - self.top + 1)
         pygame.draw.rect(surface, BLACK, box, 1)
         self.ticks()
-        self.text(xlabel, RIGHT + 12, self.bottom + 3)
+        surface.blit(font.render(xlabel, True, BLACK), (RIGHT + 12, self.bottom + 3))
         label = pygame.transform.rotate(font.render(ylabel, True, BLACK), 90)
         surface.blit(label, (4, (self.top + self.bottom - label.get_height()) / 2))
 
@@ -67,20 +67,12 @@ class Axes:
         row = self.bottom - (self.bottom - self.top) * (y - self.y_lo) / (self.y_hi - self.y_lo)
         return col, row
 
-    def text(self, text, left, top, centre=None):
-        """`text` with its top left at (left, top); `centre` (dx, dy): shifted by those fractions
-        of its width and height."""
-        label = self.font.render(text, True, BLACK)
-        if centre:
-            left, top = left - centre[0] * label.get_width(), top - centre[1] * label.get_height()
-        self.surface.blit(label, (left, top))
-        return label
-
     def ticks(self):
         for t in nice_ticks(self.t_lo, self.t_max, 6):
             col = self.px(t, 0.0)[0]
             self.pygame.draw.line(self.surface, GRID, (col, self.top + 1), (col, self.bottom - 1))
-            self.text(f"{t:g}", col, self.bottom + 3, (0.5, 0))
+            label = self.font.render(f"{t:g}", True, BLACK)
+            self.surface.blit(label, (col - label.get_width() / 2, self.bottom + 3))
         if self.yticks is not None:
             values, texts = zip(*self.yticks)
         elif self.log:
@@ -92,7 +84,8 @@ class Axes:
         for value, text in zip(values, texts):
             row = self.px(0.0, value)[1]
             self.pygame.draw.line(self.surface, GRID, (LEFT + 1, row), (RIGHT - 1, row))
-            self.text(text, LEFT - 6, row, (1, 0.5))
+            label = self.font.render(text, True, BLACK)
+            self.surface.blit(label, (LEFT - 6 - label.get_width(), row - label.get_height() / 2))
 
     def line(self, t, y, color, width=2):
         if len(t) > 1:
@@ -132,7 +125,7 @@ class Axes:
 
     def note(self, text):
         """A legend row of text alone, under the last one's."""
-        self.text(text, LEGEND_TEXT, self.legend_row)
+        self.surface.blit(self.font.render(text, True, BLACK), (LEGEND_TEXT, self.legend_row))
         self.legend_row += 18
 
     def runs(self, tracks, data, key, width=2):

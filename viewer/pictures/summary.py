@@ -139,8 +139,8 @@ def draw_summary(pygame, tracks, header):
     metres = 1.0 / draw.zoom(tracks[0].scene)       # 1 m; for the chalk 5 cm
     length, row = layout.scale * metres, layout.top - 26
     pygame.draw.line(surface, BLACK, (12, row + 8), (12 + length, row + 8), 3)
-    text = "1 m" if metres == 1.0 else f"{round(metres * 100, 6):g} cm"
-    bar = small.render(f"{text} ({length:.3g} pixels)", True, BLACK)
+    text = f"{draw.length_text(metres, metres)} ({length:.3g} pixels)"
+    bar = small.render(text, True, BLACK)
     surface.blit(bar, (20 + length, row + 1))
     for panel in layout.panels:
         draw_panel(pygame, surface, font, small, panel, layout.width)

@@ -62,7 +62,7 @@ def test_the_strip_is_magnified_x8_about_the_tip_and_each_column_shows_the_depos
     (the tip straight under the tip); under its board every column over the mark is the grey of the
     deposit of the board it spans (black at the darkest bin), and white beyond the mark."""
     pixels, run, view, _, _, strip = chalk_frame(1000)
-    assert view.scale == pytest.approx(4000.0) and strip.magnification == 8
+    assert view.scale == pytest.approx(4000.0) and marks.MAGNIFICATION == 8
     assert strip.scale == pytest.approx(32000.0)
     assert strip.where == "below the board" and marks.title() == "the chalk's mark, x8"
     k, _ = diagnostics.tip(run["scene"], run["x"])
@@ -192,8 +192,7 @@ def test_the_squares_frames_have_no_marks_and_no_strip(monkeypatch):
 
     def never(*args, **kw):
         raise AssertionError("the square drew a mark")
-    for name in ("draw_marks", "place_strip", "layout", "draw_strip", "draw_span", "legend",
-                 "paint_mark"):
+    for name in ("draw_marks", "place_strip", "layout", "draw_strip", "legend", "paint_mark"):
         monkeypatch.setattr(marks, name, never)
     runs[0]["marks"] = None                     # as frames.FrameWriter gives a run without a hand
     again = pygame.surfarray.array3d(draw.draw_frame(pygame, runs, 0.0, view, fonts, forces)[0])
