@@ -180,9 +180,8 @@ def arrow_heads(tail, head, length):
 
 
 def arrow_factor(runs, newton_per_metre, view):
-    """The frame's arrow scale in multiples of newton_per_metre: 1, or where an arrow would be
-    longer than ARROW_FIT x view.unit m, the smallest of 2, 5, 10, ... that fits. Like the zoom it
-    coarsens and never refines (view.arrow_factor), so the frames after the impact compare."""
+    """The arrows' scale in newton_per_metre: 1, or the least of 2, 5, 10, ... keeping every arrow
+    within ARROW_FIT x view.unit m; kept in view.arrow_factor, it never refines (docs/output.md)."""
     longest = max(max(np.hypot(*run["normal"].T).max(initial=0.0),
                       friction_zoom(run["scene"]) * np.hypot(*run["friction"].T).max(initial=0.0))
                   for run in runs) / newton_per_metre
@@ -248,10 +247,9 @@ def fonts(pygame, height=RESOLUTION):
 
 
 def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None, reserve=(0, 0)):
-    """One frame: the slope, each run's body in its colour, its forces (with newton_per_metre), the
-    time, the legends; the chalk's hand, marks and magnified strip, clear of `reserve` (rows under
-    the legends, rows at the bottom; None: no strip). Returns the frame and the row under its text.
-    `runs`: dicts of scene, x, label, color, and normal, friction ((N, 2) forces), marks."""
+    """One frame of `runs` (dicts: scene, x, label, color; normal, friction (N, 2); marks) and its
+    legends; the chalk's strip clear of `reserve` (rows under the legends, at the bottom; None: no
+    strip). Returns the frame and the row under its text."""
     surface = pygame.Surface((view.size, view.size))
     surface.fill(WHITE)
     font, small = fonts

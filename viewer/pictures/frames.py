@@ -1,7 +1,5 @@
-"""The frames of a run: when each is due (every `stride` steps of the smallest h, so runs of other
-h show the same times; numbered from 0, the last at the end of the longest run), and writing one:
-a PNG with every run, an OBJ per run, and the figures the page shows beside it.
-"""
+"""The frames of a run: when each is due (every `stride` steps of the smallest h, so that runs show
+the same times), and writing one: a PNG of every run, an OBJ each, the page's figures."""
 import math
 from collections import namedtuple
 
@@ -17,8 +15,7 @@ FrameInfo = namedtuple("FrameInfo", "index t runs")
 
 
 def frame_count(scenes, steps, stride):
-    """How many frames runs of `steps` steps get: every `stride` steps of the smallest h, and the
-    last state."""
+    """How many frames runs of `steps` steps get: every `stride` steps of the least h, the last."""
     h_min = min(scene.h for scene in scenes)
     duration = max(n * scene.h for scene, n in zip(scenes, steps))
     return math.ceil(duration / (stride * h_min) - 1e-9) + 1
@@ -47,15 +44,11 @@ class FrameWriter:
         self.newton_per_metre = draw.newton_per_metre(tracks[0].scene) if forces else None
 
     def write(self, j):
-        """Frame j with every track, then each one's OBJ (after its log row: the CSV is never
-        behind)."""
+        """Frame j, then each track's OBJ (after its log row: the CSV is never behind)."""
         tracks, forces = self.tracks, self.newton_per_metre is not None
         self.view.follow(np.array([tr.samples.last.com for tr in tracks]))
-        runs = []
-        for tr in tracks:
-            run = frame_run(tr.scene, tr.x, tr.samples.last.report, tr.label, tr.color, forces)
-            run["marks"] = tr.marks if tr.scene.hand is not None else None
-            runs.append(run)
+        runs = [dict(frame_run(tr.scene, tr.x, tr.samples.last.report, tr.label, tr.color, forces),
+                     marks=tr.marks) for tr in tracks]        # marks: the chalk's, else None
         t = max(tr.t for tr in tracks)
         surface, _ = draw.draw_frame(self.pygame, runs, t, self.view, self.fonts,
                                      self.newton_per_metre)

@@ -94,10 +94,9 @@ class Strip:
 
 
 def layout(runs, t, view, font, top, bottom, below):
-    """The Strip of the runs (scene, x, marks), None where it does not fit. Across the picture from
-    row `below` to `bottom` where each run gets a row of ROW_MIN (the frames); else above the board
-    from row `top`, beside the chalk and its hand's targets at time t, on the roomier side (the
-    window). The tip's column: the tip's own when inside the strip, else 3/4 along, behind it."""
+    """The runs' Strip (None: no room): from row `below` to `bottom` where each has a ROW_MIN row
+    (the frames), else from `top` to the board beside the chalk and its hand at time t (the window),
+    magnified about the tip's own column, or where that is off the strip, 3/4 along."""
     size, want = view.size, round(ROW * view.height)
     least = max(round(ROW_MIN * view.height), 12)
     scene, x = runs[0]["scene"], runs[0]["x"]

@@ -1,9 +1,5 @@
-"""plots.png, drawn with pygame: panels on one shared time axis (the page draws one cursor across
-them). The square: the energy budget E = E(0) + W - D, each contact node's tangential speed (log,
-eps_v marked), Newton iterations; a comparison: the centre of mass's displacement along the slope,
-the largest contact speed, Newton iterations. The chalk: the energy budget (a comparison: the
-friction work), the tip's speed against the drive, the normal force, each stick-slip cycle's slip.
-"""
+"""plots.png: panels on one shared time axis, so that the page draws one cursor across them; what
+each shows, for the square and the chalk, one run or a comparison: docs/output.md."""
 import math
 
 import numpy as np
@@ -216,10 +212,8 @@ def square_panels(axes, tracks, data):
 
 
 def chalk_panels(axes, tracks, data):
-    """One run: the energy budget, the tip's speed against the drive (log, eps_v marked), the
-    normal force, each cycle's slip (cycles_panel). A comparison, a colour per run: the last three
-    (the forces on a log axis where the peaks differ more than SPREAD-fold), then the friction work
-    (the budget's nine curves a run would not read)."""
+    """One run: the energy budget, the tip against the drive, the normal force, the cycles; a
+    comparison: the last three (forces on a log axis past SPREAD-fold), the friction work."""
     one = len(tracks) == 1
     if one:
         energy_panel(axes, data[0])
@@ -256,8 +250,7 @@ def chalk_panels(axes, tracks, data):
 
 
 def cycles_panel(axes, tracks):
-    """Each stick-slip cycle of each run (analysis/stick_slip.py), a dot: its slip (mm) when it
-    starts; the legend: each run's count, mean slip, period, share of the drive stuck."""
+    """Each stick-slip cycle (analysis/stick_slip.py) a dot: its slip (mm) when it starts."""
     counted = [stick_slip.of_track(tr) for tr in tracks]
     lengths = [1e3 * length for r in counted for _, length, _ in r.slips]
     ax = axes(0.0, 1.2 * max(lengths, default=1.0), "each stick-slip cycle's slip (mm) at its "

@@ -1,7 +1,5 @@
-"""The pictures of a whole run, written after its steps from what its tracks kept, each whole:
-each chalk's marks.csv, summary.png, plots.png and, when frames were written, index.html to play
-them. viewer.command.run.end writes them however the run ended (done, a failed step, a signal).
-"""
+"""The pictures of a whole run from what its tracks kept, written by viewer.command.run.end however
+the run ended: each chalk's marks.csv, summary.png, plots.png, and with frames index.html."""
 from analysis import wear
 from analysis.closing import closing_note
 from viewer.output import files

@@ -1,9 +1,5 @@
-"""summary.png: the whole motion at a glance, at a fixed scale so that two summaries compare: SCALE
-px/m, or where the motion is wider than MAX_WIDTH a scale of two digits. A panel per run: the slope
-and its numbers across the motion, time-labelled snapshots clear of each other (spaced), the last
-state in full colour, the centre-of-mass path in red; a header says what the runs showed. `plan`
-places everything; the picture is as wide as its widest line of text.
-"""
+"""summary.png: the whole motion at a glance, a panel per run of time-labelled snapshots clear of
+each other, at a fixed scale so that summaries compare (docs/output.md); `plan` places it all."""
 from collections import namedtuple
 
 import numpy as np
@@ -29,9 +25,8 @@ Plan = namedtuple("Plan", "width height top scale panels lines")
 
 
 def spaced(boxes, gap=GAP):
-    """The indices of the snapshots to draw, given their boxes (K, 4) px: the first, each next one
-    clear by `gap` of every one kept, and the last, which drops those it is not clear of (not the
-    first)."""
+    """The indices of the snapshots to draw, of boxes (K, 4) px: the first, each next one clear by
+    `gap` of all kept, and the last, which drops those it is not clear of but the first."""
     boxes = np.asarray(boxes, dtype=float)
 
     def clear_of(i, kept):
@@ -92,8 +87,8 @@ def panel_words(track):
 
 
 def plan(pygame, tracks, header):
-    """The Plan of summary.png for `tracks` under `header` (lines of text; header_lines adds what
-    the runs showed): as wide as the motion at the scale, and as its widest line of text."""
+    """summary.png's Plan under `header` (lines; header_lines adds what the runs showed): as wide
+    as the motion at the scale, and as its widest line of text."""
     small, font = pygame.font.Font(None, 20), pygame.font.Font(None, 24)
     header = header_lines(tracks, header)
     z = draw.zoom(tracks[0].scene)      # 1 for the square; the chalk is drawn 20x closer
