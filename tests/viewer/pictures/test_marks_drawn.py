@@ -1,7 +1,7 @@
-"""The chalk's mark (viewer/pictures/marks.py) as the frames draw it: grey under the board at the frame's
-scale and in the strip magnified x8 about the tip, each pixel column the deposit of the board under
-it (wear.Deposit.shade, black at the run's darkest bin); where the strip goes; legible from the
-back of the room. What the mark is (Archard's law): tests/analysis/test_wear.py."""
+"""The chalk's mark (viewer/pictures/marks.py) as the frames draw it: grey under the board at the
+frame's scale and in the strip magnified x8 about the tip, each pixel column the deposit of the
+board under it (wear.Deposit.shade, black at the run's darkest bin); where the strip goes; legible
+from the back of the room. What the mark is (Archard's law): tests/analysis/test_wear.py."""
 import numpy as np
 import pytest
 from helpers import legibility
@@ -179,9 +179,9 @@ def test_the_frames_strip_covers_neither_the_chalk_the_legends_nor_the_boards_nu
 
 
 def test_the_squares_frames_have_no_marks_and_no_strip(monkeypatch):
-    """The square has no mark: draw_frame never reaches viewer.pictures.marks for it (the calls would fail
-    here), so its frames are those it drew before the strip, pixel for pixel whatever room is
-    reserved."""
+    """The square has no mark: draw_frame never reaches viewer.pictures.marks for it (the calls
+    would fail here), so its frames are those it drew before the strip, pixel for pixel whatever
+    room is reserved."""
     pygame = draw.load_pygame()
     scene = simulator.build_scene()
     runs = [frames.frame_run(scene, scene.x0, None, "mu = 0.11", draw.BLUE, True)]
