@@ -106,7 +106,7 @@ def plan(pygame, tracks, header):
     words = [w for w in map(panel_words, tracks) if w]
     texts = [font.size(text)[0] for text in header] + [small.size(w)[0] for w in words]
     across = int(width_m * scale + right_room)          # px: the motion, and the last label
-    width = int(max(width_m * scale + right_room, MIN_WIDTH, min(max(texts) + 24, MAX_WIDTH)))
+    width = max(across, MIN_WIDTH, min(max(texts) + 24, MAX_WIDTH))
     top = 22 * len(header) + 34
     panels, row = [], top
     for tr, (lo, hi) in zip(tracks, boxes):
