@@ -1,45 +1,40 @@
-"""The frames of a run: when each is due, and writing it: one PNG with every run's square, an OBJ per
-run, and what the page shows beside it.
-
-Frames come every `stride` steps of the smallest h (so a comparison of time steps shows the runs at
-the same times), numbered 0, 1, 2, ..., the last at the end of the longest run.
-"""
+"""The frames of a run: when each is due (every `stride` steps of the smallest h, so that runs show
+the same times), and writing one: a PNG of every run, an OBJ each, the page's figures."""
 import math
-from dataclasses import dataclass
+from collections import namedtuple
 
 import numpy as np
 
 import square_mesh
 from analysis import diagnostics
-from viewer.pictures import draw, page
 from viewer.output import files
+from viewer.pictures import draw, page
+
+# what the page shows beside frame `index` at time t: per run, its figures by name (page.figures)
+FrameInfo = namedtuple("FrameInfo", "index t runs")
+
+
+def frame_count(scenes, steps, stride):
+    """How many frames runs of `steps` steps get: every `stride` steps of the least h, the last."""
+    h_min = min(scene.h for scene in scenes)
+    duration = max(n * scene.h for scene, n in zip(scenes, steps))
+    return math.ceil(duration / (stride * h_min) - 1e-9) + 1
 
 
 def frame_steps(tracks, stride):
-    """Frame j's target step for each track: every `stride` steps of the smallest h, up to the end."""
-    h_min = min(tr.scene.h for tr in tracks)
+    """(j, each track's step for frame j): the last step it has reached by frame j's time."""
+    scenes = [tr.scene for tr in tracks]
+    h_min = min(scene.h for scene in scenes)
     duration = max(tr.steps * tr.scene.h for tr in tracks)
-    for j in range(frame_count([tr.scene for tr in tracks], [tr.steps for tr in tracks], stride)):
+    for j in range(frame_count(scenes, [tr.steps for tr in tracks], stride)):
         t = min(j * stride * h_min, duration)
-        targets = []
-        for tr in tracks:
-            q = t / tr.scene.h
-            targets.append(round(q) if abs(q - round(q)) < 1e-6 else math.floor(q))
-        yield j, targets
-
-
-@dataclass
-class FrameInfo:
-    """What the page shows beside frame j at time t: per track, its figures by name (page.figures)."""
-    index: int
-    t: float
-    runs: list
+        q = [t / scene.h for scene in scenes]
+        yield j, [round(s) if abs(s - round(s)) < 1e-6 else math.floor(s) for s in q]
 
 
 class FrameWriter:
-    """Frame j of the tracks' current states: one PNG with all of them, each one's OBJ, and the
-    FrameInfo the page shows beside it (appended to `frame_log` once they are written into `folder`);
-    a signal waits until the frame is done."""
+    """Frame j of the tracks' current states into `folder`: one PNG with all of them, each one's
+    OBJ, and its FrameInfo appended to `frame_log`; a signal waits until the frame is done."""
 
     def __init__(self, tracks, folder, forces, frame_log):
         self.tracks, self.folder, self.frame_log = tracks, folder, frame_log
@@ -49,31 +44,25 @@ class FrameWriter:
         self.newton_per_metre = draw.newton_per_metre(tracks[0].scene) if forces else None
 
     def write(self, j):
-        """Frame j with every track, then each track's OBJ (after its log rows: the CSV is never behind)."""
+        """Frame j, then each track's OBJ (after its log row: the CSV is never behind)."""
         tracks, forces = self.tracks, self.newton_per_metre is not None
         self.view.follow(np.array([tr.samples.last.com for tr in tracks]))
-        runs = [frame_run(tr.scene, tr.x, tr.samples.last.report, tr.label, tr.color, forces) for tr in tracks]
-        for run, tr in zip(runs, tracks):
-            run["marks"] = tr.marks if tr.scene.hand is not None else None
-        surface, _ = draw.draw_frame(self.pygame, runs, max(tr.t for tr in tracks), self.view, self.fonts,
+        runs = [dict(frame_run(tr.scene, tr.x, tr.samples.last.report, tr.label, tr.color, forces),
+                     marks=tr.marks) for tr in tracks]        # marks: the chalk's, else None
+        t = max(tr.t for tr in tracks)
+        surface, _ = draw.draw_frame(self.pygame, runs, t, self.view, self.fonts,
                                      self.newton_per_metre)
         with self.folder.signals.held():
             self.folder.write(files.frame_png(j), draw.png_data(self.pygame, surface))
             for tr in tracks:
-                self.folder.write(files.frame_obj(j, tr.tag), square_mesh.obj_text(tr.x, *tr.scene.cells))
-            self.frame_log.append(FrameInfo(j, max(tr.t for tr in tracks), [page.figures(tr.row) for tr in tracks]))
-
-
-def frame_count(scenes, steps, stride):
-    """How many frames frame_steps gives for runs of `steps` steps: every `stride` steps of the smallest
-    h, and the last state."""
-    h_min = min(scene.h for scene in scenes)
-    return math.ceil(max(n * scene.h for scene, n in zip(scenes, steps)) / (stride * h_min) - 1e-9) + 1
+                obj = square_mesh.obj_text(tr.x, *tr.scene.cells)
+                self.folder.write(files.frame_obj(j, tr.tag), obj)
+            self.frame_log.append(FrameInfo(j, t, [page.figures(tr.row) for tr in tracks]))
 
 
 def frame_run(scene, x, report, label, color, forces):
     """One run as draw.draw_frame takes it; with `forces`, the contact forces at x and the friction
-    force of the step that ended at x (its StepReport's: with the mu*lambda and T it ended with)."""
+    force of the step that ended at x (its StepReport's, with the mu lambda and T it ended with)."""
     run = {"scene": scene, "x": x, "label": label, "color": color}
     if forces:
         run["normal"] = diagnostics.normal_forces(scene, x)

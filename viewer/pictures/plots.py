@@ -1,17 +1,5 @@
-"""plots.png, drawn with pygame: what explains a run, over time, on one shared time axis.
-
-One run: (1) the energy budget: kinetic, gravity, spring and barrier energy, their total E, the
-work friction has done W (cumulative, <= 0) and D = E(0) + W - E, what is left: the energy implicit
-Euler's numerical dissipation took out (mostly at the impact), so that E = E(0) + W - D;
-(2) the tangential speed of every contact node, on a log axis with eps_v marked: below it a node
-sticks, above it slides; (3) Newton iterations per step.
-Several runs (a comparison): (1) displacement of the centre of mass along the slope, (2) the
-largest tangential speed of a contact node, (3) Newton iterations per step, one colour per run.
-The chalk (_chalk_panels), one run: the energy budget (with the hand's energy and work), the tip's speed
-against the hand's drive, the board's normal force, and each stick-slip cycle's slip (analysis/stick_slip.py);
-a comparison: the last three, one colour per run, and the friction work, a step down at each slip.
-The panels share their time axis, so the page (page.py) draws one cursor across all of them.
-"""
+"""plots.png: panels on one shared time axis, so that the page draws one cursor across them; what
+each shows, for the square and the chalk, one run or a comparison: docs/output.md."""
 import math
 
 import numpy as np
@@ -23,12 +11,15 @@ WIDTH, PANEL_HEIGHT, TOP = 900, 250, 10
 LEFT, RIGHT = 80, 700           # the time axis's pixel columns; the legends sit right of it
 LEGEND_TEXT = RIGHT + 34        # the column where a legend's text starts
 ENERGY_COLORS = {"kinetic": (230, 120, 0), "gravity": (120, 80, 40), "spring": (0, 150, 60),
-                 "barrier": (200, 0, 160), "hand": (0, 150, 200), "total": (0, 0, 0), "W_friction": (0, 0, 255),
-                 "W_hand": (120, 0, 200), "-D_numerical": (200, 0, 0)}
-CHALK_PANELS = 4                    # the chalk's: one run's and a comparison's (_chalk_panels)
+                 "barrier": (200, 0, 160), "hand": (0, 150, 200), "total": (0, 0, 0),
+                 "W_friction": (0, 0, 255), "W_hand": (120, 0, 200), "-D_numerical": (200, 0, 0)}
+ENERGY_LABELS = {"total": "total E", "W_friction": "friction work W", "W_hand": "hand work W_hand",
+                 "-D_numerical": "-D, numerical dissip."}
+CHALK_PANELS = 4                    # one run's and a comparison's
 NORMAL_FORCE_COLOR = (219, 0, 0)    # draw.NORMAL_COLOR, as the frames' arrows
-DRIVE_COLOR, BLACK = (0, 150, 60), (0, 0, 0)    # the drive speed: one run's (green), a comparison's (black)
-SPREAD = 10                         # a comparison's normal forces on a log axis where the runs' peaks differ more
+DRIVE_COLOR, BLACK = (0, 150, 60), (0, 0, 0)    # the drive: one run's, a comparison's
+EPSV_COLOR, GRID = (200, 0, 0), (225, 225, 225)
+SPREAD = 10                 # a comparison's normal forces on a log axis where peaks differ more
 
 
 def nice_ticks(lo, hi, count=5):
@@ -38,14 +29,13 @@ def nice_ticks(lo, hi, count=5):
 
 
 class Axes:
-    """One panel: maps (t, y) to pixels, linear or log10 in y, and draws its box, ticks, the axes'
-    labels with their units (`xlabel` along the horizontal axis, "t (s)" by default, `ylabel` up the value
-    axis) and lines. The horizontal axis runs from t_lo (0 unless given) to t_max; `yticks`, pairs
-    (value, text), replaces the value axis's numbers (rows named instead of measured)."""
+    """One panel: (t, y) to pixels, y linear or log10; its title, box, ticks and axis labels
+    (`xlabel` along, `ylabel` up); t from t_lo to t_max; `yticks`, (value, text), name rows."""
 
-    def __init__(self, pygame, surface, font, top, t_max, y_lo, y_hi, title, ylabel, log=False, xlabel="t (s)",
-                 t_lo=0.0, yticks=None):
-        self.pygame, self.surface, self.font, self.log, self.yticks = pygame, surface, font, log, yticks
+    def __init__(self, pygame, surface, font, top, t_max, y_lo, y_hi, title, ylabel, log=False,
+                 xlabel="t (s)", t_lo=0.0, yticks=None):
+        self.pygame, self.surface, self.font = pygame, surface, font
+        self.log, self.yticks = log, yticks
         self.top, self.bottom = top + 24, top + PANEL_HEIGHT - 30
         self.t_lo, self.t_max = t_lo, t_max if t_max > t_lo else t_lo + 1.0
         if log:
@@ -55,11 +45,12 @@ class Axes:
         pad = 0.05 * (y_hi - y_lo)
         self.y_lo, self.y_hi = y_lo - pad, y_hi + pad
         self.legend_row = self.top
-        surface.blit(font.render(title, True, (0, 0, 0)), (LEFT, top + 4))
-        pygame.draw.rect(surface, (0, 0, 0), (LEFT, self.top, RIGHT - LEFT + 1, self.bottom - self.top + 1), 1)
-        self._ticks()
-        surface.blit(font.render(xlabel, True, (0, 0, 0)), (RIGHT + 12, self.bottom + 3))
-        label = pygame.transform.rotate(font.render(ylabel, True, (0, 0, 0)), 90)
+        surface.blit(font.render(title, True, BLACK), (LEFT, top + 4))
+        box = (LEFT, self.top, RIGHT - LEFT + 1, self.bottom - self.top + 1)
+        pygame.draw.rect(surface, BLACK, box, 1)
+        self.ticks()
+        surface.blit(font.render(xlabel, True, BLACK), (RIGHT + 12, self.bottom + 3))
+        label = pygame.transform.rotate(font.render(ylabel, True, BLACK), 90)
         surface.blit(label, (4, (self.top + self.bottom - label.get_height()) / 2))
 
     def px(self, t, y):
@@ -67,16 +58,16 @@ class Axes:
         y = np.asarray(y, dtype=float)
         if self.log:
             y = np.log10(np.maximum(y, 10.0 ** self.y_lo))
-        col = LEFT + (RIGHT - LEFT) * (np.asarray(t, dtype=float) - self.t_lo) / (self.t_max - self.t_lo)
+        t = np.asarray(t, dtype=float)
+        col = LEFT + (RIGHT - LEFT) * (t - self.t_lo) / (self.t_max - self.t_lo)
         row = self.bottom - (self.bottom - self.top) * (y - self.y_lo) / (self.y_hi - self.y_lo)
         return col, row
 
-    def _ticks(self):
-        grey, black = (225, 225, 225), (0, 0, 0)
+    def ticks(self):
         for t in nice_ticks(self.t_lo, self.t_max, 6):
             col = self.px(t, 0.0)[0]
-            self.pygame.draw.line(self.surface, grey, (col, self.top + 1), (col, self.bottom - 1))
-            label = self.font.render(f"{t:g}", True, black)
+            self.pygame.draw.line(self.surface, GRID, (col, self.top + 1), (col, self.bottom - 1))
+            label = self.font.render(f"{t:g}", True, BLACK)
             self.surface.blit(label, (col - label.get_width() / 2, self.bottom + 3))
         if self.yticks is not None:
             values, texts = zip(*self.yticks)
@@ -88,23 +79,22 @@ class Axes:
             texts = [f"{v:g}" for v in values]
         for value, text in zip(values, texts):
             row = self.px(0.0, value)[1]
-            self.pygame.draw.line(self.surface, grey, (LEFT + 1, row), (RIGHT - 1, row))
-            label = self.font.render(text, True, black)
+            self.pygame.draw.line(self.surface, GRID, (LEFT + 1, row), (RIGHT - 1, row))
+            label = self.font.render(text, True, BLACK)
             self.surface.blit(label, (LEFT - 6 - label.get_width(), row - label.get_height() / 2))
 
     def line(self, t, y, color, width=2):
         if len(t) > 1:
             col, row = self.px(t, y)
-            self.pygame.draw.lines(self.surface, color, False, np.stack([col, row], 1).tolist(), width)
+            points = np.stack([col, row], 1).tolist()
+            self.pygame.draw.lines(self.surface, color, False, points, width)
 
     def dots(self, t, y, color):
         """A 2x2-pixel dot at each (t, y), written into the surface's pixels at once."""
-        col, row = self.px(t, y)
-        col, row = col.astype(int), row.astype(int)
+        col, row = (a.astype(int) for a in self.px(t, y))
         pixels = self.pygame.surfarray.pixels3d(self.surface)
-        for dc in (0, 1):
-            for dr in (0, 1):
-                pixels[col + dc, row + dr] = color
+        for dc, dr in ((0, 0), (0, 1), (1, 0), (1, 1)):
+            pixels[col + dc, row + dr] = color
         del pixels
 
     def hline(self, y, color, text):
@@ -116,7 +106,8 @@ class Axes:
         """A dashed vertical line at time t, with a legend row."""
         col = int(self.px(t, 1.0)[0])
         for top in range(self.top + 2, self.bottom - 2, 8):
-            self.pygame.draw.line(self.surface, color, (col, top), (col, min(top + 4, self.bottom - 2)), 2)
+            end = min(top + 4, self.bottom - 2)
+            self.pygame.draw.line(self.surface, color, (col, top), (col, end), 2)
         self.legend(color, text)
 
     def markers(self, t, y, color, radius=3):
@@ -129,14 +120,20 @@ class Axes:
         self.note(text)
 
     def note(self, text):
-        """A legend row of text alone, under the last one's text (what the row above it measured)."""
-        self.surface.blit(self.font.render(text, True, (0, 0, 0)), (LEGEND_TEXT, self.legend_row))
+        """A legend row of text alone, under the last one's."""
+        self.surface.blit(self.font.render(text, True, BLACK), (LEGEND_TEXT, self.legend_row))
         self.legend_row += 18
+
+    def runs(self, tracks, data, key, width=2):
+        """Each run's d[key] over time as a line in its colour, labelled in the legend."""
+        for tr, d in zip(tracks, data):
+            self.line(d["t"], d[key], tr.color, width)
+            self.legend(tr.color, tr.label)
 
 
 def series(track):
-    """The arrays the plots need from a track's samples: log.csv's columns by name (log.COLUMN), and
-    the contact nodes' speeds."""
+    """The arrays the plots need from a track's samples: log.csv's columns by name (log.COLUMN),
+    the contact nodes' speeds, and the centre of mass's displacement along the slope."""
     s = track.samples.all()
 
     def column(name):
@@ -144,11 +141,11 @@ def series(track):
     com = np.stack([column("com_x"), column("com_y")], axis=1)
     terms = ("kinetic",) + diagnostics.energy_terms(track.scene) + ("total",)
     hand = track.scene.hand is not None
-    return {"t": column("t"),
-            "E": {k: column(f"E_{k}") for k in terms},
-            "W": column("W_friction"), "D": column("D_numerical"), "newton": column("newton_iterations"),
-            "W_hand": column("W_hand") if hand else None,
-            **({k: column(k) for k in ("tip_speed", "drive_speed", "normal_force")} if hand else {}),
+    chalk = ("W_hand", "tip_speed", "drive_speed", "normal_force") if hand else ()
+    return {"t": column("t"), "E": {k: column(f"E_{k}") for k in terms},
+            "W": column("W_friction"), "D": column("D_numerical"),
+            "newton": column("newton_iterations"), "W_hand": None,
+            **{k: column(k) for k in chalk},
             "along": np.array([(c - com[0]) @ track.tangent for c in com]),
             "speed_t": np.concatenate([np.full(len(x.speeds), x.t) for x in s]),
             "speed": np.concatenate([x.speeds for x in s]),
@@ -156,7 +153,7 @@ def series(track):
 
 
 def speed_range(speeds, epsv):
-    """A log axis from a decade below min(eps_v, the smallest speed > 0) up to the largest speed."""
+    """A log axis from a decade below min(eps_v, the least speed > 0) up to the largest speed."""
     positive = speeds[speeds > 0]
     lo = min(epsv, positive.min()) if positive.size else epsv
     hi = max(epsv, positive.max()) if positive.size else epsv
@@ -168,99 +165,96 @@ def draw_plots(pygame, tracks):
     font = pygame.font.Font(None, 18)
     chalk = tracks[0].scene.hand is not None
     surface = pygame.Surface((WIDTH, TOP + (CHALK_PANELS if chalk else 3) * PANEL_HEIGHT))
-    surface.fill((255, 255, 255))
+    surface.fill(draw.WHITE)
     data = [series(tr) for tr in tracks]
     t_max = max(float(d["t"][-1]) for d in data)
+    rows = iter(TOP + k * PANEL_HEIGHT for k in range(CHALK_PANELS))
+
+    def axes(*args, **kw):
+        """The next panel down: Axes(y_lo, y_hi, title, ylabel, ...) over [0, t_max]."""
+        return Axes(pygame, surface, font, next(rows), t_max, *args, **kw)
+    (chalk_panels if chalk else square_panels)(axes, tracks, data)
+    return surface, (LEFT, RIGHT, t_max)
+
+
+def square_panels(axes, tracks, data):
+    """One run: its energy budget, each contact node's speed, Newton iterations; a comparison: the
+    displacement, the largest contact speed, Newton iterations, one colour per run."""
     epsv = tracks[0].scene.epsv
-    if chalk:
-        _chalk_panels(pygame, surface, font, t_max, tracks, data)
-        return surface, (LEFT, RIGHT, t_max)
     if len(tracks) == 1:
-        _energy_panel(pygame, surface, font, TOP, t_max, data[0])
-        d = data[0]
-        ax = Axes(pygame, surface, font, TOP + PANEL_HEIGHT, t_max, *speed_range(d["speed"], epsv),
-                  "tangential speed of each contact node (m/s, log): below eps_v it sticks", "|v_t| (m/s)", log=True)
-        ax.dots(d["speed_t"], d["speed"], tracks[0].color)
-        ax.legend(tracks[0].color, "a contact node")
-        mark_rest(ax, tracks[0], (0, 0, 0))
+        (tr,), (d,) = tracks, data
+        energy_panel(axes, d)
+        ax = axes(*speed_range(d["speed"], epsv), "tangential speed of each contact node (m/s, "
+                  "log): below eps_v it sticks", "|v_t| (m/s)", log=True)
+        ax.dots(d["speed_t"], d["speed"], tr.color)
+        ax.legend(tr.color, "a contact node")
+        mark_rest(ax, tr, BLACK)
     else:
-        ax = Axes(pygame, surface, font, TOP, t_max, min(d["along"].min() for d in data),
-                  max(d["along"].max() for d in data), "displacement of the centre of mass along the slope (m)",
-                  "s (m)")
-        for tr, d in zip(tracks, data):
-            ax.line(d["t"], d["along"], tr.color)
-            ax.legend(tr.color, tr.label)
+        ax = axes(min(d["along"].min() for d in data), max(d["along"].max() for d in data),
+                  "displacement of the centre of mass along the slope (m)", "s (m)")
+        ax.runs(tracks, data, "along")
         speeds = np.concatenate([d["speed"] for d in data])
-        ax = Axes(pygame, surface, font, TOP + PANEL_HEIGHT, t_max, *speed_range(speeds, epsv),
-                  "largest tangential speed of a contact node (m/s, log)", "max |v_t| (m/s)", log=True)
+        ax = axes(*speed_range(speeds, epsv), "largest tangential speed of a contact node (m/s, "
+                  "log)", "max |v_t| (m/s)", log=True)
         for tr, d in zip(tracks, data):
             has = ~np.isnan(d["max_speed"])
             ax.dots(d["t"][has], d["max_speed"][has], tr.color)
             ax.legend(tr.color, tr.label)
         for tr in tracks:
             mark_rest(ax, tr, tr.color)
-    ax.hline(epsv, (200, 0, 0), f"eps_v = {epsv:g} m/s")
-    ax = Axes(pygame, surface, font, TOP + 2 * PANEL_HEIGHT, t_max, 0.0,
-              max(float(d["newton"].max()) for d in data), "Newton iterations per step", "iterations")
+    ax.hline(epsv, EPSV_COLOR, f"eps_v = {epsv:g} m/s")
+    ax = axes(0.0, max(float(d["newton"].max()) for d in data), "Newton iterations per step",
+              "iterations")
     for tr, d in zip(tracks, data):
         ax.line(d["t"][1:], d["newton"][1:], tr.color, 1)
         if len(tracks) > 1:
             ax.legend(tr.color, tr.label)
-    return surface, (LEFT, RIGHT, t_max)
 
 
-def _chalk_panels(pygame, surface, font, t_max, tracks, data):
-    """The chalk's panels. One run: the energy budget; the tip's speed along the board against the hand's
-    drive speed (log, eps_v marked: below it the tip sticks); the board's normal force, whose saw-tooth is the
-    stick-slip; each stick-slip cycle's slip (_cycles_panel). A comparison, one colour per run: the last three,
-    the normal forces on a log axis where the runs' peaks differ more than SPREAD-fold, then instead of the
-    energy budget (nine curves a run, which would not read for several) its friction work, a step down at
-    each slip."""
+def chalk_panels(axes, tracks, data):
+    """One run: the energy budget, the tip against the drive, the normal force, the cycles; a
+    comparison: the last three (forces on a log axis past SPREAD-fold), the friction work."""
     one = len(tracks) == 1
-    rows = iter(TOP + k * PANEL_HEIGHT for k in range(CHALK_PANELS))
     if one:
-        _energy_panel(pygame, surface, font, next(rows), t_max, data[0])
+        energy_panel(axes, data[0])
     speeds = np.concatenate([np.concatenate([d["tip_speed"], d["drive_speed"]]) for d in data])
     epsv = tracks[0].scene.epsv
-    ax = Axes(pygame, surface, font, next(rows), t_max, *speed_range(speeds, epsv),
-              "the tip's speed along the board against the hand's drive (m/s, log): below eps_v it sticks",
-              "|v_tip| (m/s)", log=True)
+    ax = axes(*speed_range(speeds, epsv), "the tip's speed along the board against the hand's "
+              "drive (m/s, log): below eps_v it sticks", "|v_tip| (m/s)", log=True)
     drive = DRIVE_COLOR if one else BLACK
-    for d in data:                  # under the tip's dots: a tip sliding with the hand stays in sight
+    for d in data:                  # under the tip's dots: a tip sliding with the hand stays seen
         ax.line(d["t"], np.maximum(d["drive_speed"], 10.0 ** ax.y_lo), drive, 2)
     for tr, d in zip(tracks, data):
         ax.dots(d["t"], d["tip_speed"], tr.color)
         ax.legend(tr.color, "tip speed" if one else tr.label)
     ax.legend(drive, "drive speed")
-    ax.hline(epsv, (200, 0, 0), f"eps_v = {epsv:g} m/s")
+    ax.hline(epsv, EPSV_COLOR, f"eps_v = {epsv:g} m/s")
     peaks = [float(d["normal_force"].max()) for d in data]
-    if min(peaks) > 0 and max(peaks) > SPREAD * min(peaks):         # the runs' forces would not read on one scale
-        ax = Axes(pygame, surface, font, next(rows), t_max, 10.0 ** math.floor(math.log10(min(peaks)) - 1),
-                  max(peaks), f"the board's normal force on the chalk (N, log: the runs' peaks differ more than "
-                  f"{SPREAD}-fold)", "N (N)", log=True)
+    title = "the board's normal force on the chalk (N"
+    if min(peaks) > 0 and max(peaks) > SPREAD * min(peaks):
+        lo = 10.0 ** math.floor(math.log10(min(peaks)) - 1)
+        ax = axes(lo, max(peaks), f"{title}, log: the runs' peaks differ more than {SPREAD}-fold)",
+                  "N (N)", log=True)
     else:
-        ax = Axes(pygame, surface, font, next(rows), t_max, 0.0, max(peaks),
-                  "the board's normal force on the chalk (N)", "N (N)")
-    for tr, d in zip(tracks, data):
-        ax.line(d["t"], d["normal_force"], NORMAL_FORCE_COLOR if one else tr.color, 2 if one else 1)
-        ax.legend(NORMAL_FORCE_COLOR if one else tr.color, "sum of lambda_k" if one else tr.label)
-    _cycles_panel(pygame, surface, font, next(rows), t_max, tracks)
+        ax = axes(0.0, max(peaks), title + ")", "N (N)")
+    if one:
+        ax.line(data[0]["t"], data[0]["normal_force"], NORMAL_FORCE_COLOR, 2)
+        ax.legend(NORMAL_FORCE_COLOR, "sum of lambda_k")
+    else:
+        ax.runs(tracks, data, "normal_force", 1)
+    cycles_panel(axes, tracks)
     if not one:
-        ax = Axes(pygame, surface, font, next(rows), t_max, min(float(d["W"].min()) for d in data), 0.0,
-                  "the work friction has done, W_friction (J, <= 0): a step down at each slip", "W (J)")
-        for tr, d in zip(tracks, data):
-            ax.line(d["t"], d["W"], tr.color, 2)
-            ax.legend(tr.color, tr.label)
+        ax = axes(min(float(d["W"].min()) for d in data), 0.0, "the work friction has done, "
+                  "W_friction (J, <= 0): a step down at each slip", "W (J)")
+        ax.runs(tracks, data, "W")
 
 
-def _cycles_panel(pygame, surface, font, top, t_max, tracks):
-    """Each stick-slip cycle of each run (analysis/stick_slip.py) as a dot: its slip length (mm) at the time the
-    slip starts; the legend gives each run's count, mean slip, period and the fraction of the drive stuck."""
+def cycles_panel(axes, tracks):
+    """Each stick-slip cycle (analysis/stick_slip.py) a dot: its slip (mm) when it starts."""
     counted = [stick_slip.of_track(tr) for tr in tracks]
     lengths = [1e3 * length for r in counted for _, length, _ in r.slips]
-    ax = Axes(pygame, surface, font, top, t_max, 0.0, 1.2 * max(lengths, default=1.0),
-              "each stick-slip cycle's slip (mm) at its start; legend: cycles, mean slip, period, % of the drive "
-              "stuck", "slip (mm)")
+    ax = axes(0.0, 1.2 * max(lengths, default=1.0), "each stick-slip cycle's slip (mm) at its "
+              "start; legend: cycles, mean slip, period, % of the drive stuck", "slip (mm)")
     for tr, r in zip(tracks, counted):
         if r.slips:
             t, length, _ = (np.array(a) for a in zip(*r.slips))
@@ -268,7 +262,7 @@ def _cycles_panel(pygame, surface, font, top, t_max, tracks):
         first, second = cycles_legend(r)
         if len(tracks) == 1:
             ax.legend(tr.color, first)
-        elif font.size(f"{tr.label}: {first}")[0] <= WIDTH - LEGEND_TEXT:
+        elif ax.font.size(f"{tr.label}: {first}")[0] <= WIDTH - LEGEND_TEXT:
             ax.legend(tr.color, f"{tr.label}: {first}")
         else:                                   # a long label: on its own row
             ax.legend(tr.color, tr.label)
@@ -277,14 +271,15 @@ def _cycles_panel(pygame, surface, font, top, t_max, tracks):
 
 
 def cycles_legend(r):
-    """A run's stick_slip.StickSlip in the two short rows of a legend: ('25 slips', '1.06 mm, 107 ms, 86 %'),
-    or ('no cycle', what the tip did instead)."""
+    """A stick_slip.StickSlip in a legend's two rows: ('25 slips', '1.06 mm, 107 ms, 86 %'), or
+    ('no cycle', what the tip did instead)."""
     if not r.driven:
         return "no cycle", f"the drive starts at {r.start:g} s"
     if r.slips:
         n = len(r.slips)
         period = f", {1e3 * r.period:.0f} ms" if n > 1 else ""
-        return f"{n} slip{'s' if n > 1 else ''}", f"{1e3 * r.length:.2f} mm{period}, {100 * r.stuck:.0f} %"
+        slips = f"{n} slip{'s' if n > 1 else ''}"
+        return slips, f"{1e3 * r.length:.2f} mm{period}, {100 * r.stuck:.0f} %"
     if r.start_up is None:
         return "no cycle", "jammed: tip stuck"
     return "no cycle", f"slid from {r.start_up:.2f} s, {100 * r.stuck:.0f} %"
@@ -294,21 +289,19 @@ def mark_rest(ax, track, color):
     """The time the track came to rest (recording.Track.rest_since), dashed, or that it did not."""
     if track.rest_since is not None:
         ax.vline(track.rest_since, color, f"at rest from {track.rest_since:.2f} s")
-    else:                               # never at rest: said in its legend, no line
+    else:
         ax.legend(color, f"not at rest by {track.t:.2f} s")
 
 
-def _energy_panel(pygame, surface, font, top, t_max, d):
-    curves = dict(d["E"], W_friction=d["W"], **({} if d["W_hand"] is None else {"W_hand": d["W_hand"]}),
-                  **{"-D_numerical": -d["D"]})
+def energy_panel(axes, d):
+    """The energy budget: each term, E, the work W (friction's, the hand's) and -D."""
+    hand = d["W_hand"] is not None
+    curves = dict(d["E"], W_friction=d["W"], **({"W_hand": d["W_hand"]} if hand else {}))
+    curves["-D_numerical"] = -d["D"]
     lo = min(float(c.min()) for c in curves.values())
     hi = max(float(c.max()) for c in curves.values())
-    ax = Axes(pygame, surface, font, top, t_max, lo, hi,
-              "energy budget (J): E = E(0) + W_friction" + (" + W_hand" if d["W_hand"] is not None else "") +
-              " - D, D = implicit Euler's numerical dissipation", "E (J)")
-    names = {"kinetic": "kinetic", "gravity": "gravity", "spring": "spring", "barrier": "barrier", "hand": "hand",
-             "total": "total E", "W_friction": "friction work W", "W_hand": "hand work W_hand",
-             "-D_numerical": "-D, numerical dissip."}
+    ax = axes(lo, hi, "energy budget (J): E = E(0) + W_friction" + (" + W_hand" if hand else "")
+              + " - D, D = implicit Euler's numerical dissipation", "E (J)")
     for key, values in curves.items():
         ax.line(d["t"], values, ENERGY_COLORS[key], 3 if key == "total" else 2)
-        ax.legend(ENERGY_COLORS[key], names[key])
+        ax.legend(ENERGY_COLORS[key], ENERGY_LABELS.get(key, key))

@@ -23,15 +23,18 @@ from helpers import ROOT
 
 def run_cli(*args):
     env = {**os.environ, "SDL_VIDEODRIVER": "dummy"}
-    return subprocess.run([sys.executable, os.path.join(ROOT, "simulator.py"), *args], cwd=ROOT, env=env,
-                          capture_output=True, text=True, timeout=300)
+    return subprocess.run([sys.executable, os.path.join(ROOT, "simulator.py"), *args], cwd=ROOT,
+                          env=env, capture_output=True, text=True, timeout=300)
 
 
 @pytest.mark.parametrize("argv, flag", [
-    (["--scene", "chalk", "--n-seg", "3"], "--n-seg"), (["--scene", "chalk", "--no-slope"], "--no-slope"),
+    (["--scene", "chalk", "--n-seg", "3"], "--n-seg"),
+    (["--scene", "chalk", "--no-slope"], "--no-slope"),
     (["--scene", "chalk", "--slope-angle", "10"], "--slope-angle"), (["--tilt", "30"], "--tilt"),
-    (["--grip", "1000"], "--grip"), (["--drag"], "--drag"), (["--mu-static", "0.5"], "--mu-static")])
-def test_a_flag_of_the_other_scene_is_refused_in_one_line_before_anything_is_written(tmp_path, argv, flag):
+    (["--grip", "1000"], "--grip"), (["--drag"], "--drag"),
+    (["--mu-static", "0.5"], "--mu-static")])
+def test_a_flag_of_the_other_scene_is_refused_in_one_line_before_anything_is_written(
+        tmp_path, argv, flag):
     out = tmp_path / "out"
     code, err = run_main(*argv, "--out", str(out))
     assert code == 2 and len(err) == 1 and flag in err[0] and not out.exists()
@@ -58,25 +61,30 @@ def test_the_chalk_runs_3_s_and_its_log_has_the_hand_and_a_closed_budget(tmp_pat
     result = run_cli("--scene", "chalk", "--steps", "300", "--out", str(out))
     assert result.returncode == 0, result.stderr
     files = os.listdir(out)
-    assert {"log.csv", "plots.png", "summary.png", "index.html", "frame_00000.png", "frame_00000.obj"} <= set(files)
+    written = {"log.csv", "plots.png", "summary.png", "index.html", "frame_00000.png",
+               "frame_00000.obj"}
+    assert written <= set(files)
     with open(out / "log.csv") as f:
         rows = list(csv.DictReader(f))
     assert list(rows[0]) == log.columns(simulator.build_chalk_scene()) and len(rows) == 301
     assert {"E_hand", "W_hand", "tip_speed", "normal_force"} <= set(rows[0])
-    E = {k: np.array([float(r[k]) for r in rows]) for k in ("E_kinetic", "E_gravity", "E_spring", "E_barrier",
-                                                               "E_hand", "E_total", "W_friction", "W_hand", "D_numerical")}
+    E = {k: np.array([float(r[k]) for r in rows]) for k in (
+        "E_kinetic", "E_gravity", "E_spring", "E_barrier", "E_hand", "E_total", "W_friction",
+        "W_hand", "D_numerical")}
     parts = E["E_kinetic"] + E["E_gravity"] + E["E_spring"] + E["E_barrier"] + E["E_hand"]
     assert np.abs(parts - E["E_total"]).max() < 1e-8
-    assert np.abs(E["E_total"][0] + E["W_friction"] + E["W_hand"] - E["D_numerical"] - E["E_total"]).max() < 1e-8
-    assert E["D_numerical"].min() > -1e-8       # implicit Euler only takes energy out, once the hand's work is in
+    budget = E["E_total"][0] + E["W_friction"] + E["W_hand"] - E["D_numerical"]
+    assert np.abs(budget - E["E_total"]).max() < 1e-8
+    assert E["D_numerical"].min() > -1e-8       # implicit Euler only takes out (the hand's work in)
 
 
 def test_the_squares_log_columns_are_unchanged():
     scene = simulator.build_scene()
     assert log.columns(scene) == log.COLUMNS and "E_hand" not in log.COLUMNS
-    assert log.COLUMNS[17:] == ["E_kinetic", "E_gravity", "E_spring", "E_barrier", "E_total", "W_friction",
-                                "D_numerical"]
-    assert list(diagnostics.energies(scene, scene.x0, scene.v0)) == ["kinetic", "gravity", "spring", "barrier", "total"]
+    assert log.COLUMNS[17:] == ["E_kinetic", "E_gravity", "E_spring", "E_barrier", "E_total",
+                                "W_friction", "D_numerical"]
+    terms = list(diagnostics.energies(scene, scene.x0, scene.v0))
+    assert terms == ["kinetic", "gravity", "spring", "barrier", "total"]
 
 
 def test_the_tip_is_stuck_below_eps_v_slipping_above_and_neither_off_the_board():
@@ -94,53 +102,59 @@ def test_the_tip_is_stuck_below_eps_v_slipping_above_and_neither_off_the_board()
     assert diagnostics.tip_stuck(scene, x, v) is None
 
 
-# --- what a chalk run showed: its stick-slip, per run -----------------------------------------------
+# --- what a chalk run showed: its stick-slip, per run --------------------------------------------
 
 @pytest.fixture(scope="module")
 def compared(tmp_path_factory):
-    """`--scene chalk --mu-static 0.35,0.5 --duration 0.6`, in this process: one coefficient (it slides with
-    the hand) against the default's mu_s 0.5 (stick-slip: 3 cycles of 107 ms after the drive starts at 0.2 s,
-    measured: slips at 0.313, 0.420, 0.527 s);
-    its closing line, its folder and every text its pictures rendered."""
+    """`--scene chalk --mu-static 0.35,0.5 --duration 0.6`, in this process: one coefficient (it
+    slides with the hand) against the default's mu_s 0.5 (stick-slip: 3 cycles of 107 ms after the
+    drive starts at 0.2 s, measured: slips at 0.313, 0.420, 0.527 s); its closing line, its folder
+    and every text its pictures rendered."""
     out = tmp_path_factory.mktemp("compared")
     with pytest.MonkeyPatch.context() as monkeypatch:
         texts = legibility.record_text(monkeypatch)
-        code, lines = run_main("--scene", "chalk", "--mu-static", "0.35,0.5", "--duration", "0.6", "--out", str(out))
+        code, lines = run_main("--scene", "chalk", "--mu-static", "0.35,0.5", "--duration", "0.6",
+                               "--out", str(out))
     assert code == 0, lines
     return lines[-1], out, [text for text, _, _ in texts]
 
 
 def counted_from_log(path):
-    """The stick-slip of a chalk run as its log.csv has it: the count of analysis/stick_slip.py on the columns
-    t, tip_x, tip_speed and step, with the chalk's eps_v, drive and drive start."""
+    """The stick-slip of a chalk run as its log.csv has it: the count of analysis/stick_slip.py on
+    the columns t, tip_x, tip_speed and step, with the chalk's eps_v, drive and drive start."""
     with open(path) as f:
         rows = list(csv.DictReader(f))
     column = {k: np.array([float(r[k]) for r in rows]) for k in ("t", "tip_x", "tip_speed", "step")}
     chalk = simulator.CHALK
-    return stick_slip.measure(column["t"], column["tip_x"], column["tip_speed"], chalk["epsv"], chalk["drive"],
-                              chalk["t_press"] + chalk["t_hold"], column["step"].astype(int))
+    return stick_slip.measure(column["t"], column["tip_x"], column["tip_speed"], chalk["epsv"],
+                              chalk["drive"], chalk["t_press"] + chalk["t_hold"],
+                              column["step"].astype(int))
 
 
 RUNS = {"mu-static = 0.35": "log_mu-static0.35.csv", "mu-static = 0.5": "log_mu-static0.5.csv"}
 
 
 def test_a_chalk_comparison_closes_with_each_runs_stick_slip(compared):
-    """Not when the tip was last stuck: each run's stick-slip, counted on the whole of its log. The default
-    chalk stick-slips, each slip about catching up with the hand (slip = drive x period); with one coefficient
-    the tip slides with the hand from the drive's start."""
+    """Not when the tip was last stuck: each run's stick-slip, counted on the whole of its log. The
+    default chalk stick-slips, each slip about catching up with the hand (slip = drive x period);
+    with one coefficient the tip slides with the hand from the drive's start."""
     line, out, _ = compared
     counted = {label: counted_from_log(out / name) for label, name in RUNS.items()}
     said = "; ".join(f"{label}: {stick_slip.words(r)}" for label, r in counted.items())
-    assert line.startswith("simulated 600 steps (0.60 s) x 2 runs in ") and f" wall; {said}; frames, " in line
+    assert line.startswith("simulated 600 steps (0.60 s) x 2 runs in ")
+    assert f" wall; {said}; frames, " in line
     assert not re.search(r"\brest\b", line)
     pushed, sliding = counted["mu-static = 0.5"], counted["mu-static = 0.35"]
-    assert len(pushed.slips) >= 2 and pushed.length == pytest.approx(simulator.CHALK["drive"] * pushed.period, rel=0.2)
-    assert "stick-slip: " in line and sliding.slips == [] and sliding.stuck_after == 0 and "slid without a stick" in line
+    catch_up = simulator.CHALK["drive"] * pushed.period
+    assert len(pushed.slips) >= 2 and pushed.length == pytest.approx(catch_up, rel=0.2)
+    assert sliding.slips == [] and sliding.stuck_after == 0
+    assert "stick-slip: " in line and "slid without a stick" in line
 
 
 def test_the_page_and_summary_say_each_runs_stick_slip_and_no_rest(compared):
     _, out, texts = compared
-    data = json.loads(re.search(r"const run = (\{.*\});", (out / "index.html").read_text()).group(1))
+    page = (out / "index.html").read_text()
+    data = json.loads(re.search(r"const run = (\{.*\});", page).group(1))
     counted = [counted_from_log(out / name) for name in RUNS.values()]
     rows = {row["header"]: row["cells"] for row in data["rows"]}
     assert data["labels"] == list(RUNS) and data["rest"] is None            # no "came to rest" row
@@ -149,10 +163,9 @@ def test_the_page_and_summary_say_each_runs_stick_slip_and_no_rest(compared):
     assert rows["period (ms)"] == ["-", f"{1e3 * counted[1].period:.0f}"]
     assert rows["tip stuck (% of the drive)"] == [f"{100 * r.stuck:.0f}" for r in counted]
     assert rows["tip first slips at t (s)"] == [f"{r.start_up:.2f}" for r in counted]
-    page = (out / "index.html").read_text()
     for label, r in zip(RUNS, counted):
-        assert html.escape(f"{label}: {stick_slip.words(r)}") in page        # the note under the table
-        assert stick_slip.words(r) in texts                                   # summary.png's panel of the run
+        assert html.escape(f"{label}: {stick_slip.words(r)}") in page    # the note under the table
+        assert stick_slip.words(r) in texts                               # summary.png's run panel
     first, second = stick_slip.definition(simulator.build_chalk_scene())
     assert {"stick-slip, " + first, second} <= set(texts)
     assert not [text for text in texts if re.search(r"\brest\b", text)]
@@ -160,7 +173,8 @@ def test_the_page_and_summary_say_each_runs_stick_slip_and_no_rest(compared):
 
 def test_one_chalk_run_closes_with_its_stick_slip(tmp_path):
     """0.35 s: one slip (measured at 0.313 s), the next would start at 0.420 s."""
-    code, lines = run_main("--scene", "chalk", "--duration", "0.35", "--no-frames", "--out", str(tmp_path))
+    code, lines = run_main("--scene", "chalk", "--duration", "0.35", "--no-frames",
+                           "--out", str(tmp_path))
     assert code == 0, lines
     r = counted_from_log(tmp_path / "log.csv")
     assert len(r.slips) == 1 and f"wall; {stick_slip.words(r)}; log.csv, " in lines[-1]

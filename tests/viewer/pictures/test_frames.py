@@ -1,6 +1,6 @@
-"""viewer/pictures/frames.py: when each frame is due. Frames come every `stride` steps of the smallest h,
-numbered from 0, the last at the end of the longest run; each run is shown at the last step it has
-reached by then."""
+"""viewer/pictures/frames.py: when each frame is due. Frames come every `stride` steps of the
+smallest h, numbered from 0, the last at the end of the longest run; each run is shown at the last
+step it has reached by then."""
 import types
 
 import numpy as np
@@ -12,14 +12,15 @@ from viewer.pictures import frames
 
 def tracks(*runs):
     """Stand-ins for recording.Track: (h, steps) each."""
-    return [types.SimpleNamespace(scene=types.SimpleNamespace(h=h), steps=steps) for h, steps in runs]
+    return [types.SimpleNamespace(scene=types.SimpleNamespace(h=h), steps=steps)
+            for h, steps in runs]
 
 
 def test_frames_every_stride_steps_and_the_last_state():
     runs = tracks((0.01, 10))
     assert list(frames.frame_steps(runs, 4)) == [(0, [0]), (1, [4]), (2, [8]), (3, [10])]
     assert frames.frame_count([r.scene for r in runs], [10], 4) == 4
-    assert [j for j, _ in frames.frame_steps(tracks((0.01, 12)), 4)] == [0, 1, 2, 3]     # 12 is a frame's
+    assert [j for j, _ in frames.frame_steps(tracks((0.01, 12)), 4)] == [0, 1, 2, 3]   # 12: a frame
 
 
 @pytest.mark.parametrize("runs, stride, expected", [
@@ -30,14 +31,17 @@ def test_a_comparison_of_time_steps_shows_each_run_at_the_same_times(runs, strid
     ended earlier is asked for steps past its end, and Track.advance stops at its last."""
     runs = tracks(*runs)
     got = [targets for _, targets in frames.frame_steps(runs, stride)]
-    assert got == expected and len(got) == frames.frame_count([r.scene for r in runs], [r.steps for r in runs], stride)
+    count = frames.frame_count([r.scene for r in runs], [r.steps for r in runs], stride)
+    assert got == expected and len(got) == count
 
 
 def test_the_frames_friction_arrows_are_the_steps_own_force():
-    """What a frame draws as friction is the step's report.friction_force itself (the force log.csv's
-    W_friction sums), not one computed again: here under Algorithm 5, where it differs from lagged."""
+    """What a frame draws as friction is the step's report.friction_force itself (the force
+    log.csv's W_friction sums), not one computed again: here under Algorithm 5, where it differs
+    from lagged."""
     scene = simulator.build_scene(friction_updates=5)
     for record in simulator.simulate(scene, 40):
         pass
-    drawn = frames.frame_run(scene, record.x, record.report, "run", (0, 0, 0), forces=True)["friction"]
+    run = frames.frame_run(scene, record.x, record.report, "run", (0, 0, 0), forces=True)
+    drawn = run["friction"]
     assert drawn is record.report.friction_force and np.abs(drawn).max() > 0.0

@@ -1,7 +1,7 @@
-"""The chalk's mark (viewer/pictures/marks.py) as the frames draw it: grey under the board at the frame's
-scale and in the strip magnified x8 about the tip, each pixel column the deposit of the board under
-it (wear.Deposit.shade, black at the run's darkest bin); where the strip goes; legible from the
-back of the room. What the mark is (Archard's law): tests/analysis/test_wear.py."""
+"""The chalk's mark (viewer/pictures/marks.py) as the frames draw it: grey under the board at the
+frame's scale and in the strip magnified x8 about the tip, each pixel column the deposit of the
+board under it (wear.Deposit.shade, black at the run's darkest bin); where the strip goes; legible
+from the back of the room. What the mark is (Archard's law): tests/analysis/test_wear.py."""
 import numpy as np
 import pytest
 from helpers import legibility
@@ -62,7 +62,7 @@ def test_the_strip_is_magnified_x8_about_the_tip_and_each_column_shows_the_depos
     (the tip straight under the tip); under its board every column over the mark is the grey of the
     deposit of the board it spans (black at the darkest bin), and white beyond the mark."""
     pixels, run, view, _, _, strip = chalk_frame(1000)
-    assert view.scale == pytest.approx(4000.0) and strip.magnification == 8
+    assert view.scale == pytest.approx(4000.0) and marks.MAGNIFICATION == 8
     assert strip.scale == pytest.approx(32000.0)
     assert strip.where == "below the board" and marks.title() == "the chalk's mark, x8"
     k, _ = diagnostics.tip(run["scene"], run["x"])
@@ -179,9 +179,9 @@ def test_the_frames_strip_covers_neither_the_chalk_the_legends_nor_the_boards_nu
 
 
 def test_the_squares_frames_have_no_marks_and_no_strip(monkeypatch):
-    """The square has no mark: draw_frame never reaches viewer.pictures.marks for it (the calls would fail
-    here), so its frames are those it drew before the strip, pixel for pixel whatever room is
-    reserved."""
+    """The square has no mark: draw_frame never reaches viewer.pictures.marks for it (the calls
+    would fail here), so its frames are those it drew before the strip, pixel for pixel whatever
+    room is reserved."""
     pygame = draw.load_pygame()
     scene = simulator.build_scene()
     runs = [frames.frame_run(scene, scene.x0, None, "mu = 0.11", draw.BLUE, True)]
@@ -192,8 +192,7 @@ def test_the_squares_frames_have_no_marks_and_no_strip(monkeypatch):
 
     def never(*args, **kw):
         raise AssertionError("the square drew a mark")
-    for name in ("draw_marks", "place_strip", "layout", "draw_strip", "draw_span", "legend",
-                 "paint_mark"):
+    for name in ("draw_marks", "place_strip", "layout", "draw_strip", "legend", "paint_mark"):
         monkeypatch.setattr(marks, name, never)
     runs[0]["marks"] = None                     # as frames.FrameWriter gives a run without a hand
     again = pygame.surfarray.array3d(draw.draw_frame(pygame, runs, 0.0, view, fonts, forces)[0])

@@ -30,9 +30,13 @@ window.addEventListener("load", () => {
     out.forward = [before, Number(img.dataset.frame), img.getAttribute("src")];
     document.getElementById("back").click();
     out.back = Number(img.dataset.frame);
-    setTimeout(() => { out.steppedLoaded = img.naturalWidth;
-      const pre = document.createElement("pre"); pre.id = "probe"; pre.textContent = JSON.stringify(out);
-      document.body.appendChild(pre); }, 200);
+    setTimeout(() => {
+      out.steppedLoaded = img.naturalWidth;
+      const pre = document.createElement("pre");
+      pre.id = "probe";
+      pre.textContent = JSON.stringify(out);
+      document.body.appendChild(pre);
+    }, 200);
   }, 600);
 });
 </script>
@@ -41,12 +45,13 @@ window.addEventListener("load", () => {
 
 def test_index_html_plays_in_headless_chromium(tmp_path):
     if find_browser() is None:
-        pytest.skip(f"no browser found (looked for {', '.join(BROWSERS)}); .ci/run installs Debian's chromium")
+        pytest.skip(f"no browser found (looked for {', '.join(BROWSERS)}); "
+                    ".ci/run installs Debian's chromium")
     out = tmp_path / "run"
     assert viewer.main.main(["--steps", "60", "--out", str(out)]) == 0          # 21 frames
     seen = probe_page(out, PROBE, tmp_path)
-    assert seen["loaded"] == 900 and seen["src"].startswith("frame_")       # a frame PNG shown, decoded
-    assert len(seen["seen"]) >= 3                                            # it changes while playing
+    assert seen["loaded"] == 900 and seen["src"].startswith("frame_")    # a frame shown, decoded
+    assert len(seen["seen"]) >= 3                                         # it changes while playing
     before, after, src = seen["forward"]
-    assert after == before + 1 and src == f"frame_{after:05d}.png"           # step: exactly one frame
+    assert after == before + 1 and src == f"frame_{after:05d}.png"        # step: exactly one frame
     assert seen["slider"] == before == 5 and seen["back"] == 5 and seen["steppedLoaded"] == 900

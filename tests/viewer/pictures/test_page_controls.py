@@ -6,8 +6,8 @@ import pytest
 from helpers.browser import BROWSERS, find_browser, probe_page
 import viewer.main
 
-# Appended to a copy of the page: drags the slider to frames whose counter reads 0, 9, 10 and the last
-# (t from 0.00 s to over 10 s), and writes the controls' left edges at each into the DOM.
+# Appended to a copy of the page: drags the slider to frames whose counter reads 0, 9, 10 and the
+# last (t from 0.00 s to over 10 s), and writes the controls' left edges at each into the DOM.
 PROBE = """
 <script>
 window.addEventListener("load", () => {
@@ -19,7 +19,9 @@ window.addEventListener("load", () => {
     out.push(["play", "back", "forward", "slider", "clock", "speed"].map(
       id => document.getElementById(id).getBoundingClientRect().left));
   }
-  const pre = document.createElement("pre"); pre.id = "probe"; pre.textContent = JSON.stringify(out);
+  const pre = document.createElement("pre");
+  pre.id = "probe";
+  pre.textContent = JSON.stringify(out);
   document.body.appendChild(pre);
 });
 </script>
@@ -28,7 +30,8 @@ window.addEventListener("load", () => {
 
 def test_the_controls_stay_in_place_as_the_counter_grows(tmp_path):
     if find_browser() is None:
-        pytest.skip(f"no browser found (looked for {', '.join(BROWSERS)}); .ci/run installs Debian's chromium")
+        pytest.skip(f"no browser found (looked for {', '.join(BROWSERS)}); "
+                    ".ci/run installs Debian's chromium")
     out = tmp_path / "run"
     # 220 steps of 0.05 s, a frame every 10: frames 0 to 22, t from 0.00 to 11.00 s
     assert viewer.main.main(["--h", "0.05", "--steps", "220", "--frame-stride", "10", "--no-forces",

@@ -1,7 +1,7 @@
-"""plots.png's axes carry their units: "t (s)" at the end of every time axis, the quantity and its unit
-up every value axis (the panels' titles name them too). The chalk's plots.png, one run or a comparison,
-shows its tip against the drive, the normal force and each stick-slip cycle, per run, and no square's
-words (rest)."""
+"""plots.png's axes carry their units: "t (s)" at the end of every time axis, the quantity and its
+unit up every value axis (the panels' titles name them too). The chalk's plots.png, one run or a
+comparison, shows its tip against the drive, the normal force and each stick-slip cycle, per run,
+and no square's words (rest)."""
 import re
 
 import numpy as np
@@ -15,10 +15,12 @@ from analysis import stick_slip
 
 
 def axis_labels_drawn(pygame, surface, panels):
-    dark = np.all(pygame.surfarray.array3d(surface) < 100, axis=2)                     # [x, y]: text
+    dark = np.all(pygame.surfarray.array3d(surface) < 100, axis=2)             # [x, y]: text
     for panel in range(panels):
-        top, bottom = plots.TOP + panel * plots.PANEL_HEIGHT + 24, plots.TOP + (panel + 1) * plots.PANEL_HEIGHT - 30
-        assert dark[plots.RIGHT + 12:plots.RIGHT + 50, bottom + 3:bottom + 18].any(), f"panel {panel}: t (s)"
+        first = plots.TOP + panel * plots.PANEL_HEIGHT
+        top, bottom = first + 24, first + plots.PANEL_HEIGHT - 30
+        t_label = dark[plots.RIGHT + 12:plots.RIGHT + 50, bottom + 3:bottom + 18]
+        assert t_label.any(), f"panel {panel}: t (s)"
         assert dark[:22, top:bottom].any(), f"panel {panel}: the value axis"
 
 
@@ -30,8 +32,9 @@ def test_every_panel_labels_its_time_axis_and_its_value_axis(tmp_path):
 
 @pytest.fixture(scope="module")
 def chalks(tmp_path_factory):
-    """Two chalks side by side for 0.6 s (3 cycles of the default's 107 ms after the 0.2 s start): one
-    coefficient (mu_s = mu, it slides with the hand) and the default's mu_s = 0.5 > mu (stick-slip)."""
+    """Two chalks side by side for 0.6 s (3 cycles of the default's 107 ms after the 0.2 s start):
+    one coefficient (mu_s = mu, it slides with the hand) and the default's mu_s = 0.5 > mu
+    (stick-slip)."""
     return tracks_of(tmp_path_factory.mktemp("chalks"), [simulator.build_chalk_scene(mu_s=0.35),
                                                          simulator.build_chalk_scene()], 600)
 
@@ -55,20 +58,23 @@ def inside(pygame, surface, ax, color):
     return int(np.all(pixels == color, axis=2).sum())
 
 
-def test_a_chalk_comparison_plots_each_runs_tip_normal_force_cycles_and_friction_work(monkeypatch, chalks):
+def test_a_chalk_comparison_plots_each_runs_tip_normal_force_cycles_and_friction_work(
+        monkeypatch, chalks):
     pygame = draw.load_pygame()
     surface, texts, panels = drawn(monkeypatch, pygame, chalks)
     assert surface.get_size() == (plots.WIDTH, plots.TOP + 4 * plots.PANEL_HEIGHT)
     axis_labels_drawn(pygame, surface, 4)
     titles = list(panels)
-    assert [t.split()[:3] for t in titles] == [["the", "tip's", "speed"], ["the", "board's", "normal"],
-                                               ["each", "stick-slip", "cycle's"], ["the", "work", "friction"]]
+    assert [t.split()[:3] for t in titles] == [
+        ["the", "tip's", "speed"], ["the", "board's", "normal"], ["each", "stick-slip", "cycle's"],
+        ["the", "work", "friction"]]
     tip, normal, cycles, work = panels.values()
     for tr in chalks:
         for ax in (tip, normal, work):
             assert inside(pygame, surface, ax, tr.color) > 50, (tr.label, ax)
-        assert {tr.label, f"{tr.label}: {plots.cycles_legend(stick_slip.of_track(tr))[0]}"} <= set(texts)
-    assert inside(pygame, surface, tip, plots.BLACK) > 200 and "drive speed" in texts         # the hand's drive
+        first = plots.cycles_legend(stick_slip.of_track(tr))[0]
+        assert {tr.label, f"{tr.label}: {first}"} <= set(texts)
+    assert inside(pygame, surface, tip, plots.BLACK) > 200 and "drive speed" in texts   # the drive
     sliding, pushed = (stick_slip.of_track(tr) for tr in chalks)
     assert sliding.slips == [] and inside(pygame, surface, cycles, chalks[0].color) == 0
     assert len(pushed.slips) == 3 and f"{chalks[1].label}: 3 slips" in texts
@@ -86,18 +92,21 @@ def test_one_chalk_run_has_its_energy_budget_on_top_and_its_cycles(monkeypatch, 
     surface, texts, panels = drawn(monkeypatch, pygame, chalks[1:])
     assert surface.get_size() == (plots.WIDTH, plots.TOP + 4 * plots.PANEL_HEIGHT)
     axis_labels_drawn(pygame, surface, 4)
-    assert [t.split()[:2] for t in panels] == [["energy", "budget"], ["the", "tip's"], ["the", "board's"],
-                                               ["each", "stick-slip"]]
+    assert [t.split()[:2] for t in panels] == [["energy", "budget"], ["the", "tip's"],
+                                               ["the", "board's"], ["each", "stick-slip"]]
     first, second = plots.cycles_legend(stick_slip.of_track(chalks[1]))
-    assert {"hand work W_hand", "tip speed", "drive speed", "sum of lambda_k", first, second} <= set(texts)
+    shown = {"hand work W_hand", "tip speed", "drive speed", "sum of lambda_k", first, second}
+    assert shown <= set(texts)
     assert not [text for text in texts if re.search(r"\brest\b", text)]
 
 
 def test_the_normal_forces_go_on_a_log_axis_where_the_runs_differ_tenfold(monkeypatch, chalks):
-    """Forces of one run ten times another's would flatten the other's saw-tooth on a linear axis."""
+    """Forces of one run ten times another's would flatten the other's saw-tooth on a linear
+    axis."""
     pygame = draw.load_pygame()
     peaks = [max(s.normal_force for s in tr.samples.all()) for tr in chalks]
-    assert max(peaks) < 10 * min(peaks) and not list(drawn(monkeypatch, pygame, chalks)[2].values())[1].log
+    assert max(peaks) < 10 * min(peaks)
+    assert not list(drawn(monkeypatch, pygame, chalks)[2].values())[1].log
     for s in chalks[0].samples.all():
         monkeypatch.setattr(s, "normal_force", s.normal_force * 20 * max(peaks) / peaks[0])
     panels = drawn(monkeypatch, pygame, chalks)[2]

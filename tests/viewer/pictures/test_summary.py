@@ -1,6 +1,6 @@
-"""summary.png's layout (viewer.pictures.summary.plan, which draw_summary draws): no snapshot or time label is
-cut by the picture's border, none overlaps another but the first and the last, and the scale reads
-as a round number of pixels per metre."""
+"""summary.png's layout (viewer.pictures.summary.plan, which draw_summary draws): no snapshot or
+time label is cut by the picture's border, none overlaps another but the first and the last, and
+the scale reads as a round number of pixels per metre."""
 import itertools
 
 import numpy as np
@@ -12,23 +12,40 @@ from viewer.pictures import draw, summary
 from analysis import closing, stick_slip
 
 
+@pytest.fixture(scope="module")
+def recorded(tmp_path_factory):
+    """recorded(build, overrides, steps): the tracks of the square's ("square") or the chalk's
+    scenes with these overrides run side by side, each set run once for the module."""
+    kept = {}
+
+    def run(build, overrides, steps):
+        key = (build, repr(overrides), steps)
+        if key not in kept:
+            make = simulator.build_chalk_scene if build == "chalk" else simulator.build_scene
+            scenes = [make(**o) for o in overrides]
+            kept[key] = tracks_of(tmp_path_factory.mktemp(build), scenes, steps)
+        return kept[key]
+    return run
+
+
 def overlap(a, b, gap):
     return not (b[0] > a[2] + gap or a[0] > b[2] + gap or b[1] > a[3] + gap or a[1] > b[3] + gap)
 
 
 @pytest.mark.parametrize("overrides, steps", [
-    ([{"v0": (20.0, 0.0)}], 150),                           # 30 m along the slope: the scale shrinks
-    ([{"v0": (0.0, -50.0)}], 300),                          # thrown at the slope: crushed, bouncing back
-    ([{"mu": 0.1}, {"mu": 0.2}], 300)])                     # mu 0.2 stops near where it landed
-def test_snapshots_and_labels_are_whole_and_clear_of_each_other_but_the_first_and_last(tmp_path, overrides, steps):
+    ([{"v0": (20.0, 0.0)}], 150),                   # 30 m along the slope: the scale shrinks
+    ([{"v0": (0.0, -50.0)}], 300),                  # thrown at the slope: crushed, bouncing back
+    ([{"mu": 0.1}, {"mu": 0.2}], 300)])             # mu 0.2 stops near where it landed
+def test_snapshots_and_labels_are_whole_and_clear_of_each_other_but_the_first_and_last(
+        recorded, overrides, steps):
     pygame = draw.load_pygame()
-    tracks = tracks_of(tmp_path, [simulator.build_scene(**o) for o in overrides], steps)
+    tracks = recorded("square", overrides, steps)
     plan = summary.plan(pygame, tracks, ["a header line"])
     assert plan.width <= summary.MAX_WIDTH
     for panel in plan.panels:
         shots = panel.snapshots
         assert shots[0].t == 0.0 and shots[-1].t == pytest.approx(panel.track.t) and len(shots) >= 2
-        for s in shots:                                     # label and square inside the panel's picture
+        for s in shots:                             # label and square inside the panel's picture
             assert s.box[0] >= 0 and s.box[1] >= 0, s.label
             assert s.box[2] <= plan.width and s.box[3] <= panel.height - summary.HEADER, s.label
         for (i, a), (j, b) in itertools.combinations(enumerate(shots), 2):
@@ -38,30 +55,32 @@ def test_snapshots_and_labels_are_whole_and_clear_of_each_other_but_the_first_an
     assert surface.get_size() == (plan.width, plan.height)
 
 
-def test_the_scale_is_a_round_number_of_pixels_per_metre(tmp_path):
-    """SCALE pixels per metre where the motion fits; beyond, two significant digits, so that the bar's
-    text ("1 m (37 pixels)") is the scale drawn."""
+def test_the_scale_is_a_round_number_of_pixels_per_metre(recorded):
+    """SCALE pixels per metre where the motion fits; beyond, two significant digits (TWO_DIGITS,
+    test_draw.py), so that the bar's text ("1 m (37 pixels)") is the scale drawn."""
     pygame = draw.load_pygame()
-    assert summary.plan(pygame, tracks_of(tmp_path / "a", [simulator.build_scene()], 20), []).scale == summary.SCALE
-    scale = summary.plan(pygame, tracks_of(tmp_path / "b", [simulator.build_scene(v0=(20.0, 0.0))], 150), []).scale
-    assert scale < summary.SCALE and f"{scale:.3g}" == f"{scale:g}" and scale == draw.nice_number(scale, summary.TWO_DIGITS)
-    assert [draw.nice_number(v, summary.TWO_DIGITS) for v in (38.79, 0.5432, 99.99, 1234.0)] == [38.0, 0.54, 99.0, 1200.0]
+    assert summary.plan(pygame, recorded("square", [{}], 20), []).scale == summary.SCALE
+    scale = summary.plan(pygame, recorded("square", [{"v0": (20.0, 0.0)}], 150), []).scale
+    assert scale < summary.SCALE and f"{scale:.3g}" == f"{scale:g}"
+    assert summary.TWO_DIGITS == range(10, 100) and scale == draw.nice_number(scale, range(10, 100))
 
 
-def test_every_line_of_text_fits_and_the_chalk_says_its_stick_slip_not_rest(tmp_path):
-    """The header's lines (the chalk's parameters are long) and each panel's line are whole inside the
-    picture: it is as wide as the widest. The square's header ends with when it came to rest; the chalk's
-    with how its stick-slip is counted, each run's figures in its panel."""
+def test_every_line_of_text_fits_and_the_chalk_says_its_stick_slip_not_rest(recorded):
+    """The header's lines (the chalk's parameters are long) and each panel's line are whole inside
+    the picture: it is as wide as the widest. The square's header ends with when it came to rest;
+    the chalk's with how its stick-slip is counted, each run's figures in its panel."""
     pygame = draw.load_pygame()
     font, small = pygame.font.Font(None, 24), pygame.font.Font(None, 20)
-    square = tracks_of(tmp_path / "square", [simulator.build_scene()], 20)
+    square = recorded("square", [{}], 20)
     assert summary.header_lines(square, ["h"]) == ["h", closing.closing_note(square)]
     assert summary.panel_words(square[0]) is None
-    chalks = tracks_of(tmp_path / "chalk", [simulator.build_chalk_scene(), simulator.build_chalk_scene(drag=True)], 150)
-    plan = summary.plan(pygame, chalks, ["chalk 9 x 1 cm, pushed at tilt = 60 deg   grip k_hand = 2000 N/m   "
-                                         "drive = 0.01 m/s   mu_s = 0.5   mu = 0.35   v_c = 0.001 m/s"])
+    chalks = recorded("chalk", [{}, {"drag": True}], 150)
+    plan = summary.plan(pygame, chalks, ["chalk 9 x 1 cm, pushed at tilt = 60 deg   grip k_hand = "
+                                         "2000 N/m   drive = 0.01 m/s   mu_s = 0.5   mu = 0.35   "
+                                         "v_c = 0.001 m/s"])
     first, second = stick_slip.definition(chalks[0].scene)
-    assert plan.lines[1:] == ["stick-slip, " + first, second] and not [h for h in plan.lines if "rest" in h.split()]
+    assert plan.lines[1:] == ["stick-slip, " + first, second]
+    assert not [h for h in plan.lines if "rest" in h.split()]
     assert plan.width >= max(font.size(text)[0] for text in plan.lines) + 12
     for panel in plan.panels:
         words = summary.panel_words(panel.track)
@@ -71,26 +90,26 @@ def test_every_line_of_text_fits_and_the_chalk_says_its_stick_slip_not_rest(tmp_
 
 
 @pytest.mark.parametrize("build, overrides, steps", [
-    ("square", [{"mu": 0.1}, {"mu": 0.2}], 300),            # the header is wider than the motion
-    ("square", [{"slope": (0.5, 1.0)}], 100),               # a steeper slope
-    ("chalk", [{}], 300)])                                   # the chalk: the header is wider still
-def test_the_slope_and_its_numbers_span_the_motion_and_are_whole(tmp_path, build, overrides, steps):
+    ("square", [{"mu": 0.1}, {"mu": 0.2}], 300),    # the header is wider than the motion
+    ("square", [{"slope": (0.5, 1.0)}], 100),       # a steeper slope
+    ("chalk", [{}], 300)])                          # the chalk: the header is wider still
+def test_the_slope_and_its_numbers_span_the_motion_and_are_whole(recorded, build, overrides, steps):
     """Each panel draws the slope (its ticks and numbers, draw.draw_slope) across the motion alone:
     as wide as the motion with MARGIN either side and the last label, whatever the header's width
     (the chalk's numbers spanned -5 to 38 cm for 3 cm of motion); and tall enough that every number
     is whole (a comparison's were cut at the panel's bottom, where the slope runs down to the
     right)."""
     pygame = draw.load_pygame()
-    make = simulator.build_chalk_scene if build == "chalk" else simulator.build_scene
-    tracks = tracks_of(tmp_path, [make(**o) for o in overrides], steps)
+    tracks = recorded(build, overrides, steps)
     plan = summary.plan(pygame, tracks, ["a header line " * 8])
     small = pygame.font.Font(None, 20)                  # the numbers' font (summary.draw_summary)
     label_w = small.size(summary.time_label(max(tr.t for tr in tracks)))[0]
     z = draw.zoom(tracks[0].scene)
-    motion = max(np.ptp(np.concatenate([x for _, x in tr.snapshots.all()])[:, 0]) for tr in tracks)
+    motion = max(np.ptp(np.concatenate([x for _, x in tr.snapshots.all()])[:, 0])
+                 for tr in tracks)
     for panel in plan.panels:
         view = panel.view
-        across = (motion + 2 * summary.MARGIN / z) * view.scale + label_w + 12     # px
+        across = (motion + 2 * summary.MARGIN / z) * view.scale + label_w + 12   # px
         assert view.size <= across + 1 < plan.width
         ink = []
         for font in (small, None):          # the numbers: what a font adds, on a taller surface
