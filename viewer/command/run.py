@@ -86,12 +86,16 @@ class Plan:
     def chalk(self):
         return self.scenes[0].hand is not None
 
+    def kind(self):
+        """The scene's name: 'chalk', 'tablecloth' or 'square'."""
+        return "chalk" if self.chalk() else "square" if self.scenes[0].surface is None else \
+            "tablecloth"
+
     def folder(self, signals):
         """The run's folder, made (files.RunFolder.make): `out`, or output/<scene>-<date>-<time>."""
         count = frame_count(self.scenes, self.steps, self.stride)
         names = files.run_names(self.tags, count, self.frames, marks=self.chalk())
-        kind = "chalk" if self.chalk() else "square"
-        return files.RunFolder.make(self.out, kind, names, signals)
+        return files.RunFolder.make(self.out, self.kind(), names, signals)
 
 
 def warn(plan, messages):
@@ -109,6 +113,12 @@ def summary_header(plan):
         lines = [f"chalk {p['length'] * 100:g} x {p['width'] * 100:g} cm, {how} at tilt = "
                  f"{p['tilt']:g} deg   grip k_hand = {p['k_hand']:g} N/m   drive = {p['drive']:g} "
                  f"m/s   mu_s = {p['mu_s']:g}   mu = {scene.mu:g}   v_c = {p['v_c']:g} m/s",
+                 f"h = {scene.h:g} s   k = {p['k']:g} N/m   dhat = {scene.dhat:g} m   kappa = "
+                 f"{scene.kappa:g}   eps_v = {scene.epsv:g} m/s   tol = {scene.tol:g} m/s"]
+    elif scene.surface is not None:
+        lines = [f"dish {p['width'] * 100:g} x {p['height'] * 100:g} cm, {p['mass']:g} kg   cloth "
+                 f"pulled L = {p['pull_length']:g} m at U = {p['pull_speed']:g} m/s from t = "
+                 f"{p['t_pull']:g} s   mu = {scene.mu:g}",
                  f"h = {scene.h:g} s   k = {p['k']:g} N/m   dhat = {scene.dhat:g} m   kappa = "
                  f"{scene.kappa:g}   eps_v = {scene.epsv:g} m/s   tol = {scene.tol:g} m/s"]
     else:
