@@ -1,6 +1,6 @@
 """The command line, `python simulator.py [flags]`: its flags, comparisons by lists, its errors.
 
-Each scene flag sets one parameter of a scene's mapping (`scenes()`: simulator.DEFAULTS, CHALK,
+Each scene flag sets one parameter of a scene's mapping (`scene_kinds()`: simulator.DEFAULTS, CHALK,
 TABLECLOTH) and applies to the scenes whose mapping has it; only those given reach the builder.
 One scene flag may take a list, one run per value (docs/command-line.md). A bad command line is
 one line naming the flag, exit code 2.
@@ -215,7 +215,7 @@ def decimal_comma(name, param, values):
             f"written {values[0]}.{values[1]})")
 
 
-def scenes():
+def scene_kinds():
     """Each --scene's parameter mapping and builder."""
     return {"square": (simulator.DEFAULTS, simulator.build_scene),
             "chalk": (simulator.CHALK, simulator.build_chalk_scene),
@@ -241,11 +241,11 @@ def scene_from_args(args):
         overrides["slope"] = (math.sin(theta), math.cos(theta))
     if args.drag:
         overrides["drag"] = True
-    table, build = scenes()[args.scene]
+    table, build = scene_kinds()[args.scene]
     for param in overrides:
         if param not in table:
             flag = given[0] if param == "slope" else FLAG_OF.get(param, "--drag")
-            owners = " or ".join(f"--scene {name}" for name, (params, _) in scenes().items()
+            owners = " or ".join(f"--scene {name}" for name, (params, _) in scene_kinds().items()
                                  if param in params)
             raise CommandLineError(f"{flag} applies only to {owners}; --scene {args.scene} has no "
                                    f"such parameter")
