@@ -219,3 +219,10 @@ def tablecloth_travel(pull_speed, pull_length, mu, g=9.81):
     end as it lagged behind: L. g is the magnitude of gravity."""
     U, L = pull_speed, pull_length
     return mu * g * L * L / (U * U) if U * U >= mu * g * L else L
+
+
+def tablecloth_stop_time(pull_speed, pull_length, mu, t_pull, g=9.81):
+    """When the closed form's dish stops: the cloth leaves at t_pull + T, T = L / U, the dish then
+    moving at min(U, mu g T), which friction takes away in min(U / (mu g), T) more."""
+    T = pull_length / pull_speed
+    return t_pull + T + (T if mu * g * T <= pull_speed else pull_speed / (mu * g))

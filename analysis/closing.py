@@ -1,4 +1,6 @@
-"""What a run showed, in words: when the square came to rest, or the chalk's stick-slip."""
+"""What a run showed, in words: when the square came to rest, the chalk's stick-slip, or how far
+the tablecloth's dish travelled."""
+import closed_forms
 from analysis import stick_slip
 
 
@@ -24,13 +26,35 @@ def stick_slip_words(tracks):
     return "; ".join(f"{track.label}: {words}" for track, words in zip(tracks, said))
 
 
+def travel_words(tracks):
+    """Each dish's travel (its centre of mass along the pull, end minus start) beside the closed
+    form: 'the dish travelled 0.1226 m, closed form mu g L^2 / U^2 = 0.1226 m (-0.0 %)'."""
+    def words(track):
+        scene, surface = track.scene, track.scene.surface
+        moved = track.samples.last.com - track.samples.items[0].com
+        travel, g = float(moved @ surface.tangent), -scene.g[1]
+        U, L = surface.pull_speed, surface.pull_length
+        exact = closed_forms.tablecloth_travel(U, L, scene.mu, g)
+        form = "mu g L^2 / U^2" if U * U >= scene.mu * g * L else "L"
+        off = f" ({100 * (travel - exact) / exact:+.1f} %)" if exact else ""
+        return f"the dish travelled {travel:.4f} m, closed form {form} = {exact:.4f} m{off}"
+    if len(tracks) == 1:
+        return words(tracks[0])
+    return "; ".join(f"{track.label}: {words(track)}" for track in tracks)
+
+
 def closing_words(tracks):
-    """The closing line's words: the chalk's stick-slip, else the square's rest."""
-    return stick_slip_words(tracks) if tracks[0].scene.hand is not None else rest_words(tracks)
+    """The closing line's words: the chalk's stick-slip, the dish's travel, else the square's
+    rest."""
+    if tracks[0].scene.hand is not None:
+        return stick_slip_words(tracks)
+    return travel_words(tracks) if tracks[0].scene.surface is not None else rest_words(tracks)
 
 
 def closing_note(tracks):
     """closing_words with what they count, as the page and summary.png say them."""
     if tracks[0].scene.hand is not None:
         return f"{stick_slip_words(tracks)} ({' '.join(stick_slip.definition(tracks[0].scene))})"
+    if tracks[0].scene.surface is not None:
+        return travel_words(tracks) + " (the centre of mass along the pull, end minus start)"
     return rest_words(tracks) + " (every contact below eps_v from then on)"

@@ -1,5 +1,6 @@
 """What a state tells beyond the step's report: contacts (d_k = n . (x_k - o) < dhat), sticking
-(||(I - n n^T) v_k|| < eps_v) and sliding, forces, inverted cells, the energy budget, the tip."""
+(||(I - n n^T)(v_k - v_s)|| < eps_v) and sliding, forces, inverted cells, the energy budget, the
+tip."""
 import math
 
 import numpy as np
@@ -65,12 +66,19 @@ def min_distance(scene, x):
     return float(BarrierEnergy.distances(x, scene.n, scene.o).min())
 
 
-def contact_speeds(scene, x, v):
-    """||(I - n n^T) v_k|| = |v_k . t| (m/s) of the nodes with d_k < dhat."""
+def surface_velocity(scene, t):
+    """v_s (2,) of the step ending at t (scenes/scene.py MovingSurface); zeros without a surface."""
+    return np.zeros(2) if scene.surface is None else scene.surface.velocity(t, scene.h)
+
+
+def contact_speeds(scene, x, v, v_s=None):
+    """||(I - n n^T)(v_k - v_s)|| = |t . (v_k - v_s)| (m/s) of the nodes with d_k < dhat: the
+    relative tangential speed (v_s None: a still surface)."""
     if scene.n is None:
         return np.zeros(0)
     in_contact = BarrierEnergy.distances(x, scene.n, scene.o) < scene.dhat
-    return np.abs(v[in_contact] @ tangent(scene))
+    relative = v[in_contact] if v_s is None else v[in_contact] - v_s
+    return np.abs(relative @ tangent(scene))
 
 
 def sticking_sliding(speeds, epsv):

@@ -28,6 +28,11 @@ def with_hand(scene):
     return scene.hand is not None and "hand" in diagnostics.energy_terms(scene)
 
 
+def with_surface(scene):
+    """Whether a scene's surface moves (the tablecloth): its speed, the slip and the heat logged."""
+    return scene.surface is not None
+
+
 def solver(figure, at_start):
     """figure(the step's StepReport), or `at_start` at t = 0, where no step was taken."""
     return lambda s: at_start if s.report is None else figure(s.report)
@@ -73,8 +78,9 @@ COLUMN = {c.name: c for c in [
            "updated mu*lambda <= tol), 0 where it stopped at the cap above it; always 1 for lagged "
            "friction, which does not iterate", "d", solver(lambda r: int(r.friction_converged), 1)),
     Column("contacts_sticking", "", "contacts sticking",
-           "nodes within dhat of the slope whose tangential speed ||(I - n n^T) v|| is below eps_v "
-           "(the mollifier's static regime)", "d", lambda s: s.sticking),
+           "nodes within dhat of the slope whose tangential speed relative to it, "
+           "||(I - n n^T)(v - v_s)||, is below eps_v (the mollifier's static regime; v_s = 0 but "
+           "on the tablecloth)", "d", lambda s: s.sticking),
     Column("contacts_sliding", "", "contacts sliding",
            "nodes within dhat of the slope at or above eps_v", "d", lambda s: s.sliding),
     Column("inverted_triangles", "", "inverted triangles", "mesh triangles turned over", "d",
@@ -88,15 +94,16 @@ COLUMN = {c.name: c for c in [
            energy("hand"), with_hand),
     Column("E_total", "J", "total energy", "their sum, E", ".9g", energy("total")),
     Column("W_friction", "J", "friction work",
-           "the work friction has done since t = 0 (<= 0), summed over steps as "
+           "the work friction has done since t = 0 (<= 0 on a still surface), summed over steps as "
            "-grad P_f . (x^{n+1} - x^n)", ".9g", lambda s: s.friction_work),
     Column("W_hand", "J", "hand work",
            "the work the hand's moving targets have done on its springs since t = 0, summed over "
            "steps as P_hand(x^n, targets(t^{n+1})) - P_hand(x^n, targets(t^n)) (the chalk)", ".9g",
            lambda s: s.hand_work, with_hand),
     Column("D_numerical", "J", "numerical dissipation",
-           "E(0) + W_friction - E (+ W_hand with a hand): what implicit Euler's numerical "
-           "dissipation has taken out", ".9g", lambda s: s.numerical_dissipation),
+           "E(0) + W_friction - E (+ W_hand with a hand), = E(0) + W_surface - heat - E on the "
+           "tablecloth: what implicit Euler's numerical dissipation has taken out", ".9g",
+           lambda s: s.numerical_dissipation),
     Column("tip_x", "m", "tip x", "the chalk's tip, its lowest node: x along the board", ".9f",
            lambda s: s.tip_x, with_hand),
     Column("tip_speed", "m/s", "tip speed", "the tip's speed along the board, |v_x|", ".6e",
@@ -107,6 +114,19 @@ COLUMN = {c.name: c for c in [
     Column("normal_force", "N", "normal force",
            "the board's normal force on the chalk, the sum of lambda_k", ".6e",
            lambda s: s.normal_force, with_hand),
+    Column("surface_speed", "m/s", "surface speed",
+           "the moving surface's velocity v_s along the table over the last step (the tablecloth)",
+           ".9f", lambda s: s.surface_speed, with_surface),
+    Column("slip_speed", "m/s", "slip speed",
+           "the largest tangential speed of a contact node relative to the surface, |t . (v_k - "
+           "v_s)|", ".6e", lambda s: float(s.speeds.max(initial=0.0)), with_surface),
+    Column("W_surface", "J", "surface work",
+           "the work the surface's motion has put in since t = 0, summed over steps as F_f . v_s h",
+           ".9g", lambda s: s.surface_work, with_surface),
+    Column("heat", "J", "heat",
+           "friction's heat since t = 0 (>= 0), W_surface - W_friction: minus friction's work in "
+           "the surface's frame, -F_f . (x^{n+1} - x^n - v_s h) summed over steps", ".9g",
+           lambda s: s.heat, with_surface),
 ]}
 
 

@@ -12,10 +12,9 @@ SPEEDS = (1.0, 2.0, 4.0, 8.0)      # m/s; with L 1 m, mu 0.2: sqrt(mu g L) = 1.4
 
 
 def stop_time(p):
-    """When the dish of the closed form stops: the cloth leaves at t_pull + T, T = L / U; the dish
-    then moves at min(U, mu g T) and stops after that over mu g."""
-    mu_g, T = p["mu"] * -p["gravity"][1], p["pull_length"] / p["pull_speed"]
-    return p["t_pull"] + T + min(p["pull_speed"], mu_g * T) / mu_g
+    """When the dish of the closed form stops (closed_forms.tablecloth_stop_time)."""
+    return closed_forms.tablecloth_stop_time(p["pull_speed"], p["pull_length"], p["mu"],
+                                             p["t_pull"], -p["gravity"][1])
 
 
 @pytest.fixture(scope="module")
@@ -75,6 +74,15 @@ def test_the_dish_starts_settled_and_the_cloth_moves_its_length(runs):
     assert 0.0 < scene.x0[:, 1].min() < scene.dhat
     pulled = sum(scene.surface.velocity(r.t, scene.h)[0] for r in records) * scene.h
     assert pulled == pytest.approx(p["pull_length"], rel=1e-12)
+
+
+@pytest.mark.parametrize("U, expected", [(4.0, 0.05 + 0.25 + 0.25), (1.0, 0.05 + 1.0 + 1 / 1.962),
+                                         (0.5, 0.05 + 2.0 + 0.5 / 1.962)])
+def test_the_closed_form_dish_stops_when_friction_has_taken_its_speed(U, expected):
+    """Fast (U 4 m/s): the dish reaches mu g T = 0.49 m/s at T = L / U = 0.25 s and needs as long
+    again to stop; slow: it rides at U from U / (mu g) on and stops U / (mu g) after the cloth."""
+    assert closed_forms.tablecloth_stop_time(U, 1.0, 0.2, 0.05, 9.81) == pytest.approx(expected)
+    assert closed_forms.tablecloth_stop_time(U, 1.0, 0.0, 0.05) == 0.05 + 2.0 / U   # no friction
 
 
 def test_the_scene_is_exported_and_has_a_moving_surface():

@@ -1,23 +1,26 @@
 """The command line, `python simulator.py [flags]`: its flags, comparisons by lists, its errors.
 
-Each scene flag sets one parameter of simulator.DEFAULTS (or, with --scene chalk, simulator.CHALK);
-only those given reach the builder. One scene flag may take a list, one run per value
-(docs/command-line.md). A bad command line is one line naming the flag, exit code 2.
+Each scene flag sets one parameter of a scene's mapping (`scene_kinds()`: simulator.DEFAULTS, CHALK,
+TABLECLOTH) and applies to the scenes whose mapping has it; only those given reach the builder.
+One scene flag may take a list, one run per value (docs/command-line.md). A bad command line is
+one line naming the flag, exit code 2.
 """
 import argparse
 import math
 import re
 
+import closed_forms
 import simulator
 import utils
 from viewer.command import run
 
 DURATION = 6.0          # s: long enough to see mu = 0.11 come to rest (about 5.5 s)
 CHALK_DURATION = 3.0    # s: about 17 stick-slip cycles of the pushed chalk
+STOP_MARGIN = 0.05      # s a tablecloth run goes on after its slowest closed-form dish has stopped
 FRAMES_PER_SECOND = 30      # at least this many frames per simulated second by default
 
 # (flags, parameter, metavar, what it is): the flags that set a scene parameter; the square's
-# (simulator.DEFAULTS), then the chalk's own (simulator.CHALK)
+# (simulator.DEFAULTS), then the chalk's own (simulator.CHALK), then the tablecloth's (TABLECLOTH)
 FLAGS = [
     (("--mu",), "mu", "MU", "friction coefficient, no unit"),
     (("--h", "--dt"), "h", "SECONDS", "time step in s"),
@@ -45,6 +48,9 @@ FLAGS = [
      "--scene chalk: the grip, each held node's spring stiffness in N/m"),
     (("--mu-static",), "mu_s", "MU",
      "--scene chalk: static friction coefficient (equal to --mu: one coefficient)"),
+    (("--pull-speed",), "pull_speed", "M_PER_S", "--scene tablecloth: the cloth's speed U in m/s"),
+    (("--pull-length",), "pull_length", "METRES", "--scene tablecloth: how far the cloth is "
+     "pulled, L in m"),
 ]
 FLAG_OF = {param: flags[0] for flags, param, _, _ in FLAGS}     # a ValueError's parameter -> flag
 FLAG_OF.update({name: "--" + name.replace("_", "-") for name in
@@ -99,12 +105,13 @@ def make_parser():
         "pairs, e.g. --mu 0.1,0.11,0.2 (the lecture's comparison; "
         f"{DURATION:g} s unless --duration or --steps says otherwise)."))
     g = ap.add_argument_group("scene (the lecture's numbers by default)")
-    g.add_argument("--scene", choices=("square", "chalk"), default="square",
+    g.add_argument("--scene", choices=("square", "chalk", "tablecloth"), default="square",
                    help="square: the lecture's square on a slope (default); chalk: Rabinowicz's "
                         f"chalk pushed across a board, stick-slip ({CHALK_DURATION:g} s unless "
-                        "--duration or --steps says otherwise)")
+                        "--duration or --steps says otherwise); tablecloth: a dish on a cloth "
+                        "pulled from under it (until the dish stops)")
     for flags, param, metavar, what in FLAGS:
-        default = shown({**simulator.CHALK, **simulator.DEFAULTS}[param])
+        default = shown({**simulator.TABLECLOTH, **simulator.CHALK, **simulator.DEFAULTS}[param])
         kind = ({"choices": utils.NEWTON_STARTS} if param == "newton_start" else
                 {"type": pair if param in PAIR else whole if param in COUNT else float})
         g.add_argument(*flags, dest=param, metavar=metavar, default=argparse.SUPPRESS,
@@ -208,10 +215,16 @@ def decimal_comma(name, param, values):
             f"written {values[0]}.{values[1]})")
 
 
+def scene_kinds():
+    """Each --scene's parameter mapping and builder."""
+    return {"square": (simulator.DEFAULTS, simulator.build_scene),
+            "chalk": (simulator.CHALK, simulator.build_chalk_scene),
+            "tablecloth": (simulator.TABLECLOTH, simulator.build_tablecloth_scene)}
+
+
 def scene_from_args(args):
-    """simulator.build_scene (build_chalk_scene with --scene chalk) with the scene flags given; a
-    flag of the other scene is refused."""
-    chalk = args.scene == "chalk"
+    """The --scene's builder (simulator.build_scene by default) with the scene flags given; a flag
+    whose parameter is not in that scene's mapping is refused."""
     overrides = {param: getattr(args, param) for _, param, _, _ in FLAGS if hasattr(args, param)}
     slopes = {"--slope-normal": "slope" in overrides, "--slope-angle": args.slope_angle is not None,
               "--no-slope": args.no_slope}
@@ -228,25 +241,37 @@ def scene_from_args(args):
         overrides["slope"] = (math.sin(theta), math.cos(theta))
     if args.drag:
         overrides["drag"] = True
-    table = simulator.CHALK if chalk else simulator.DEFAULTS
+    table, build = scene_kinds()[args.scene]
     for param in overrides:
         if param not in table:
             flag = given[0] if param == "slope" else FLAG_OF.get(param, "--drag")
-            raise CommandLineError(
-                f"{flag} applies only to the square; --scene chalk has no such parameter" if chalk
-                else f"{flag} applies only to the chalk; add --scene chalk, or leave it out")
-    return simulator.build_chalk_scene(**overrides) if chalk else simulator.build_scene(**overrides)
+            owners = " or ".join(f"--scene {name}" for name, (params, _) in scene_kinds().items()
+                                 if param in params)
+            raise CommandLineError(f"{flag} applies only to {owners}; --scene {args.scene} has no "
+                                   f"such parameter")
+    return build(**overrides)
 
 
-def steps_from_args(args, scene):
-    """--steps, or --duration (default DURATION, the chalk's CHALK_DURATION) in steps of h."""
+def default_duration(scenes):
+    """DURATION; the chalk's CHALK_DURATION; a tablecloth's until the last of its runs' closed-form
+    dishes has stopped (closed_forms.tablecloth_stop_time), plus STOP_MARGIN."""
+    if scenes[0].surface is None:
+        return CHALK_DURATION if scenes[0].hand else DURATION
+    stops = [closed_forms.tablecloth_stop_time(s.surface.pull_speed, s.surface.pull_length, s.mu,
+                                               s.surface.t_pull, -s.g[1]) for s in scenes]
+    return max(stops) + STOP_MARGIN
+
+
+def steps_from_args(args, scene, duration=None):
+    """--steps, or --duration (default `duration`, else default_duration([scene])) in steps of h."""
     if args.steps is not None:
         if args.duration is not None:
             raise CommandLineError("--duration and --steps both set the run's length; give one")
         return utils.check_whole("steps", args.steps, 1)
-    duration = args.duration
-    if duration is None:
-        duration = CHALK_DURATION if scene.hand else DURATION
+    if args.duration is not None:
+        duration = args.duration
+    elif duration is None:
+        duration = default_duration([scene])
     duration, h = utils.check_positive("duration", duration), scene.h
     if duration < h:
         raise utils.ParameterError("duration", f"duration {duration:g} s is shorter than one time "
@@ -278,14 +303,18 @@ def plan_from_args(runs):
                                f"(compare them without --window)")
     scenes = [scene_from_args(a) for a in runs]
     labels = [a.label or default_label(s) for a, s in zip(runs, scenes)]
+    duration = default_duration(scenes)
     return run.Plan(scenes=scenes, labels=labels, tags=[a.tag for a in runs],
-                    steps=[steps_from_args(a, s) for a, s in zip(runs, scenes)],
+                    steps=[steps_from_args(a, s, duration) for a, s in zip(runs, scenes)],
                     out=args.out, stride=frame_stride(args, scenes), frames=not args.no_frames,
                     forces=not args.no_forces, said=args.said)
 
 
 def default_label(scene):
-    """A single run's label: 'mu = 0.11'; the chalk's 'pushed, mu_s = 0.5, mu = 0.35'."""
+    """A single run's label: 'mu = 0.11'; the chalk's 'pushed, mu_s = 0.5, mu = 0.35'; the
+    tablecloth's 'pull-speed = 4, mu = 0.2'."""
+    if scene.surface is not None:
+        return f"pull-speed = {scene.surface.pull_speed:g}, mu = {scene.mu:g}"
     if scene.hand is None:
         return f"mu = {scene.mu:g}"
     how = "dragged" if scene.params["drag"] else "pushed"

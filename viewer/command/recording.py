@@ -47,13 +47,16 @@ class Sample:
     report: object
     min_distance: float
     energies: dict
-    friction_work: float        # W_friction so far (J, <= 0)
+    friction_work: float        # W_friction so far (J; <= 0 on a still surface)
     numerical_dissipation: float  # D = E(0) + W_friction (+ W_hand) - E (J)
-    speeds: np.ndarray          # tangential speeds of the contact nodes (m/s)
+    speeds: np.ndarray          # the contact nodes' tangential speeds relative to the surface (m/s)
     sticking: int
     sliding: int
     inverted: int               # mesh triangles with negative signed area
     hand_work: float = 0.0      # W_hand so far (J; 0 without a hand)
+    surface_work: float = 0.0   # W_surface so far (J; 0 on a still surface)
+    heat: float = 0.0           # W_surface - W_friction so far (J, >= 0): friction's, surface frame
+    surface_speed: float = 0.0  # v_s along t over the last step (m/s)
     tip_x: float = None         # the chalk's: diagnostics.tip_figures
     tip_speed: float = None
     drive_speed: float = None
@@ -70,7 +73,7 @@ class Track:
         self.triangles = diagnostics.mesh_triangles(scene)
         self.tangent = diagnostics.tangent(scene)
         self.x, self.v = scene.x0, scene.v0
-        self.step, self.friction_work, self.hand_work = 0, 0.0, 0.0
+        self.step, self.friction_work, self.hand_work, self.surface_work = 0, 0.0, 0.0, 0.0
         self.columns = log.columns(scene)
         self.marks = wear.Deposit() if scene.hand is not None else None   # the chalk's mark
         self.warned = set()         # the kinds of warning said so far
@@ -91,7 +94,8 @@ class Track:
         E = diagnostics.energies(scene, x, v, t)
         E0 = self.samples.items[0].energies["total"] if self.samples.items else E["total"]
         tip = diagnostics.tip_figures(scene, x, v, t) if scene.hand is not None else {}
-        speeds = diagnostics.contact_speeds(scene, x, v)
+        v_s = diagnostics.surface_velocity(scene, t)
+        speeds = diagnostics.contact_speeds(scene, x, v, v_s)
         sticking, sliding = diagnostics.sticking_sliding(speeds, scene.epsv)
         sample = Sample(
             step=self.step, t=t, wall=wall, com=diagnostics.centre_of_mass(scene, x),
@@ -99,6 +103,8 @@ class Track:
             report=report,
             min_distance=report.min_distance if report else diagnostics.min_distance(scene, x),
             energies=E, friction_work=self.friction_work, hand_work=self.hand_work,
+            surface_work=self.surface_work, heat=self.surface_work - self.friction_work,
+            surface_speed=float(v_s @ self.tangent),
             numerical_dissipation=E0 + self.friction_work + self.hand_work - E["total"],
             speeds=speeds, sticking=sticking, sliding=sliding,
             inverted=diagnostics.inverted_triangles(x, self.triangles), **tip)
@@ -128,6 +134,7 @@ class Track:
             self.marks.step(self.scene, self.x, record.x)       # what the tip left over the step
         self.x, self.v, self.step = record.x, record.v, record.index + 1
         self.friction_work += record.report.friction_work
+        self.surface_work += record.report.surface_work
         sample = self._add(record.report, record.t, record.wall)
         said = step_warnings(self.scene, sample.step, sample.t, record.report, sample.inverted)
         for kind, text in said.items():

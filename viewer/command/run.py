@@ -86,12 +86,17 @@ class Plan:
     def chalk(self):
         return self.scenes[0].hand is not None
 
+    def kind(self):
+        """The scene's name, as output/<kind>-<date>-<time> says it."""
+        if self.chalk():
+            return "chalk"
+        return "square" if self.scenes[0].surface is None else "tablecloth"
+
     def folder(self, signals):
         """The run's folder, made (files.RunFolder.make): `out`, or output/<scene>-<date>-<time>."""
         count = frame_count(self.scenes, self.steps, self.stride)
         names = files.run_names(self.tags, count, self.frames, marks=self.chalk())
-        kind = "chalk" if self.chalk() else "square"
-        return files.RunFolder.make(self.out, kind, names, signals)
+        return files.RunFolder.make(self.out, self.kind(), names, signals)
 
 
 def warn(plan, messages):
@@ -104,13 +109,17 @@ def warn(plan, messages):
 def summary_header(plan):
     """The parameters the runs share, a comparison's labels: summary.png's and the page's text."""
     scene, p = plan.scenes[0], plan.scenes[0].params
+    solver = (f"h = {scene.h:g} s   k = {p['k']:g} N/m   dhat = {scene.dhat:g} m   kappa = "
+              f"{scene.kappa:g}   eps_v = {scene.epsv:g} m/s   tol = {scene.tol:g} m/s")
     if plan.chalk():
         how = "dragged" if p["drag"] else "pushed"
         lines = [f"chalk {p['length'] * 100:g} x {p['width'] * 100:g} cm, {how} at tilt = "
                  f"{p['tilt']:g} deg   grip k_hand = {p['k_hand']:g} N/m   drive = {p['drive']:g} "
-                 f"m/s   mu_s = {p['mu_s']:g}   mu = {scene.mu:g}   v_c = {p['v_c']:g} m/s",
-                 f"h = {scene.h:g} s   k = {p['k']:g} N/m   dhat = {scene.dhat:g} m   kappa = "
-                 f"{scene.kappa:g}   eps_v = {scene.epsv:g} m/s   tol = {scene.tol:g} m/s"]
+                 f"m/s   mu_s = {p['mu_s']:g}   mu = {scene.mu:g}   v_c = {p['v_c']:g} m/s", solver]
+    elif scene.surface is not None:
+        lines = [f"dish {p['width'] * 100:g} x {p['height'] * 100:g} cm, {p['mass']:g} kg   cloth "
+                 f"pulled L = {p['pull_length']:g} m at U = {p['pull_speed']:g} m/s from t = "
+                 f"{p['t_pull']:g} s   mu = {scene.mu:g}", solver]
     else:
         normal = None if scene.n is None else np.round(scene.n, 4).tolist()
         lines = [f"mu = {scene.mu:g}   h = {scene.h:g} s   k = {p['k']:g} N/m   "

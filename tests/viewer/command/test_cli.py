@@ -12,7 +12,7 @@ import simulator
 import utils
 from helpers import ROOT
 from helpers.command import run_main
-from viewer.command import cli
+from viewer.command import cli, run
 
 SIMULATOR = os.path.join(ROOT, "simulator.py")
 
@@ -135,8 +135,32 @@ def test_help_documents_every_flag():
     for flag in ("--mu", "--h", "--duration", "--steps", "--n-seg", "--k", "--density",
                  "--slope-normal", "--slope-angle", "--v0", "--dhat", "--kappa", "--epsv", "--tol",
                  "--friction-iterations", "--newton-start", "--out", "--frame-stride", "--window",
-                 "--scene", "--tilt", "--grip", "--mu-static", "--drag", "--no-frames"):
+                 "--scene", "--tilt", "--grip", "--mu-static", "--drag", "--no-frames",
+                 "--pull-speed", "--pull-length"):
         assert flag in text
+
+
+def test_tablecloth_flags_compare_and_the_run_lasts_until_the_dishes_stop():
+    """A flag reaches the tablecloth where TABLECLOTH has its parameter; a list compares pulls, all
+    run until the slowest closed-form dish has stopped, plus STOP_MARGIN: U 1 m/s stops at
+    0.05 + 1 + 1 / (0.2 * 9.81) s, U 4 m/s at 0.05 + 0.25 + 0.25 s."""
+    runs = cli.parse_command_line(["--scene", "tablecloth", "--pull-speed", "1,2,4,8",
+                                   "--pull-length", "1", "--mu", "0.2", "--k", "3e5"])
+    plan = cli.plan_from_args(runs)
+    assert [s.surface.pull_speed for s in plan.scenes] == [1.0, 2.0, 4.0, 8.0]
+    assert all(s.mu == 0.2 and s.k[0] == 3e5 and s.surface.pull_length == 1.0
+               for s in plan.scenes)
+    assert plan.labels == ["pull-speed = 1", "pull-speed = 2", "pull-speed = 4", "pull-speed = 8"]
+    slowest = 0.05 + 1.0 + 1.0 / (0.2 * 9.81) + cli.STOP_MARGIN
+    assert plan.steps == [round(slowest / 0.005)] * 4 and plan.kind() == "tablecloth"
+    assert run.summary_header(plan)[1:] == [
+        "dish 20 x 5 cm, 0.5 kg   cloth pulled L = 1 m at U = 1 m/s from t = 0.05 s   mu = 0.2",
+        "h = 0.005 s   k = 300000 N/m   dhat = 0.001 m   kappa = 100000   eps_v = 0.001 m/s   "
+        "tol = 1e-06 m/s"]
+    (fast,) = cli.parse_command_line(["--scene", "tablecloth"])
+    assert cli.steps_from_args(fast, cli.scene_from_args(fast)) == round(0.6 / 0.005)
+    (given,) = cli.parse_command_line(["--scene", "tablecloth", "--duration", "2"])
+    assert cli.plan_from_args([given]).steps == [400]
 
 
 def test_tolerance_below_round_off_warns_and_finishes(tmp_path):
