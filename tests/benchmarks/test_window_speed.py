@@ -8,7 +8,8 @@ def fake_measure(calls):
     def window_real_time(n_seg, speed_=1.0, duration=3.0, driver=window_speed.MEMORY_DRIVER):
         calls.append((n_seg, speed_, driver))
         return {"n_seg": n_seg, "speed": speed_, "driver": driver, "wall_per_simulated": 1.0,
-                "cpu_per_simulated": 0.5, "busy": 0.5, "frames": 60, "slow_frames": 0, "lowest_rate": 1.0}
+                "cpu_per_simulated": 0.5, "busy": 0.5, "frames": 60, "slow_frames": 0,
+                "lowest_rate": 1.0}
     return window_real_time
 
 
