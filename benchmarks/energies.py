@@ -1,12 +1,8 @@
-"""Cost of the energies against the floor of a Newton iteration, one sparse factorization.
+"""The energies' public val + grad + hess and the CSR matrix M + h^2 sum hess, against one
+scipy.sparse.linalg.splu factorization-and-solve of it (target: ratio < 0.5), on the square
+stretched by 2 %, its bottom row 5 mm above flat ground and sliding (benchmarks/README.md).
 
-On the generated square (n_seg 64 and 128), stretched by 2 %, its bottom row 5 mm above flat ground
-and moving along it (barrier and friction active), the public val + grad + hess of every term and
-the CSR matrix M + h^2 sum hess from their triplets, against one scipy.sparse.linalg.splu
-factorization-and-solve of that matrix, as a notebook would solve it. Target: ratio < 0.5.
-
-    python -m benchmarks.energies            # n_seg 64 and 128
-    python -m benchmarks.energies --quick    # n_seg 8 and 16, a smoke run
+    python -m benchmarks.energies [--quick]      # n_seg 64 and 128 (--quick: 8 and 16)
 """
 import argparse
 import os

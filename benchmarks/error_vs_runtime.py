@@ -1,13 +1,8 @@
-"""Error against run time: the work-precision report (benchmarks/README.md, "Accuracy and cost").
+"""Error against run time over h, the Newton tolerance and the friction mode (lagged, or fully
+implicit: Algorithm 5), on the cases of closed_forms.py and the full scene (benchmarks/README.md):
 
     python -m benchmarks.error_vs_runtime            # the full sweep (about 30 s)
     python -m benchmarks.error_vs_runtime --quick    # two time steps of free fall, a smoke test
-
-Sweeps the time step h, the Newton tolerance and the friction mode (lagged mu*lambda^n, or fully
-implicit by up to FIXED_POINT_CAP fixed-point updates per step, Algorithm 5) over the cases of
-closed_forms.py and the lecture's full scene: per run the error (each case its own measure), wall
-seconds per simulated second, Newton iterations and friction updates per step. Prints a table,
-writes error_vs_runtime.csv and error_vs_runtime.png (error against run time, one panel a case).
 """
 import argparse
 import math
@@ -34,26 +29,11 @@ COLUMNS = ["case", "error_measure", "friction", "tol", "h", "steps", "error", "o
            "unconverged_steps"]
 
 
-def sliding_error(scene, run, reference):
-    """Relative error of the acceleration fitted over [0.1 s, end]."""
-    return abs(cases.acceleration_error(scene, run))
-
-
-def sticking_error(scene, run, reference):
+def creep_error(scene, run, reference):
     """Relative error of the mean creep speed against the mollified friction's steady creep."""
     s, _ = run.downhill(scene)
     exact = cases.creep_speed(scene)
     return abs(s[-1] / run.t[-1] - exact) / exact
-
-
-def free_fall_error(scene, run, reference):
-    """Distance of the centre of mass from x0 + v0 t + g t^2 / 2 at the end, in m."""
-    return float(np.linalg.norm(run.com[-1] - cases.free_fall_com(scene, run.t[-1:])[0]))
-
-
-def full_scene_error(scene, run, reference):
-    """Largest distance of the centre of mass from the reference run's, in m."""
-    return cases.max_com_error(run, reference)
 
 
 @dataclass(frozen=True)
@@ -70,15 +50,18 @@ class Case:
 CASES = (
     Case("sliding", "relative acceleration error (mu 0.05, tan 0.1)", 0.4, True, False,
          lambda h, tol, fu: cases.resting_scene(cases.LECTURE_TAN, 0.05, h=h, tol=tol,
-                                                friction_updates=fu), sliding_error),
+                                                friction_updates=fu),
+         lambda scene, run, reference: abs(cases.acceleration_error(scene, run))),
     Case("sticking", "relative error of the creep over 0.2 s (mu 0.11)", 0.2, True, False,
          lambda h, tol, fu: cases.resting_scene(cases.LECTURE_TAN, 0.11, h=h, tol=tol,
-                                                friction_updates=fu), sticking_error),
+                                                friction_updates=fu), creep_error),
     Case("free fall", "COM error at 0.4 s, m", 0.4, False, True,
-         lambda h, tol, fu: cases.free_fall_scene(h=h, tol=tol), free_fall_error),
+         lambda h, tol, fu: cases.free_fall_scene(h=h, tol=tol),
+         lambda scene, run, reference: float(np.linalg.norm(
+             run.com[-1] - cases.free_fall_com(scene, run.t[-1:])[0]))),
     Case("full scene", f"max COM error over 0.6 s vs h = {REFERENCE_H:g}, m", 0.6, True, True,
          lambda h, tol, fu: cases.full_scene(h=h, tol=tol, friction_updates=fu),
-         full_scene_error),
+         lambda scene, run, reference: cases.max_com_error(run, reference)),
 )
 
 
@@ -114,13 +97,12 @@ def sweep(quick=False, log=None):
         notes.append(f"full scene reference: h = {REFERENCE_H:g}, tol {REFERENCE_TOL:g}, lagged; "
                      f"the same run at h = {2 * REFERENCE_H:g} differs from it by up to "
                      f"{spread:.1e} m (an estimate of its own error)")
-    rows = []
+    rows, previous = [], {}
     for i, (case, mode, tol, h) in enumerate(runs, 1):
         scene = case.build(h, tol, MODES.get(mode, 0))
         row = {"case": case.name, "error_measure": case.measure, "friction": mode, "tol": tol,
-               "h": h, "steps": int(round(case.duration / h)), "error": math.nan,
-               "wall_per_sim_second": math.nan, "newton_per_step": math.nan,
-               "friction_updates_per_step": math.nan, "unconverged_steps": 0}
+               "h": h, "steps": int(round(case.duration / h)), "unconverged_steps": 0,
+               **dict.fromkeys(COLUMNS[6:11], math.nan)}     # until measured
         try:
             run = cases.run(scene, case.duration)
             row.update(error=case.error(scene, run, reference),
@@ -130,25 +112,16 @@ def sweep(quick=False, log=None):
                        unconverged_steps=int(np.sum(~run.friction_converged)))
         except time_integrator.SimulationError as err:     # kept in the table as nan
             print(f"  failed: {err}", file=log)
+        before = previous.get((case.name, mode, tol))     # the same line at the previous h
+        if case.ordered and before and before["error"] > 0 and row["error"] > 0:
+            row["observed_order"] = (math.log(before["error"] / row["error"])
+                                     / math.log(before["h"] / row["h"]))
         rows.append(row)
+        previous[case.name, mode, tol] = row
         print(f"[{i:3d}/{len(runs)}] {case.name:10s} {mode:8s} tol={tol:.0e} h={h:<7g} "
               f"error={row['error']:.3e}  {row['wall_per_sim_second']:.2f} s/sim-s",
               file=log, flush=True)
-    add_orders(rows)
     return rows, notes
-
-
-def add_orders(rows):
-    """Observed order against the previous h of the same (case, mode, tol), for the cases whose
-    error h causes (sliding's comes from the tolerance, sticking's from eps_v)."""
-    previous, ordered = {}, {case.name for case in CASES if case.ordered}
-    for row in rows:
-        key = (row["case"], row["friction"], row["tol"])
-        before, row["observed_order"] = previous.get(key), math.nan
-        if row["case"] in ordered and before is not None and before["error"] > 0 < row["error"]:
-            row["observed_order"] = (math.log(before["error"] / row["error"])
-                                     / math.log(before["h"] / row["h"]))
-        previous[key] = row
 
 
 def number(value, fmt):
@@ -217,10 +190,8 @@ def draw(path, rows):
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="python -m benchmarks.error_vs_runtime",
                                  description=__doc__.split("\n\n")[0])
-    ap.add_argument("--quick", action="store_true",
-                    help=f"only free fall at h = {QUICK_HS} (a smoke test)")
-    ap.add_argument("--out", help="folder for error_vs_runtime.csv and .png (default: "
-                    "benchmarks/results/ for the full run, a new temporary folder with --quick)")
+    ap.add_argument("--quick", action="store_true", help=f"only free fall at h = {QUICK_HS}")
+    ap.add_argument("--out", help="folder for error_vs_runtime.csv and .png")
     args = ap.parse_args(argv)
     out = benchmarks.output_folder(args.out, not args.quick, "error_vs_runtime")
     start = time.perf_counter()

@@ -1,14 +1,8 @@
-"""The reading path: how much code a student reads to follow one run of the default scene.
+"""The reading path: the project functions (in the top-level .py files) that run while
+simulator.simulate steps the default scene, 300 lagged steps, then 100 from the start with
+friction_updates=3, and their lines without blanks, comments and docstrings (benchmarks/README.md).
 
-Every project function (in the repository's top-level .py files) that runs while
-simulator.simulate steps the default scene, 300 steps with lagged friction, then 100 steps from the
-start with friction_updates=3 (Algorithm 5, through the impact), and their lines, without blank
-lines, comment-only lines and docstrings. A function counts once; a generator expression, a lambda
-or a nested function belongs to the function whose text holds it.
-
-    python -m benchmarks.reading_path                    # the working tree
-    python -m benchmarks.reading_path --against c6bcae2  # and an earlier commit (or a folder)
-    python -m benchmarks.reading_path --functions        # also every function that ran
+    python -m benchmarks.reading_path [--against REV] [--functions]
 """
 import argparse
 import ast

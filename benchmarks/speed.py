@@ -6,12 +6,6 @@
     python -m benchmarks.speed --frames         # the default run with and without frames
     python -m benchmarks.speed --window         # the live window at n_seg 4, 8, 16
     python -m benchmarks.speed --chalk [--python A,B]     # the chalk's 3 s runs (about 2 minutes)
-
-The table steps each n_seg through a fixed window of steps (the default scene after its impact; at
-n_seg 64 the square placed on the slope, sliding): CPU and wall ms per step, medians over repeats,
-Newton iterations per step, and the share of the time spent in utils.SPDSolver.solve. --against
-runs simulator.simulate in fresh processes of each tree in turn. Only the plain command writes into
-benchmarks/results/; --quick, --sizes, --against and --python write into a temporary folder.
 """
 import os
 
@@ -26,7 +20,7 @@ import tempfile
 import time
 
 import benchmarks
-from benchmarks import ROOT, tables, waits, window_speed
+from benchmarks import ROOT, tables, waits
 
 # n_seg: (scene, steps before the window, window steps, repeats)
 TABLE = {4: ("drop", 110, 200, 5), 8: ("drop", 110, 100, 5), 16: ("drop", 110, 50, 5),
@@ -34,15 +28,25 @@ TABLE = {4: ("drop", 110, 200, 5), 8: ("drop", 110, 100, 5), 16: ("drop", 110, 5
 TABLE_QUICK = {4: ("drop", 40, 10, 3), 8: ("drop", 40, 5, 3)}
 COLUMNS = ["n_seg", "dof", "scene", "solver", "cpu_ms_per_step", "wall_ms_per_step",
            "newton_per_step", "solve_share", "noise"]
+TEXT = [("n_seg", "{n_seg}"), ("DOF", "{dof}"), ("scene", "{scene}"), ("solver", "{solver}"),
+        ("CPU ms/step", "{cpu_ms_per_step:.3g}"), ("wall ms/step", "{wall_ms_per_step:.3g}"),
+        ("Newton/step", "{newton_per_step:.3g}"), ("solve", "{solve_share:.0%}"),
+        ("rest", "{rest_share:.0%}"), ("noise", "{noise}")]
+NOTE = """\
+CPU, wall: medians over repeats of one window of steps; drop: the default scene after the impact;
+slide: the square placed on the slope sliding at 0.43 m/s; solve: share of the window's wall time in
+utils.SPDSolver.solve (band assembly, factorization, triangular solves), rest: everything else"""
 # n_seg: (steps from the start, runs per tree)
 AGAINST = {4: (300, 7), 16: (300, 5), 32: (150, 3)}
 AGAINST_QUICK = {4: (30, 2)}
 AGAINST_COLUMNS = ["n_seg", "steps", "runs", "cpu_ms_new", "cpu_ms_old", "cpu_ratio",
                    "wall_ms_new", "wall_ms_old", "wall_ratio", "newton_new", "newton_old", "noise"]
-TABLE_NOTE = """\
-CPU, wall: medians over repeats of one window of steps; drop: the default scene after the impact;
-slide: the square placed on the slope sliding at 0.43 m/s; solve: share of the window's wall time in
-utils.SPDSolver.solve (band assembly, factorization, triangular solves), rest: everything else"""
+AGAINST_TEXT = [
+    ("n_seg", "{n_seg}"), ("steps", "{steps}"), ("runs", "{runs}"),
+    ("CPU ms/step new", "{cpu_ms_new:.3g}"), ("CPU {rev}", "{cpu_ms_old:.3g}"),
+    ("CPU new/old", "{cpu_ratio:.2f}"), ("wall ms/step new", "{wall_ms_new:.3g}"),
+    ("wall {rev}", "{wall_ms_old:.3g}"), ("wall new/old", "{wall_ratio:.2f}"),
+    ("Newton new", "{newton_new}"), ("Newton {rev}", "{newton_old}"), ("noise", "{noise}")]
 AGAINST_NOTE = """\
 new: the working tree; {rev}: the tree compared against; the default scene from its start through
 simulator.simulate, each run a fresh process, runs alternating new/old; medians of CPU and wall \
@@ -57,40 +61,44 @@ def slide_scene(simulator, n_seg, d0=0.008, speed=0.43):
     import FrictionEnergy
     theta = math.atan(0.1)
     probe = simulator.build_scene(n_seg=n_seg, angle=-theta, center=(0.0, 1.0))
-    d = BarrierEnergy.distances(probe.x0, probe.n, probe.o)
-    lift = (d.min() - d0) / probe.n[1]
+    lift = (BarrierEnergy.distances(probe.x0, probe.n, probe.o).min() - d0) / probe.n[1]
     return simulator.build_scene(n_seg=n_seg, angle=-theta, center=(0.0, 1.0 - lift),
                                  v0=tuple(speed * FrictionEnergy.tangent(probe.n)))
+
+
+def timed(reports):
+    """(CPU s, wall s, Newton iterations) of going through `reports`, the steps' reports."""
+    wall, cpu = time.perf_counter(), time.process_time()
+    newton = sum(report.newton_iterations for report in reports)
+    return time.process_time() - cpu, time.perf_counter() - wall, newton
+
+
+def steps(time_integrator, scene, x, v, first, count):
+    """The reports of `count` steps from (x, v), the first numbered `first`."""
+    for i in range(first, first + count):
+        x, v, report = time_integrator.step(scene, x, v, step_index=i)
+        yield report
 
 
 def solve_share(utils, window):
     """The share of the wall time of `window()` spent in utils.SPDSolver.solve (wrapped)."""
     original, spent = utils.SPDSolver.solve, []
 
-    def timed(solver, H, b):
+    def solve(solver, H, b):
         start = time.perf_counter()
         result = original(solver, H, b)
         spent.append(time.perf_counter() - start)
         return result
-    utils.SPDSolver.solve = timed
+    utils.SPDSolver.solve = solve
     try:
-        wall = window()[0]
+        wall = window()[1]
     finally:
         utils.SPDSolver.solve = original
     return sum(spent) / wall
 
 
-def run_window(time_integrator, scene, x, v, first, steps):
-    """Take `steps` steps from (x, v): (wall s, CPU s, Newton iterations)."""
-    wall, cpu, newton = time.perf_counter(), time.process_time(), 0
-    for i in range(steps):
-        x, v, report = time_integrator.step(scene, x, v, step_index=first + i)
-        newton += report.newton_iterations
-    return time.perf_counter() - wall, time.process_time() - cpu, newton
-
-
-def measure(n_seg, kind, warm, steps, repeats):
-    """One row of the table."""
+def measure(n_seg, kind, warm, count, repeats):
+    """One row of the table: a window of `count` steps after `warm` ones, `repeats` times."""
     sys.path.insert(0, ROOT)
     import simulator
     import time_integrator
@@ -99,40 +107,29 @@ def measure(n_seg, kind, warm, steps, repeats):
     x, v = scene.x0, scene.v0
     for i in range(warm):
         x, v, _ = time_integrator.step(scene, x, v, step_index=i)
-    walls, cpus, newton = zip(*(run_window(time_integrator, scene, x, v, warm, steps)
-                                for _ in range(repeats)))
-    share = solve_share(utils, lambda: run_window(time_integrator, scene, x, v, warm, steps))
+
+    def window():
+        return timed(steps(time_integrator, scene, x, v, warm, count))
+    cpus, walls, newton = zip(*(window() for _ in range(repeats)))
+    share = solve_share(utils, window)
     return {"n_seg": n_seg, "dof": 2 * len(scene.x0), "scene": kind, "solver": scene.solver.kind,
-            "cpu_ms_per_step": 1e3 * statistics.median(cpus) / steps,
-            "wall_ms_per_step": 1e3 * statistics.median(walls) / steps,
-            "newton_per_step": newton[0] / steps, "solve_share": share,
+            "cpu_ms_per_step": 1e3 * statistics.median(cpus) / count,
+            "wall_ms_per_step": 1e3 * statistics.median(walls) / count,
+            "newton_per_step": newton[0] / count, "solve_share": share, "rest_share": 1 - share,
             "noise": tables.noise(walls, cpus)}
 
 
-def format_table(rows):
-    head = ["n_seg", "DOF", "scene", "solver", "CPU ms/step", "wall ms/step", "Newton/step",
-            "solve", "rest", "noise"]
-    cells = [[str(r["n_seg"]), str(r["dof"]), r["scene"], r["solver"],
-              f"{r['cpu_ms_per_step']:.3g}", f"{r['wall_ms_per_step']:.3g}",
-              f"{r['newton_per_step']:.3g}", f"{100 * r['solve_share']:.0f}%",
-              f"{100 * (1 - r['solve_share']):.0f}%", r["noise"]] for r in rows]
-    return "\n".join(tables.aligned([head] + cells)) + "\n" + TABLE_NOTE
-
-
-def run_default_scene(tree, n_seg, steps):
-    """In a worker process: (CPU s, wall s, Newton iterations) of `steps` steps of
-    simulator.simulate on the default scene at n_seg, with `tree`'s modules."""
+def run_default_scene(tree, n_seg, count):
+    """In a worker process, with `tree`'s modules: timed of `count` steps of simulator.simulate
+    on the default scene at n_seg."""
     sys.path.insert(0, tree)
     import simulator
-    scene = simulator.build_scene(n_seg=n_seg)
-    newton, wall, cpu = 0, time.perf_counter(), time.process_time()
-    for record in simulator.simulate(scene, steps):
-        newton += record.report.newton_iterations
-    return time.process_time() - cpu, time.perf_counter() - wall, newton
+    return timed(record.report for record in
+                 simulator.simulate(simulator.build_scene(n_seg=n_seg), count))
 
 
-def run_in_process(tree, n_seg, steps):
-    job = json.dumps([tree, n_seg, steps])
+def run_in_process(tree, n_seg, count):
+    job = json.dumps([tree, n_seg, count])
     stdout = tables.run_process([sys.executable, "-m", "benchmarks.speed", "--worker", job])[2]
     return json.loads(stdout.splitlines()[-1])
 
@@ -140,36 +137,25 @@ def run_in_process(tree, n_seg, steps):
 def compare(new_tree, old_tree, configs):
     """Per n_seg, runs of each tree in turn: medians per step, their ratio, Newton iterations."""
     rows = []
-    for n_seg, (steps, runs) in configs.items():
-        print(f"n_seg {n_seg}, {steps} steps, new and old in turn:", file=sys.stderr)
-        results = tables.in_turn({"new": lambda: run_in_process(new_tree, n_seg, steps),
-                                  "old": lambda: run_in_process(old_tree, n_seg, steps)}, runs)
-        row, noisy = {"n_seg": n_seg, "steps": steps, "runs": runs}, []
+    for n_seg, (count, runs) in configs.items():
+        print(f"n_seg {n_seg}, {count} steps, new and old in turn:", file=sys.stderr)
+        results = tables.in_turn({"new": lambda: run_in_process(new_tree, n_seg, count),
+                                  "old": lambda: run_in_process(old_tree, n_seg, count)}, runs)
+        row, noisy = {"n_seg": n_seg, "steps": count, "runs": runs}, []
         for name, (cpus, walls, newton) in ((k, list(zip(*v))) for k, v in results.items()):
-            row[f"cpu_ms_{name}"] = 1e3 * statistics.median(cpus) / steps
-            row[f"wall_ms_{name}"] = 1e3 * statistics.median(walls) / steps
+            row[f"cpu_ms_{name}"] = 1e3 * statistics.median(cpus) / count
+            row[f"wall_ms_{name}"] = 1e3 * statistics.median(walls) / count
             row[f"newton_{name}"] = newton[0]
             if (verdict := tables.noise(walls, cpus)) != "ok":
                 noisy.append(f"{name}: {verdict}")
         row["cpu_ratio"] = row["cpu_ms_new"] / row["cpu_ms_old"]
         row["wall_ratio"] = row["wall_ms_new"] / row["wall_ms_old"]
+        counts = sorted({n for results_ in results.values() for _, _, n in results_})
+        if len(counts) > 1:
+            noisy.insert(0, f"NEWTON MISMATCH ({counts})")
         row["noise"] = "; ".join(noisy) or "ok"
-        counts = sorted({n for runs_ in results.values() for _, _, n in runs_})
-        if len(counts) != 1:
-            row["noise"] = f"NEWTON MISMATCH ({counts}); " + row["noise"]
         rows.append(row)
     return rows
-
-
-def format_comparison(rows, rev):
-    head = ["n_seg", "steps", "runs", "CPU ms/step new", f"CPU {rev}", "CPU new/old",
-            "wall ms/step new", f"wall {rev}", "wall new/old", "Newton new", f"Newton {rev}",
-            "noise"]
-    cells = [[str(r["n_seg"]), str(r["steps"]), str(r["runs"]), f"{r['cpu_ms_new']:.3g}",
-              f"{r['cpu_ms_old']:.3g}", f"{r['cpu_ratio']:.2f}", f"{r['wall_ms_new']:.3g}",
-              f"{r['wall_ms_old']:.3g}", f"{r['wall_ratio']:.2f}", str(r["newton_new"]),
-              str(r["newton_old"]), r["noise"]] for r in rows]
-    return "\n".join(tables.aligned([head] + cells)) + "\n" + AGAINST_NOTE.format(rev=rev)
 
 
 def usage_error(message):
@@ -181,21 +167,15 @@ def usage_error(message):
 def parse(argv):
     ap = argparse.ArgumentParser(prog="python -m benchmarks.speed",
                                  description=__doc__.split("\n\n")[0])
-    ap.add_argument("--quick", action="store_true",
-                    help="smoke run: n_seg 4 and 8, few steps (comparison: n_seg 4)")
-    ap.add_argument("--against", metavar="REV",
-                    help="also compare with this commit (or folder), side by side")
+    ap.add_argument("--quick", action="store_true", help="a smoke run (comparison: n_seg 4)")
+    ap.add_argument("--against", metavar="REV", help="also compare with this commit (or folder)")
     ap.add_argument("--sizes", help="comma-separated n_seg values of the table")
-    ap.add_argument("--out", help="folder for the CSV files (default: benchmarks/results/ for "
-                                  "the plain command, else a new temporary folder)")
-    ap.add_argument("--window", action="store_true",
-                    help="only the live window's real-time figures (n_seg 4, 8, 16)")
-    ap.add_argument("--frames", action="store_true",
-                    help="only the default run with frames against --no-frames")
-    ap.add_argument("--chalk", action="store_true", help="only the chalk's runs, pushed and "
-                    "dragged, from x_tilde and x^n (with --quick: 0.3 s runs, once)")
-    ap.add_argument("--python", metavar="EXE[,EXE]",
-                    help="with --chalk: the interpreters whose processes run, in turn")
+    ap.add_argument("--out", help="folder for the CSV files (default: benchmarks/results/ for the "
+                    "plain command, else a new temporary folder)")
+    ap.add_argument("--window", action="store_true", help="only the live window's figures")
+    ap.add_argument("--frames", action="store_true", help="only the run with and without frames")
+    ap.add_argument("--chalk", action="store_true", help="only the chalk's runs")
+    ap.add_argument("--python", metavar="EXE[,EXE]", help="with --chalk: the interpreters to run")
     ap.add_argument("--worker", help=argparse.SUPPRESS)
     return ap.parse_args(argv)
 
@@ -223,7 +203,7 @@ def main(argv=None):
         return usage_error("--python needs --chalk: it names the interpreters the chalk's "
                            "processes run in")
     if args.window:
-        print(window_speed.window_table())
+        print(waits.window_table())
         return 0
     if args.frames:
         return waits.print_frames_overhead(3 if args.quick else 5)
@@ -232,23 +212,23 @@ def main(argv=None):
     table = TABLE_QUICK if args.quick else TABLE
     rows = []
     for n_seg in [int(s) for s in args.sizes.split(",")] if args.sizes else table:
-        small = n_seg <= 32
-        config = table.get(n_seg, ("drop", 110, 10, 3) if small else ("slide", 5, 10, 3))
+        config = table.get(n_seg, ("drop", 110, 10, 3) if n_seg <= 32 else ("slide", 5, 10, 3))
         rows.append(measure(n_seg, *config))
         print(f"n_seg {n_seg}: {rows[-1]['cpu_ms_per_step']:.3g} ms/step", file=sys.stderr)
-    print(format_table(rows))
+    print("\n".join(tables.text(TEXT, rows) + [NOTE]))
     out = benchmarks.output_folder(args.out, not (args.quick or args.sizes or args.against),
                                    "speed")
     tables.write_csv(os.path.join(out, "speed.csv"), COLUMNS, rows)
+    written = "speed.csv"
     if args.against:
         with tempfile.TemporaryDirectory(prefix="speed-against-") as folder:
             old_tree = benchmarks.export_tree(args.against, folder)
             rows = compare(ROOT, old_tree, AGAINST_QUICK if args.quick else AGAINST)
-        print()
-        print(format_comparison(rows, args.against))
+        text = tables.text(AGAINST_TEXT, rows, rev=args.against)
+        print("\n".join([""] + text + [AGAINST_NOTE.format(rev=args.against)]))
         tables.write_csv(os.path.join(out, "speed-against.csv"), AGAINST_COLUMNS, rows)
+        written += " and speed-against.csv"
     print(f"BLAS threads: OPENBLAS_NUM_THREADS={os.environ['OPENBLAS_NUM_THREADS']}")
-    written = "speed.csv and speed-against.csv" if args.against else "speed.csv"
     print(f"wrote {written} into {out}", file=sys.stderr)
     return 0
 

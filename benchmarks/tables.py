@@ -1,8 +1,6 @@
-"""What the benchmarks share: text tables, CSV files, runs taken in turn, and their noise.
-
-A timing is NOISY when its repeats spread by more than SPREAD_LIMIT of their median, or when the
-process waited for a CPU (median wall / CPU time above WAIT_LIMIT): other processes on a shared
-machine stretch wall time, not a process's own CPU time.
+"""What the benchmarks share: text tables, CSV files, runs taken in turn, and their noise: NOISY
+where repeats spread by more than SPREAD_LIMIT of their median or the process waited for a CPU
+(median wall / CPU time above WAIT_LIMIT: other processes stretch wall time, not CPU time).
 """
 import csv
 import io
@@ -31,14 +29,20 @@ def aligned(cells):
     return lines[:1] + ["-" * len(lines[0])] + lines[1:]
 
 
+def text(columns, rows, **names):
+    """aligned of a table: `columns` are (title, format) pairs, each format filled in from a row
+    (a dict), each title from `names`."""
+    return aligned([[title.format(**names) for title, _ in columns]]
+                   + [[form.format(**row) for _, form in columns] for row in rows])
+
+
 def write_csv(path, columns, rows, digits=6):
     """`rows` (dicts) as the CSV file `path`, floats to `digits` significant digits."""
     buffer = io.StringIO()
     writer = csv.DictWriter(buffer, columns, extrasaction="ignore", lineterminator="\n")
     writer.writeheader()
-    for row in rows:
-        writer.writerow({k: f"{v:.{digits}g}" if isinstance(v, float) else v
-                         for k, v in row.items()})
+    writer.writerows({k: f"{v:.{digits}g}" if isinstance(v, float) else v for k, v in row.items()}
+                     for row in rows)
     whole_files.write_atomic(path, buffer.getvalue())
 
 
@@ -57,6 +61,11 @@ def noise(walls, cpus):
     return "NOISY: " + ", ".join(reasons) if reasons else "ok"
 
 
+def medians(results):
+    """{figure: its median} over `results`, a list of dicts of figures."""
+    return {key: statistics.median(r[key] for r in results) for key in results[0]}
+
+
 def in_turn(jobs, repeats):
     """Call each of `jobs` ({key: function of no argument}) in turn, `repeats` rounds, so that all
     meet the machine in the same state: {key: [what each call returned]}."""
@@ -69,7 +78,7 @@ def in_turn(jobs, repeats):
 
 
 def children_cpu():
-    """CPU seconds (user + system) of the finished child processes so far (nan without resource)."""
+    """CPU seconds of the finished child processes so far (nan without `resource`)."""
     if resource is None:
         return math.nan
     usage = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -77,8 +86,8 @@ def children_cpu():
 
 
 def run_process(command):
-    """Run `command` in the repository's folder (SDL's dummy driver, one BLAS thread): (wall s,
-    CPU s, stdout, stderr); RuntimeError if it fails."""
+    """Run `command` in the repository's folder (SDL's dummy driver, one BLAS thread): wall s,
+    CPU s, stdout, stderr; RuntimeError if it fails."""
     env = {**os.environ, "SDL_VIDEODRIVER": "dummy", "OPENBLAS_NUM_THREADS": "1"}
     cpu, start = children_cpu(), time.perf_counter()
     done = subprocess.run(command, cwd=ROOT, capture_output=True, text=True, env=env)
@@ -86,8 +95,3 @@ def run_process(command):
     if done.returncode != 0:
         raise RuntimeError(f"{' '.join(command)} failed:\n{done.stderr}")
     return wall, cpu, done.stdout, done.stderr
-
-
-def medians(results):
-    """{figure: its median} over `results`, a list of dicts of figures."""
-    return {key: statistics.median(r[key] for r in results) for key in results[0]}
