@@ -70,11 +70,11 @@ def marker(pygame, surface, style, p, r=5):
 
 
 def draw_panel(pygame, surface, panel, left, top, small, normal):
-    x0, x1 = left + MARGIN_L, left + PANEL_W - MARGIN_R
-    y0, y1 = top + MARGIN_T, top + PANEL_H - MARGIN_B
+    box = pygame.Rect(left + MARGIN_L, top + MARGIN_T, PANEL_W - MARGIN_L - MARGIN_R,
+                      PANEL_H - MARGIN_T - MARGIN_B)
     title = normal.render(panel.title, True, BLACK)
     surface.blit(title, (left + (PANEL_W - title.get_width()) // 2, top + 10))
-    pygame.draw.rect(surface, BLACK, (x0, y0, x1 - x0, y1 - y0), 1)
+    pygame.draw.rect(surface, BLACK, box, 1)
     points = [(x, y) for _, pts in panel.series for x, y in pts if x > 0 and y > 0]
     if not points:
         return
@@ -84,27 +84,27 @@ def draw_panel(pygame, surface, panel, left, top, small, normal):
         return (math.log10(value) - lo + PAD * (hi - lo)) / ((1 + 2 * PAD) * (hi - lo))
 
     def to_px(x, y):
-        return (round(x0 + fraction(x, xlo, xhi) * (x1 - x0)),
-                round(y1 - fraction(y, ylo, yhi) * (y1 - y0)))
+        return (round(box.left + fraction(x, xlo, xhi) * box.width),
+                round(box.bottom - fraction(y, ylo, yhi) * box.height))
 
     for k, mult in ticks(xlo, xhi):
-        px, size = to_px(mult * 10.0 ** k, 10.0 ** ylo)[0], 8 if mult == 1 else 4
+        x = to_px(mult * 10.0 ** k, 10.0 ** ylo)[0]
         if mult == 1:
-            pygame.draw.line(surface, LIGHT, (px, y0 + 1), (px, y1 - 1))
+            pygame.draw.line(surface, LIGHT, (x, box.top + 1), (x, box.bottom - 1))
             label = small.render(power_label(k), True, BLACK)
-            surface.blit(label, (px - label.get_width() // 2, y1 + 6))
-        pygame.draw.line(surface, BLACK, (px, y1), (px, y1 - size))
+            surface.blit(label, (x - label.get_width() // 2, box.bottom + 6))
+        pygame.draw.line(surface, BLACK, (x, box.bottom), (x, box.bottom - (8 if mult == 1 else 4)))
     for k, mult in ticks(ylo, yhi):
-        py, size = to_px(10.0 ** xlo, mult * 10.0 ** k)[1], 8 if mult == 1 else 4
+        y = to_px(10.0 ** xlo, mult * 10.0 ** k)[1]
         if mult == 1:
-            pygame.draw.line(surface, LIGHT, (x0 + 1, py), (x1 - 1, py))
+            pygame.draw.line(surface, LIGHT, (box.left + 1, y), (box.right - 1, y))
             label = small.render(power_label(k), True, BLACK)
-            surface.blit(label, (x0 - label.get_width() - 6, py - label.get_height() // 2))
-        pygame.draw.line(surface, BLACK, (x0, py), (x0 + size, py))
+            surface.blit(label, (box.left - label.get_width() - 6, y - label.get_height() // 2))
+        pygame.draw.line(surface, BLACK, (box.left, y), (box.left + (8 if mult == 1 else 4), y))
     xlabel = small.render(panel.xlabel, True, BLACK)
-    surface.blit(xlabel, ((x0 + x1 - xlabel.get_width()) // 2, y1 + 30))
+    surface.blit(xlabel, (box.centerx - xlabel.get_width() // 2, box.bottom + 30))
     ylabel = pygame.transform.rotate(small.render(panel.ylabel, True, BLACK), 90)
-    surface.blit(ylabel, (left + 8, (y0 + y1 - ylabel.get_height()) // 2))
+    surface.blit(ylabel, (left + 8, box.centery - ylabel.get_height() // 2))
     for style, pts in panel.series:
         px = [to_px(x, y) for x, y in pts if x > 0 and y > 0]
         for a, b in zip(px, px[1:]):

@@ -187,7 +187,9 @@ def chalk(args):
             p.strip(): waits.python_version(p.strip()) for p in args.python.split(",")}
     except ValueError as err:
         return usage_error(str(err))
-    rows = waits.print_chalk_table(1 if args.quick else 3, 0.3 if args.quick else None, pythons)
+    repeats = 1 if args.quick else 3
+    rows = waits.chalk_table(repeats, 0.3 if args.quick else None, pythons=pythons)
+    print(waits.format_chalk_table(rows, repeats))
     out = benchmarks.output_folder(args.out, not (args.quick or args.python), "chalk-speed")
     tables.write_csv(os.path.join(out, "chalk-speed.csv"), waits.COLUMNS, rows)
     print(f"wrote chalk-speed.csv into {out}", file=sys.stderr)
@@ -206,7 +208,8 @@ def main(argv=None):
         print(waits.window_table())
         return 0
     if args.frames:
-        return waits.print_frames_overhead(3 if args.quick else 5)
+        waits.print_frames_overhead(3 if args.quick else 5)
+        return 0
     if args.chalk:
         return chalk(args)
     table = TABLE_QUICK if args.quick else TABLE

@@ -32,7 +32,6 @@ plots.png,
 summary.png), medians of {repeats} run alternately; stepping wall: the closing line's figure. \
 Target for
 the pushed 3 s default: at most {target:g} s of wall time per simulated second: {verdict}."""
-WINDOW_N_SEGS = (4, 8, 16)
 WINDOW_PIXELS = 652         # the window's default side on a 1024x768 projector
 MEMORY_DRIVER = "dummy"     # SDL's driver that draws into memory only, no display needed
 WINDOW_NOTE = """\
@@ -80,7 +79,6 @@ def print_frames_overhead(repeats):
           f"--no-frames (whole processes, medians of {repeats}, run alternately): {ratio:.2f}x "
           f"(target <= {FRAMES_TARGET:g}x: {'met' if ratio <= FRAMES_TARGET else 'NOT met'}; "
           f"repeats spread {100 * max(map(tables.spread, walls)):.0f}%)")
-    return 0
 
 
 def python_version(python):
@@ -127,12 +125,6 @@ def format_chalk_table(rows, repeats):
         verdict = "not judged: a short run's start-up weighs more per simulated second"
     note = CHALK_NOTE.format(repeats=repeats, target=CHALK_TARGET, verdict=verdict)
     return "\n".join(tables.text(TEXT, rows) + [note])
-
-
-def print_chalk_table(repeats, duration=None, pythons=None):
-    rows = chalk_table(repeats, duration, pythons=pythons)
-    print(format_chalk_table(rows, repeats))
-    return rows
 
 
 class MeteredClock:
@@ -197,7 +189,7 @@ def display_driver():
     return "x11" if probe.returncode == 0 and probe.stdout.strip() == "x11" else None
 
 
-def window_table(sizes=WINDOW_N_SEGS):
+def window_table(sizes=(4, 8, 16)):
     """The window's figures at speed 1 and flat out (speed 100), on each driver found."""
     drivers = [MEMORY_DRIVER] + [d for d in [display_driver()] if d]
     where = (f"DISPLAY={os.environ.get('DISPLAY')}" if len(drivers) > 1
