@@ -3,8 +3,10 @@
 Only a full run (the plain command) writes into benchmarks/results/, the tables README.md quotes;
 any other run writes into a new temporary folder, or into the folder --out names.
 """
+import json
 import os
 import subprocess
+import sys
 import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -31,3 +33,13 @@ def export_tree(rev, folder):
         raise SystemExit(f"error: git archive {rev}: {archive.stderr.decode().strip()}")
     subprocess.run(["tar", "-x", "-C", folder], input=archive.stdout, check=True)
     return folder
+
+
+def in_fresh_process(module, *args):
+    """`python -m module --worker JSON(args)` in the repository's folder: the JSON it printed last
+    (a tree's modules are imported afresh there)."""
+    done = subprocess.run([sys.executable, "-m", module, "--worker", json.dumps(args)], cwd=ROOT,
+                          capture_output=True, text=True)
+    if done.returncode != 0:
+        raise RuntimeError(f"{module} --worker {args} failed:\n{done.stderr}")
+    return json.loads(done.stdout.splitlines()[-1])

@@ -9,7 +9,6 @@ import ast
 import io
 import json
 import os
-import subprocess
 import sys
 import tempfile
 import tokenize
@@ -28,11 +27,10 @@ def code_lines(source):
         if token.type not in skip:
             lines.update(range(token.start[0], token.end[0] + 1))
     for node in ast.walk(ast.parse(source)):
-        if isinstance(node, (ast.Module, ast.ClassDef) + FUNCTIONS) and node.body:
-            first = node.body[0]
-            if isinstance(first, ast.Expr) and isinstance(first.value, ast.Constant) \
-                    and isinstance(first.value.value, str):
-                lines.difference_update(range(first.lineno, first.end_lineno + 1))
+        if isinstance(node, (ast.Module, ast.ClassDef) + FUNCTIONS) \
+                and ast.get_docstring(node) is not None:
+            docstring = node.body[0]
+            lines.difference_update(range(docstring.lineno, docstring.end_lineno + 1))
     return lines
 
 
@@ -71,10 +69,11 @@ def functions_that_ran(code_objects, tree):
     return per_file
 
 
-def reading_path(code_objects, tree):
-    """{file: (functions, lines)}: a line two functions share (a nested one) counted once."""
+def reading_path(found):
+    """{file: (functions, lines)} of what functions_that_ran found; a line two functions share
+    (a nested one) counted once."""
     return {name: (len(functions), len(set().union(*functions.values())))
-            for name, functions in functions_that_ran(code_objects, tree).items()}
+            for name, functions in found.items()}
 
 
 def is_project_file(path, tree):
@@ -108,11 +107,10 @@ def worker(tree):
     """The reading path of `tree`, counted in this process with `tree` first on sys.path."""
     tree = os.path.abspath(tree)
     sys.path.insert(0, tree)
-    code_objects = collect(tree)
-    functions = [[path, name, first, len(lines)]
-                 for path, found in functions_that_ran(code_objects, tree).items()
-                 for (first, name), lines in sorted(found.items())]
-    return {"files": reading_path(code_objects, tree), "functions": functions}
+    found = functions_that_ran(collect(tree), tree)
+    functions = [[path, name, first, len(lines)] for path, in_file in found.items()
+                 for (first, name), lines in sorted(in_file.items())]
+    return {"files": reading_path(found), "functions": functions}
 
 
 def count(rev):
@@ -120,11 +118,7 @@ def count(rev):
     (functions, lines)}, [(file, name, first line, lines)])."""
     with tempfile.TemporaryDirectory(prefix="reading_path-") as folder:
         tree = benchmarks.export_tree(rev, folder)
-        done = subprocess.run([sys.executable, "-m", "benchmarks.reading_path", "--worker", tree],
-                              cwd=benchmarks.ROOT, capture_output=True, text=True)
-    if done.returncode != 0:
-        raise RuntimeError(f"counting the reading path of {rev} failed:\n{done.stderr}")
-    result = json.loads(done.stdout.strip().splitlines()[-1])
+        result = benchmarks.in_fresh_process("benchmarks.reading_path", tree)
     return ({name: tuple(pair) for name, pair in result["files"].items()},
             [tuple(f) for f in result["functions"]])
 
@@ -156,7 +150,7 @@ def main(argv=None):
     ap.add_argument("--worker", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.worker:
-        print(json.dumps(worker(args.worker)))
+        print(json.dumps(worker(*json.loads(args.worker))))
         return 0
     print(f"functions that run while simulator.simulate steps the default scene ({LAGGED_STEPS} "
           f"lagged steps, then {IMPLICIT_STEPS} from the start with friction_updates="
@@ -164,11 +158,12 @@ def main(argv=None):
     results = []
     for title, rev in [("working tree", benchmarks.ROOT)] + (
             [(args.against, args.against)] if args.against else []):
-        per_file, functions = count(rev)
+        per_file, ran = count(rev)
         print(format_table(title, per_file))
         if args.functions:
-            print(format_functions(functions))
-        results.append(f"{title} {totals(per_file)[1]} lines in {totals(per_file)[0]} functions")
+            print(format_functions(ran))
+        functions, lines = totals(per_file)
+        results.append(f"{title} {lines} lines in {functions} functions")
     print("; ".join(results))
     return 0
 

@@ -12,6 +12,7 @@ import os
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")     # before numpy loads OpenBLAS
 
 import argparse
+import functools
 import json
 import math
 import statistics
@@ -128,19 +129,15 @@ def run_default_scene(tree, n_seg, count):
                  simulator.simulate(simulator.build_scene(n_seg=n_seg), count))
 
 
-def run_in_process(tree, n_seg, count):
-    job = json.dumps([tree, n_seg, count])
-    stdout = tables.run_process([sys.executable, "-m", "benchmarks.speed", "--worker", job])[2]
-    return json.loads(stdout.splitlines()[-1])
-
-
 def compare(new_tree, old_tree, configs):
     """Per n_seg, runs of each tree in turn: medians per step, their ratio, Newton iterations."""
     rows = []
     for n_seg, (count, runs) in configs.items():
         print(f"n_seg {n_seg}, {count} steps, new and old in turn:", file=sys.stderr)
-        results = tables.in_turn({"new": lambda: run_in_process(new_tree, n_seg, count),
-                                  "old": lambda: run_in_process(old_tree, n_seg, count)}, runs)
+        trees = {"new": new_tree, "old": old_tree}
+        results = tables.in_turn({name: functools.partial(
+            benchmarks.in_fresh_process, "benchmarks.speed", tree, n_seg, count)
+            for name, tree in trees.items()}, runs)
         row, noisy = {"n_seg": n_seg, "steps": count, "runs": runs}, []
         for name, (cpus, walls, newton) in ((k, list(zip(*v))) for k, v in results.items()):
             row[f"cpu_ms_{name}"] = 1e3 * statistics.median(cpus) / count

@@ -39,8 +39,8 @@ def test_speed_benchmark_quick_table_and_comparison(tmp_path, capsys):
 def test_speed_comparison_flags_a_newton_mismatch(monkeypatch):
     """Two trees whose runs take different Newton iteration counts are flagged."""
     newton = {"a": 10, "b": 11}
-    monkeypatch.setattr(speed, "run_in_process",
-                        lambda tree, n_seg, steps: (0.01, 0.01, newton[tree]))
+    monkeypatch.setattr(benchmarks, "in_fresh_process",
+                        lambda module, tree, n_seg, steps: (0.01, 0.01, newton[tree]))
     row, = speed.compare("a", "b", {4: (5, 2)})
     assert row["newton_new"] == 10 and row["newton_old"] == 11
     assert row["noise"].startswith("NEWTON MISMATCH") and row["cpu_ratio"] == 1.0
