@@ -1,4 +1,5 @@
-"""benchmarks/waits.py: the chalk's wait as a student meets it (`benchmarks.speed --chalk`)."""
+"""benchmarks/waits.py: whole simulator.py processes, the chalk's wait as a student meets it
+(`benchmarks.speed --chalk`) and the frames' cost (`--frames`)."""
 import csv
 import os
 import platform
@@ -36,7 +37,8 @@ def test_the_chalk_table_runs_each_run_under_the_python_given(tmp_path, capsys):
     assert float(rows["dragged"]["newton_per_step"]) < float(
         rows["dragged, from x^n"]["newton_per_step"])
     printed = capsys.readouterr().out
-    assert "wall / simulated s" in printed and "not judged" in printed
+    assert "wall / simulated s" in printed and "Target for" in printed
+    assert "not judged: a short run's start-up" in printed
     assert checkout_state() == before
 
 
@@ -67,6 +69,25 @@ def test_each_python_runs_every_run_in_turn(monkeypatch):
     row = waits.chalk_table(1, 0.3, {"pushed": []})[0]
     assert calls == [(sys.executable, ["--scene", "chalk", "--no-frames", "--duration", "0.3"])]
     assert row["python"] == f"{platform.python_version()} {sys.executable}"
+
+
+def test_the_frames_cost_is_the_ratio_of_the_medians_of_runs_in_turn(monkeypatch, capsys):
+    """--frames: the default run and --no-frames in turn, repeat after repeat; the medians, their
+    ratio against the target of 3x, frames per simulated second. (The processes are stubbed.)"""
+    calls = []
+
+    def run_simulator(folder, flags, python=sys.executable):
+        calls.append(flags)
+        wall = (2.0 if flags == [] else 1.0) * [1.0, 1.1, 0.9][(len(calls) - 1) // 2]
+        return {"wall": wall, "cpu": wall, "stepping": 0.5, "newton": 2.0, "simulated": 6.0,
+                "frames": 201 if flags == [] else 0}
+    monkeypatch.setattr(waits, "run_simulator", run_simulator)
+    assert speed.main(["--frames", "--quick"]) == 0
+    assert calls == 3 * [[], ["--no-frames"]]
+    assert capsys.readouterr().out == (
+        "python simulator.py: 2.00 s with 201 frames (33.3 per simulated second), 1.00 s with "
+        "--no-frames (whole processes, medians of 3, run alternately): 2.00x (target <= 3x: met; "
+        "repeats spread 20%)\n")
 
 
 @pytest.mark.parametrize("argv, words", [
