@@ -72,12 +72,12 @@ def print_frames_overhead(repeats):
     done = in_turn({"frames": [], "no-frames": ["--no-frames"]}, repeats)
     walls = [[r["wall"] for r in results] for results in done.values()]
     with_frames, without = (statistics.median(w) for w in walls)
-    frames, simulated = (done[sys.executable, "frames"][0][k] for k in ("frames", "simulated"))
-    ratio = with_frames / without
-    print(f"python simulator.py: {with_frames:.2f} s with {frames} frames "
-          f"({(frames - 1) / simulated:.1f} per simulated second), {without:.2f} s with "
-          f"--no-frames (whole processes, medians of {repeats}, run alternately): {ratio:.2f}x "
-          f"(target <= {FRAMES_TARGET:g}x: {'met' if ratio <= FRAMES_TARGET else 'NOT met'}; "
+    first, ratio = done[sys.executable, "frames"][0], with_frames / without
+    verdict = "met" if ratio <= FRAMES_TARGET else "NOT met"
+    print(f"python simulator.py: {with_frames:.2f} s with {first['frames']} frames "
+          f"({(first['frames'] - 1) / first['simulated']:.1f} per simulated second), "
+          f"{without:.2f} s with --no-frames (whole processes, medians of {repeats}, run "
+          f"alternately): {ratio:.2f}x (target <= {FRAMES_TARGET:g}x: {verdict}; "
           f"repeats spread {100 * max(map(tables.spread, walls)):.0f}%)")
 
 
