@@ -72,28 +72,28 @@ def plan(quick):
             for mode in (MODES if case.friction else ("none",)) for tol in TOLS for h in hs]
 
 
-def full_scene_reference(log):
+def full_scene_reference():
     """The full scene's reference run, and how far the same run at twice its h strays from it (an
     estimate of the reference's own error)."""
     full = CASES[3]
     print(f"reference: full scene, h={REFERENCE_H:g}, tol={REFERENCE_TOL:g}, lagged ...",
-          file=log, flush=True)
+          file=sys.stderr, flush=True)
 
     def quarters(fraction):
         if round(20 * fraction) % 5 == 0:
-            print(f"  reference {100 * fraction:3.0f} %", file=log, flush=True)
+            print(f"  reference {100 * fraction:3.0f} %", file=sys.stderr, flush=True)
     reference = cases.run(full.build(REFERENCE_H, REFERENCE_TOL, 0), full.duration, quarters)
     coarser = cases.run(full.build(2 * REFERENCE_H, REFERENCE_TOL, 0), full.duration)
-    print(f"  reference done in {reference.wall + coarser.wall:.1f} s", file=log, flush=True)
+    print(f"  reference done in {reference.wall + coarser.wall:.1f} s", file=sys.stderr, flush=True)
     return reference, cases.max_com_error(coarser, reference)
 
 
-def sweep(quick=False, log=None):
-    """Run the plan, progress on `log` (stderr): the CSV rows (dicts) and notes on the reference."""
-    log, runs = log or sys.stderr, plan(quick)
+def sweep(quick=False):
+    """Run the plan, progress on stderr: the CSV rows (dicts) and notes on the reference."""
+    runs = plan(quick)
     reference, notes = None, []
     if any(case is CASES[3] for case, *_ in runs):
-        reference, spread = full_scene_reference(log)
+        reference, spread = full_scene_reference()
         notes.append(f"full scene reference: h = {REFERENCE_H:g}, tol {REFERENCE_TOL:g}, lagged; "
                      f"the same run at h = {2 * REFERENCE_H:g} differs from it by up to "
                      f"{spread:.1e} m (an estimate of its own error)")
@@ -111,7 +111,7 @@ def sweep(quick=False, log=None):
                        friction_updates_per_step=float(run.friction_updates.mean()),
                        unconverged_steps=int(np.sum(~run.friction_converged)))
         except time_integrator.SimulationError as err:     # kept in the table as nan
-            print(f"  failed: {err}", file=log)
+            print(f"  failed: {err}", file=sys.stderr)
         before = previous.get((case.name, mode, tol))     # the same line at the previous h
         if case.ordered and before and before["error"] > 0 and row["error"] > 0:
             row["observed_order"] = (math.log(before["error"] / row["error"])
@@ -120,7 +120,7 @@ def sweep(quick=False, log=None):
         previous[case.name, mode, tol] = row
         print(f"[{i:3d}/{len(runs)}] {case.name:10s} {mode:8s} tol={tol:.0e} h={h:<7g} "
               f"error={row['error']:.3e}  {row['wall_per_sim_second']:.2f} s/sim-s",
-              file=log, flush=True)
+              file=sys.stderr, flush=True)
     return rows, notes
 
 

@@ -39,7 +39,7 @@ slide: the square placed on the slope sliding at 0.43 m/s; solve: share of the w
 utils.SPDSolver.solve (band assembly, factorization, triangular solves), rest: everything else"""
 # n_seg: (steps from the start, runs per tree)
 AGAINST = {4: (300, 7), 16: (300, 5), 32: (150, 3)}
-AGAINST_QUICK = {4: (30, 2)}
+AGAINST_QUICK = {4: (30, 1)}
 AGAINST_COLUMNS = ["n_seg", "steps", "runs", "cpu_ms_new", "cpu_ms_old", "cpu_ratio",
                    "wall_ms_new", "wall_ms_old", "wall_ratio", "newton_new", "newton_old", "noise"]
 AGAINST_TEXT = [
