@@ -17,6 +17,7 @@ import benchmarks
 
 LAGGED_STEPS, IMPLICIT_STEPS, FRICTION_UPDATES = 300, 100, 3
 FUNCTIONS = (ast.FunctionDef, ast.AsyncFunctionDef)
+DOCUMENTED = (ast.Module, ast.ClassDef) + FUNCTIONS
 
 
 def code_lines(source):
@@ -27,8 +28,7 @@ def code_lines(source):
         if token.type not in skip:
             lines.update(range(token.start[0], token.end[0] + 1))
     for node in ast.walk(ast.parse(source)):
-        if isinstance(node, (ast.Module, ast.ClassDef) + FUNCTIONS) \
-                and ast.get_docstring(node) is not None:
+        if isinstance(node, DOCUMENTED) and ast.get_docstring(node) is not None:
             docstring = node.body[0]
             lines.difference_update(range(docstring.lineno, docstring.end_lineno + 1))
     return lines

@@ -139,7 +139,8 @@ def compare(new_tree, old_tree, configs):
             benchmarks.in_fresh_process, "benchmarks.speed", tree, n_seg, count)
             for name, tree in trees.items()}, runs)
         row, noisy = {"n_seg": n_seg, "steps": count, "runs": runs}, []
-        for name, (cpus, walls, newton) in ((k, list(zip(*v))) for k, v in results.items()):
+        for name, tree_runs in results.items():
+            cpus, walls, newton = zip(*tree_runs)
             row[f"cpu_ms_{name}"] = 1e3 * statistics.median(cpus) / count
             row[f"wall_ms_{name}"] = 1e3 * statistics.median(walls) / count
             row[f"newton_{name}"] = newton[0]
@@ -147,7 +148,7 @@ def compare(new_tree, old_tree, configs):
                 noisy.append(f"{name}: {verdict}")
         row["cpu_ratio"] = row["cpu_ms_new"] / row["cpu_ms_old"]
         row["wall_ratio"] = row["wall_ms_new"] / row["wall_ms_old"]
-        counts = sorted({n for results_ in results.values() for _, _, n in results_})
+        counts = sorted({n for tree_runs in results.values() for _, _, n in tree_runs})
         if len(counts) > 1:
             noisy.insert(0, f"NEWTON MISMATCH ({counts})")
         row["noise"] = "; ".join(noisy) or "ok"

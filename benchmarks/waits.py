@@ -106,12 +106,12 @@ def chalk_table(repeats=3, duration=None, runs=RUNS, pythons=None):
     rows = []
     for (python, name), results in done.items():
         m = tables.medians(results)
+        walls, cpus = [r["wall"] for r in results], [r["cpu"] for r in results]
         rows.append({"python": f"{pythons[python]} {python}", "run": name,
                      "simulated_s": m["simulated"], "wall_s": m["wall"], "cpu_s": m["cpu"],
                      "stepping_wall_s": m["stepping"],
                      "wall_per_simulated_s": m["wall"] / m["simulated"],
-                     "newton_per_step": m["newton"], "noise": tables.noise(
-                         [r["wall"] for r in results], [r["cpu"] for r in results])})
+                     "newton_per_step": m["newton"], "noise": tables.noise(walls, cpus)})
     return rows
 
 

@@ -11,11 +11,11 @@ from benchmarks import speed, waits
 from helpers.checkout import ROOT, checkout_state
 
 
-def test_the_chalk_table_runs_each_run_under_the_python_given(tmp_path, capsys):
-    """--chalk --quick --python P: one 0.3 s process of P per run into chalk-speed.csv, nothing
-    in the checkout. P is this interpreter under a second name (a script that runs it). No timing
-    is asserted; the Newton counts are log.csv's, so the dragged chalk from x^n, whose tip starts
-    each solve at v = 0, takes more iterations per step than from x_tilde (measured 1.99, 1.03)."""
+def test_the_chalk_runs_under_the_python_given_count_newton_as_log_csv_does(tmp_path):
+    """Real 0.3 s processes of P, this interpreter under a second name (a script that runs it).
+    No timing is asserted; the Newton counts are log.csv's, so the dragged chalk from x^n, whose
+    tip starts each solve at v = 0, takes more iterations per step than from x_tilde (measured
+    1.99 against 1.03)."""
     python = sys.executable
     if os.name != "nt":             # the second name is a POSIX shell script
         python = str(tmp_path / "python-again")
@@ -23,19 +23,40 @@ def test_the_chalk_table_runs_each_run_under_the_python_given(tmp_path, capsys):
             f.write(f'#!/bin/sh\nexec "{sys.executable}" "$@"\n')
         os.chmod(python, 0o755)
     before = checkout_state()
+    runs = {name: waits.RUNS[name] for name in ("dragged", "dragged, from x^n")}
+    rows = waits.chalk_table(1, 0.3, runs, {python: waits.python_version(python)})
+    assert [(r["python"], r["run"]) for r in rows] == [
+        (f"{platform.python_version()} {python}", name) for name in runs]
+    for r in rows:
+        assert r["simulated_s"] == 0.3 and r["wall_s"] > r["stepping_wall_s"] > 0
+        assert r["wall_per_simulated_s"] == r["wall_s"] / 0.3
+    assert rows[0]["newton_per_step"] < rows[1]["newton_per_step"]
+    assert checkout_state() == before
+
+
+def test_the_chalk_table_has_each_run_once_with_quick(tmp_path, monkeypatch, capsys):
+    """--chalk --quick: one 0.3 s process per run, under this interpreter, into chalk-speed.csv
+    (the CSV's 6 significant digits), the table and its note printed, nothing in the checkout.
+    (The processes are stubbed: the test above runs them.)"""
+    calls = []
+
+    def run_simulator(folder, flags, python=sys.executable):
+        calls.append((python, flags))
+        return {"wall": 1.234567891, "cpu": 1.2, "stepping": 0.5, "newton": 1.25,
+                "simulated": 0.3, "frames": 0}
+    monkeypatch.setattr(waits, "run_simulator", run_simulator)
+    before = checkout_state()
     out = tmp_path / "out"
-    assert speed.main(["--chalk", "--quick", "--python", python, "--out", str(out)]) == 0
+    assert speed.main(["--chalk", "--quick", "--out", str(out)]) == 0
+    common = ["--scene", "chalk", "--no-frames", "--duration", "0.3"]
+    assert calls == [(sys.executable, [*common, *flags]) for flags in waits.RUNS.values()]
     with open(out / "chalk-speed.csv") as f:
         rows = {r["run"]: r for r in csv.DictReader(f)}
     assert list(rows) == list(waits.RUNS) and list(rows["pushed"]) == waits.COLUMNS
-    assert {r["python"] for r in rows.values()} == {f"{platform.python_version()} {python}"}
-    for r in rows.values():
-        assert float(r["simulated_s"]) == 0.3
-        assert float(r["wall_s"]) > float(r["stepping_wall_s"]) > 0
-        per_second = float(r["wall_per_simulated_s"])      # the CSV's 6 significant digits
-        assert abs(per_second - float(r["wall_s"]) / 0.3) <= 1e-5 * per_second
-    assert float(rows["dragged"]["newton_per_step"]) < float(
-        rows["dragged, from x^n"]["newton_per_step"])
+    assert {r["python"] for r in rows.values()} == {
+        f"{platform.python_version()} {sys.executable}"}
+    assert {r["wall_s"] for r in rows.values()} == {"1.23457"}
+    assert {r["wall_per_simulated_s"] for r in rows.values()} == {"4.11523"}
     printed = capsys.readouterr().out
     assert "wall / simulated s" in printed and "Target for" in printed
     assert "not judged: a short run's start-up" in printed
