@@ -1,18 +1,8 @@
-"""Error against run time: the work-precision report.
+"""Error against run time over h, the Newton tolerance and the friction mode (lagged, or fully
+implicit: Algorithm 5), on the cases of closed_forms.py and the full scene (benchmarks/README.md):
 
-    python -m benchmarks.error_vs_runtime            # the full sweep (about 30 s), from the repo root
-    python -m benchmarks.error_vs_runtime --quick    # two time steps of one case, seconds (a smoke test)
-
-The full run writes into benchmarks/results/ (what benchmarks/README.md quotes), --quick into a new
-temporary folder, --out DIR into DIR.
-
-Sweeps the time step h, the Newton tolerance and the friction mode (lagged mu*lambda^n, as in the
-lecture, or fully implicit by up to FIXED_POINT_CAP fixed-point updates per step, Algorithm 5) over
-the closed-form cases of closed_forms.py and the lecture's full scene. For every run it records
-the error (each case has its own measure, see CASES), the wall-clock time per simulated second, and
-Newton iterations and friction updates (Algorithm 5's re-solves) per step. Prints a table, writes <out>/error_vs_runtime.csv and draws
-<out>/error_vs_runtime.png (error against run time, log-log, one panel per case, one line per
-friction mode and tolerance). Progress goes to stderr.
+    python -m benchmarks.error_vs_runtime            # the full sweep (about 30 s)
+    python -m benchmarks.error_vs_runtime --quick    # two time steps of free fall, a smoke test
 """
 import argparse
 import math
@@ -23,159 +13,119 @@ from dataclasses import dataclass
 
 import numpy as np
 
-import benchmarks
-import time_integrator
 import closed_forms as cases
+import time_integrator
+import benchmarks
 from benchmarks import plot, tables
 
 HS = (0.04, 0.02, 0.01, 0.005, 0.0025)
 QUICK_HS = (0.04, 0.02)
 TOLS = (1e-2, 1e-4, 1e-6)
-FIXED_POINT_CAP = 20                        # friction updates per step at most, fully implicit mode
+FIXED_POINT_CAP = 20
 MODES = {"lagged": 0, "implicit": FIXED_POINT_CAP}
 REFERENCE_H, REFERENCE_TOL = 0.000625, 1e-6  # the full scene's reference: 8x below the smallest h
 COLUMNS = ["case", "error_measure", "friction", "tol", "h", "steps", "error", "observed_order",
-           "wall_per_sim_second", "newton_per_step", "friction_updates_per_step", "unconverged_steps"]
+           "wall_per_sim_second", "newton_per_step", "friction_updates_per_step",
+           "unconverged_steps"]
 
 
-# ------------------------------------------------------------------------------------------------
-# The cases: a scene for (h, tol, friction updates), a duration, and an error measure
-# ------------------------------------------------------------------------------------------------
-
-def sliding_error(scene, run, reference):
-    """Relative error of the acceleration fitted over [0.1 s, end] (cases.acceleration_error)."""
-    return abs(cases.acceleration_error(scene, run))
-
-
-def sticking_error(scene, run, reference):
-    """Relative error of the mean creep speed down the slope over the run, against the mollified
-    friction's steady creep cases.creep_speed (6.98e-4 m/s): the converged answer of the model the
-    simulator discretizes, which implicit Euler reproduces at any h once the velocity is steady.
-    Coulomb friction would not creep at all; a creep slower than the model's (a Newton tolerance above
-    the creep speed stops Newton early) is an error here, not a better answer."""
+def creep_error(scene, run, reference):
+    """Relative error of the mean creep speed against the mollified friction's steady creep."""
     s, _ = run.downhill(scene)
     exact = cases.creep_speed(scene)
     return abs(s[-1] / run.t[-1] - exact) / exact
 
 
-def free_fall_error(scene, run, reference):
-    """Distance of the centre of mass from x0 + v0 t + g t^2 / 2 at the end, in m."""
-    return float(np.linalg.norm(run.com[-1] - cases.free_fall_com(scene, run.t[-1:])[0]))
-
-
-def full_scene_error(scene, run, reference):
-    """Largest distance of the centre of mass from the reference run's over the whole run, in m."""
-    return cases.max_com_error(run, reference)
-
-
 @dataclass(frozen=True)
 class Case:
     name: str
-    measure: str            # what `error` measures, for the table, the CSV and the plot
+    measure: str            # what `error` measures
     duration: float         # simulated seconds per run
-    friction: bool          # False: no contact, the two friction modes are one and the same run
-    ordered: bool           # True: h is what the error measures, so observed orders in h are reported
+    friction: bool          # False: no contact, one run stands for both friction modes
+    ordered: bool           # True: h causes the error, so observed orders in h are reported
     build: object           # (h, tol, friction_updates) -> scene
     error: object           # (scene, run, reference run or None) -> float
 
 
 CASES = (
     Case("sliding", "relative acceleration error (mu 0.05, tan 0.1)", 0.4, True, False,
-         lambda h, tol, fu: cases.resting_scene(cases.LECTURE_TAN, 0.05, h=h, tol=tol, friction_updates=fu),
-         sliding_error),
+         lambda h, tol, fu: cases.resting_scene(cases.LECTURE_TAN, 0.05, h=h, tol=tol,
+                                                friction_updates=fu),
+         lambda scene, run, reference: abs(cases.acceleration_error(scene, run))),
     Case("sticking", "relative error of the creep over 0.2 s (mu 0.11)", 0.2, True, False,
-         lambda h, tol, fu: cases.resting_scene(cases.LECTURE_TAN, 0.11, h=h, tol=tol, friction_updates=fu),
-         sticking_error),
+         lambda h, tol, fu: cases.resting_scene(cases.LECTURE_TAN, 0.11, h=h, tol=tol,
+                                                friction_updates=fu), creep_error),
     Case("free fall", "COM error at 0.4 s, m", 0.4, False, True,
-         lambda h, tol, fu: cases.free_fall_scene(h=h, tol=tol), free_fall_error),
+         lambda h, tol, fu: cases.free_fall_scene(h=h, tol=tol),
+         lambda scene, run, reference: float(np.linalg.norm(
+             run.com[-1] - cases.free_fall_com(scene, run.t[-1:])[0]))),
     Case("full scene", f"max COM error over 0.6 s vs h = {REFERENCE_H:g}, m", 0.6, True, True,
-         lambda h, tol, fu: cases.full_scene(h=h, tol=tol, friction_updates=fu), full_scene_error),
+         lambda h, tol, fu: cases.full_scene(h=h, tol=tol, friction_updates=fu),
+         lambda scene, run, reference: cases.max_com_error(run, reference)),
 )
 
-
-# ------------------------------------------------------------------------------------------------
-# The sweep
-# ------------------------------------------------------------------------------------------------
 
 def plan(quick):
     """The runs, in order: (case, friction mode, tol, h)."""
     hs, chosen = (QUICK_HS, CASES[2:3]) if quick else (HS, CASES)
-    runs = []
-    for case in chosen:
-        for mode in (MODES if case.friction else ("none",)):
-            for tol in TOLS:
-                runs.extend((case, mode, tol, h) for h in hs)
-    return runs
+    return [(case, mode, tol, h) for case in chosen
+            for mode in (MODES if case.friction else ("none",)) for tol in TOLS for h in hs]
 
 
-def _quarters(fraction, log):
-    if round(20 * fraction) % 5 == 0:
-        print(f"  reference {100 * fraction:3.0f} %", file=log, flush=True)
-
-
-def full_scene_reference(log):
-    """The full scene's reference run, and the largest distance of its centre of mass from that of the
-    same run at twice its time step: an estimate of the reference's own error."""
+def full_scene_reference():
+    """The full scene's reference run, and how far the same run at twice its h strays from it (an
+    estimate of the reference's own error)."""
     full = CASES[3]
-    print(f"reference: full scene, h={REFERENCE_H:g}, tol={REFERENCE_TOL:g}, lagged ...", file=log, flush=True)
-    reference = cases.run(full.build(REFERENCE_H, REFERENCE_TOL, 0), full.duration,
-                          progress=lambda f: _quarters(f, log))
+    print(f"reference: full scene, h={REFERENCE_H:g}, tol={REFERENCE_TOL:g}, lagged ...",
+          file=sys.stderr, flush=True)
+
+    def quarters(fraction):
+        if round(20 * fraction) % 5 == 0:
+            print(f"  reference {100 * fraction:3.0f} %", file=sys.stderr, flush=True)
+    reference = cases.run(full.build(REFERENCE_H, REFERENCE_TOL, 0), full.duration, quarters)
     coarser = cases.run(full.build(2 * REFERENCE_H, REFERENCE_TOL, 0), full.duration)
-    print(f"  reference done in {reference.wall + coarser.wall:.1f} s", file=log, flush=True)
+    print(f"  reference done in {reference.wall + coarser.wall:.1f} s", file=sys.stderr, flush=True)
     return reference, cases.max_com_error(coarser, reference)
 
 
-def sweep(quick=False, log=None):
-    """Run the plan, printing progress to `log` (default stderr). Returns the CSV rows as dicts and
-    lines about the reference to print under the table."""
-    log = sys.stderr if log is None else log
+def sweep(quick=False):
+    """Run the plan, progress on stderr: the CSV rows (dicts) and notes on the reference."""
     runs = plan(quick)
     reference, notes = None, []
     if any(case is CASES[3] for case, *_ in runs):
-        reference, spread = full_scene_reference(log)
-        notes.append(f"full scene reference: h = {REFERENCE_H:g}, tol {REFERENCE_TOL:g}, lagged; the same run at "
-                     f"h = {2 * REFERENCE_H:g} differs from it by up to {spread:.1e} m (an estimate of its own error)")
-    rows = []
+        reference, spread = full_scene_reference()
+        notes.append(f"full scene reference: h = {REFERENCE_H:g}, tol {REFERENCE_TOL:g}, lagged; "
+                     f"the same run at h = {2 * REFERENCE_H:g} differs from it by up to "
+                     f"{spread:.1e} m (an estimate of its own error)")
+    rows, previous = [], {}
     for i, (case, mode, tol, h) in enumerate(runs, 1):
         scene = case.build(h, tol, MODES.get(mode, 0))
-        row = {"case": case.name, "error_measure": case.measure, "friction": mode, "tol": tol, "h": h,
-               "steps": int(round(case.duration / h))}
+        row = {"case": case.name, "error_measure": case.measure, "friction": mode, "tol": tol,
+               "h": h, "steps": int(round(case.duration / h)), "unconverged_steps": 0,
+               **dict.fromkeys(COLUMNS[6:11], math.nan)}     # until measured
         try:
             run = cases.run(scene, case.duration)
-            row.update(error=case.error(scene, run, reference), wall_per_sim_second=run.wall / case.duration,
+            row.update(error=case.error(scene, run, reference),
+                       wall_per_sim_second=run.wall / case.duration,
                        newton_per_step=float(run.newton_iterations.mean()),
                        friction_updates_per_step=float(run.friction_updates.mean()),
                        unconverged_steps=int(np.sum(~run.friction_converged)))
-        except time_integrator.SimulationError as err:     # kept in the table as nan, not fatal
-            row.update(error=math.nan, wall_per_sim_second=math.nan, newton_per_step=math.nan,
-                       friction_updates_per_step=math.nan, unconverged_steps=0)
-            print(f"  failed: {err}", file=log)
+        except time_integrator.SimulationError as err:     # kept in the table as nan
+            print(f"  failed: {err}", file=sys.stderr)
+        before = previous.get((case.name, mode, tol))     # the same line at the previous h
+        if case.ordered and before and before["error"] > 0 and row["error"] > 0:
+            row["observed_order"] = (math.log(before["error"] / row["error"])
+                                     / math.log(before["h"] / row["h"]))
         rows.append(row)
-        print(f"[{i:3d}/{len(runs)}] {case.name:10s} {mode:8s} tol={tol:.0e} h={h:<7g} error={row['error']:.3e}"
-              f"  {row['wall_per_sim_second']:.2f} s/sim-s", file=log, flush=True)
-    add_orders(rows)
+        previous[case.name, mode, tol] = row
+        print(f"[{i:3d}/{len(runs)}] {case.name:10s} {mode:8s} tol={tol:.0e} h={h:<7g} "
+              f"error={row['error']:.3e}  {row['wall_per_sim_second']:.2f} s/sim-s",
+              file=sys.stderr, flush=True)
     return rows, notes
 
 
-def add_orders(rows):
-    """Observed order between each run and the previous time step of the same line (case, mode, tol),
-    for the cases whose error h causes (sliding's comes from the Newton tolerance, sticking's from
-    eps_v: an 'order' there would be noise)."""
-    previous, ordered = {}, {case.name for case in CASES if case.ordered}
-    for row in rows:
-        key = (row["case"], row["friction"], row["tol"])
-        before = previous.get(key)
-        row["observed_order"] = math.nan
-        if row["case"] in ordered and before is not None and before["error"] > 0 and row["error"] > 0:
-            row["observed_order"] = math.log(before["error"] / row["error"]) / math.log(before["h"] / row["h"])
-        previous[key] = row
-
-
-# ------------------------------------------------------------------------------------------------
-# Output: table, CSV, plot
-# ------------------------------------------------------------------------------------------------
-
-def _num(value, fmt):
+def number(value, fmt):
+    """`value` formatted, or '-' in its width where it is nan."""
     if isinstance(value, float) and math.isnan(value):
         return "-".rjust(int(fmt.split(".")[0]))
     return format(value, fmt)
@@ -183,30 +133,31 @@ def _num(value, fmt):
 
 def table(rows):
     """The table as text, grouped by case, each group headed by its error measure."""
-    head = f"{'friction':9s} {'tol':>6s} {'h':>7s} {'error':>10s} {'order':>6s} {'wall s/sim s':>12s} " \
-           f"{'newton/step':>11s} {'updates/step':>12s}"
+    head = (f"{'friction':9s} {'tol':>6s} {'h':>7s} {'error':>10s} {'order':>6s} "
+            f"{'wall s/sim s':>12s} {'newton/step':>11s} {'updates/step':>12s}")
     out, case = [], None
     for row in rows:
         if row["case"] != case:
             case = row["case"]
             out += ["", f"{case}: {row['error_measure']}", head]
-        out.append(f"{row['friction']:9s} {row['tol']:6.0e} {row['h']:7g} {_num(row['error'], '10.3e')} "
-                   f"{_num(row['observed_order'], '6.2f')} {_num(row['wall_per_sim_second'], '12.2f')} "
-                   f"{_num(row['newton_per_step'], '11.2f')} {_num(row['friction_updates_per_step'], '12.2f')}")
+        out.append(" ".join([f"{row['friction']:9s} {row['tol']:6.0e} {row['h']:7g}"] + [
+            number(row[key], fmt) for key, fmt in (
+                ("error", "10.3e"), ("observed_order", "6.2f"), ("wall_per_sim_second", "12.2f"),
+                ("newton_per_step", "11.2f"), ("friction_updates_per_step", "12.2f"))]))
     return "\n".join(out[1:])
 
 
 TOL_COLORS = {1e-2: (214, 39, 40), 1e-4: (31, 119, 180), 1e-6: (44, 160, 44)}
-MODE_LOOK = {"lagged": (False, "o"), "none": (False, "o"), "implicit": (True, "s")}
 
 
 def style(mode, tol):
-    dashed, marker = MODE_LOOK[mode]
-    return plot.Style(TOL_COLORS.get(tol, (0, 0, 0)), dashed, marker)
+    """A tolerance's colour; fully implicit friction dashed with squares."""
+    implicit = mode == "implicit"
+    return plot.Style(TOL_COLORS.get(tol, (0, 0, 0)), implicit, "s" if implicit else "o")
 
 
 def draw(path, rows):
-    """The PNG: one panel per case, one line per (friction mode, tolerance) through its time steps."""
+    """The PNG: one panel per case, one line per (friction mode, tolerance) through its h."""
     panels, lines = {}, {}
     for row in rows:
         if row["case"] not in panels:
@@ -225,31 +176,32 @@ def draw(path, rows):
     hs = ", ".join(f"{h:g}" for h in sorted({row["h"] for row in rows}, reverse=True))
     notes = [f"Each line: one friction mode and Newton tolerance (m/s) through h = {hs} s;"
              " a smaller h costs more (further right).",
-             "Free fall has no contact: its one run per tolerance is drawn solid. Fully implicit friction:"
-             f" up to {FIXED_POINT_CAP} fixed-point updates per step."]
+             "Free fall has no contact: its one run per tolerance is drawn solid. Fully implicit "
+             f"friction: up to {FIXED_POINT_CAP} fixed-point updates per step."]
     if "sticking" in panels:
         creep = cases.creep_speed(CASES[1].build(HS[0], TOLS[-1], 0))
-        notes += [f"Sticking: the mean creep speed against the mollified friction's steady creep, {creep:.3g} m/s, the"
-                  " converged answer (Coulomb",
-                  "friction would not creep at all; a Newton tolerance that stops Newton early creeps too slowly)."]
+        notes += [f"Sticking: the mean creep speed against the mollified friction's steady creep,"
+                  f" {creep:.3g} m/s, the converged answer (Coulomb",
+                  "friction would not creep at all; a Newton tolerance that stops Newton early "
+                  "creeps too slowly)."]
     plot.save_loglog_panels(path, "Error against run time", list(panels.values()), legend, notes)
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="python -m benchmarks.error_vs_runtime", description=__doc__.split("\n\n")[0])
-    ap.add_argument("--quick", action="store_true", help=f"only free fall at h = {QUICK_HS} (a smoke test)")
-    ap.add_argument("--out", help="folder for error_vs_runtime.csv and .png (default: benchmarks/results/ for "
-                                  "the full run, a new temporary folder with --quick)")
+    ap = argparse.ArgumentParser(prog="python -m benchmarks.error_vs_runtime",
+                                 description=__doc__.split("\n\n")[0])
+    ap.add_argument("--quick", action="store_true", help=f"only free fall at h = {QUICK_HS}")
+    ap.add_argument("--out", help="folder for error_vs_runtime.csv and .png")
     args = ap.parse_args(argv)
     out = benchmarks.output_folder(args.out, not args.quick, "error_vs_runtime")
     start = time.perf_counter()
     rows, notes = sweep(quick=args.quick)
-    print("\n".join([table(rows), ""] + notes if notes else [table(rows)]))
-    csv_path = os.path.join(out, "error_vs_runtime.csv")
-    png_path = os.path.join(out, "error_vs_runtime.png")
-    tables.write_csv(csv_path, COLUMNS, rows)
-    draw(png_path, rows)
-    print(f"\n{len(rows)} runs in {time.perf_counter() - start:.0f} s; wrote {csv_path} and {png_path}", file=sys.stderr)
+    print("\n".join([table(rows)] + ([""] + notes if notes else [])))
+    paths = [os.path.join(out, f"error_vs_runtime.{ext}") for ext in ("csv", "png")]
+    tables.write_csv(paths[0], COLUMNS, rows)
+    draw(paths[1], rows)
+    print(f"\n{len(rows)} runs in {time.perf_counter() - start:.0f} s; wrote {paths[0]} and "
+          f"{paths[1]}", file=sys.stderr)
     return 0
 
 

@@ -4,13 +4,12 @@ import os
 import tempfile
 
 import benchmarks
-from benchmarks import error_vs_runtime
+from benchmarks import energies, error_vs_runtime, speed
 from helpers.checkout import checkout_state
 
 
 def test_energy_benchmark_quick_table(tmp_path, capsys):
-    """benchmarks/energies.py --quick: one row per size with every column, ratios computed from them."""
-    from benchmarks import energies
+    """energies --quick: one row per size with every column, the ratio computed from them."""
     rows = energies.main(["--quick", "--out", str(tmp_path)])
     assert [r["n_seg"] for r in rows] == [8, 16]
     for r in rows:
@@ -20,21 +19,21 @@ def test_energy_benchmark_quick_table(tmp_path, capsys):
     assert "target ratio < 0.5" in capsys.readouterr().out
 
 
-def test_smoke_runs_write_into_a_temporary_folder_and_leave_the_checkout_clean(tmp_path, monkeypatch, capsys):
-    """Each benchmark's smoke run (--quick; speed also with --sizes, a partial table), without --out,
-    writes into a new temporary folder of its own: `git status --porcelain` and benchmarks/results/
-    stay as they were (issue 26). reading_path writes no file (its test checks the same around it);
-    only a full run writes into benchmarks/results/."""
-    from benchmarks import energies, speed
+def test_smoke_runs_write_into_a_temporary_folder_and_leave_the_checkout_clean(
+        tmp_path, monkeypatch, capsys):
+    """Each benchmark's smoke run (--quick; speed also with --sizes, a partial table), without
+    --out, writes into a new temporary folder of its own: `git status --porcelain` and
+    benchmarks/results/ stay as they were (issue 26); only a full run writes into results/."""
     before = checkout_state()
-    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))       # where tempfile.mkdtemp creates folders
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))     # where mkdtemp makes folders
     assert error_vs_runtime.main(["--quick"]) == 0
     energies.main(["--quick"])
     assert speed.main(["--quick", "--sizes", "4"]) == 0
     assert checkout_state() == before
-    written = {folder.name.split("-")[0]: sorted(os.listdir(folder)) for folder in tmp_path.iterdir()}
+    written = {f.name.split("-")[0]: sorted(os.listdir(f)) for f in tmp_path.iterdir()}
     assert written == {"error_vs_runtime": ["error_vs_runtime.csv", "error_vs_runtime.png"],
                        "energies": ["energies.csv"], "speed": ["speed.csv"]}
     assert str(tmp_path) in capsys.readouterr().err                 # each says where it wrote
     assert benchmarks.output_folder(None, True, "speed") == benchmarks.RESULTS
-    assert benchmarks.output_folder(str(tmp_path / "mine"), False, "speed") == str(tmp_path / "mine")
+    mine = str(tmp_path / "mine")
+    assert benchmarks.output_folder(mine, False, "speed") == mine

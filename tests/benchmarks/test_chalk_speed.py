@@ -1,69 +1,130 @@
-"""benchmarks/chalk_speed.py: the chalk's wait as a student meets it (`python -m benchmarks.speed --chalk`)."""
+"""benchmarks/waits.py: whole simulator.py processes, the chalk's wait as a student meets it
+(`benchmarks.speed --chalk`) and the frames' cost (`--frames`)."""
 import csv
 import os
 import platform
-import subprocess
 import sys
 
 import pytest
 
+from benchmarks import speed, waits
 from helpers.checkout import ROOT, checkout_state
 
 
-def test_the_chalk_speed_table_has_each_run_and_counts_newton_as_log_csv_does(tmp_path):
-    """--chalk --quick: one 0.3 s process per run into chalk-speed.csv, nothing in the checkout. No timing
-    is asserted; the Newton counts are log.csv's, so the dragged chalk from x^n, whose tip starts each
-    solve at v = 0, takes more iterations per step than from x_tilde (measured 1.99 against 1.03)."""
-    from benchmarks import chalk_speed
+def test_the_chalk_runs_under_the_python_given_count_newton_as_log_csv_does(tmp_path):
+    """Real 0.3 s processes of P, this interpreter under a second name (a script that runs it).
+    No timing is asserted; the Newton counts are log.csv's, so the dragged chalk from x^n, whose
+    tip starts each solve at v = 0, takes more iterations per step than from x_tilde (measured
+    1.99 against 1.03)."""
+    python = sys.executable
+    if os.name != "nt":             # the second name is a POSIX shell script
+        python = str(tmp_path / "python-again")
+        with open(python, "w") as f:
+            f.write(f'#!/bin/sh\nexec "{sys.executable}" "$@"\n')
+        os.chmod(python, 0o755)
     before = checkout_state()
-    result = subprocess.run([sys.executable, "-m", "benchmarks.speed", "--chalk", "--quick", "--out", str(tmp_path)],
-                            cwd=ROOT, capture_output=True, text=True, timeout=300)
-    assert result.returncode == 0, result.stderr
-    rows = {r["run"]: r for r in csv.DictReader(open(tmp_path / "chalk-speed.csv"))}
-    assert list(rows) == list(chalk_speed.RUNS) and list(next(iter(rows.values()))) == chalk_speed.COLUMNS
-    assert {r["python"] for r in rows.values()} == {f"{platform.python_version()} {sys.executable}"}
-    for r in rows.values():
-        assert float(r["simulated_s"]) == 0.3 and float(r["wall_s"]) > float(r["stepping_wall_s"]) > 0
-        per_second = float(r["wall_per_simulated_s"])      # the CSV's 6 significant digits
-        assert abs(per_second - float(r["wall_s"]) / 0.3) <= 1e-5 * per_second
-    assert float(rows["dragged"]["newton_per_step"]) < float(rows["dragged, from x^n"]["newton_per_step"])
-    assert "wall / simulated s" in result.stdout and "Target for" in result.stdout
+    runs = {name: waits.RUNS[name] for name in ("dragged", "dragged, from x^n")}
+    rows = waits.chalk_table(1, 0.3, runs, {python: waits.python_version(python)})
+    assert [(r["python"], r["run"]) for r in rows] == [
+        (f"{platform.python_version()} {python}", name) for name in runs]
+    for r in rows:
+        assert r["simulated_s"] == 0.3 and r["wall_s"] > r["stepping_wall_s"] > 0
+        assert r["wall_per_simulated_s"] == r["wall_s"] / 0.3
+    assert rows[0]["newton_per_step"] < rows[1]["newton_per_step"]
     assert checkout_state() == before
 
 
-def test_each_python_runs_every_run_in_turn(tmp_path):
-    """--python A,B: the runs under each interpreter (here this one under a second name, a script that
-    runs it), the rows named by each one's version and path, and a verdict per interpreter; only the
-    pushed run, once, 0.3 s (chalk_table's `runs`), nothing in the checkout."""
-    from benchmarks import chalk_speed
-    if os.name == "nt":
-        pytest.skip("the second name is a POSIX shell script")
-    other = tmp_path / "python-again"
-    other.write_text(f'#!/bin/sh\nexec "{sys.executable}" "$@"\n')
-    other.chmod(0o755)
+def test_the_chalk_table_has_each_run_once_with_quick(tmp_path, monkeypatch, capsys):
+    """--chalk --quick: one 0.3 s process per run, under this interpreter, into chalk-speed.csv
+    (the CSV's 6 significant digits), the table and its note printed, nothing in the checkout.
+    (The processes are stubbed: the test above runs them.)"""
+    calls = []
+
+    def run_simulator(folder, flags, python=sys.executable):
+        calls.append((python, flags))
+        return {"wall": 1.234567891, "cpu": 1.2, "stepping": 0.5, "newton": 1.25,
+                "simulated": 0.3, "frames": 0}
+    monkeypatch.setattr(waits, "run_simulator", run_simulator)
     before = checkout_state()
-    pythons = {sys.executable: platform.python_version(), str(other): chalk_speed.python_version(str(other))}
-    rows = chalk_speed.chalk_table(1, 0.3, {"pushed": []}, pythons)
-    assert [(r["python"], r["run"]) for r in rows] == [(f"{v} {p}", "pushed") for p, v in pythons.items()]
-    assert all(r["simulated_s"] == 0.3 and r["newton_per_step"] > 0 for r in rows)
-    assert rows[0]["newton_per_step"] == rows[1]["newton_per_step"]        # one interpreter: one trajectory
-    rows = [{**r, "simulated_s": 3.0, "wall_per_simulated_s": w} for r, w in zip(rows, (2.5, 3.5))]
-    assert chalk_speed.format_chalk_table(rows, 1).endswith(
-        f"met with Python {platform.python_version()} (2.50 s); NOT met with Python {pythons[str(other)]} (3.50 s).")
+    out = tmp_path / "out"
+    assert speed.main(["--chalk", "--quick", "--out", str(out)]) == 0
+    common = ["--scene", "chalk", "--no-frames", "--duration", "0.3"]
+    assert calls == [(sys.executable, [*common, *flags]) for flags in waits.RUNS.values()]
+    with open(out / "chalk-speed.csv") as f:
+        rows = {r["run"]: r for r in csv.DictReader(f)}
+    assert list(rows) == list(waits.RUNS) and list(rows["pushed"]) == waits.COLUMNS
+    assert {r["python"] for r in rows.values()} == {
+        f"{platform.python_version()} {sys.executable}"}
+    assert {r["wall_s"] for r in rows.values()} == {"1.23457"}
+    assert {r["wall_per_simulated_s"] for r in rows.values()} == {"4.11523"}
+    printed = capsys.readouterr().out
+    assert "wall / simulated s" in printed and "Target for" in printed
+    assert "not judged: a short run's start-up" in printed
     assert checkout_state() == before
+
+
+def test_each_python_runs_every_run_in_turn(monkeypatch):
+    """chalk_table: the processes go round the interpreters and runs in turn, repeat after repeat;
+    a row holds the medians of its own, named by version and path; the 3 s default is judged
+    against the target per interpreter. (The processes are stubbed: the test above runs them.)"""
+    calls = []
+
+    def run_simulator(folder, flags, python=sys.executable):
+        calls.append((python, flags))
+        wall = [3.0, 9.0, 6.0][(len(calls) - 1) // 4 % 3] + (python == "B")
+        return {"wall": wall, "cpu": wall, "stepping": 1.0, "newton": len(flags),
+                "simulated": 3.0, "frames": 0}
+    monkeypatch.setattr(waits, "run_simulator", run_simulator)
+    runs = {"pushed": [], "dragged": ["--drag"]}
+    rows = waits.chalk_table(3, None, runs, {"A": "3.11.2", "B": "3.14.0"})
+    flags = [["--scene", "chalk", "--no-frames", *f] for f in runs.values()]
+    assert calls == 3 * [(p, f) for p in "AB" for f in flags]
+    assert [(r["python"], r["run"]) for r in rows] == [
+        (f"{v} {p}", run) for p, v in (("A", "3.11.2"), ("B", "3.14.0")) for run in runs]
+    assert [r["wall_s"] for r in rows] == [6.0, 6.0, 7.0, 7.0]          # medians of 3, 9, 6
+    assert rows[1]["newton_per_step"] == 4 and rows[0]["noise"].startswith("NOISY")
+    rows = [{**r, "wall_per_simulated_s": w} for r, w in zip(rows, (2.5, 9, 3.5, 9))]
+    assert waits.format_chalk_table(rows, 3).endswith(
+        "met with Python 3.11.2 (2.50 s); NOT met with Python 3.14.0 (3.50 s).")
+    calls.clear()
+    row = waits.chalk_table(1, 0.3, {"pushed": []})[0]
+    assert calls == [(sys.executable, ["--scene", "chalk", "--no-frames", "--duration", "0.3"])]
+    assert row["python"] == f"{platform.python_version()} {sys.executable}"
+
+
+def test_the_frames_cost_is_the_ratio_of_the_medians_of_runs_in_turn(monkeypatch, capsys):
+    """--frames: the default run and --no-frames in turn, repeat after repeat; the medians, their
+    ratio against the target of 3x, frames per simulated second. (The processes are stubbed.)"""
+    calls = []
+
+    def run_simulator(folder, flags, python=sys.executable):
+        calls.append(flags)
+        wall = (2.0 if flags == [] else 1.0) * [1.0, 1.1, 0.9][(len(calls) - 1) // 2]
+        return {"wall": wall, "cpu": wall, "stepping": 0.5, "newton": 2.0, "simulated": 6.0,
+                "frames": 201 if flags == [] else 0}
+    monkeypatch.setattr(waits, "run_simulator", run_simulator)
+    assert speed.main(["--frames", "--quick"]) == 0
+    assert calls == 3 * [[], ["--no-frames"]]
+    assert capsys.readouterr().out == (
+        "python simulator.py: 2.00 s with 201 frames (33.3 per simulated second), 1.00 s with "
+        "--no-frames (whole processes, medians of 3, run alternately): 2.00x (target <= 3x: met; "
+        "repeats spread 20%)\n")
 
 
 @pytest.mark.parametrize("argv, words", [
-    (["--chalk", "--python", "/nonexistent/python"], "--python '/nonexistent/python' could not be run"),
-    (["--chalk", "--python", ROOT], f"--python {ROOT!r} could not be run"),           # a folder
+    (["--chalk", "--python", "/nonexistent/python"],
+     "--python '/nonexistent/python' could not be run"),
+    (["--chalk", "--python", ROOT], f"--python {ROOT!r} could not be run"),      # a folder
     (["--python", sys.executable], "--python needs --chalk"),
 ])
-def test_a_bad_python_is_one_line_and_exit_2_before_anything_is_written(tmp_path, argv, words):
-    """An interpreter that cannot be run (missing, a folder), or --python without --chalk: one line naming
-    --python, exit status 2, no output folder made."""
+def test_a_bad_python_is_one_line_and_exit_2_before_anything_is_written(
+        tmp_path, capsys, argv, words):
+    """An interpreter that cannot be run (missing, a folder), or --python without --chalk: one
+    line naming --python, exit status 2, no output folder made."""
     out = tmp_path / "out"
-    result = subprocess.run([sys.executable, "-m", "benchmarks.speed", *argv, "--out", str(out)], cwd=ROOT,
-                            capture_output=True, text=True, timeout=300)
-    lines = result.stderr.splitlines()
-    assert result.returncode == 2 and result.stdout == "" and len(lines) == 1, result.stderr
-    assert lines[0].startswith("python -m benchmarks.speed: error: ") and words in lines[0] and not out.exists()
+    assert speed.main([*argv, "--out", str(out)]) == 2
+    printed = capsys.readouterr()
+    lines = printed.err.splitlines()
+    assert printed.out == "" and len(lines) == 1, printed.err
+    assert lines[0].startswith("python -m benchmarks.speed: error: ") and words in lines[0]
+    assert not out.exists()

@@ -1,7 +1,7 @@
-"""benchmarks/error_vs_runtime.py: the work-precision report's quick run, its table, CSV and plot."""
+"""benchmarks/error_vs_runtime.py: the quick run of the work-precision report, its table, CSV
+and plot."""
 import csv
 import os
-
 
 from benchmarks import error_vs_runtime
 

@@ -2,7 +2,6 @@
 and on this tree."""
 import os
 
-
 from helpers.checkout import ROOT, checkout_state
 
 
@@ -40,8 +39,8 @@ def test_code_lines_leave_out_blanks_comments_and_docstrings():
 
 
 def test_reading_path_counts_the_functions_that_ran_once_with_their_generators(tmp_path):
-    """f ran (its generator expression is part of f), method ran twice, g never ran: 2 functions, 3 + 2
-    lines in mod.py; a file outside the tree's top level is not a project file."""
+    """f ran (its generator expression is part of f), method ran twice, g never ran: 2 functions,
+    3 + 2 lines in mod.py; a file outside the tree's top level is not a project file."""
     from benchmarks import reading_path
     path = tmp_path / "mod.py"
     path.write_text(SOURCE)
@@ -55,17 +54,19 @@ def test_reading_path_counts_the_functions_that_ran_once_with_their_generators(t
                 walk(const)
     walk(module)
     ran = {codes["f"], codes["<genexpr>"], codes["method"]}
-    assert reading_path.reading_path(ran, str(tmp_path)) == {"mod.py": (2, 5)}
-    assert reading_path.functions_that_ran(ran, str(tmp_path)) == {"mod.py": {(5, "f"): {5, 9, 11}, (23, "method"): {23, 24}}}
-    listed = reading_path.format_functions([("mod.py", "f", 5, 3), ("mod.py", "method", 23, 2)]).splitlines()
-    assert [line.split() for line in listed] == [["mod.py:5", "f", "3"], ["mod.py:23", "method", "2"]]
+    found = reading_path.functions_that_ran(ran, str(tmp_path))
+    assert found == {"mod.py": {(5, "f"): {5, 9, 11}, (23, "method"): {23, 24}}}
+    assert reading_path.reading_path(found) == {"mod.py": (2, 5)}
+    listed = reading_path.format_functions([("mod.py", "f", 5, 3), ("mod.py", "method", 23, 2)])
+    assert [line.split() for line in listed.splitlines()] == [
+        ["mod.py:5", "f", "3"], ["mod.py:23", "method", "2"]]
     assert reading_path.is_project_file(str(path), str(tmp_path))
     assert not reading_path.is_project_file(str(tmp_path / "tests" / "mod.py"), str(tmp_path))
 
 
 def test_reading_path_of_this_tree_against_itself(capsys):
     """python -m benchmarks.reading_path --against <this tree>: the same table twice, counting the
-    integrator and the simulator, each file within its code lines, and the totals in the last line."""
+    integrator and the simulator, each file within its code lines, the totals in the last line."""
     from benchmarks import reading_path
     before = checkout_state()
     assert reading_path.main(["--against", ROOT]) == 0
@@ -74,11 +75,13 @@ def test_reading_path_of_this_tree_against_itself(capsys):
     tables = [out[out.index(title) + 2:] for title in ("working tree", ROOT)]
     tables = [table[:[line.split()[0] for line in table].index("total")] for table in tables]
     assert tables[0] == tables[1]
-    per_file = {name: (int(functions), int(lines)) for name, functions, lines in map(str.split, tables[0])}
+    per_file = {name: (int(functions), int(lines))
+                for name, functions, lines in map(str.split, tables[0])}
     assert {"time_integrator.py", "simulator.py", "utils.py"} <= set(per_file)
     for name, (functions, lines) in per_file.items():
         assert 0 < functions <= lines
         with open(os.path.join(ROOT, name)) as f:
             assert lines <= len(reading_path.code_lines(f.read()))
     functions, lines = reading_path.totals(per_file)
-    assert out[-1] == f"working tree {lines} lines in {functions} functions; {ROOT} {lines} lines in {functions} functions"
+    counted = f"{lines} lines in {functions} functions"
+    assert out[-1] == f"working tree {counted}; {ROOT} {counted}"
