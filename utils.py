@@ -79,12 +79,10 @@ def check_points(name, x, shape=None):
     """`x` as a finite float64 (N, 2) array, of `shape` if given."""
     x = x if isinstance(x, np.ndarray) and x.dtype == np.float64 else _real_array(name, x)
     if x.ndim != 2 or x.shape[1] != 2 or shape not in (None, x.shape):
-        message = f"{name} must have shape {shape or '(N, 2)'}, got shape {x.shape}"
-        raise ParameterError(name, message)
+        raise ParameterError(name, f"{name} must have shape {shape or '(N, 2)'}, got {x.shape}")
     if not np.isfinite(x).all():
-        bad = np.argwhere(~np.isfinite(x))[0]
-        message = f"{name} has a non-finite value {x[tuple(bad)]} at node {bad[0]}"
-        raise ParameterError(name, message)
+        node, axis = np.argwhere(~np.isfinite(x))[0]
+        raise ParameterError(name, f"{name} has a non-finite value {x[node, axis]} at node {node}")
     return x
 
 
@@ -236,9 +234,8 @@ def ijv_to_csr(ijv, n_dofs):
 
 def add_to_pairs(e, f, n):
     """(n, 2): each pair (a, b) of `e` adds its row of f (E, 2) to node a, subtracts it from b."""
-    a, b = (2 * e[:, i:i + 1] + np.arange(2) for i in (0, 1))       # the DOFs of a and b
-    added = np.bincount(a.ravel(), f.ravel(), 2 * n) - np.bincount(b.ravel(), f.ravel(), 2 * n)
-    return added.reshape(n, 2)
+    dofs = 2 * e[:, :, None] + np.arange(2)             # (E, 2, 2): the DOFs of a, then of b
+    return np.bincount(dofs.ravel(), np.stack([f, -f], axis=1).ravel(), 2 * n).reshape(n, 2)
 
 
 # ---- The Newton system's SPD solve, solver.solve(H, b): read it as spsolve(H, b) ----------------
@@ -294,8 +291,7 @@ class SPDSolver:
             return self._superlu_solve(H, b)
         factor, info = lapack.dpbtrf(self.upper_band(H), lower=0, overwrite_ab=1)
         if info != 0:
-            raise np.linalg.LinAlgError(f"banded Cholesky failed (dpbtrf info {info}): "
-                                        f"H is not positive definite")
+            raise np.linalg.LinAlgError(f"H is not positive definite (dpbtrf info {info})")
         return lapack.dpbtrs(factor, b, lower=0)[0]
 
     def _superlu_solve(self, H, b):
