@@ -153,8 +153,8 @@ def draw_cloths(pygame, surface, cloths, t, view):
             a, b = max(tail + k * half, s_lo), min(tail + (k + 1) * half, s_hi)
             corners = scene.o + np.array([a, b, b, a])[:, None] * tangent - depth * scene.n
             if a < b:
-                pygame.draw.polygon(surface, stripe if k % 2 else CLOTH_COLOR,
-                                    view(corners).tolist())
+                color = stripe if k % 2 else CLOTH_COLOR
+                pygame.draw.polygon(surface, color, view(corners).tolist())
 
 
 def length_text(metres, unit=1.0):
@@ -282,7 +282,7 @@ def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None, reserve=(0, 
     surface.fill(WHITE)
     font, small = fonts
     scene = runs[0]["scene"]
-    cloths = [run for run in runs if run["scene"].surface is not None]      # the tablecloth's
+    cloths = [run for run in runs if run["scene"].surface is not None]      # tablecloths
     draw_cloths(pygame, surface, cloths, t, view)
     below = draw_slope(pygame, surface, scene, view, BLUE, small, len(cloths) * CLOTH_DEPTH)
     chalks = [run for run in runs if run.get("marks") is not None]
