@@ -210,8 +210,9 @@ def run_window(plan, speed, size, signals, clock=None, log=None):
         try:
             orchestration.warn(plan, log)
             screen = pygame.display.set_mode((window_size(size, pygame),) * 2)
-            what = (f"n_seg = {scene.params['n_seg']}" if scene.hand is None
-                    else f"chalk, grip {scene.hand.k_hand:g} N/m")
+            what = (f"chalk, grip {scene.hand.k_hand:g} N/m" if scene.hand is not None
+                    else f"tablecloth, U = {scene.surface.pull_speed:g} m/s" if scene.surface
+                    else f"n_seg = {scene.params['n_seg']}")
             pygame.display.set_caption(f"simulator.py: mu = {scene.mu:g}, {what}")
             output = live.Files(plan, folder, log) if folder is not None else None
             window = LiveWindow(pygame, screen, scene, plan.steps[0], speed, output, clock, log,

@@ -27,6 +27,9 @@ ARROW_FIT = 0.75            # m: no arrow longer (3/4 of the square); the scale 
 HAND_COLOR = (73, 0, 85)    # the chalk's hand: its targets and springs
 MIN_CAP_HEIGHT = 0.022      # of the picture's height: the least capital (docs/live-demo.md)
 TITLE_SCALE = 1.2           # the title's capitals this much taller
+CLOTH_COLOR, CLOTH_STRIPE = (255, 219, 170), (219, 146, 85)     # the tablecloth and its stripes
+CLOTH_DEPTH = 0.08          # m (x view.unit): each run's cloth, a band this deep under the table
+CLOTH_STRIPES = 2.0         # m (x view.unit): the stripes' period along the cloth
 
 
 def load_pygame():
@@ -100,9 +103,10 @@ def slope_ends(scene, view):
     return view(scene.o + s_lo * tangent), view(scene.o + s_hi * tangent)
 
 
-def draw_slope(pygame, surface, scene, view, color=BLUE, font=None):
+def draw_slope(pygame, surface, scene, view, color=BLUE, font=None, clear=0.0):
     """The slope's line, a tick every MARK_SPACING x view.unit of arc length from o, and with `font`
-    a number every whole unit where it fits whole; returns the lowest row drawn (None: no slope)."""
+    a number every whole unit where it fits whole, `clear` x view.unit m under the line at least;
+    returns the lowest row drawn (None: no slope)."""
     if scene.n is None:
         return None
     a, b = slope_ends(scene, view)
@@ -116,17 +120,41 @@ def draw_slope(pygame, surface, scene, view, color=BLUE, font=None):
     feet = scene.o + s[:, None] * tangent
     whole = np.remainder(units, 1.0) == 0.0             # exact: multiples of 0.5
     ends = feet - view.unit * np.where(whole, 0.08, 0.04)[:, None] * scene.n
-    for foot, end, metres, w in zip(view(feet).tolist(), view(ends).tolist(), s.tolist(), whole):
+    under = view(feet - view.unit * max(0.08, clear) * scene.n).tolist()      # the numbers' tops
+    for foot, end, metres, w, at in zip(view(feet).tolist(), view(ends).tolist(), s.tolist(),
+                                        whole, under):
         pygame.draw.line(surface, color, foot, end, 2)
         lowest = max(lowest, end[1])
         if font is None or not w:
             continue
         label = font.render(length_text(metres, view.unit), True, color)
-        left = end[0] - label.get_width() / 2
+        left = at[0] - label.get_width() / 2
         if 0 <= left <= surface.get_width() - label.get_width():
-            surface.blit(label, (left, end[1] + 2))
-            lowest = max(lowest, end[1] + 2 + label.get_height())
+            surface.blit(label, (left, at[1] + 2))
+            lowest = max(lowest, at[1] + 2 + label.get_height())
     return lowest
+
+
+def draw_cloths(pygame, surface, cloths, t, view):
+    """Each run's cloth (scene.surface) as a band under the table, one under the other: from its
+    trailing edge, L behind the dish's rear at the start and pulled up to it (the dish on the cloth
+    throughout the pull), on past the view; striped (in the run's colour in a comparison), the
+    stripes moved by surface.offset(t)."""
+    for i, run in enumerate(cloths):
+        scene, cloth = run["scene"], run["scene"].surface
+        tangent, s_lo, s_hi = slope_span(scene, view)
+        rear = float(((scene.x0 - scene.o) @ tangent).min())
+        tail = rear - cloth.pull_length + cloth.offset(t)
+        half = 0.5 * CLOTH_STRIPES * view.unit
+        depth = CLOTH_DEPTH * view.unit * np.array([i, i, i + 1, i + 1])[:, None]
+        stripe = CLOTH_STRIPE if len(cloths) == 1 else run["color"]
+        first = max(0, math.floor((s_lo - tail) / half))
+        for k in range(first, first + math.ceil((s_hi - s_lo) / half) + 1):
+            a, b = max(tail + k * half, s_lo), min(tail + (k + 1) * half, s_hi)
+            corners = scene.o + np.array([a, b, b, a])[:, None] * tangent - depth * scene.n
+            if a < b:
+                color = stripe if k % 2 else CLOTH_COLOR
+                pygame.draw.polygon(surface, color, view(corners).tolist())
 
 
 def length_text(metres, unit=1.0):
@@ -254,7 +282,9 @@ def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None, reserve=(0, 
     surface.fill(WHITE)
     font, small = fonts
     scene = runs[0]["scene"]
-    below = draw_slope(pygame, surface, scene, view, BLUE, small)
+    cloths = [run for run in runs if run["scene"].surface is not None]      # tablecloths
+    draw_cloths(pygame, surface, cloths, t, view)
+    below = draw_slope(pygame, surface, scene, view, BLUE, small, len(cloths) * CLOTH_DEPTH)
     chalks = [run for run in runs if run.get("marks") is not None]
     if chalks:
         tip_marks.draw_marks(pygame, surface, chalks, view)
@@ -277,6 +307,9 @@ def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None, reserve=(0, 
     if newton_per_metre is not None:
         rows = arrows_legend(scene, view, factor, newton_per_metre)
         top = draw_legend(pygame, surface, small, rows, top + 4)
+    if cloths:
+        words = "the cloth" if len(cloths) == 1 else "the cloths, top to bottom as the runs"
+        top = draw_legend(pygame, surface, small, [(CLOTH_STRIPE, words)], top + 4)
     if scene.hand is not None:
         hand = [(HAND_COLOR, "the hand: its targets and springs")] + tip_marks.legend(chalks)
         top = draw_legend(pygame, surface, small, hand, top + 4)

@@ -12,9 +12,11 @@ LEFT, RIGHT = 80, 700           # the time axis's pixel columns; the legends sit
 LEGEND_TEXT = RIGHT + 34        # the column where a legend's text starts
 ENERGY_COLORS = {"kinetic": (230, 120, 0), "gravity": (120, 80, 40), "spring": (0, 150, 60),
                  "barrier": (200, 0, 160), "hand": (0, 150, 200), "total": (0, 0, 0),
-                 "W_friction": (0, 0, 255), "W_hand": (120, 0, 200), "-D_numerical": (200, 0, 0)}
+                 "W_friction": (0, 0, 255), "W_hand": (120, 0, 200), "-D_numerical": (200, 0, 0),
+                 "W_surface": (0, 170, 170), "-heat": (128, 128, 0)}
 ENERGY_LABELS = {"total": "total E", "W_friction": "friction work W", "W_hand": "hand work W_hand",
-                 "-D_numerical": "-D, numerical dissip."}
+                 "-D_numerical": "-D, numerical dissip.", "W_surface": "surface work W_surface",
+                 "-heat": "-heat, cloth's frame"}
 CHALK_PANELS = 4                    # one run's and a comparison's
 NORMAL_FORCE_COLOR = (219, 0, 0)    # draw.NORMAL_COLOR, as the frames' arrows
 DRIVE_COLOR, BLACK = (0, 150, 60), (0, 0, 0)    # the drive: one run's, a comparison's
@@ -142,10 +144,12 @@ def series(track):
     terms = ("kinetic",) + diagnostics.energy_terms(track.scene) + ("total",)
     hand = track.scene.hand is not None
     chalk = ("W_hand", "tip_speed", "drive_speed", "normal_force") if hand else ()
+    cloth = ("surface_work", "heat") if track.scene.surface is not None else ()
     return {"t": column("t"), "E": {k: column(f"E_{k}") for k in terms},
             "W": column("W_friction"), "D": column("D_numerical"),
             "newton": column("newton_iterations"), "W_hand": None,
             **{k: column(k) for k in chalk},
+            **{k: np.array([getattr(x, k) for x in s]) for k in cloth},
             "along": np.array([(c - com[0]) @ track.tangent for c in com]),
             "speed_t": np.concatenate([np.full(len(x.speeds), x.t) for x in s]),
             "speed": np.concatenate([x.speeds for x in s]),
@@ -294,13 +298,17 @@ def mark_rest(ax, track, color):
 
 
 def energy_panel(axes, d):
-    """The energy budget: each term, E, the work W (friction's, the hand's) and -D."""
-    hand = d["W_hand"] is not None
+    """The energy budget: each term, E, the work W (friction's, the hand's), with a moving surface
+    its work and the heat (W_friction = W_surface - heat), and -D."""
+    hand, cloth = d["W_hand"] is not None, "heat" in d
     curves = dict(d["E"], W_friction=d["W"], **({"W_hand": d["W_hand"]} if hand else {}))
+    if cloth:
+        curves.update({"W_surface": d["surface_work"], "-heat": -d["heat"]})
     curves["-D_numerical"] = -d["D"]
     lo = min(float(c.min()) for c in curves.values())
     hi = max(float(c.max()) for c in curves.values())
-    ax = axes(lo, hi, "energy budget (J): E = E(0) + W_friction" + (" + W_hand" if hand else "")
+    work = "W_surface - heat" if cloth else "W_friction"
+    ax = axes(lo, hi, f"energy budget (J): E = E(0) + {work}" + (" + W_hand" if hand else "")
               + " - D, D = implicit Euler's numerical dissipation", "E (J)")
     for key, values in curves.items():
         ax.line(d["t"], values, ENERGY_COLORS[key], 3 if key == "total" else 2)

@@ -26,7 +26,9 @@ def write(tracks, folder, stride, frames, frame_log, header):
     folder.write("plots.png", draw.png_data(pygame, surface, exact=True))
     if frames:
         fps = 1.0 / (stride * min(tr.scene.h for tr in tracks))
-        scene = "Chalk on a board: " if tracks[0].scene.hand is not None else "Square on a slope: "
+        first = tracks[0].scene
+        scene = ("Chalk on a board: " if first.hand is not None else "Dish on a tablecloth: "
+                 if first.surface is not None else "Square on a slope: ")
         note = " ".join(header) + "; " + closing_note(tracks)
         text = page.page_html(scene + ", ".join(tr.label for tr in tracks),
                               [tr.label for tr in tracks], frame_log, fps, axis,
