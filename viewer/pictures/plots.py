@@ -157,8 +157,9 @@ def series(track):
 
 
 def speed_range(speeds, epsv):
-    """A log axis from a decade below min(eps_v, the least speed > 0) up to the largest speed."""
-    positive = speeds[speeds > 0]
+    """A log axis from a decade below min(eps_v, the least speed > 0), but at most 7 decades below
+    eps_v (slower is drawn on the bottom edge), up to the largest speed."""
+    positive = speeds[speeds > 1e-6 * epsv]
     lo = min(epsv, positive.min()) if positive.size else epsv
     hi = max(epsv, positive.max()) if positive.size else epsv
     return 10.0 ** math.floor(math.log10(lo) - 1), 10.0 ** math.ceil(math.log10(hi))
@@ -185,20 +186,23 @@ def square_panels(axes, tracks, data):
     """One run: its energy budget, each contact node's speed, Newton iterations; a comparison: the
     displacement, the largest contact speed, Newton iterations, one colour per run."""
     epsv = tracks[0].scene.epsv
+    cloth = tracks[0].scene.surface is not None         # speeds relative to it (v_p - v_s)
+    speed, along = ("relative speed v_p - v_s", "the table") if cloth else ("tangential speed",
+                                                                              "the slope")
     if len(tracks) == 1:
         (tr,), (d,) = tracks, data
         energy_panel(axes, d)
-        ax = axes(*speed_range(d["speed"], epsv), "tangential speed of each contact node (m/s, "
+        ax = axes(*speed_range(d["speed"], epsv), f"{speed} of each contact node (m/s, "
                   "log): below eps_v it sticks", "|v_t| (m/s)", log=True)
         ax.dots(d["speed_t"], d["speed"], tr.color)
         ax.legend(tr.color, "a contact node")
         mark_rest(ax, tr, BLACK)
     else:
         ax = axes(min(d["along"].min() for d in data), max(d["along"].max() for d in data),
-                  "displacement of the centre of mass along the slope (m)", "s (m)")
+                  f"displacement of the centre of mass along {along} (m)", "s (m)")
         ax.runs(tracks, data, "along")
         speeds = np.concatenate([d["speed"] for d in data])
-        ax = axes(*speed_range(speeds, epsv), "largest tangential speed of a contact node (m/s, "
+        ax = axes(*speed_range(speeds, epsv), f"largest {speed} of a contact node (m/s, "
                   "log)", "max |v_t| (m/s)", log=True)
         for tr, d in zip(tracks, data):
             has = ~np.isnan(d["max_speed"])
