@@ -5,6 +5,7 @@ coefficient it slides below a rigid strut's self-locking angle 90 deg - atan mu 
 The tip is the chalk's lowest node; its cycles are analysis/stick_slip.py's, its mark
 analysis/wear.py's. Each run stops before the hand passes over the tip (docs/chalk.md)."""
 import math
+from itertools import pairwise
 from types import SimpleNamespace
 
 import numpy as np
@@ -30,20 +31,20 @@ def track(duration, **params):
     t, the tip's x and velocity u along the board, stuck = |u| < eps_v, the hand's displacement,
     drive_start, whether the tip stayed the lowest node (`tip_lowest`), its mark (wear.Deposit)."""
     scene = simulator.build_chalk_scene(**params)
+    records = list(simulator.simulate(scene, round(duration / scene.h)))
+    t = np.array([0.0] + [record.t for record in records])
+    x = np.stack([scene.x0] + [record.x for record in records])
+    v = np.stack([scene.v0] + [record.v for record in records])
     tip, tangent = int(np.argmin(scene.x0[:, 1])), FrictionEnergy.tangent(scene.n)
-    t, x, u, lowest = [0.0], [scene.x0[tip] @ tangent], [scene.v0[tip] @ tangent], True
-    mark, before = wear.Deposit(), scene.x0
-    for record in simulator.simulate(scene, round(duration / scene.h)):
-        t.append(record.t)
-        x.append(record.x[tip] @ tangent)
-        u.append(record.v[tip] @ tangent)
-        lowest = lowest and int(np.argmin(record.x[:, 1])) == tip
-        mark.step(scene, before, record.x)
-        before = record.x
-    t, x, u = np.array(t), np.array(x), np.array(u)
-    return SimpleNamespace(scene=scene, t=t, x=x, u=u, stuck=np.abs(u) < scene.epsv,
+    mark = wear.Deposit()
+    for before, after in pairwise(x):
+        mark.step(scene, before, after)
+    u = v[:, tip] @ tangent
+    return SimpleNamespace(scene=scene, t=t, x=x[:, tip] @ tangent, u=u,
+                           stuck=np.abs(u) < scene.epsv,
                            hand=np.array([scene.hand.displacement(s) @ tangent for s in t]),
-                           drive_start=counting.drive_start(scene), tip_lowest=lowest, mark=mark)
+                           drive_start=counting.drive_start(scene),
+                           tip_lowest=bool(np.all(np.argmin(x[:, :, 1], axis=1) == tip)), mark=mark)
 
 
 def measure(tr):
@@ -58,8 +59,8 @@ def measure(tr):
 
 def mark_figures(tr):
     """A run's mark: its darkest bin (N m), its dashes' contrasts (darkest over faintest bin,
-    wear.dashes), and p10 and p90 of the bins inside it (wear.inside)."""
-    p10, p90 = np.percentile(wear.inside(tr.mark.values), (10, 90))
+    wear.dashes), p10 and p90 of its bins but the end ones (slid only partly across)."""
+    p10, p90 = np.percentile(tr.mark.values[1:-1], (10, 90))
     contrast = [dark / faint for _, dark, faint in wear.dashes(tr.mark.values)]
     return SimpleNamespace(darkest=tr.mark.darkest(), dashes=np.array(contrast), p10=float(p10),
                            p90=float(p90))
@@ -192,8 +193,7 @@ def draw(r):
     page = Page("Stick-slip: Rabinowicz's chalk pushed and dragged, its grip, and one coefficient",
                 4, caption(r))
     chalks = (("pushed", r.pushed, 1.0, run_color(1)), ("dragged", r.dragged, 0.0, run_color(2)))
-    spans = np.array([tr.mark.span() for _, tr, _, _ in chalks if tr.mark.span() is not None]
-                     or [(0.0, 1e-3)])
+    spans = np.array([tr.mark.span() for _, tr, _, _ in chalks])
     ax = page.axes(0, 1e3 * spans.max(), -0.3, 1.65, "the mark each chalk leaves (Archard: normal "
                    "force x length slid), along the board (mm)", "x (mm)", "chalk",
                    x_lo=min(0.0, 1e3 * spans.min()), yticks=[(y, name) for name, _, y, _ in chalks])
