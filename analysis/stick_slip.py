@@ -1,11 +1,5 @@
 """Stick-slip, counted on the chalk's tip: the one count that the closing line, the page, the
-pictures, the figure and the chalk's tests use (docs/output.md says it in words).
-
-The tip is stuck where its tangential speed |u| < eps_v. Once the hand drives (t > start), a cycle
-is a stick of at least MIN_STICK steps, then a slip that peaks above the drive's speed and ends
-before the run does. Its length is the tip's travel from the stick's last state to the slip's last;
-the period is the mean time between the slips' starts.
-"""
+pictures, the figure and the chalk's tests use (docs/output.md says what it counts)."""
 from dataclasses import dataclass
 
 import numpy as np
@@ -15,10 +9,8 @@ MIN_STICK = 10          # steps (10 ms at the chalk's h): a shorter stick is not
 
 @dataclass
 class StickSlip:
-    """A run's tip once the hand drove: cycles (start time s, length m, peak speed m/s); their mean
-    period, length and largest peak (nan without them); the fraction of driven states stuck; the
-    first slipping time `start_up` (None: never), the states from it (`after`), how many stuck;
-    the drive's start and the run's last time."""
+    """A run's tip once the hand drove: cycles (start time s, length m, peak speed m/s), their mean
+    period, length and largest peak (nan without them); `start_up`, the first slipping time."""
     slips: list
     period: float
     length: float
@@ -43,7 +35,9 @@ def runs(stuck):
 
 def measure(t, x, u, epsv, drive, start, steps=None):
     """A run's StickSlip from its tip's states: times t, position x and velocity u along the
-    board, eps_v, the drive's speed and start; `steps`, each state's step (default 0, 1, ...)."""
+    board, eps_v, the drive's speed and start; `steps`, each state's step (default 0, 1, ...). A
+    cycle: a stick of MIN_STICK steps or more (|u| < eps_v), then a slip faster than the drive that
+    ends before the run; its length, the travel from the stick's last state to the slip's."""
     steps = np.arange(len(t)) if steps is None else np.asarray(steps)
     t, x, speed = np.asarray(t, float), np.asarray(x, float), np.abs(np.asarray(u, float))
     stuck, driven = speed < epsv, t > start

@@ -1,8 +1,5 @@
-"""The chalk's mark by Archard's wear law (docs/chalk.md): the chalk left per length of board is
-proportional to the normal force times the length slid there. Over each step every node k leaves
-lambda_k (its normal force at x^{n+1}) times its slide along the board, binned per BIN of board;
-k / H is left out, so a bin holds N m. A run writes its bins as marks.csv (`csv_text`).
-"""
+"""The chalk's mark by Archard's wear law (docs/chalk.md): over each step every node k leaves
+lambda_k (its normal force at x^{n+1}) times its slide along the board, binned per BIN of board."""
 from itertools import pairwise
 
 import numpy as np

@@ -58,12 +58,11 @@ def measure(tr):
 
 
 def mark_figures(tr):
-    """A run's mark: its darkest bin (N m), its dashes' contrasts (darkest over faintest bin,
-    wear.dashes), p10 and p90 of its bins but the end ones (slid only partly across)."""
+    """A run's mark: its dashes' contrasts (darkest over faintest bin, wear.dashes), p10 and p90 of
+    its bins but the end ones (slid only partly across)."""
     p10, p90 = np.percentile(tr.mark.values[1:-1], (10, 90))
     contrast = [dark / faint for _, dark, faint in wear.dashes(tr.mark.values)]
-    return SimpleNamespace(darkest=tr.mark.darkest(), dashes=np.array(contrast), p10=float(p10),
-                           p90=float(p90))
+    return SimpleNamespace(dashes=np.array(contrast), p10=float(p10), p90=float(p90))
 
 
 def one_coefficient(tilt, duration):
@@ -178,15 +177,6 @@ def draw_mark(page, ax, mark, y):
                      bottom - top)
 
 
-def dashed_hline(page, ax, y, color, text, dash=6):
-    """A dashed 1 px line at y across `ax`, with a legend row: a curve along it shows between."""
-    row = round(float(ax.px(0.0, y)[1]))
-    for left in range(plots.LEFT + 1, plots.RIGHT - 1, 2 * dash):
-        right = min(left + dash, plots.RIGHT - 1)
-        page.pygame.draw.line(page.surface, color, (left, row), (right, row), 1)
-    ax.legend(color, text)
-
-
 def draw(r):
     """The two chalks' marks, the tip's speed against time, the slip length against the grip, and
     the tip's travel against the tilt with one coefficient."""
@@ -217,7 +207,7 @@ def draw(r):
         ax.line(tr.t, np.abs(tr.u), color, 3 if name == "dragged" else 1)   # dragged: at the drive
         ax.legend(color, name)
     ax.hline(epsv, STUCK, f"eps_v {epsv:g}: stuck below")
-    dashed_hline(page, ax, drive, BLACK, f"the drive, {drive:g} m/s")   # over the curves
+    ax.hline(drive, BLACK, f"the drive, {drive:g} m/s")     # 1 px through the dragged tip's 3
     ax.vline(r.pushed.drive_start, GREY, "the hand starts")
 
     k = np.array([g.k_hand for g in r.grips])
