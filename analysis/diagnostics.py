@@ -38,13 +38,11 @@ def energies(scene, x, v, t=0.0):
     return out
 
 
-def hand_work(scene, x, t0, t1, before=None):
+def hand_work(scene, x, t0, t1, before):
     """W_hand = P_hand(x^n, targets(t1)) - P_hand(x^n, targets(t0)) (J; 0 without a hand), so that
     E^{n+1} - E^n = W_hand + W_friction - (numerical dissipation). `before`: the second term."""
     if "hand" not in scene.terms:
         return 0.0
-    if before is None:
-        before = term_energy(scene, "hand", x, scene.hand.targets(t0))
     return term_energy(scene, "hand", x, scene.hand.targets(t1)) - before
 
 
@@ -70,14 +68,13 @@ def surface_velocity(scene, t):
     return np.zeros(2) if scene.surface is None else scene.surface.velocity(t, scene.h)
 
 
-def contact_speeds(scene, x, v, v_s=None):
+def contact_speeds(scene, x, v, v_s=0.0):
     """||(I - n n^T)(v_k - v_s)|| = |t . (v_k - v_s)| (m/s) of the nodes with d_k < dhat: the
-    relative tangential speed (v_s None: a still surface)."""
+    relative tangential speed (v_s 0: a still surface)."""
     if scene.n is None:
         return np.zeros(0)
     in_contact = BarrierEnergy.distances(x, scene.n, scene.o) < scene.dhat
-    relative = v[in_contact] if v_s is None else v[in_contact] - v_s
-    return np.abs(relative @ tangent(scene))
+    return np.abs((v[in_contact] - v_s) @ tangent(scene))
 
 
 def sticking_sliding(speeds, epsv):

@@ -36,21 +36,22 @@ def compute(mus=MUS, duration=DURATION):
         t, P, bound = power(scene, round(duration / scene.h))
         runs.append(SimpleNamespace(mu=mu, t=t, P=P, bound=bound, W=np.cumsum(P * scene.h),
                                     beyond=np.flatnonzero(P > bound)))
-    return SimpleNamespace(runs=runs, default_mu=simulator.DEFAULTS["mu"])
+    return SimpleNamespace(runs=runs)
 
 
 def draw(r):
     """P against t for every mu, steps beyond round-off ringed in red; W(t) below."""
     t_max = max(run.t[-1] for run in r.runs)
     bound = max(run.bound.max() for run in r.runs)
+    default_mu = simulator.DEFAULTS["mu"]
     caption = ["P = -(surface_work - friction_work) / h (StepReport's): friction's power in the "
                "surface's frame, here the still slope's,",
                f"at every step of the lecture's mu comparison (its first 3 s at mu = "
-               f"{r.default_mu:g} are the default run).",
+               f"{default_mu:g} are the default run).",
                f"Round-off bound per step (dissipation.power): (2N + 8) eps sum_k |F_k| |d_k| / h, "
                f"at most {bound:.2g} W; P = 0 where no node touches."]
     for run in r.runs:
-        name = " (the default scene)" if run.mu == r.default_mu else ""
+        name = " (the default scene)" if run.mu == default_mu else ""
         caption.append(f"mu = {run.mu:g}{name}: P from {run.P.min():.4g} to {run.P.max():.3g} W; "
                        f"{len(run.beyond)} of {len(run.P)} steps above round-off; "
                        f"W = {run.W[-1]:.4g} J")

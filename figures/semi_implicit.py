@@ -20,9 +20,8 @@ REFERENCE_DIVISOR, CHECK_DIVISOR, REFERENCE_TOL = 8, 4, 1e-6    # h/8, checked a
 CHECK = f"h/{CHECK_DIVISOR}"     # the check run's name
 RUNS = {"lagged": (1, None), "Algorithm 5": (1, None),        # name: (divisor of h, Newton tol)
         "reference": (REFERENCE_DIVISOR, REFERENCE_TOL), CHECK: (CHECK_DIVISOR, REFERENCE_TOL)}
-LOOKS = {"lagged": run_color(0), "Algorithm 5": run_color(1), "reference": (0, 0, 0),
-         CHECK: (150, 150, 150)}
-WIDTHS = {"lagged": 6, CHECK: 1}    # px (else 2): lagged wide under Algorithm 5, seen either side
+LOOKS = {"lagged": (run_color(0), 6), "Algorithm 5": (run_color(1), 2),    # (colour, width px):
+         "reference": ((0, 0, 0), 2), CHECK: ((150, 150, 150), 1)}  # lagged wide, under Algorithm 5
 COINCIDE = 0.01     # lagged and Algorithm 5 coincide: this fraction of the top panel's span apart
 
 
@@ -128,19 +127,18 @@ def draw(r):
                 "(Algorithm 5)", 2 * len(r.scenes), caption(r))
     for i, s in enumerate(r.scenes):
         lo = min(a.min() for a in s.along.values())
-        hi = max(a.max() for a in s.along.values())
-        ax = page.axes(2 * i, s.t[-1], lo, hi, f"{s.label}: centre of mass along the slope (m) "
-                       "against time (s)", "t (s)", "s (m)")
+        ax = page.axes(2 * i, s.t[-1], lo, lo + span(s), f"{s.label}: centre of mass along the "
+                       "slope (m) against time (s)", "t (s)", "s (m)")
         for name in (CHECK, "reference", "lagged", "Algorithm 5"):      # the runs at h on top
-            ax.line(s.runs[name].t, s.along[name], LOOKS[name], WIDTHS.get(name, 2))
+            ax.line(s.runs[name].t, s.along[name], *LOOKS[name])
         for name in ("lagged", "Algorithm 5", "reference", CHECK):
-            ax.legend(LOOKS[name], f"reference (h/{REFERENCE_DIVISOR})" if name == "reference"
+            ax.legend(LOOKS[name][0], f"reference (h/{REFERENCE_DIVISOR})" if name == "reference"
                       else name)
         top = 1e3 * max(far.max() for far in s.from_reference.values())
         ax = page.axes(2 * i + 1, s.t[-1], 0.0, top, f"{s.label}: distance from the reference (mm) "
                        "against time (s)", "t (s)", "mm")
         for name in (CHECK, "lagged", "Algorithm 5"):
-            ax.line(s.t, 1e3 * s.from_reference[name], LOOKS[name], WIDTHS.get(name, 2))
+            ax.line(s.t, 1e3 * s.from_reference[name], *LOOKS[name])
         for name in ("lagged", "Algorithm 5", CHECK):
-            ax.legend(LOOKS[name], f"{CHECK}: own error" if name == CHECK else name)
+            ax.legend(LOOKS[name][0], f"{CHECK}: own error" if name == CHECK else name)
     return page
