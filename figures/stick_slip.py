@@ -53,7 +53,7 @@ def measure(tr):
     p = tr.scene.params
     counted = counting.measure(tr.t, tr.x, tr.u, tr.scene.epsv, p["drive"], tr.drive_start)
     sticks = [tr.x[max(r[0] - 1, 0):r[-1] + 1] for r in counting.runs(tr.stuck) if tr.stuck[r[0]]]
-    return SimpleNamespace(**vars(counted), creep=max((np.ptp(x) for x in sticks), default=0.0),
+    return SimpleNamespace(**counted._asdict(), creep=max((np.ptp(x) for x in sticks), default=0.0),
                            k_hand=p["k_hand"], tip_lowest=tr.tip_lowest)
 
 
