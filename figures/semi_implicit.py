@@ -53,20 +53,16 @@ def trajectory(params, friction_updates, duration, divisor=1, tol=None):
                            unconverged=sum(not r.report.friction_converged for r in records))
 
 
-def start_load(scene):
-    """The barrier's push at the start, sum_k lambda_k(x^0), over the weight's normal part."""
-    lam = BarrierEnergy.compute_mu_lambda(scene.x0, scene.n, scene.o, scene.contact_area, 1.0,
-                                          scene.dhat, scene.kappa)
-    return float(lam.sum() / (scene.m.sum() * -(scene.g @ scene.n)))
-
-
 def compute(scenes=SCENES, duration=DURATION, friction_updates=FRICTION_UPDATES):
     """Per scene, the RUNS and their centres of mass along the slope; the distances from the
     reference at the steps of h (from_reference[name], the check's: the reference's own error);
-    the gap between lagged and Algorithm 5; the verdict at the end: (nearer, margin, measured)."""
+    the gap between lagged and Algorithm 5; the verdict at the end: (nearer, margin, measured);
+    start_load, the barrier's push sum_k lambda_k(x^0) over the weight's normal part."""
     out = []
     for label, params in scenes.items():
         scene = simulator.build_scene(**params)
+        lam = BarrierEnergy.compute_mu_lambda(scene.x0, scene.n, scene.o, scene.contact_area, 1.0,
+                                              scene.dhat, scene.kappa)     # lambda_k(x^0)
         runs = {name: trajectory(params, 0 if name == "lagged" else friction_updates, duration,
                                  divisor, tol) for name, (divisor, tol) in RUNS.items()}
         tangent = FrictionEnergy.tangent(scene.n)
@@ -80,7 +76,8 @@ def compute(scenes=SCENES, duration=DURATION, friction_updates=FRICTION_UPDATES)
         out.append(SimpleNamespace(
             label=label, runs=runs, t=runs["lagged"].t, along=along, from_reference=far,
             gap=np.hypot(*(runs["Algorithm 5"].com - runs["lagged"].com).T),
-            start_load=start_load(scene), verdict=(nearer, margin, margin > own_error)))
+            start_load=float(lam.sum() / (scene.m.sum() * -(scene.g @ scene.n))),
+            verdict=(nearer, margin, margin > own_error)))
     return SimpleNamespace(scenes=out, friction_updates=friction_updates)
 
 

@@ -187,14 +187,12 @@ def draw(r):
     ax = page.axes(0, 1e3 * spans.max(), -0.3, 1.65, "the mark each chalk leaves (Archard: normal "
                    "force x length slid), along the board (mm)", "x (mm)", "chalk",
                    x_lo=min(0.0, 1e3 * spans.min()), yticks=[(y, name) for name, _, y, _ in chalks])
-    for name, tr, y, color in chalks:
-        draw_mark(page, ax, tr.mark, y)
-        if tr.mark.darkest() > 0:
-            profile = y + 0.2 + PROFILE_HEIGHT * tr.mark.values / tr.mark.darkest()
-            ax.line(1e3 * tr.mark.centres(), profile, color, 1)
     ax.legend(BLACK, "grey: the mark")
     ax.note("black: its darkest")
-    for name, tr, _, color in chalks:
+    for name, tr, y, color in chalks:
+        draw_mark(page, ax, tr.mark, y)
+        profile = y + 0.2 + PROFILE_HEIGHT * tr.mark.values / tr.mark.darkest()
+        ax.line(1e3 * tr.mark.centres(), profile, color, 1)
         ax.legend(color, f"{name}, per 0.1 mm")
         ax.note(f"  0 to {tr.mark.darkest():.3g} N m")
 
