@@ -4,6 +4,13 @@ import closed_forms
 from analysis import stick_slip
 
 
+def each(tracks, words):
+    """words(track) for one run; 'label: words; label: words' for a comparison."""
+    if len(tracks) == 1:
+        return words(tracks[0])
+    return "; ".join(f"{track.label}: {words(track)}" for track in tracks)
+
+
 def rest_words(tracks):
     """When each run came to rest (every contact below eps_v from then on): 'came to rest at
     t = 5.53 s', 'was still sliding at t = 3.00 s', or in the air 'had not come to rest by ...'."""
@@ -13,17 +20,7 @@ def rest_words(tracks):
         if track.samples.last.sliding:
             return f"was still sliding at t = {track.t:.2f} s"
         return f"had not come to rest by t = {track.t:.2f} s"
-    if len(tracks) == 1:
-        return "the square " + words(tracks[0])
-    return "; ".join(f"{track.label}: {words(track)}" for track in tracks)
-
-
-def stick_slip_words(tracks):
-    """Each chalk run's stick-slip (stick_slip.words), after its label in a comparison."""
-    said = [stick_slip.words(stick_slip.of_track(track)) for track in tracks]
-    if len(tracks) == 1:
-        return said[0]
-    return "; ".join(f"{track.label}: {words}" for track, words in zip(tracks, said))
+    return ("the square " if len(tracks) == 1 else "") + each(tracks, words)
 
 
 def travel_words(tracks):
@@ -38,23 +35,25 @@ def travel_words(tracks):
         form = "mu g L^2 / U^2" if U * U >= scene.mu * g * L else "L"
         off = f" ({100 * (travel - exact) / exact:+.1f} %)" if exact else ""
         return f"the dish travelled {travel:.4f} m, closed form {form} = {exact:.4f} m{off}"
-    if len(tracks) == 1:
-        return words(tracks[0])
-    return "; ".join(f"{track.label}: {words(track)}" for track in tracks)
+    return each(tracks, words)
 
 
 def closing_words(tracks):
-    """The closing line's words: the chalk's stick-slip, the dish's travel, else the square's
-    rest."""
-    if tracks[0].scene.hand is not None:
-        return stick_slip_words(tracks)
-    return travel_words(tracks) if tracks[0].scene.surface is not None else rest_words(tracks)
+    """The closing line's words: the chalk's stick-slip (stick_slip.words), the dish's travel, else
+    the square's rest."""
+    scene = tracks[0].scene
+    if scene.hand is not None:
+        return each(tracks, lambda track: stick_slip.words(stick_slip.of_track(track)))
+    return travel_words(tracks) if scene.surface is not None else rest_words(tracks)
 
 
 def closing_note(tracks):
     """closing_words with what they count, as the page and summary.png say them."""
-    if tracks[0].scene.hand is not None:
-        return f"{stick_slip_words(tracks)} ({' '.join(stick_slip.definition(tracks[0].scene))})"
-    if tracks[0].scene.surface is not None:
-        return travel_words(tracks) + " (the centre of mass along the pull, end minus start)"
-    return rest_words(tracks) + " (every contact below eps_v from then on)"
+    scene = tracks[0].scene
+    if scene.hand is not None:
+        what = " ".join(stick_slip.definition(scene))
+    elif scene.surface is not None:
+        what = "the centre of mass along the pull, end minus start"
+    else:
+        what = "every contact below eps_v from then on"
+    return f"{closing_words(tracks)} ({what})"

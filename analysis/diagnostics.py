@@ -14,8 +14,7 @@ LECTURE_TERMS = ("gravity", "spring", "barrier")     # always in the budget, 0 w
 
 
 def energy_terms(scene):
-    """The budget's potential terms: the lecture's three, then every other term of the scene that
-    stores energy (the chalk's hand), in time_integrator.TERMS's order."""
+    """The budget's potential terms: the lecture's three, then the scene's others storing energy."""
     others = tuple(name for name, term in time_integrator.TERMS.items()
                    if name not in LECTURE_TERMS and name in scene.terms and term.stores_energy)
     return LECTURE_TERMS + others
@@ -39,13 +38,11 @@ def energies(scene, x, v, t=0.0):
     return out
 
 
-def hand_work(scene, x, t0, t1, before=None):
+def hand_work(scene, x, t0, t1, before):
     """W_hand = P_hand(x^n, targets(t1)) - P_hand(x^n, targets(t0)) (J; 0 without a hand), so that
     E^{n+1} - E^n = W_hand + W_friction - (numerical dissipation). `before`: the second term."""
-    if scene.hand is None or "hand" not in scene.terms:
+    if "hand" not in scene.terms:
         return 0.0
-    if before is None:
-        before = term_energy(scene, "hand", x, scene.hand.targets(t0))
     return term_energy(scene, "hand", x, scene.hand.targets(t1)) - before
 
 
@@ -71,14 +68,13 @@ def surface_velocity(scene, t):
     return np.zeros(2) if scene.surface is None else scene.surface.velocity(t, scene.h)
 
 
-def contact_speeds(scene, x, v, v_s=None):
+def contact_speeds(scene, x, v, v_s=0.0):
     """||(I - n n^T)(v_k - v_s)|| = |t . (v_k - v_s)| (m/s) of the nodes with d_k < dhat: the
-    relative tangential speed (v_s None: a still surface)."""
+    relative tangential speed (v_s 0: a still surface)."""
     if scene.n is None:
         return np.zeros(0)
     in_contact = BarrierEnergy.distances(x, scene.n, scene.o) < scene.dhat
-    relative = v[in_contact] if v_s is None else v[in_contact] - v_s
-    return np.abs(relative @ tangent(scene))
+    return np.abs((v[in_contact] - v_s) @ tangent(scene))
 
 
 def sticking_sliding(speeds, epsv):
@@ -121,17 +117,15 @@ def tip_figures(scene, x, v, t):
     board's total normal force (N)."""
     k, _ = tip(scene, x)
     board = tangent(scene)
-    drive = 0.0
-    if t > 0:
-        moved = scene.hand.displacement(t) - scene.hand.displacement(max(t - scene.h, 0.0))
-        drive = float(moved @ board / scene.h)
+    moved = scene.hand.displacement(t) - scene.hand.displacement(max(t - scene.h, 0.0))
+    drive = float(moved @ board / scene.h)
     return {"tip_x": float(x[k] @ board), "tip_speed": abs(float(v[k] @ board)),
             "drive_speed": drive, "normal_force": float((normal_forces(scene, x) @ scene.n).sum())}
 
 
 def signed_areas(x, triangles):
     """Twice each triangle's signed area, (b - a) x (c - a); > 0 as the mesh is built."""
-    a, b, c = (x.take(triangles[:, i], axis=0) for i in range(3))
+    a, b, c = x[triangles[:, 0]], x[triangles[:, 1]], x[triangles[:, 2]]
     ab, ac = b - a, c - a
     return ab[:, 0] * ac[:, 1] - ab[:, 1] * ac[:, 0]
 

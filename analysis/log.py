@@ -1,31 +1,18 @@
 """log.csv: one row per step (and one for t = 0), appended and flushed as each step ends.
 
-COLUMN defines each per-step figure once: its name (log.csv's header, a row's key), unit, label,
-meaning, format and how it is read off a recording.Sample. log.csv (`line`), the page and plots.png
+COLUMN defines each per-step figure once: its name (log.csv's header, a row's key), unit ("" for a
+count or a flag), label (a table's header), meaning, format spec, `value(sample)` (None: an empty
+field) and `applies(scene)` (None: every scene logs it). log.csv (`line`), the page and plots.png
 read the same named rows (`values`); docs/output.md's table is COLUMN as written here.
 """
-from dataclasses import dataclass
-from typing import Callable
+from collections import namedtuple
 
-from analysis import diagnostics
-
-
-@dataclass(frozen=True)
-class Column:
-    """One figure of a state: `unit` "" for a count or a flag; `label` for a table's header; `fmt`
-    a format spec; `value(sample)`, None where there is none (an empty field)."""
-    name: str
-    unit: str
-    label: str
-    meaning: str
-    fmt: str
-    value: Callable
-    applies: Callable = None    # which scenes log it (scene -> bool); None: every scene
+Column = namedtuple("Column", "name unit label meaning fmt value applies", defaults=[None])
 
 
 def with_hand(scene):
     """Whether a scene has a hand (the chalk): its energy, its work and its tip are logged."""
-    return scene.hand is not None and "hand" in diagnostics.energy_terms(scene)
+    return "hand" in scene.terms
 
 
 def with_surface(scene):

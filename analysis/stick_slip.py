@@ -1,39 +1,17 @@
 """Stick-slip, counted on the chalk's tip: the one count that the closing line, the page, the
-pictures, the figure and the chalk's tests use (docs/output.md says it in words).
-
-The tip is stuck where its tangential speed |u| < eps_v. Once the hand drives (t > start), a cycle
-is a stick of at least MIN_STICK steps, then a slip that peaks above the drive's speed and ends
-before the run does. Its length is the tip's travel from the stick's last state to the slip's last;
-the period is the mean time between the slips' starts.
-"""
-from dataclasses import dataclass
+pictures, the figure and the chalk's tests use (docs/output.md says what it counts)."""
+from collections import namedtuple
 
 import numpy as np
 
 MIN_STICK = 10          # steps (10 ms at the chalk's h): a shorter stick is not counted as one
 
-
-@dataclass
-class StickSlip:
-    """A run's tip once the hand drove: cycles (start time s, length m, peak speed m/s); their mean
-    period, length and largest peak (nan without them); the fraction of driven states stuck; the
-    first slipping time `start_up` (None: never), the states from it (`after`), how many stuck;
-    the drive's start and the run's last time."""
-    slips: list
-    period: float
-    length: float
-    peak: float
-    stuck: float
-    start_up: float
-    stuck_after: int
-    after: int
-    start: float
-    t_end: float
-
-    @property
-    def driven(self):
-        """Whether the run went on past the drive's start."""
-        return self.t_end > self.start
+# A run's tip once the hand drove: cycles (start time s, length m, peak speed m/s), their mean
+# period, length and largest peak (nan without them), the fraction of driven states stuck, the
+# first slipping time `start_up` (None: never), the states from it (`after`) and how many stuck,
+# the drive's start, the run's last time, and whether the run went on past the start (`driven`).
+StickSlip = namedtuple("StickSlip", "slips period length peak stuck start_up stuck_after after "
+                       "start t_end driven")
 
 
 def runs(stuck):
@@ -43,7 +21,9 @@ def runs(stuck):
 
 def measure(t, x, u, epsv, drive, start, steps=None):
     """A run's StickSlip from its tip's states: times t, position x and velocity u along the
-    board, eps_v, the drive's speed and start; `steps`, each state's step (default 0, 1, ...)."""
+    board, eps_v, the drive's speed and start; `steps`, each state's step (default 0, 1, ...). A
+    cycle: a stick of MIN_STICK steps or more (|u| < eps_v), then a slip faster than the drive that
+    ends before the run; its length, the travel from the stick's last state to the slip's."""
     steps = np.arange(len(t)) if steps is None else np.asarray(steps)
     t, x, speed = np.asarray(t, float), np.asarray(x, float), np.abs(np.asarray(u, float))
     stuck, driven = speed < epsv, t > start
@@ -58,13 +38,14 @@ def measure(t, x, u, epsv, drive, start, steps=None):
     moving = np.flatnonzero(driven & ~stuck)
     first = moving[0] if len(moving) else None
     period = float(np.mean(np.diff(starts))) if len(slips) > 1 else np.nan
+    t_end = float(t[-1]) if len(t) else 0.0
     return StickSlip(slips=slips, period=period,
                      length=float(np.mean(lengths)), peak=float(np.max(peaks)),
                      stuck=float(stuck[driven].mean()) if driven.any() else np.nan,
                      start_up=None if first is None else float(t[first]),
                      stuck_after=None if first is None else int(stuck[first:].sum()),
                      after=0 if first is None else int(len(t) - first),
-                     start=float(start), t_end=float(t[-1]) if len(t) else 0.0)
+                     start=float(start), t_end=t_end, driven=t_end > start)
 
 
 def drive_start(scene):

@@ -1,8 +1,5 @@
-"""The chalk's mark by Archard's wear law (docs/chalk.md): the chalk left per length of board is
-proportional to the normal force times the length slid there. Over each step every node k leaves
-lambda_k (its normal force at x^{n+1}) times its slide along the board, binned per BIN of board;
-k / H is left out, so a bin holds N m. A run writes its bins as marks.csv (`csv_text`).
-"""
+"""The chalk's mark by Archard's wear law (docs/chalk.md): over each step every node k leaves
+lambda_k (its normal force at x^{n+1}) times its slide along the board, binned per BIN of board."""
 from itertools import pairwise
 
 import numpy as np
@@ -32,25 +29,22 @@ def archard(s0, s1, lam):
 
 
 class Deposit:
-    """The mark so far: the deposit (N m) of the bins lo <= j < hi that it touched (`values`). Its
-    store keeps room for as much again on each side, so it stays within 3 times the bins touched."""
+    """The mark so far: the deposit (N m) of the bins first <= j < first + len(values) that it
+    touched."""
 
     def __init__(self):
-        self.store, self.base = np.zeros(0), 0     # bins base, base + 1, ...
-        self.lo = self.hi = 0
+        self.values, self.first = np.zeros(0), 0
 
     def add(self, j0, deposit):
         """Add `deposit` to the bins from j0 on (archard's result)."""
         if not len(deposit):
             return
-        j1 = j0 + len(deposit)
-        lo, hi = (j0, j1) if self.lo == self.hi else (min(self.lo, j0), max(self.hi, j1))
-        if lo < self.base or hi > self.base + len(self.store):
-            base, store = lo - (hi - lo), np.zeros(3 * (hi - lo))
-            store[self.lo - base:self.hi - base] = self.values
-            self.store, self.base = store, base
-        self.store[j0 - self.base:j1 - self.base] += deposit
-        self.lo, self.hi = lo, hi
+        if not len(self.values):
+            self.first = j0
+        lo, hi = min(self.first, j0), max(self.first + len(self.values), j0 + len(deposit))
+        self.values = np.pad(self.values, (self.first - lo, hi - self.first - len(self.values)))
+        self.first = lo
+        self.values[j0 - lo:j0 - lo + len(deposit)] += deposit
 
     def step(self, scene, x0, x1):
         """A step from x0 to x1 by `archard`, lambda_k at x1; returns sum_k lambda_k |delta s_k|."""
@@ -60,31 +54,24 @@ class Deposit:
         self.add(j0, deposit)
         return float(deposit.sum())
 
-    @property
-    def first(self):
-        return self.lo
-
-    @property
-    def values(self):
-        """The touched bins' deposits (N m), from bin `first` on (a view)."""
-        return self.store[self.lo - self.base:self.hi - self.base]
-
     def centres(self):
         """The touched bins' middles along the board (m)."""
-        return (self.lo + np.arange(self.hi - self.lo) + 0.5) * BIN
+        return (self.first + np.arange(len(self.values)) + 0.5) * BIN
 
     def span(self):
         """The board the mark covers, (from, to) in m; None before any deposit."""
-        return None if self.hi == self.lo else (self.lo * BIN, self.hi * BIN)
+        if not len(self.values):
+            return None
+        return self.first * BIN, (self.first + len(self.values)) * BIN
 
     def darkest(self):
         """The largest bin's deposit (N m; 0 before any)."""
-        return float(self.values.max()) if self.hi > self.lo else 0.0
+        return float(self.values.max(initial=0.0))
 
     def copy(self):
         """A Deposit of its own holding the same bins."""
         other = Deposit()
-        other.store, other.base, other.lo, other.hi = self.store.copy(), self.base, self.lo, self.hi
+        other.values, other.first = self.values.copy(), self.first
         return other
 
     def shade(self, a, b):
@@ -94,7 +81,7 @@ class Deposit:
         a, b = np.asarray(a, float), np.asarray(b, float)
         if darkest <= 0:
             return np.zeros(np.broadcast(a, b).shape)
-        edges = (self.lo + np.arange(self.hi - self.lo + 1)) * BIN
+        edges = (self.first + np.arange(len(self.values) + 1)) * BIN
         below = np.concatenate([[0.0], np.cumsum(self.values)])        # the deposit below each edge
         held = np.interp(b, edges, below) - np.interp(a, edges, below)
         return np.clip(held / np.maximum(b - a, 1e-300) * BIN / darkest, 0.0, 1.0)
@@ -110,13 +97,7 @@ def dashes(values):
     return [(int(a), float(v[a:b].max()), float(v[a:b].min())) for a, b in pairwise(starts)]
 
 
-def inside(values):
-    """A mark's bins but its first and last, which the tip slid only partly across."""
-    return np.asarray(values, float)[1:-1]
-
-
 def csv_text(deposit):
     """marks.csv: a header, then per bin its middle along the board (mm) and its deposit (N m)."""
-    centres, values = deposit.centres().tolist(), deposit.values.tolist()
-    rows = [f"{1e3 * s:.2f},{d!r}" for s, d in zip(centres, values)]
+    rows = [f"{1e3 * s:.2f},{d!r}" for s, d in zip(deposit.centres(), deposit.values.tolist())]
     return "\n".join([f"x_mm,deposit_N_m_per_{BIN * 1e3:g}_mm"] + rows) + "\n"

@@ -13,44 +13,42 @@ MUS = (0.1, 0.11, 0.2)      # the lecture's mu comparison; mu = 0.11 is the defa
 DURATION = 6.0              # s, as long as `python simulator.py --mu 0.1,0.11,0.2` runs
 
 
-def power(scene, steps):
-    """t (s), P = W / h (W) and its round-off bound (W) at every step. W = sum_k F_k . d_k <= 0 in
-    exact arithmetic, the work in the surface's frame; in float64 it is off by at most (2N + 8) eps
-    sum_k |F_k| |d_k| (Higham, 3.1), F the step's friction force (StepReport.friction_force),
-    d_k = x_k^{n+1} - x_k^n (still slope: the surface's frame is the lab's)."""
+def power(mu, duration):
+    """The scene at mu: t (s), P = W / h (W), its round-off bound (W), the steps above it (`beyond`)
+    and the work so far W(t) (J). W = sum_k F_k . d_k <= 0 in exact arithmetic, the work in the
+    surface's frame; in float64 it is off by at most (2N + 8) eps sum_k |F_k| |d_k| (Higham, 3.1),
+    F the step's StepReport.friction_force, d_k = x_k^{n+1} - x_k^n (the still slope's frame)."""
+    scene = simulator.build_scene(mu=mu)
     t, P, bound, x_n, eps = [], [], [], scene.x0, np.finfo(float).eps
-    for record in simulator.simulate(scene, steps):
+    for record in simulator.simulate(scene, round(duration / scene.h)):
         F, d = record.report.friction_force, record.x - x_n
         t.append(record.t)
         P.append((record.report.friction_work - record.report.surface_work) / scene.h)
         bound.append((2 * len(d) + 8) * eps * np.hypot(*F.T) @ np.hypot(*d.T) / scene.h)
         x_n = record.x
-    return np.array(t), np.array(P), np.array(bound)
+    P, bound = np.array(P), np.array(bound)
+    return SimpleNamespace(mu=mu, t=np.array(t), P=P, bound=bound, W=np.cumsum(P * scene.h),
+                           beyond=np.flatnonzero(P > bound))
 
 
 def compute(mus=MUS, duration=DURATION):
-    """Per mu: t, P, the bound, the steps above it (`beyond`) and the work so far W(t) (J)."""
-    runs = []
-    for mu in mus:
-        scene = simulator.build_scene(mu=mu)
-        t, P, bound = power(scene, round(duration / scene.h))
-        runs.append(SimpleNamespace(mu=mu, t=t, P=P, bound=bound, W=np.cumsum(P * scene.h),
-                                    beyond=np.flatnonzero(P > bound)))
-    return SimpleNamespace(runs=runs, default_mu=simulator.DEFAULTS["mu"])
+    """power's run at each mu."""
+    return SimpleNamespace(runs=[power(mu, duration) for mu in mus])
 
 
 def draw(r):
     """P against t for every mu, steps beyond round-off ringed in red; W(t) below."""
     t_max = max(run.t[-1] for run in r.runs)
     bound = max(run.bound.max() for run in r.runs)
+    default_mu = simulator.DEFAULTS["mu"]
     caption = ["P = -(surface_work - friction_work) / h (StepReport's): friction's power in the "
                "surface's frame, here the still slope's,",
                f"at every step of the lecture's mu comparison (its first 3 s at mu = "
-               f"{r.default_mu:g} are the default run).",
+               f"{default_mu:g} are the default run).",
                f"Round-off bound per step (dissipation.power): (2N + 8) eps sum_k |F_k| |d_k| / h, "
                f"at most {bound:.2g} W; P = 0 where no node touches."]
     for run in r.runs:
-        name = " (the default scene)" if run.mu == r.default_mu else ""
+        name = " (the default scene)" if run.mu == default_mu else ""
         caption.append(f"mu = {run.mu:g}{name}: P from {run.P.min():.4g} to {run.P.max():.3g} W; "
                        f"{len(run.beyond)} of {len(run.P)} steps above round-off; "
                        f"W = {run.W[-1]:.4g} J")

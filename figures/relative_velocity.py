@@ -21,7 +21,8 @@ RIDES = 0.05                    # a dish that travels L to within 5 % rode along
 
 def pull(U):
     """A pull at speed U, run until the dish stops after the cloth has: at each step t, the dish's
-    speed v_p (its centre of mass's, along the pull) and the cloth's v_s; the dish's travel."""
+    speed v_p (its centre of mass's, along the pull) and the cloth's v_s; the dish's travel, its
+    closed form (closed_forms.tablecloth_travel) and the relative error."""
     scene = simulator.build_tablecloth_scene(pull_speed=U)
     p, tangent = scene.params, scene.surface.tangent
     cloth_stops = p["t_pull"] + p["pull_length"] / U
@@ -32,9 +33,10 @@ def pull(U):
         v_s.append(scene.surface.velocity(record.t, scene.h) @ tangent)
         if record.t > cloth_stops and np.abs(record.v).max() < scene.epsv:
             break
-    travel = np.average(record.x - scene.x0, axis=0, weights=scene.m) @ tangent
+    travel = float(np.average(record.x - scene.x0, axis=0, weights=scene.m) @ tangent)
+    closed = closed_forms.tablecloth_travel(U, p["pull_length"], scene.mu, -scene.g[1])
     return SimpleNamespace(U=U, t=np.array(t), v_p=np.array(v_p), v_s=np.array(v_s),
-                           travel=float(travel))
+                           travel=travel, closed=closed, error=travel / closed - 1.0)
 
 
 def compute(speeds=SPEEDS):
@@ -43,9 +45,6 @@ def compute(speeds=SPEEDS):
     p = simulator.TABLECLOTH
     mu, g, L = p["mu"], -p["gravity"][1], p["pull_length"]
     runs = [pull(U) for U in speeds]
-    for run in runs:
-        run.closed = closed_forms.tablecloth_travel(run.U, L, mu, g)
-        run.error = run.travel / run.closed - 1.0
     rode = [run.U for run in runs if abs(run.travel / L - 1.0) <= RIDES]
     outran = [run.U for run in runs if abs(run.travel / L - 1.0) > RIDES]
     return SimpleNamespace(runs=runs, mu=mu, g=g, L=L, crossover=math.sqrt(mu * g * L),

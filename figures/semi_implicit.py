@@ -20,9 +20,8 @@ REFERENCE_DIVISOR, CHECK_DIVISOR, REFERENCE_TOL = 8, 4, 1e-6    # h/8, checked a
 CHECK = f"h/{CHECK_DIVISOR}"     # the check run's name
 RUNS = {"lagged": (1, None), "Algorithm 5": (1, None),        # name: (divisor of h, Newton tol)
         "reference": (REFERENCE_DIVISOR, REFERENCE_TOL), CHECK: (CHECK_DIVISOR, REFERENCE_TOL)}
-LOOKS = {"lagged": run_color(0), "Algorithm 5": run_color(1), "reference": (0, 0, 0),
-         CHECK: (150, 150, 150)}
-WIDTHS = {"lagged": 6, CHECK: 1}    # px (else 2): lagged wide under Algorithm 5, seen either side
+LOOKS = {"lagged": (run_color(0), 6), "Algorithm 5": (run_color(1), 2),    # (colour, width px):
+         "reference": ((0, 0, 0), 2), CHECK: ((150, 150, 150), 1)}  # lagged wide, under Algorithm 5
 COINCIDE = 0.01     # lagged and Algorithm 5 coincide: this fraction of the top panel's span apart
 
 
@@ -54,20 +53,16 @@ def trajectory(params, friction_updates, duration, divisor=1, tol=None):
                            unconverged=sum(not r.report.friction_converged for r in records))
 
 
-def start_load(scene):
-    """The barrier's push at the start, sum_k lambda_k(x^0), over the weight's normal part."""
-    lam = BarrierEnergy.compute_mu_lambda(scene.x0, scene.n, scene.o, scene.contact_area, 1.0,
-                                          scene.dhat, scene.kappa)
-    return float(lam.sum() / (scene.m.sum() * -(scene.g @ scene.n)))
-
-
 def compute(scenes=SCENES, duration=DURATION, friction_updates=FRICTION_UPDATES):
     """Per scene, the RUNS and their centres of mass along the slope; the distances from the
     reference at the steps of h (from_reference[name], the check's: the reference's own error);
-    the gap between lagged and Algorithm 5; the verdict at the end: (nearer, margin, measured)."""
+    the gap between lagged and Algorithm 5; the verdict at the end: (nearer, margin, measured);
+    start_load, the barrier's push sum_k lambda_k(x^0) over the weight's normal part."""
     out = []
     for label, params in scenes.items():
         scene = simulator.build_scene(**params)
+        lam = BarrierEnergy.compute_mu_lambda(scene.x0, scene.n, scene.o, scene.contact_area, 1.0,
+                                              scene.dhat, scene.kappa)     # lambda_k(x^0)
         runs = {name: trajectory(params, 0 if name == "lagged" else friction_updates, duration,
                                  divisor, tol) for name, (divisor, tol) in RUNS.items()}
         tangent = FrictionEnergy.tangent(scene.n)
@@ -81,7 +76,8 @@ def compute(scenes=SCENES, duration=DURATION, friction_updates=FRICTION_UPDATES)
         out.append(SimpleNamespace(
             label=label, runs=runs, t=runs["lagged"].t, along=along, from_reference=far,
             gap=np.hypot(*(runs["Algorithm 5"].com - runs["lagged"].com).T),
-            start_load=start_load(scene), verdict=(nearer, margin, margin > own_error)))
+            start_load=float(lam.sum() / (scene.m.sum() * -(scene.g @ scene.n))),
+            verdict=(nearer, margin, margin > own_error)))
     return SimpleNamespace(scenes=out, friction_updates=friction_updates)
 
 
@@ -128,19 +124,18 @@ def draw(r):
                 "(Algorithm 5)", 2 * len(r.scenes), caption(r))
     for i, s in enumerate(r.scenes):
         lo = min(a.min() for a in s.along.values())
-        hi = max(a.max() for a in s.along.values())
-        ax = page.axes(2 * i, s.t[-1], lo, hi, f"{s.label}: centre of mass along the slope (m) "
-                       "against time (s)", "t (s)", "s (m)")
+        ax = page.axes(2 * i, s.t[-1], lo, lo + span(s), f"{s.label}: centre of mass along the "
+                       "slope (m) against time (s)", "t (s)", "s (m)")
         for name in (CHECK, "reference", "lagged", "Algorithm 5"):      # the runs at h on top
-            ax.line(s.runs[name].t, s.along[name], LOOKS[name], WIDTHS.get(name, 2))
+            ax.line(s.runs[name].t, s.along[name], *LOOKS[name])
         for name in ("lagged", "Algorithm 5", "reference", CHECK):
-            ax.legend(LOOKS[name], f"reference (h/{REFERENCE_DIVISOR})" if name == "reference"
+            ax.legend(LOOKS[name][0], f"reference (h/{REFERENCE_DIVISOR})" if name == "reference"
                       else name)
         top = 1e3 * max(far.max() for far in s.from_reference.values())
         ax = page.axes(2 * i + 1, s.t[-1], 0.0, top, f"{s.label}: distance from the reference (mm) "
                        "against time (s)", "t (s)", "mm")
         for name in (CHECK, "lagged", "Algorithm 5"):
-            ax.line(s.t, 1e3 * s.from_reference[name], LOOKS[name], WIDTHS.get(name, 2))
+            ax.line(s.t, 1e3 * s.from_reference[name], *LOOKS[name])
         for name in ("lagged", "Algorithm 5", CHECK):
-            ax.legend(LOOKS[name], f"{CHECK}: own error" if name == CHECK else name)
+            ax.legend(LOOKS[name][0], f"{CHECK}: own error" if name == CHECK else name)
     return page

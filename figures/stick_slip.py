@@ -5,6 +5,7 @@ coefficient it slides below a rigid strut's self-locking angle 90 deg - atan mu 
 The tip is the chalk's lowest node; its cycles are analysis/stick_slip.py's, its mark
 analysis/wear.py's. Each run stops before the hand passes over the tip (docs/chalk.md)."""
 import math
+from itertools import pairwise
 from types import SimpleNamespace
 
 import numpy as np
@@ -30,20 +31,20 @@ def track(duration, **params):
     t, the tip's x and velocity u along the board, stuck = |u| < eps_v, the hand's displacement,
     drive_start, whether the tip stayed the lowest node (`tip_lowest`), its mark (wear.Deposit)."""
     scene = simulator.build_chalk_scene(**params)
+    records = list(simulator.simulate(scene, round(duration / scene.h)))
+    t = np.array([0.0] + [record.t for record in records])
+    x = np.stack([scene.x0] + [record.x for record in records])
+    v = np.stack([scene.v0] + [record.v for record in records])
     tip, tangent = int(np.argmin(scene.x0[:, 1])), FrictionEnergy.tangent(scene.n)
-    t, x, u, lowest = [0.0], [scene.x0[tip] @ tangent], [scene.v0[tip] @ tangent], True
-    mark, before = wear.Deposit(), scene.x0
-    for record in simulator.simulate(scene, round(duration / scene.h)):
-        t.append(record.t)
-        x.append(record.x[tip] @ tangent)
-        u.append(record.v[tip] @ tangent)
-        lowest = lowest and int(np.argmin(record.x[:, 1])) == tip
-        mark.step(scene, before, record.x)
-        before = record.x
-    t, x, u = np.array(t), np.array(x), np.array(u)
-    return SimpleNamespace(scene=scene, t=t, x=x, u=u, stuck=np.abs(u) < scene.epsv,
+    mark = wear.Deposit()
+    for before, after in pairwise(x):
+        mark.step(scene, before, after)
+    u = v[:, tip] @ tangent
+    return SimpleNamespace(scene=scene, t=t, x=x[:, tip] @ tangent, u=u,
+                           stuck=np.abs(u) < scene.epsv,
                            hand=np.array([scene.hand.displacement(s) @ tangent for s in t]),
-                           drive_start=counting.drive_start(scene), tip_lowest=lowest, mark=mark)
+                           drive_start=counting.drive_start(scene),
+                           tip_lowest=bool(np.all(np.argmin(x[:, :, 1], axis=1) == tip)), mark=mark)
 
 
 def measure(tr):
@@ -52,17 +53,16 @@ def measure(tr):
     p = tr.scene.params
     counted = counting.measure(tr.t, tr.x, tr.u, tr.scene.epsv, p["drive"], tr.drive_start)
     sticks = [tr.x[max(r[0] - 1, 0):r[-1] + 1] for r in counting.runs(tr.stuck) if tr.stuck[r[0]]]
-    return SimpleNamespace(**vars(counted), creep=max((np.ptp(x) for x in sticks), default=0.0),
+    return SimpleNamespace(**counted._asdict(), creep=max((np.ptp(x) for x in sticks), default=0.0),
                            k_hand=p["k_hand"], tip_lowest=tr.tip_lowest)
 
 
 def mark_figures(tr):
-    """A run's mark: its darkest bin (N m), its dashes' contrasts (darkest over faintest bin,
-    wear.dashes), and p10 and p90 of the bins inside it (wear.inside)."""
-    p10, p90 = np.percentile(wear.inside(tr.mark.values), (10, 90))
+    """A run's mark: its dashes' contrasts (darkest over faintest bin, wear.dashes), p10 and p90 of
+    its bins but the end ones (slid only partly across)."""
+    p10, p90 = np.percentile(tr.mark.values[1:-1], (10, 90))
     contrast = [dark / faint for _, dark, faint in wear.dashes(tr.mark.values)]
-    return SimpleNamespace(darkest=tr.mark.darkest(), dashes=np.array(contrast), p10=float(p10),
-                           p90=float(p90))
+    return SimpleNamespace(dashes=np.array(contrast), p10=float(p10), p90=float(p90))
 
 
 def one_coefficient(tilt, duration):
@@ -177,34 +177,22 @@ def draw_mark(page, ax, mark, y):
                      bottom - top)
 
 
-def dashed_hline(page, ax, y, color, text, dash=6):
-    """A dashed 1 px line at y across `ax`, with a legend row: a curve along it shows between."""
-    row = round(float(ax.px(0.0, y)[1]))
-    for left in range(plots.LEFT + 1, plots.RIGHT - 1, 2 * dash):
-        right = min(left + dash, plots.RIGHT - 1)
-        page.pygame.draw.line(page.surface, color, (left, row), (right, row), 1)
-    ax.legend(color, text)
-
-
 def draw(r):
     """The two chalks' marks, the tip's speed against time, the slip length against the grip, and
     the tip's travel against the tilt with one coefficient."""
     page = Page("Stick-slip: Rabinowicz's chalk pushed and dragged, its grip, and one coefficient",
                 4, caption(r))
     chalks = (("pushed", r.pushed, 1.0, run_color(1)), ("dragged", r.dragged, 0.0, run_color(2)))
-    spans = np.array([tr.mark.span() for _, tr, _, _ in chalks if tr.mark.span() is not None]
-                     or [(0.0, 1e-3)])
+    spans = np.array([tr.mark.span() for _, tr, _, _ in chalks])
     ax = page.axes(0, 1e3 * spans.max(), -0.3, 1.65, "the mark each chalk leaves (Archard: normal "
                    "force x length slid), along the board (mm)", "x (mm)", "chalk",
                    x_lo=min(0.0, 1e3 * spans.min()), yticks=[(y, name) for name, _, y, _ in chalks])
-    for name, tr, y, color in chalks:
-        draw_mark(page, ax, tr.mark, y)
-        if tr.mark.darkest() > 0:
-            profile = y + 0.2 + PROFILE_HEIGHT * tr.mark.values / tr.mark.darkest()
-            ax.line(1e3 * tr.mark.centres(), profile, color, 1)
     ax.legend(BLACK, "grey: the mark")
     ax.note("black: its darkest")
-    for name, tr, _, color in chalks:
+    for name, tr, y, color in chalks:
+        draw_mark(page, ax, tr.mark, y)
+        profile = y + 0.2 + PROFILE_HEIGHT * tr.mark.values / tr.mark.darkest()
+        ax.line(1e3 * tr.mark.centres(), profile, color, 1)
         ax.legend(color, f"{name}, per 0.1 mm")
         ax.note(f"  0 to {tr.mark.darkest():.3g} N m")
 
@@ -217,7 +205,7 @@ def draw(r):
         ax.line(tr.t, np.abs(tr.u), color, 3 if name == "dragged" else 1)   # dragged: at the drive
         ax.legend(color, name)
     ax.hline(epsv, STUCK, f"eps_v {epsv:g}: stuck below")
-    dashed_hline(page, ax, drive, BLACK, f"the drive, {drive:g} m/s")   # over the curves
+    ax.hline(drive, BLACK, f"the drive, {drive:g} m/s")     # 1 px through the dragged tip's 3
     ax.vline(r.pushed.drive_start, GREY, "the hand starts")
 
     k = np.array([g.k_hand for g in r.grips])

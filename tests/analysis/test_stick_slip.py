@@ -117,7 +117,7 @@ def test_the_figure_counts_with_it():
     scene = types.SimpleNamespace(epsv=EPSV, params={"drive": DRIVE, "k_hand": 2000.0})
     tr = types.SimpleNamespace(scene=scene, t=t, x=x, u=u, stuck=np.abs(u) < EPSV,
                                drive_start=START, tip_lowest=True)
-    counted = vars(stick_slip.measure(t, x, u, EPSV, DRIVE, START))
+    counted = stick_slip.measure(t, x, u, EPSV, DRIVE, START)._asdict()
     drawn = vars(figure.measure(tr))
     assert {k: drawn[k] for k in counted} == counted and drawn["creep"] > 0
     assert not hasattr(figure, "cycles") and not hasattr(figure, "MIN_STICK")
