@@ -5,6 +5,7 @@ implicit: Algorithm 5), on the cases of closed_forms.py and the full scene (benc
     python -m benchmarks.error_vs_runtime --quick    # two time steps of free fall, a smoke test
 """
 import argparse
+import itertools
 import math
 import os
 import sys
@@ -15,7 +16,6 @@ import numpy as np
 
 import closed_forms as cases
 import time_integrator
-import benchmarks
 from benchmarks import plot, tables
 
 HS = (0.04, 0.02, 0.01, 0.005, 0.0025)
@@ -27,6 +27,10 @@ REFERENCE_H, REFERENCE_TOL = 0.000625, 1e-6  # the full scene's reference: 8x be
 COLUMNS = ["case", "error_measure", "friction", "tol", "h", "steps", "error", "observed_order",
            "wall_per_sim_second", "newton_per_step", "friction_updates_per_step",
            "unconverged_steps"]
+HEAD = "friction     tol       h      error  order wall s/sim s newton/step updates/step"
+ROW = ("{friction:9s} {tol:6.0e} {h:7g} {error:10.3e} {observed_order:6.2f} "
+       "{wall_per_sim_second:12.2f} {newton_per_step:11.2f} {friction_updates_per_step:12.2f}")
+TOL_COLORS = {1e-2: (214, 39, 40), 1e-4: (31, 119, 180), 1e-6: (44, 160, 44)}
 
 
 def creep_error(scene, run, reference):
@@ -124,52 +128,30 @@ def sweep(quick=False):
     return rows, notes
 
 
-def number(value, fmt):
-    """`value` formatted, or '-' in its width where it is nan."""
-    if isinstance(value, float) and math.isnan(value):
-        return "-".rjust(int(fmt.split(".")[0]))
-    return format(value, fmt)
-
-
 def table(rows):
-    """The table as text, grouped by case, each group headed by its error measure."""
-    head = (f"{'friction':9s} {'tol':>6s} {'h':>7s} {'error':>10s} {'order':>6s} "
-            f"{'wall s/sim s':>12s} {'newton/step':>11s} {'updates/step':>12s}")
-    out, case = [], None
-    for row in rows:
-        if row["case"] != case:
-            case = row["case"]
-            out += ["", f"{case}: {row['error_measure']}", head]
-        out.append(" ".join([f"{row['friction']:9s} {row['tol']:6.0e} {row['h']:7g}"] + [
-            number(row[key], fmt) for key, fmt in (
-                ("error", "10.3e"), ("observed_order", "6.2f"), ("wall_per_sim_second", "12.2f"),
-                ("newton_per_step", "11.2f"), ("friction_updates_per_step", "12.2f"))]))
+    """The table as text, grouped by case, each group headed by its error measure; '-' for nan."""
+    out = []
+    for case, group in itertools.groupby(rows, key=lambda row: row["case"]):
+        group = list(group)
+        out += ["", f"{case}: {group[0]['error_measure']}", HEAD]
+        out += [ROW.format(**row).replace("nan", "  -") for row in group]
     return "\n".join(out[1:])
 
 
-TOL_COLORS = {1e-2: (214, 39, 40), 1e-4: (31, 119, 180), 1e-6: (44, 160, 44)}
-
-
 def style(mode, tol):
-    """A tolerance's colour; fully implicit friction dashed with squares."""
-    implicit = mode == "implicit"
-    return plot.Style(TOL_COLORS.get(tol, (0, 0, 0)), implicit, "s" if implicit else "o")
+    """A tolerance's colour; fully implicit friction dashed (with squares)."""
+    return plot.Style(TOL_COLORS.get(tol, (0, 0, 0)), mode == "implicit")
 
 
 def draw(path, rows):
     """The PNG: one panel per case, one line per (friction mode, tolerance) through its h."""
-    panels, lines = {}, {}
+    panels = {}
     for row in rows:
-        if row["case"] not in panels:
-            panels[row["case"]] = plot.Panel(f"{row['case']}: {row['error_measure']}",
-                                             "wall-clock s per simulated s", "error")
-        key = (row["case"], row["friction"], row["tol"])
-        if key not in lines:
-            lines[key] = []
-            panels[row["case"]].series.append((style(row["friction"], row["tol"]), lines[key]))
+        series = panels.setdefault(f"{row['case']}: {row['error_measure']}", {})
+        points = series.setdefault(style(row["friction"], row["tol"]), [])
         if row["error"] > 0 and row["wall_per_sim_second"] > 0:     # False for nan: failed runs
-            lines[key].append((row["wall_per_sim_second"], row["error"]))
-    looks = list(dict.fromkeys((mode, tol) for _, mode, tol in lines))
+            points.append((row["wall_per_sim_second"], row["error"]))
+    looks = list(dict.fromkeys((row["friction"], row["tol"]) for row in rows))
     if any(mode != "none" for mode, _ in looks):
         looks = [(mode, tol) for mode, tol in looks if mode != "none"]  # "none" is drawn as lagged
     legend = [(f"{mode}, tol {tol:.0e}", style(mode, tol)) for mode, tol in looks]
@@ -178,13 +160,14 @@ def draw(path, rows):
              " a smaller h costs more (further right).",
              "Free fall has no contact: its one run per tolerance is drawn solid. Fully implicit "
              f"friction: up to {FIXED_POINT_CAP} fixed-point updates per step."]
-    if "sticking" in panels:
+    if any(row["case"] == "sticking" for row in rows):
         creep = cases.creep_speed(CASES[1].build(HS[0], TOLS[-1], 0))
         notes += [f"Sticking: the mean creep speed against the mollified friction's steady creep,"
                   f" {creep:.3g} m/s, the converged answer (Coulomb",
                   "friction would not creep at all; a Newton tolerance that stops Newton early "
                   "creeps too slowly)."]
-    plot.save_loglog_panels(path, "Error against run time", list(panels.values()), legend, notes)
+    plot.save_loglog_panels(path, "Error against run time", panels,
+                            ("wall-clock s per simulated s", "error"), legend, notes)
 
 
 def main(argv=None):
@@ -193,7 +176,7 @@ def main(argv=None):
     ap.add_argument("--quick", action="store_true", help=f"only free fall at h = {QUICK_HS}")
     ap.add_argument("--out", help="folder for error_vs_runtime.csv and .png")
     args = ap.parse_args(argv)
-    out = benchmarks.output_folder(args.out, not args.quick, "error_vs_runtime")
+    out = tables.output_folder(args.out, not args.quick, "error_vs_runtime")
     start = time.perf_counter()
     rows, notes = sweep(quick=args.quick)
     print("\n".join([table(rows)] + ([""] + notes if notes else [])))

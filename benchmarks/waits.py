@@ -1,7 +1,7 @@
-"""What a user waits for (benchmarks.speed --frames, --chalk, --window): whole
-`python simulator.py` processes run in turn, and the live window at n_seg 4, 8 and 16, paced and
-flat out, on SDL's dummy driver and on $DISPLAY. Targets: frames at most 3x --no-frames (issue 16),
-the chalk's 3 s default at most 3 s of wall time per simulated second (issue 28)."""
+"""What a user waits for (benchmarks.speed --frames, --chalk, --window; benchmarks/README.md):
+whole `python simulator.py` processes run in turn, and the live window paced and flat out. Targets:
+frames at most 3x --no-frames (issue 16), the chalk's 3 s default at most 3 s of wall time per
+simulated second (issue 28)."""
 import csv
 import functools
 import math
@@ -14,24 +14,23 @@ import sys
 import tempfile
 import time
 
-from benchmarks import ROOT, tables
+from benchmarks import tables
+from benchmarks.tables import ROOT
 
 FRAMES_TARGET = CHALK_TARGET = 3.0
 RUNS = {"pushed": [], "dragged": ["--drag"], "pushed, from x^n": ["--newton-start", "x_n"],
         "dragged, from x^n": ["--drag", "--newton-start", "x_n"]}
-COLUMNS = ["python", "run", "simulated_s", "wall_s", "cpu_s", "stepping_wall_s",
-           "wall_per_simulated_s", "newton_per_step", "noise"]
-TEXT = [("python", "{python}"), ("run", "{run}"), ("simulated s", "{simulated_s:g}"),
-        ("wall s", "{wall_s:.2f}"), ("CPU s", "{cpu_s:.2f}"),
-        ("stepping wall s", "{stepping_wall_s:.2f}"),
-        ("wall / simulated s", "{wall_per_simulated_s:.2f}"),
-        ("Newton/step", "{newton_per_step:.2f}"), ("noise", "{noise}")]
+TEXT = [("python", "python", ""), ("run", "run", ""), ("simulated s", "simulated_s", "g"),
+        ("wall s", "wall_s", ".2f"), ("CPU s", "cpu_s", ".2f"),
+        ("stepping wall s", "stepping_wall_s", ".2f"),
+        ("wall / simulated s", "wall_per_simulated_s", ".2f"),
+        ("Newton/step", "newton_per_step", ".2f"), ("noise", "noise", "")]
+COLUMNS = [key for _, key, _ in TEXT]       # chalk-speed.csv's
 CHALK_NOTE = """\
-python simulator.py --scene chalk --no-frames [flags]: whole processes (import, steps, log.csv, \
-plots.png,
-summary.png), medians of {repeats} run alternately; stepping wall: the closing line's figure. \
-Target for
-the pushed 3 s default: at most {target:g} s of wall time per simulated second: {verdict}."""
+python simulator.py --scene chalk --no-frames [flags]: whole processes (import, steps, log.csv,
+plots.png, summary.png), medians of {repeats} run alternately; stepping wall: the closing line's
+figure. Target for the pushed 3 s default: at most {target:g} s of wall time per simulated second:
+{verdict}."""
 WINDOW_PIXELS = 652         # the window's default side on a 1024x768 projector
 MEMORY_DRIVER = "dummy"     # SDL's driver that draws into memory only, no display needed
 WINDOW_NOTE = """\
@@ -47,14 +46,14 @@ def run_simulator(folder, flags, python=sys.executable):
     stepping's wall s (its closing line), Newton iterations per step and simulated s (log.csv),
     frames written."""
     out = tempfile.mkdtemp(dir=folder)
-    command = [python, os.path.join(ROOT, "simulator.py"), "--out", out, *flags]
-    wall, cpu, _, stderr = tables.run_process(command)
+    wall, cpu, stderr = tables.run_process(
+        [python, os.path.join(ROOT, "simulator.py"), "--out", out, *flags])
     with open(os.path.join(out, "log.csv")) as f:
         steps = list(csv.DictReader(f))[1:]         # row 0 is t = 0
-    return {"wall": wall, "cpu": cpu,
-            "stepping": float(re.search(r"in ([0-9.]+) s wall", stderr).group(1)),
-            "newton": statistics.mean(int(r["newton_iterations"]) for r in steps),
-            "simulated": float(steps[-1]["t"]),
+    return {"wall_s": wall, "cpu_s": cpu,
+            "stepping_wall_s": float(re.search(r"in ([0-9.]+) s wall", stderr).group(1)),
+            "newton_per_step": statistics.mean(int(r["newton_iterations"]) for r in steps),
+            "simulated_s": float(steps[-1]["t"]),
             "frames": len([f for f in os.listdir(out) if re.fullmatch(r"frame_.*\.png", f)])}
 
 
@@ -70,12 +69,12 @@ def in_turn(runs, repeats, pythons=(sys.executable,), common=()):
 def print_frames_overhead(repeats):
     """The default run with frames and with --no-frames, in turn: medians and their ratio."""
     done = in_turn({"frames": [], "no-frames": ["--no-frames"]}, repeats)
-    walls = [[r["wall"] for r in results] for results in done.values()]
+    walls = [[r["wall_s"] for r in results] for results in done.values()]
     with_frames, without = (statistics.median(w) for w in walls)
     first, ratio = done[sys.executable, "frames"][0], with_frames / without
     verdict = "met" if ratio <= FRAMES_TARGET else "NOT met"
     print(f"python simulator.py: {with_frames:.2f} s with {first['frames']} frames "
-          f"({(first['frames'] - 1) / first['simulated']:.1f} per simulated second), "
+          f"({(first['frames'] - 1) / first['simulated_s']:.1f} per simulated second), "
           f"{without:.2f} s with --no-frames (whole processes, medians of {repeats}, run "
           f"alternately): {ratio:.2f}x (target <= {FRAMES_TARGET:g}x: {verdict}; "
           f"repeats spread {100 * max(map(tables.spread, walls)):.0f}%)")
@@ -105,13 +104,11 @@ def chalk_table(repeats=3, duration=None, runs=RUNS, pythons=None):
     done = in_turn(runs, repeats, pythons, ["--scene", "chalk", "--no-frames", *seconds])
     rows = []
     for (python, name), results in done.items():
-        m = tables.medians(results)
-        walls, cpus = [r["wall"] for r in results], [r["cpu"] for r in results]
-        rows.append({"python": f"{pythons[python]} {python}", "run": name,
-                     "simulated_s": m["simulated"], "wall_s": m["wall"], "cpu_s": m["cpu"],
-                     "stepping_wall_s": m["stepping"],
-                     "wall_per_simulated_s": m["wall"] / m["simulated"],
-                     "newton_per_step": m["newton"], "noise": tables.noise(walls, cpus)})
+        row = {key: statistics.median(r[key] for r in results) for key in results[0]}
+        walls, cpus = ([r[key] for r in results] for key in ("wall_s", "cpu_s"))
+        rows.append({"python": f"{pythons[python]} {python}", "run": name, **row,
+                     "wall_per_simulated_s": row["wall_s"] / row["simulated_s"],
+                     "noise": tables.noise(walls, cpus)})
     return rows
 
 
