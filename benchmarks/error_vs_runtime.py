@@ -1,8 +1,5 @@
 """Error against run time over h, the Newton tolerance and the friction mode (lagged, or fully
-implicit: Algorithm 5), on the cases of closed_forms.py and the full scene (benchmarks/README.md):
-
-    python -m benchmarks.error_vs_runtime            # the full sweep (about 30 s)
-    python -m benchmarks.error_vs_runtime --quick    # two time steps of free fall, a smoke test
+implicit: Algorithm 5), on the cases of closed_forms.py and the full scene (benchmarks/README.md).
 """
 import argparse
 import itertools
@@ -10,7 +7,7 @@ import math
 import os
 import sys
 import time
-from dataclasses import dataclass
+from collections import namedtuple
 
 import numpy as np
 
@@ -40,15 +37,10 @@ def creep_error(scene, run, reference):
     return abs(s[-1] / run.t[-1] - exact) / exact
 
 
-@dataclass(frozen=True)
-class Case:
-    name: str
-    measure: str            # what `error` measures
-    duration: float         # simulated seconds per run
-    friction: bool          # False: no contact, one run stands for both friction modes
-    ordered: bool           # True: h causes the error, so observed orders in h are reported
-    build: object           # (h, tol, friction_updates) -> scene
-    error: object           # (scene, run, reference run or None) -> float
+# measure: what `error` measures; duration: simulated s per run; friction: False where there is
+# no contact (one run stands for both modes); ordered: h causes the error, so observed orders in h
+# are reported; build(h, tol, friction_updates) -> scene; error(scene, run, reference) -> float
+Case = namedtuple("Case", "name measure duration friction ordered build error")
 
 
 CASES = (
@@ -82,11 +74,7 @@ def full_scene_reference():
     full = CASES[3]
     print(f"reference: full scene, h={REFERENCE_H:g}, tol={REFERENCE_TOL:g}, lagged ...",
           file=sys.stderr, flush=True)
-
-    def quarters(fraction):
-        if round(20 * fraction) % 5 == 0:
-            print(f"  reference {100 * fraction:3.0f} %", file=sys.stderr, flush=True)
-    reference = cases.run(full.build(REFERENCE_H, REFERENCE_TOL, 0), full.duration, quarters)
+    reference = cases.run(full.build(REFERENCE_H, REFERENCE_TOL, 0), full.duration)
     coarser = cases.run(full.build(2 * REFERENCE_H, REFERENCE_TOL, 0), full.duration)
     print(f"  reference done in {reference.wall + coarser.wall:.1f} s", file=sys.stderr, flush=True)
     return reference, cases.max_com_error(coarser, reference)

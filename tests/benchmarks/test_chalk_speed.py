@@ -40,7 +40,7 @@ def test_the_chalk_table_has_each_run_once_with_quick(tmp_path, monkeypatch, cap
     (The processes are stubbed: the test above runs them.)"""
     calls = []
 
-    def run_simulator(folder, flags, python=sys.executable):
+    def run_simulator(flags, python=sys.executable):
         calls.append((python, flags))
         return {"wall_s": 1.234567891, "cpu_s": 1.2, "stepping_wall_s": 0.5,
                 "newton_per_step": 1.25, "simulated_s": 0.3, "frames": 0}
@@ -69,7 +69,7 @@ def test_each_python_runs_every_run_in_turn(monkeypatch):
     against the target per interpreter. (The processes are stubbed: the test above runs them.)"""
     calls = []
 
-    def run_simulator(folder, flags, python=sys.executable):
+    def run_simulator(flags, python=sys.executable):
         calls.append((python, flags))
         wall = [3.0, 9.0, 6.0][(len(calls) - 1) // 4 % 3] + (python == "B")
         return {"wall_s": wall, "cpu_s": wall, "stepping_wall_s": 1.0,
@@ -97,7 +97,7 @@ def test_the_frames_cost_is_the_ratio_of_the_medians_of_runs_in_turn(monkeypatch
     ratio against the target of 3x, frames per simulated second. (The processes are stubbed.)"""
     calls = []
 
-    def run_simulator(folder, flags, python=sys.executable):
+    def run_simulator(flags, python=sys.executable):
         calls.append(flags)
         wall = (2.0 if flags == [] else 1.0) * [1.0, 1.1, 0.9][(len(calls) - 1) // 2]
         return {"wall_s": wall, "cpu_s": wall, "stepping_wall_s": 0.5, "newton_per_step": 2.0,
