@@ -55,6 +55,7 @@ def median_ms(f, repeats):
 
 def measure(n_seg, repeats):
     """One row: each term's val + grad + hess, the CSR matrix, one factorization-and-solve."""
+    print(f"n_seg {n_seg} ...", file=sys.stderr, flush=True)
     configuration, grads, hessians = terms(n_seg), [], []
     x, e = configuration["spring"][1][:2]
     row = {"n_seg": n_seg, "nodes": len(x), "springs": len(e)}
@@ -88,14 +89,10 @@ def main(argv=None):
     ap.add_argument("--out", help="folder for energies.csv (default: see benchmarks/README.md)")
     args = ap.parse_args(argv)
     sizes, repeats = ((8, 16), 3) if args.quick else ((64, 128), 7)
-    rows = []
-    for n_seg in sizes:
-        print(f"n_seg {n_seg} ...", file=sys.stderr, flush=True)
-        rows.append(measure(n_seg, repeats))
+    rows = [measure(n_seg, repeats) for n_seg in sizes]
     print("\n".join([HEAD] + [ROW.format(**row) for row in rows] + [NOTE]))
-    path = os.path.join(tables.output_folder(args.out, not args.quick, "energies"), "energies.csv")
-    tables.write_csv(path, COLUMNS, rows, digits=4)
-    print(f"wrote {path}", file=sys.stderr)
+    out = tables.output_folder(args.out, not args.quick, "energies")
+    tables.write_csv(os.path.join(out, "energies.csv"), COLUMNS, rows, digits=4)
     return rows
 
 

@@ -1,9 +1,5 @@
-"""Log-log line plots drawn with pygame on an off-screen surface (no display), saved as PNG.
-
-save_loglog_panels: panels in a grid, each series a polyline with markers in its Style (dashed with
-squares, or solid with circles); one legend for all panels and notes below. Axes: a labelled tick
-at every power of ten in range, minor ticks where they span few decades.
-"""
+"""Log-log line plots drawn with pygame on an off-screen surface (no display), saved as PNG: a
+labelled tick at every power of ten in range, minor ticks where the axis spans few decades."""
 import io
 import math
 from collections import namedtuple
@@ -16,7 +12,7 @@ MARGIN_L, MARGIN_R, MARGIN_T, MARGIN_B = 88, 20, 40, 62
 COLUMNS = 2
 PAD = 0.03                          # fraction of an axis's span left free beyond its end decades
 BLACK, GREY, LIGHT = (0, 0, 0), (110, 110, 110), (228, 228, 228)
-Style = namedtuple("Style", "color dashed")
+Style = namedtuple("Style", "color dashed")      # dashed lines have square markers, solid round
 
 
 def decades(values):
@@ -56,13 +52,13 @@ def marker(pygame, surface, style, p, r=5):
 
 
 def draw_panel(pygame, surface, title, series, labels, left, top, small, normal):
-    """One panel: `series` ({Style: [(x, y), ...]}, x, y <= 0 left out) in a box with log axes."""
+    """One panel: `series` ({Style: [(x, y), ...], x and y > 0}) in a box with log axes."""
     box = pygame.Rect(left + MARGIN_L, top + MARGIN_T, PANEL_W - MARGIN_L - MARGIN_R,
                       PANEL_H - MARGIN_T - MARGIN_B)
     title = normal.render(title, True, BLACK)
     surface.blit(title, (left + (PANEL_W - title.get_width()) // 2, top + 10))
     pygame.draw.rect(surface, BLACK, box, 1)
-    points = [(x, y) for pts in series.values() for x, y in pts if x > 0 and y > 0]
+    points = [p for pts in series.values() for p in pts]
     if not points:
         return
     (xlo, xhi), (ylo, yhi) = decades([p[0] for p in points]), decades([p[1] for p in points])
@@ -93,7 +89,7 @@ def draw_panel(pygame, surface, title, series, labels, left, top, small, normal)
     ylabel = pygame.transform.rotate(small.render(labels[1], True, BLACK), 90)
     surface.blit(ylabel, (left + 8, box.centery - ylabel.get_height() // 2))
     for style, pts in series.items():
-        px = [to_px(x, y) for x, y in pts if x > 0 and y > 0]
+        px = [to_px(x, y) for x, y in pts]
         for a, b in zip(px, px[1:]):
             line(pygame, surface, style, a, b)
         for p in px:

@@ -45,21 +45,19 @@ def function_extents(source):
 
 
 def functions_that_ran(code_objects, tree):
-    """[(file, name, first line, its code lines)], sorted, of the functions of `tree`'s files that
-    hold the code objects that ran (the innermost one holding a code object's first line)."""
-    ran = []
-    for path in sorted({c.co_filename for c in code_objects}):
+    """[(file, name, first line, its code lines)], sorted, of the functions in `tree`'s top-level
+    .py files that hold the code objects that ran (the innermost one holding a code object)."""
+    firsts, ran = {}, []
+    for c in code_objects:
+        firsts.setdefault(os.path.abspath(c.co_filename), []).append(c.co_firstlineno)
+    for path in sorted(p for p in firsts if os.path.dirname(p) == tree and p.endswith(".py")):
         with open(path) as f:
             source = f.read()
         extents, counted = function_extents(source), code_lines(source)
-        functions = set()
-        for c in code_objects:
-            holding = [ext for ext in extents if ext[0] <= c.co_firstlineno <= ext[1]]
-            if c.co_filename == path and holding:
-                functions.add(max(holding))
+        holding = ([ext for ext in extents if ext[0] <= line <= ext[1]] for line in firsts[path])
         ran += [(os.path.relpath(path, tree), name, first,
                  sorted(counted.intersection(range(first, last + 1))))
-                for first, last, name in sorted(functions)]
+                for first, last, name in sorted({max(h) for h in holding if h})]
     return ran
 
 
@@ -72,15 +70,10 @@ def per_file(functions):
     return {path: (len(lines), len(set().union(*lines))) for path, lines in held.items()}
 
 
-def is_project_file(path, tree):
-    """True for a top-level .py file of `tree` (not tests/, benchmarks/ or a venv)."""
-    path = os.path.abspath(path)
-    return os.path.dirname(path) == tree and path.endswith(".py")
-
-
-def collect(tree):
-    """The project code objects that run while simulate steps the default scene, lagged, then
-    with Algorithm 5 from the start (the count issue 14 gives for c6bcae2: 444 lines)."""
+def worker(tree):
+    """functions_that_ran in `tree` (first on sys.path) while simulate steps the default scene,
+    lagged, then with Algorithm 5 from the start (issue 14 gives 444 lines for c6bcae2)."""
+    sys.path.insert(0, tree)
     import simulator
     runs = ((simulator.build_scene(), LAGGED_STEPS),
             (simulator.build_scene(friction_updates=FRICTION_UPDATES), IMPLICIT_STEPS))
@@ -94,14 +87,7 @@ def collect(tree):
         for _ in simulator.simulate(scene, steps):
             pass
     sys.setprofile(None)
-    return {c for c in seen if is_project_file(c.co_filename, tree)}
-
-
-def worker(tree):
-    """functions_that_ran in `tree`, counted in this process with `tree` first on sys.path."""
-    tree = os.path.abspath(tree)
-    sys.path.insert(0, tree)
-    return functions_that_ran(collect(tree), tree)
+    return functions_that_ran(seen, tree)
 
 
 def count(rev):
@@ -109,14 +95,6 @@ def count(rev):
     with tempfile.TemporaryDirectory(prefix="reading_path-") as folder:
         tree = tables.export_tree(rev, folder)
         return tables.in_fresh_process("benchmarks.reading_path", "worker", tree)
-
-
-def format_table(title, files):
-    """One line per file (functions, lines), most lines first, then the total."""
-    rows = sorted(files.items(), key=lambda item: -item[1][1])
-    rows.append(("total", tuple(map(sum, zip(*files.values())))))
-    return "\n".join([title, f"  {'file':<22} {'functions':>9} {'lines':>6}"] + [
-        f"  {name:<22} {functions:>9} {lines:>6}" for name, (functions, lines) in rows])
 
 
 def format_functions(functions):
@@ -139,11 +117,14 @@ def main(argv=None):
             [(args.against, args.against)] if args.against else []):
         ran = count(rev)
         files = per_file(ran)
-        print(format_table(title, files))
+        total = tuple(map(sum, zip(*files.values())))
+        print(title, f"  {'file':<22} {'functions':>9} {'lines':>6}", sep="\n")
+        rows = sorted(files.items(), key=lambda item: -item[1][1])      # most lines first
+        for name, (functions, lines) in rows + [("total", total)]:
+            print(f"  {name:<22} {functions:>9} {lines:>6}")
         if args.functions:
             print(format_functions(ran))
-        lines = sum(n for _, n in files.values())
-        results.append(f"{title} {lines} lines in {len(ran)} functions")
+        results.append(f"{title} {total[1]} lines in {total[0]} functions")
     print("; ".join(results))
     return 0
 

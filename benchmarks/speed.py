@@ -64,13 +64,6 @@ def timed(reports):
     return time.process_time() - cpu, time.perf_counter() - wall, newton
 
 
-def steps(time_integrator, scene, x, v, first, count):
-    """The reports of `count` steps from (x, v), the first numbered `first`."""
-    for i in range(first, first + count):
-        x, v, report = time_integrator.step(scene, x, v, step_index=i)
-        yield report
-
-
 def solve_share(utils, window):
     """The share of the wall time of `window()` spent in utils.SPDSolver.solve (wrapped)."""
     original, spent = utils.SPDSolver.solve, []
@@ -93,12 +86,14 @@ def measure(n_seg, kind, warm, count, repeats):
     import time_integrator
     import utils
     scene = simulator.build_scene(n_seg=n_seg) if kind == "drop" else slide_scene(simulator, n_seg)
-    x, v = scene.x0, scene.v0
-    for i in range(warm):
-        x, v, _ = time_integrator.step(scene, x, v, step_index=i)
+    states = [(scene.x0, scene.v0)]         # (x, v) before each step
+    for i in range(warm + count):
+        x, v, _ = time_integrator.step(scene, *states[-1], step_index=i)
+        states.append((x, v))
 
     def window():
-        return timed(steps(time_integrator, scene, x, v, warm, count))
+        return timed(time_integrator.step(scene, x, v, step_index=i)[2]
+                     for i, (x, v) in enumerate(states[warm:-1], warm))
     cpus, walls, newton = zip(*(window() for _ in range(repeats)))
     share = solve_share(utils, window)
     return {"n_seg": n_seg, "dof": 2 * len(scene.x0), "scene": kind, "solver": scene.solver.kind,
@@ -150,8 +145,7 @@ def usage_error(message):
 
 
 def parse(argv):
-    ap = argparse.ArgumentParser(prog="python -m benchmarks.speed",
-                                 description=__doc__.split("\n\n")[0])
+    ap = argparse.ArgumentParser(prog="python -m benchmarks.speed", description=__doc__)
     ap.add_argument("--quick", action="store_true", help="a smoke run (comparison: n_seg 4)")
     ap.add_argument("--against", metavar="REV", help="also compare with this commit (or folder)")
     ap.add_argument("--sizes", help="comma-separated n_seg values of the table")
@@ -175,7 +169,6 @@ def chalk(args):
     print(waits.format_chalk_table(rows, repeats))
     out = tables.output_folder(args.out, not (args.quick or args.python), "chalk-speed")
     tables.write_csv(os.path.join(out, "chalk-speed.csv"), waits.COLUMNS, rows)
-    print(f"wrote chalk-speed.csv into {out}", file=sys.stderr)
     return 0
 
 
@@ -202,7 +195,6 @@ def main(argv=None):
     full = not (args.quick or args.sizes or args.against)
     out = tables.output_folder(args.out, full, "speed")
     tables.write_csv(os.path.join(out, "speed.csv"), COLUMNS, rows)
-    written = "speed.csv"
     if args.against:
         with tempfile.TemporaryDirectory(prefix="speed-against-") as folder:
             old_tree = tables.export_tree(args.against, folder)
@@ -210,9 +202,7 @@ def main(argv=None):
         text = tables.text(AGAINST_TEXT, rows, rev=args.against)
         print("\n".join([""] + text + [AGAINST_NOTE.format(rev=args.against)]))
         tables.write_csv(os.path.join(out, "speed-against.csv"), AGAINST_COLUMNS, rows)
-        written += " and speed-against.csv"
     print(f"BLAS threads: OPENBLAS_NUM_THREADS={os.environ['OPENBLAS_NUM_THREADS']}")
-    print(f"wrote {written} into {out}", file=sys.stderr)
     return 0
 
 

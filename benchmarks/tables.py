@@ -21,8 +21,7 @@ SPREAD_LIMIT, WAIT_LIMIT = 0.20, 1.15
 
 
 def output_folder(out, full, program):
-    """`out` if given, else RESULTS for a full run (only it writes the tables README.md quotes),
-    else a new temporary folder `program`-...; created if need be."""
+    """`out` if given, else RESULTS for a full run, else a new temporary folder `program`-..."""
     if out is None:
         out = RESULTS if full else tempfile.mkdtemp(prefix=f"{program}-")
     os.makedirs(out, exist_ok=True)
@@ -30,8 +29,7 @@ def output_folder(out, full, program):
 
 
 def export_tree(rev, folder):
-    """The tree to measure: `rev` itself if it is a folder, else commit `rev` written into `folder`
-    by git archive (the checkout is not touched)."""
+    """The tree to measure: `rev` if a folder, else commit `rev` git-archived into `folder`."""
     if os.path.isdir(rev):
         return os.path.abspath(rev)
     archive = subprocess.run(["git", "-C", ROOT, "archive", "--format=tar", rev],
@@ -43,8 +41,7 @@ def export_tree(rev, folder):
 
 
 def in_fresh_process(module, function, *args):
-    """`module.function(*args)` in a fresh Python process in the repository's folder (a tree's
-    modules are imported afresh there): what it returned, through JSON."""
+    """What `module.function(*args)` returned (through JSON) in a fresh Python process."""
     code = (f"import json, sys, {module} as m\n"
             f"print(json.dumps(m.{function}(*json.loads(sys.argv[1]))))")
     done = subprocess.run([sys.executable, "-c", code, json.dumps(args)], cwd=ROOT,
@@ -65,13 +62,14 @@ def text(columns, rows, **names):
 
 
 def write_csv(path, columns, rows, digits=6):
-    """`rows` (dicts) as the CSV file `path`, floats to `digits` significant digits."""
+    """`rows` (dicts) as the CSV file `path`, floats to `digits` significant digits; says so."""
     buffer = io.StringIO()
     writer = csv.DictWriter(buffer, columns, extrasaction="ignore", lineterminator="\n")
     writer.writeheader()
     writer.writerows({k: f"{v:.{digits}g}" if isinstance(v, float) else v for k, v in row.items()}
                      for row in rows)
     whole_files.write_atomic(path, buffer.getvalue())
+    print(f"wrote {path}", file=sys.stderr)
 
 
 def spread(values):
@@ -90,8 +88,8 @@ def noise(walls, cpus):
 
 
 def in_turn(jobs, repeats):
-    """Call each of `jobs` ({key: function of no argument}) in turn, `repeats` rounds, so that all
-    meet the machine in the same state: {key: [what each call returned]}."""
+    """{key: [what each call returned]}: each of `jobs` ({key: function}) called in turn, `repeats`
+    rounds, so that all meet the machine in the same state."""
     results = {key: [] for key in jobs}
     for round_ in range(repeats):
         for key, job in jobs.items():

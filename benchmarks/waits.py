@@ -1,7 +1,5 @@
 """What a user waits for (benchmarks.speed --frames, --chalk, --window; benchmarks/README.md):
-whole `python simulator.py` processes run in turn, and the live window paced and flat out. Targets:
-frames at most 3x --no-frames (issue 16), the chalk's 3 s default at most 3 s of wall time per
-simulated second (issue 28)."""
+whole `python simulator.py` processes run in turn, and the live window paced and flat out."""
 import csv
 import functools
 import glob
@@ -19,7 +17,7 @@ import time
 from benchmarks import tables
 from benchmarks.tables import ROOT
 
-FRAMES_TARGET = CHALK_TARGET = 3.0
+FRAMES_TARGET = CHALK_TARGET = 3.0      # x --no-frames (issue 16); wall s per simulated s (28)
 RUNS = {"pushed": [], "dragged": ["--drag"], "pushed, from x^n": ["--newton-start", "x_n"],
         "dragged, from x^n": ["--drag", "--newton-start", "x_n"]}
 TEXT = [("python", "python", ""), ("run", "run", ""), ("simulated s", "simulated_s", "g"),
@@ -49,9 +47,8 @@ memory, x11: the frames shown on the display (the X server's own CPU time not in
 
 
 def run_simulator(flags, python=sys.executable):
-    """One `python simulator.py *flags` process, into a temporary folder: wall and CPU s, the
-    stepping's wall s (its closing line), Newton iterations per step and simulated s (log.csv),
-    frames written."""
+    """One `python simulator.py *flags` process: wall, CPU and stepping wall s (its closing line),
+    Newton iterations per step and simulated s (log.csv), frames written."""
     with tempfile.TemporaryDirectory(prefix="waits-") as out:
         wall, cpu, stderr = tables.run_process(
             [python, os.path.join(ROOT, "simulator.py"), "--out", out, *flags])
@@ -150,9 +147,8 @@ class MeteredClock:
 
 
 def window_real_time(n_seg, speed=1.0, duration=3.0, driver=MEMORY_DRIVER):
-    """A run of `duration` s of the default scene in the live window at `speed` on SDL's `driver`:
-    wall and CPU s per simulated s, the share of wall time busy (not sleeping), frames drawn and
-    those noted 'slower than real time', and the lowest one-second rate (a fraction of speed)."""
+    """The live window's run of the default scene at `speed` on SDL's `driver`: wall and CPU s per
+    simulated s, the share of wall time not sleeping, frames (and 'slower' ones), lowest rate."""
     os.environ["SDL_VIDEODRIVER"] = driver
     sys.path.insert(0, ROOT)
     import simulator
