@@ -56,31 +56,23 @@ CASES = (
 )
 
 
-def full_scene_reference():
-    """The full scene's reference run, and how far the same run at twice its h strays from it (an
-    estimate of the reference's own error)."""
-    full = CASES[3]
-    print(f"reference: full scene, h={REFERENCE_H:g}, tol={REFERENCE_TOL:g}, lagged ...",
-          file=sys.stderr, flush=True)
-    reference = cases.run(full.build(REFERENCE_H, REFERENCE_TOL, 0), full.duration)
-    coarser = cases.run(full.build(2 * REFERENCE_H, REFERENCE_TOL, 0), full.duration)
-    print(f"  reference done in {reference.wall + coarser.wall:.1f} s", file=sys.stderr, flush=True)
-    return reference, cases.max_com_error(coarser, reference)
-
-
 def sweep(quick=False):
-    """Every run (case, friction mode, tol, h), progress on stderr: the CSV rows (dicts) and notes
-    on the reference."""
+    """Every run, progress on stderr: the CSV rows (dicts), and notes on the reference."""
     hs, chosen = (QUICK_HS, CASES[2:3]) if quick else (HS, CASES)
     runs = [(case, mode, tol, h) for case in chosen
             for mode in (MODES if case.friction else ("none",)) for tol in TOLS for h in hs]
     reference, notes = None, []
-    if any(case is CASES[3] for case, *_ in runs):
-        reference, spread = full_scene_reference()
+    if not quick:           # the full scene's reference, and the same run at twice its h
+        print(f"reference: full scene, h={REFERENCE_H:g}, tol={REFERENCE_TOL:g}, lagged ...",
+              file=sys.stderr, flush=True)
+        full = CASES[3]
+        reference = cases.run(full.build(REFERENCE_H, REFERENCE_TOL, 0), full.duration)
+        coarser = cases.run(full.build(2 * REFERENCE_H, REFERENCE_TOL, 0), full.duration)
+        spread = cases.max_com_error(coarser, reference)
         notes.append(f"full scene reference: h = {REFERENCE_H:g}, tol {REFERENCE_TOL:g}, lagged; "
                      f"the same run at h = {2 * REFERENCE_H:g} differs from it by up to "
                      f"{spread:.1e} m (an estimate of its own error)")
-    rows, previous = [], {}
+    rows = []
     for i, (case, mode, tol, h) in enumerate(runs, 1):
         scene = case.build(h, tol, MODES.get(mode, 0))
         row = {"case": case.name, "error_measure": case.measure, "friction": mode, "tol": tol,
@@ -95,12 +87,11 @@ def sweep(quick=False):
                        unconverged_steps=int(np.sum(~run.friction_converged)))
         except time_integrator.SimulationError as err:     # kept in the table as nan
             print(f"  failed: {err}", file=sys.stderr)
-        before = previous.get((case.name, mode, tol))     # the same line at the previous h
+        before = rows[-1] if h != hs[0] else None     # the same line at the previous h
         if case.ordered and before and before["error"] > 0 and row["error"] > 0:
             row["observed_order"] = (math.log(before["error"] / row["error"])
                                      / math.log(before["h"] / row["h"]))
         rows.append(row)
-        previous[case.name, mode, tol] = row
         print(f"[{i:3d}/{len(runs)}] {case.name:10s} {mode:8s} tol={tol:.0e} h={h:<7g} "
               f"error={row['error']:.3e}  {row['wall_per_sim_second']:.2f} s/sim-s",
               file=sys.stderr, flush=True)
@@ -124,16 +115,14 @@ def style(mode, tol):
 
 def draw(path, rows):
     """The PNG: one panel per case, one line per (friction mode, tolerance) through its h."""
-    panels = {}
+    panels, legend = {}, {}
     for row in rows:
+        look = style(row["friction"], row["tol"])   # free fall's "none": named as lagged, if any
+        legend.setdefault(look, f"{row['friction']}, tol {row['tol']:.0e}")
         series = panels.setdefault(f"{row['case']}: {row['error_measure']}", {})
-        points = series.setdefault(style(row["friction"], row["tol"]), [])
+        points = series.setdefault(look, [])
         if row["error"] > 0 and row["wall_per_sim_second"] > 0:     # False for nan: failed runs
             points.append((row["wall_per_sim_second"], row["error"]))
-    looks = list(dict.fromkeys((row["friction"], row["tol"]) for row in rows))
-    if any(mode != "none" for mode, _ in looks):
-        looks = [(mode, tol) for mode, tol in looks if mode != "none"]  # "none" is drawn as lagged
-    legend = [(f"{mode}, tol {tol:.0e}", style(mode, tol)) for mode, tol in looks]
     hs = ", ".join(f"{h:g}" for h in sorted({row["h"] for row in rows}, reverse=True))
     notes = [f"Each line: one friction mode and Newton tolerance (m/s) through h = {hs} s;"
              " a smaller h costs more (further right).",

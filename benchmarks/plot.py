@@ -98,7 +98,7 @@ def draw_panel(pygame, surface, title, series, labels, left, top, small, normal)
 
 def save_loglog_panels(path, title, panels, labels, legend, notes):
     """`panels` ({title: series}, axes' `labels` (x, y) shared) in a grid of COLUMNS, the `legend`
-    ((label, Style) pairs) and `notes` below, saved as PNG (written whole)."""
+    ({Style: label}) and `notes` below, saved as PNG (written whole)."""
     pygame = load_pygame()
     small, normal, big = (pygame.font.Font(None, s) for s in (22, 26, 32))
     rows, legend_rows = math.ceil(len(panels) / COLUMNS), math.ceil(len(legend) / 3)
@@ -111,7 +111,7 @@ def save_loglog_panels(path, title, panels, labels, legend, notes):
         draw_panel(pygame, surface, panel, series, labels, (i % COLUMNS) * PANEL_W,
                    50 + (i // COLUMNS) * PANEL_H, small, normal)
     y = 66 + rows * PANEL_H
-    for i, (label, style) in enumerate(legend):
+    for i, (style, label) in enumerate(legend.items()):
         x, row_y = 40 + (i % 3) * (width // 3), y + 28 * (i // 3)
         line(pygame, surface, style, (x, row_y + 9), (x + 44, row_y + 9), dash=7, gap=5)
         marker(pygame, surface, style, (x + 22, row_y + 9))

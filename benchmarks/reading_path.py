@@ -62,8 +62,7 @@ def functions_that_ran(code_objects, tree):
 
 
 def per_file(functions):
-    """{file: (functions, lines)} of functions_that_ran; a line two functions share (a nested one)
-    counted once."""
+    """{file: (functions, lines)} of functions_that_ran; lines nested functions share count once."""
     held = {}
     for path, _, _, lines in functions:
         held.setdefault(path, []).append(lines)

@@ -81,7 +81,6 @@ def solve_share(utils, window):
 
 def measure(n_seg, kind, warm, count, repeats):
     """One row of the table: a window of `count` steps after `warm` ones, `repeats` times."""
-    sys.path.insert(0, ROOT)
     import simulator
     import time_integrator
     import utils
@@ -104,8 +103,7 @@ def measure(n_seg, kind, warm, count, repeats):
 
 
 def run_default_scene(tree, n_seg, count):
-    """In a worker process, with `tree`'s modules: timed of `count` steps of simulator.simulate
-    on the default scene at n_seg."""
+    """timed of `count` steps of simulate on the default scene at n_seg, with `tree`'s modules."""
     sys.path.insert(0, tree)
     import simulator
     return timed(record.report for record in

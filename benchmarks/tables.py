@@ -88,8 +88,7 @@ def noise(walls, cpus):
 
 
 def in_turn(jobs, repeats):
-    """{key: [what each call returned]}: each of `jobs` ({key: function}) called in turn, `repeats`
-    rounds, so that all meet the machine in the same state."""
+    """{key: [what it returned]} of each of `jobs` called in turn, `repeats` rounds (all alike)."""
     results = {key: [] for key in jobs}
     for round_ in range(repeats):
         for key, job in jobs.items():

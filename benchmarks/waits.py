@@ -77,8 +77,7 @@ def print_frames_overhead(repeats):
 
 
 def python_version(python):
-    """The version ("3.11.2") of the interpreter at the path `python`, which must import the
-    requirements; ValueError naming --python where it cannot."""
+    """The version of the interpreter `python`; ValueError unless it imports the requirements."""
     code = "import numpy, scipy, pygame, platform; print(platform.python_version())"
     try:
         done = subprocess.run([python, "-c", code], capture_output=True, text=True, timeout=300,
@@ -150,7 +149,6 @@ def window_real_time(n_seg, speed=1.0, duration=3.0, driver=MEMORY_DRIVER):
     """The live window's run of the default scene at `speed` on SDL's `driver`: wall and CPU s per
     simulated s, the share of wall time not sleeping, frames (and 'slower' ones), lowest rate."""
     os.environ["SDL_VIDEODRIVER"] = driver
-    sys.path.insert(0, ROOT)
     import simulator
     from viewer.demo import window
     scene = simulator.build_scene(n_seg=n_seg)
