@@ -52,8 +52,7 @@ def in_fresh_process(module, function, *args):
 
 
 def text(columns, rows, **names):
-    """A table's lines: `columns` are (title, key, format spec) of rows (dicts), each title filled
-    in from `names`; right-aligned but the last column, a rule under the head."""
+    """A table's lines from `columns`, (title filled in from `names`, row key, format spec)."""
     cells = [[title.format(**names) for title, _, _ in columns]]
     cells += [[format(row[key], spec) for _, key, spec in columns] for row in rows]
     widths = [max(map(len, column)) for column in zip(*cells)]
