@@ -1,8 +1,6 @@
 """The energies' public val + grad + hess and the CSR matrix M + h^2 sum hess, against one
 scipy.sparse.linalg.splu factorization-and-solve of it (target: ratio < 0.5), on the square
 stretched by 2 %, its bottom row 5 mm above flat ground and sliding (benchmarks/README.md).
-
-    python -m benchmarks.energies [--quick]      # n_seg 64 and 128 (--quick: 8 and 16)
 """
 import argparse
 import os
@@ -20,12 +18,16 @@ import GravityEnergy
 import InertiaEnergy
 import MassSpringEnergy
 import square_mesh
-import benchmarks
 from benchmarks import tables
 
 H = 0.01
 COLUMNS = ["n_seg", "nodes", "springs", "inertia_ms", "spring_ms", "gravity_ms", "barrier_ms",
            "friction_ms", "csr_ms", "energies_total_ms", "factor_solve_ms", "ratio"]
+HEAD = ("n_seg  nodes springs   inertia    spring   gravity   barrier  friction       csr   sum ms"
+        "    LU ms  ratio")
+ROW = ("{n_seg:5} {nodes:6} {springs:7} {inertia_ms:9.2f} {spring_ms:9.2f} {gravity_ms:9.2f} "
+       "{barrier_ms:9.2f} {friction_ms:9.2f} {csr_ms:9.2f} {energies_total_ms:8.2f} "
+       "{factor_solve_ms:8.2f} {ratio:6.2f}")
 NOTE = ("times in ms, medians; each term is its public val + grad + hess; csr: the CSR matrix "
         "from the triplets; LU: one splu factorization-and-solve; target ratio < 0.5")
 
@@ -53,6 +55,7 @@ def median_ms(f, repeats):
 
 def measure(n_seg, repeats):
     """One row: each term's val + grad + hess, the CSR matrix, one factorization-and-solve."""
+    print(f"n_seg {n_seg} ...", file=sys.stderr, flush=True)
     configuration, grads, hessians = terms(n_seg), [], []
     x, e = configuration["spring"][1][:2]
     row = {"n_seg": n_seg, "nodes": len(x), "springs": len(e)}
@@ -80,32 +83,16 @@ def measure(n_seg, repeats):
     return row
 
 
-def format_table(rows):
-    head = f"{'n_seg':>5} {'nodes':>6} {'springs':>7} " + " ".join(
-        f"{c[:-3]:>9}" for c in COLUMNS[3:9]) + f" {'sum ms':>8} {'LU ms':>8} {'ratio':>6}"
-    lines = [f"{r['n_seg']:>5} {r['nodes']:>6} {r['springs']:>7} "
-             + " ".join(f"{r[c]:>9.2f}" for c in COLUMNS[3:9])
-             + f" {r['energies_total_ms']:>8.2f} {r['factor_solve_ms']:>8.2f} {r['ratio']:>6.2f}"
-             for r in rows]
-    return "\n".join([head] + lines + [NOTE])
-
-
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="n_seg 8 and 16, three repeats")
-    ap.add_argument("--out", help="folder for energies.csv (default: benchmarks/results/ for the "
-                                  "full run, a new temporary folder with --quick)")
+    ap.add_argument("--out", help="folder for energies.csv (default: see benchmarks/README.md)")
     args = ap.parse_args(argv)
     sizes, repeats = ((8, 16), 3) if args.quick else ((64, 128), 7)
-    rows = []
-    for n_seg in sizes:
-        print(f"n_seg {n_seg} ...", file=sys.stderr, flush=True)
-        rows.append(measure(n_seg, repeats))
-    print(format_table(rows))
-    path = os.path.join(benchmarks.output_folder(args.out, not args.quick, "energies"),
-                        "energies.csv")
-    tables.write_csv(path, COLUMNS, rows, digits=4)
-    print(f"wrote {path}", file=sys.stderr)
+    rows = [measure(n_seg, repeats) for n_seg in sizes]
+    print("\n".join([HEAD] + [ROW.format(**row) for row in rows] + [NOTE]))
+    out = tables.output_folder(args.out, not args.quick, "energies")
+    tables.write_csv(os.path.join(out, "energies.csv"), COLUMNS, rows, digits=4)
     return rows
 
 

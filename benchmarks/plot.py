@@ -1,12 +1,8 @@
-"""Log-log line plots drawn with pygame on an off-screen surface (no display), saved as PNG.
-
-save_loglog_panels(path, title, panels, legend, notes): the panels in a grid, each series a polyline
-with markers in its Style; the legend ((label, Style) pairs, one for all panels) and notes below.
-Axes: a labelled tick at every power of ten in range, minor ticks where they span few decades.
-"""
+"""Log-log line plots drawn with pygame on an off-screen surface (no display), saved as PNG: a
+labelled tick at every power of ten in range, minor ticks where the axis spans few decades."""
 import io
 import math
-from dataclasses import dataclass, field
+from collections import namedtuple
 
 from viewer.output import whole_files
 from viewer.pictures.draw import load_pygame
@@ -16,21 +12,7 @@ MARGIN_L, MARGIN_R, MARGIN_T, MARGIN_B = 88, 20, 40, 62
 COLUMNS = 2
 PAD = 0.03                          # fraction of an axis's span left free beyond its end decades
 BLACK, GREY, LIGHT = (0, 0, 0), (110, 110, 110), (228, 228, 228)
-
-
-@dataclass(frozen=True)
-class Style:
-    color: tuple
-    dashed: bool = False
-    marker: str = "o"               # "o" circle, "s" square
-
-
-@dataclass
-class Panel:
-    title: str
-    xlabel: str
-    ylabel: str
-    series: list = field(default_factory=list)     # (Style, [(x, y), ...]); x, y <= 0 left out
+Style = namedtuple("Style", "color dashed")      # dashed lines have square markers, solid round
 
 
 def decades(values):
@@ -63,19 +45,20 @@ def line(pygame, surface, style, a, b, dash=9, gap=6):
 
 
 def marker(pygame, surface, style, p, r=5):
-    if style.marker == "s":
+    if style.dashed:
         pygame.draw.rect(surface, style.color, (p[0] - r, p[1] - r, 2 * r, 2 * r))
     else:
         pygame.draw.circle(surface, style.color, p, r)
 
 
-def draw_panel(pygame, surface, panel, left, top, small, normal):
+def draw_panel(pygame, surface, title, series, labels, left, top, small, normal):
+    """One panel: `series` ({Style: [(x, y), ...], x and y > 0}) in a box with log axes."""
     box = pygame.Rect(left + MARGIN_L, top + MARGIN_T, PANEL_W - MARGIN_L - MARGIN_R,
                       PANEL_H - MARGIN_T - MARGIN_B)
-    title = normal.render(panel.title, True, BLACK)
+    title = normal.render(title, True, BLACK)
     surface.blit(title, (left + (PANEL_W - title.get_width()) // 2, top + 10))
     pygame.draw.rect(surface, BLACK, box, 1)
-    points = [(x, y) for _, pts in panel.series for x, y in pts if x > 0 and y > 0]
+    points = [p for pts in series.values() for p in pts]
     if not points:
         return
     (xlo, xhi), (ylo, yhi) = decades([p[0] for p in points]), decades([p[1] for p in points])
@@ -101,20 +84,21 @@ def draw_panel(pygame, surface, panel, left, top, small, normal):
             label = small.render(power_label(k), True, BLACK)
             surface.blit(label, (box.left - label.get_width() - 6, y - label.get_height() // 2))
         pygame.draw.line(surface, BLACK, (box.left, y), (box.left + (8 if mult == 1 else 4), y))
-    xlabel = small.render(panel.xlabel, True, BLACK)
+    xlabel = small.render(labels[0], True, BLACK)
     surface.blit(xlabel, (box.centerx - xlabel.get_width() // 2, box.bottom + 30))
-    ylabel = pygame.transform.rotate(small.render(panel.ylabel, True, BLACK), 90)
+    ylabel = pygame.transform.rotate(small.render(labels[1], True, BLACK), 90)
     surface.blit(ylabel, (left + 8, box.centery - ylabel.get_height() // 2))
-    for style, pts in panel.series:
-        px = [to_px(x, y) for x, y in pts if x > 0 and y > 0]
+    for style, pts in series.items():
+        px = [to_px(x, y) for x, y in pts]
         for a, b in zip(px, px[1:]):
             line(pygame, surface, style, a, b)
         for p in px:
             marker(pygame, surface, style, p)
 
 
-def save_loglog_panels(path, title, panels, legend, notes=()):
-    """The panels in a grid of COLUMNS, the legend and notes below, saved as PNG (written whole)."""
+def save_loglog_panels(path, title, panels, labels, legend, notes):
+    """`panels` ({title: series}, axes' `labels` (x, y) shared) in a grid of COLUMNS, the `legend`
+    ({Style: label}) and `notes` below, saved as PNG (written whole)."""
     pygame = load_pygame()
     small, normal, big = (pygame.font.Font(None, s) for s in (22, 26, 32))
     rows, legend_rows = math.ceil(len(panels) / COLUMNS), math.ceil(len(legend) / 3)
@@ -123,11 +107,11 @@ def save_loglog_panels(path, title, panels, legend, notes=()):
     surface.fill((255, 255, 255))
     heading = big.render(title, True, BLACK)
     surface.blit(heading, ((width - heading.get_width()) // 2, 14))
-    for i, panel in enumerate(panels):
-        draw_panel(pygame, surface, panel, (i % COLUMNS) * PANEL_W,
+    for i, (panel, series) in enumerate(panels.items()):
+        draw_panel(pygame, surface, panel, series, labels, (i % COLUMNS) * PANEL_W,
                    50 + (i // COLUMNS) * PANEL_H, small, normal)
     y = 66 + rows * PANEL_H
-    for i, (label, style) in enumerate(legend):
+    for i, (style, label) in enumerate(legend.items()):
         x, row_y = 40 + (i % 3) * (width // 3), y + 28 * (i // 3)
         line(pygame, surface, style, (x, row_y + 9), (x + 44, row_y + 9), dash=7, gap=5)
         marker(pygame, surface, style, (x + 22, row_y + 9))

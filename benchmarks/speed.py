@@ -1,38 +1,29 @@
-"""Speed of the time step, and what a user waits for (benchmarks/README.md has the figures):
-
-    python -m benchmarks.speed                  # time per step, n_seg 4 ... 64 (1-2 minutes)
-    python -m benchmarks.speed --against REV    # and the default scene beside commit REV (5-7 min)
-    python -m benchmarks.speed --quick [--against REV]    # a smoke run, seconds
-    python -m benchmarks.speed --frames         # the default run with and without frames
-    python -m benchmarks.speed --window         # the live window at n_seg 4, 8, 16
-    python -m benchmarks.speed --chalk [--python A,B]     # the chalk's 3 s runs (about 2 minutes)
-"""
+"""Speed of the time step, and what a user waits for (--frames, --chalk, --window: waits.py); the
+commands, what they take and the figures they printed: benchmarks/README.md."""
 import os
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")     # before numpy loads OpenBLAS
 
 import argparse
 import functools
-import json
 import math
 import statistics
 import sys
 import tempfile
 import time
 
-import benchmarks
-from benchmarks import ROOT, tables, waits
+from benchmarks import tables, waits
+from benchmarks.tables import ROOT
 
 # n_seg: (scene, steps before the window, window steps, repeats)
 TABLE = {4: ("drop", 110, 200, 5), 8: ("drop", 110, 100, 5), 16: ("drop", 110, 50, 5),
          32: ("drop", 110, 20, 3), 64: ("slide", 5, 10, 3)}
 TABLE_QUICK = {4: ("drop", 40, 10, 3), 8: ("drop", 40, 5, 3)}
-COLUMNS = ["n_seg", "dof", "scene", "solver", "cpu_ms_per_step", "wall_ms_per_step",
-           "newton_per_step", "solve_share", "noise"]
-TEXT = [("n_seg", "{n_seg}"), ("DOF", "{dof}"), ("scene", "{scene}"), ("solver", "{solver}"),
-        ("CPU ms/step", "{cpu_ms_per_step:.3g}"), ("wall ms/step", "{wall_ms_per_step:.3g}"),
-        ("Newton/step", "{newton_per_step:.3g}"), ("solve", "{solve_share:.0%}"),
-        ("rest", "{rest_share:.0%}"), ("noise", "{noise}")]
+TEXT = [("n_seg", "n_seg", ""), ("DOF", "dof", ""), ("scene", "scene", ""),
+        ("solver", "solver", ""), ("CPU ms/step", "cpu_ms_per_step", ".3g"),
+        ("wall ms/step", "wall_ms_per_step", ".3g"), ("Newton/step", "newton_per_step", ".3g"),
+        ("solve", "solve_share", ".0%"), ("rest", "rest_share", ".0%"), ("noise", "noise", "")]
+COLUMNS = [key for _, key, _ in TEXT if key != "rest_share"]      # speed.csv's
 NOTE = """\
 CPU, wall: medians over repeats of one window of steps; drop: the default scene after the impact;
 slide: the square placed on the slope sliding at 0.43 m/s; solve: share of the window's wall time in
@@ -40,14 +31,13 @@ utils.SPDSolver.solve (band assembly, factorization, triangular solves), rest: e
 # n_seg: (steps from the start, runs per tree)
 AGAINST = {4: (300, 7), 16: (300, 5), 32: (150, 3)}
 AGAINST_QUICK = {4: (30, 1)}
-AGAINST_COLUMNS = ["n_seg", "steps", "runs", "cpu_ms_new", "cpu_ms_old", "cpu_ratio",
-                   "wall_ms_new", "wall_ms_old", "wall_ratio", "newton_new", "newton_old", "noise"]
 AGAINST_TEXT = [
-    ("n_seg", "{n_seg}"), ("steps", "{steps}"), ("runs", "{runs}"),
-    ("CPU ms/step new", "{cpu_ms_new:.3g}"), ("CPU {rev}", "{cpu_ms_old:.3g}"),
-    ("CPU new/old", "{cpu_ratio:.2f}"), ("wall ms/step new", "{wall_ms_new:.3g}"),
-    ("wall {rev}", "{wall_ms_old:.3g}"), ("wall new/old", "{wall_ratio:.2f}"),
-    ("Newton new", "{newton_new}"), ("Newton {rev}", "{newton_old}"), ("noise", "{noise}")]
+    ("n_seg", "n_seg", ""), ("steps", "steps", ""), ("runs", "runs", ""),
+    ("CPU ms/step new", "cpu_ms_new", ".3g"), ("CPU {rev}", "cpu_ms_old", ".3g"),
+    ("CPU new/old", "cpu_ratio", ".2f"), ("wall ms/step new", "wall_ms_new", ".3g"),
+    ("wall {rev}", "wall_ms_old", ".3g"), ("wall new/old", "wall_ratio", ".2f"),
+    ("Newton new", "newton_new", ""), ("Newton {rev}", "newton_old", ""), ("noise", "noise", "")]
+AGAINST_COLUMNS = [key for _, key, _ in AGAINST_TEXT]
 AGAINST_NOTE = """\
 new: the working tree; {rev}: the tree compared against; the default scene from its start through
 simulator.simulate, each run a fresh process, runs alternating new/old; medians of CPU and wall \
@@ -74,13 +64,6 @@ def timed(reports):
     return time.process_time() - cpu, time.perf_counter() - wall, newton
 
 
-def steps(time_integrator, scene, x, v, first, count):
-    """The reports of `count` steps from (x, v), the first numbered `first`."""
-    for i in range(first, first + count):
-        x, v, report = time_integrator.step(scene, x, v, step_index=i)
-        yield report
-
-
 def solve_share(utils, window):
     """The share of the wall time of `window()` spent in utils.SPDSolver.solve (wrapped)."""
     original, spent = utils.SPDSolver.solve, []
@@ -91,26 +74,25 @@ def solve_share(utils, window):
         spent.append(time.perf_counter() - start)
         return result
     utils.SPDSolver.solve = solve
-    try:
-        wall = window()[1]
-    finally:
-        utils.SPDSolver.solve = original
+    wall = window()[1]          # the same window ran `repeats` times already: it cannot fail
+    utils.SPDSolver.solve = original
     return sum(spent) / wall
 
 
 def measure(n_seg, kind, warm, count, repeats):
     """One row of the table: a window of `count` steps after `warm` ones, `repeats` times."""
-    sys.path.insert(0, ROOT)
     import simulator
     import time_integrator
     import utils
     scene = simulator.build_scene(n_seg=n_seg) if kind == "drop" else slide_scene(simulator, n_seg)
-    x, v = scene.x0, scene.v0
-    for i in range(warm):
-        x, v, _ = time_integrator.step(scene, x, v, step_index=i)
+    states = [(scene.x0, scene.v0)]         # (x, v) before each step
+    for i in range(warm + count):
+        x, v, _ = time_integrator.step(scene, *states[-1], step_index=i)
+        states.append((x, v))
 
     def window():
-        return timed(steps(time_integrator, scene, x, v, warm, count))
+        return timed(time_integrator.step(scene, x, v, step_index=i)[2]
+                     for i, (x, v) in enumerate(states[warm:-1], warm))
     cpus, walls, newton = zip(*(window() for _ in range(repeats)))
     share = solve_share(utils, window)
     return {"n_seg": n_seg, "dof": 2 * len(scene.x0), "scene": kind, "solver": scene.solver.kind,
@@ -121,8 +103,7 @@ def measure(n_seg, kind, warm, count, repeats):
 
 
 def run_default_scene(tree, n_seg, count):
-    """In a worker process, with `tree`'s modules: timed of `count` steps of simulator.simulate
-    on the default scene at n_seg."""
+    """timed of `count` steps of simulate on the default scene at n_seg, with `tree`'s modules."""
     sys.path.insert(0, tree)
     import simulator
     return timed(record.report for record in
@@ -134,10 +115,9 @@ def compare(new_tree, old_tree, configs):
     rows = []
     for n_seg, (count, runs) in configs.items():
         print(f"n_seg {n_seg}, {count} steps, new and old in turn:", file=sys.stderr)
-        trees = {"new": new_tree, "old": old_tree}
         results = tables.in_turn({name: functools.partial(
-            benchmarks.in_fresh_process, "benchmarks.speed", tree, n_seg, count)
-            for name, tree in trees.items()}, runs)
+            tables.in_fresh_process, "benchmarks.speed", "run_default_scene", tree, n_seg, count)
+            for name, tree in (("new", new_tree), ("old", old_tree))}, runs)
         row, noisy = {"n_seg": n_seg, "steps": count, "runs": runs}, []
         for name, tree_runs in results.items():
             cpus, walls, newton = zip(*tree_runs)
@@ -163,18 +143,15 @@ def usage_error(message):
 
 
 def parse(argv):
-    ap = argparse.ArgumentParser(prog="python -m benchmarks.speed",
-                                 description=__doc__.split("\n\n")[0])
+    ap = argparse.ArgumentParser(prog="python -m benchmarks.speed", description=__doc__)
     ap.add_argument("--quick", action="store_true", help="a smoke run (comparison: n_seg 4)")
     ap.add_argument("--against", metavar="REV", help="also compare with this commit (or folder)")
     ap.add_argument("--sizes", help="comma-separated n_seg values of the table")
-    ap.add_argument("--out", help="folder for the CSV files (default: benchmarks/results/ for the "
-                    "plain command, else a new temporary folder)")
+    ap.add_argument("--out", help="folder for the CSV files (default: see benchmarks/README.md)")
     ap.add_argument("--window", action="store_true", help="only the live window's figures")
     ap.add_argument("--frames", action="store_true", help="only the run with and without frames")
     ap.add_argument("--chalk", action="store_true", help="only the chalk's runs")
     ap.add_argument("--python", metavar="EXE[,EXE]", help="with --chalk: the interpreters to run")
-    ap.add_argument("--worker", help=argparse.SUPPRESS)
     return ap.parse_args(argv)
 
 
@@ -188,17 +165,13 @@ def chalk(args):
     repeats = 1 if args.quick else 3
     rows = waits.chalk_table(repeats, 0.3 if args.quick else None, pythons=pythons)
     print(waits.format_chalk_table(rows, repeats))
-    out = benchmarks.output_folder(args.out, not (args.quick or args.python), "chalk-speed")
+    out = tables.output_folder(args.out, not (args.quick or args.python), "chalk-speed")
     tables.write_csv(os.path.join(out, "chalk-speed.csv"), waits.COLUMNS, rows)
-    print(f"wrote chalk-speed.csv into {out}", file=sys.stderr)
     return 0
 
 
 def main(argv=None):
     args = parse(argv)
-    if args.worker:
-        print(json.dumps(run_default_scene(*json.loads(args.worker))))
-        return 0
     if args.python is not None and not args.chalk:
         return usage_error("--python needs --chalk: it names the interpreters the chalk's "
                            "processes run in")
@@ -217,20 +190,17 @@ def main(argv=None):
         rows.append(measure(n_seg, *config))
         print(f"n_seg {n_seg}: {rows[-1]['cpu_ms_per_step']:.3g} ms/step", file=sys.stderr)
     print("\n".join(tables.text(TEXT, rows) + [NOTE]))
-    out = benchmarks.output_folder(args.out, not (args.quick or args.sizes or args.against),
-                                   "speed")
+    full = not (args.quick or args.sizes or args.against)
+    out = tables.output_folder(args.out, full, "speed")
     tables.write_csv(os.path.join(out, "speed.csv"), COLUMNS, rows)
-    written = "speed.csv"
     if args.against:
         with tempfile.TemporaryDirectory(prefix="speed-against-") as folder:
-            old_tree = benchmarks.export_tree(args.against, folder)
+            old_tree = tables.export_tree(args.against, folder)
             rows = compare(ROOT, old_tree, AGAINST_QUICK if args.quick else AGAINST)
         text = tables.text(AGAINST_TEXT, rows, rev=args.against)
         print("\n".join([""] + text + [AGAINST_NOTE.format(rev=args.against)]))
         tables.write_csv(os.path.join(out, "speed-against.csv"), AGAINST_COLUMNS, rows)
-        written += " and speed-against.csv"
     print(f"BLAS threads: OPENBLAS_NUM_THREADS={os.environ['OPENBLAS_NUM_THREADS']}")
-    print(f"wrote {written} into {out}", file=sys.stderr)
     return 0
 
 

@@ -1,49 +1,74 @@
-"""What the benchmarks share: text tables, CSV files, runs taken in turn, and their noise: NOISY
-where repeats spread by more than SPREAD_LIMIT of their median or the process waited for a CPU
-(median wall / CPU time above WAIT_LIMIT: other processes stretch wall time, not CPU time).
+"""What the benchmarks share: where they write, other trees, text tables, CSV files, runs taken in
+turn, and their noise: NOISY where repeats spread by more than SPREAD_LIMIT of their median or the
+process waited for a CPU (median wall / CPU time above WAIT_LIMIT: load stretches wall time only).
 """
 import csv
 import io
+import json
 import math
 import os
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
 
-from benchmarks import ROOT
 from viewer.output import whole_files
 
-try:
-    import resource         # POSIX: the CPU time of finished child processes
-except ImportError:         # Windows: no such figure, a process's CPU time is nan
-    resource = None
-
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+RESULTS = os.path.join(ROOT, "benchmarks", "results")
 SPREAD_LIMIT, WAIT_LIMIT = 0.20, 1.15
 
 
-def aligned(cells):
-    """Rows of text cells as lines: columns right-aligned but the last, a rule under the head."""
-    widths = [max(len(row[i]) for row in cells) for i in range(len(cells[0]) - 1)]
-    lines = ["  ".join([c.rjust(w) for c, w in zip(row, widths)] + [row[-1]]) for row in cells]
-    return lines[:1] + ["-" * len(lines[0])] + lines[1:]
+def output_folder(out, full, program):
+    """`out` if given, else RESULTS for a full run, else a new temporary folder `program`-..."""
+    if out is None:
+        out = RESULTS if full else tempfile.mkdtemp(prefix=f"{program}-")
+    os.makedirs(out, exist_ok=True)
+    return out
+
+
+def export_tree(rev, folder):
+    """The tree to measure: `rev` if a folder, else commit `rev` git-archived into `folder`."""
+    if os.path.isdir(rev):
+        return os.path.abspath(rev)
+    archive = subprocess.run(["git", "-C", ROOT, "archive", "--format=tar", rev],
+                             capture_output=True)
+    if archive.returncode != 0:
+        raise SystemExit(f"error: git archive {rev}: {archive.stderr.decode().strip()}")
+    subprocess.run(["tar", "-x", "-C", folder], input=archive.stdout, check=True)
+    return folder
+
+
+def in_fresh_process(module, function, *args):
+    """What `module.function(*args)` returned (through JSON) in a fresh Python process."""
+    code = (f"import json, sys, {module} as m\n"
+            f"print(json.dumps(m.{function}(*json.loads(sys.argv[1]))))")
+    done = subprocess.run([sys.executable, "-c", code, json.dumps(args)], cwd=ROOT,
+                          capture_output=True, text=True)
+    if done.returncode != 0:
+        raise RuntimeError(f"{module}.{function}{tuple(args)} failed:\n{done.stderr}")
+    return json.loads(done.stdout.splitlines()[-1])
 
 
 def text(columns, rows, **names):
-    """aligned of a table: `columns` are (title, format) pairs, each format filled in from a row
-    (a dict), each title from `names`."""
-    return aligned([[title.format(**names) for title, _ in columns]]
-                   + [[form.format(**row) for _, form in columns] for row in rows])
+    """A table's lines from `columns`, (title filled in from `names`, row key, format spec)."""
+    cells = [[title.format(**names) for title, _, _ in columns]]
+    cells += [[format(row[key], spec) for _, key, spec in columns] for row in rows]
+    widths = [max(map(len, column)) for column in zip(*cells)]
+    lines = ["  ".join([c.rjust(w) for c, w in zip(row[:-1], widths)] + [row[-1]]) for row in cells]
+    return lines[:1] + ["-" * len(lines[0])] + lines[1:]
 
 
 def write_csv(path, columns, rows, digits=6):
-    """`rows` (dicts) as the CSV file `path`, floats to `digits` significant digits."""
+    """`rows` (dicts) as the CSV file `path`, floats to `digits` significant digits; says so."""
     buffer = io.StringIO()
     writer = csv.DictWriter(buffer, columns, extrasaction="ignore", lineterminator="\n")
     writer.writeheader()
     writer.writerows({k: f"{v:.{digits}g}" if isinstance(v, float) else v for k, v in row.items()}
                      for row in rows)
     whole_files.write_atomic(path, buffer.getvalue())
+    print(f"wrote {path}", file=sys.stderr)
 
 
 def spread(values):
@@ -61,14 +86,8 @@ def noise(walls, cpus):
     return "NOISY: " + ", ".join(reasons) if reasons else "ok"
 
 
-def medians(results):
-    """{figure: its median} over `results`, a list of dicts of figures."""
-    return {key: statistics.median(r[key] for r in results) for key in results[0]}
-
-
 def in_turn(jobs, repeats):
-    """Call each of `jobs` ({key: function of no argument}) in turn, `repeats` rounds, so that all
-    meet the machine in the same state: {key: [what each call returned]}."""
+    """{key: [what it returned]} of each of `jobs` called in turn, `repeats` rounds (all alike)."""
     results = {key: [] for key in jobs}
     for round_ in range(repeats):
         for key, job in jobs.items():
@@ -77,21 +96,14 @@ def in_turn(jobs, repeats):
     return results
 
 
-def children_cpu():
-    """CPU seconds of the finished child processes so far (nan without `resource`)."""
-    if resource is None:
-        return math.nan
-    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return usage.ru_utime + usage.ru_stime
-
-
 def run_process(command):
     """Run `command` in the repository's folder (SDL's dummy driver, one BLAS thread): wall s,
-    CPU s, stdout, stderr; RuntimeError if it fails."""
+    CPU s (nan on Windows, which keeps no children's CPU time), stderr; RuntimeError if it fails."""
     env = {**os.environ, "SDL_VIDEODRIVER": "dummy", "OPENBLAS_NUM_THREADS": "1"}
-    cpu, start = children_cpu(), time.perf_counter()
+    before, start = os.times(), time.perf_counter()
     done = subprocess.run(command, cwd=ROOT, capture_output=True, text=True, env=env)
-    wall, cpu = time.perf_counter() - start, children_cpu() - cpu
+    wall, after = time.perf_counter() - start, os.times()
     if done.returncode != 0:
         raise RuntimeError(f"{' '.join(command)} failed:\n{done.stderr}")
-    return wall, cpu, done.stdout, done.stderr
+    cpu = sum(after[2:4]) - sum(before[2:4])        # children_user + children_system
+    return wall, math.nan if os.name == "nt" else cpu, done.stderr

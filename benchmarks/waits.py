@@ -1,9 +1,9 @@
-"""What a user waits for (benchmarks.speed --frames, --chalk, --window): whole
-`python simulator.py` processes run in turn, and the live window at n_seg 4, 8 and 16, paced and
-flat out, on SDL's dummy driver and on $DISPLAY. Targets: frames at most 3x --no-frames (issue 16),
-the chalk's 3 s default at most 3 s of wall time per simulated second (issue 28)."""
+"""What a user waits for (benchmarks.speed --frames, --chalk, --window; benchmarks/README.md):
+whole `python simulator.py` processes run in turn, and the live window paced and flat out."""
 import csv
 import functools
+import glob
+import itertools
 import math
 import os
 import platform
@@ -14,26 +14,30 @@ import sys
 import tempfile
 import time
 
-from benchmarks import ROOT, tables
+from benchmarks import tables
+from benchmarks.tables import ROOT
 
-FRAMES_TARGET = CHALK_TARGET = 3.0
+FRAMES_TARGET = CHALK_TARGET = 3.0      # x --no-frames (issue 16); wall s per simulated s (28)
 RUNS = {"pushed": [], "dragged": ["--drag"], "pushed, from x^n": ["--newton-start", "x_n"],
         "dragged, from x^n": ["--drag", "--newton-start", "x_n"]}
-COLUMNS = ["python", "run", "simulated_s", "wall_s", "cpu_s", "stepping_wall_s",
-           "wall_per_simulated_s", "newton_per_step", "noise"]
-TEXT = [("python", "{python}"), ("run", "{run}"), ("simulated s", "{simulated_s:g}"),
-        ("wall s", "{wall_s:.2f}"), ("CPU s", "{cpu_s:.2f}"),
-        ("stepping wall s", "{stepping_wall_s:.2f}"),
-        ("wall / simulated s", "{wall_per_simulated_s:.2f}"),
-        ("Newton/step", "{newton_per_step:.2f}"), ("noise", "{noise}")]
+TEXT = [("python", "python", ""), ("run", "run", ""), ("simulated s", "simulated_s", "g"),
+        ("wall s", "wall_s", ".2f"), ("CPU s", "cpu_s", ".2f"),
+        ("stepping wall s", "stepping_wall_s", ".2f"),
+        ("wall / simulated s", "wall_per_simulated_s", ".2f"),
+        ("Newton/step", "newton_per_step", ".2f"), ("noise", "noise", "")]
+COLUMNS = [key for _, key, _ in TEXT]       # chalk-speed.csv's
 CHALK_NOTE = """\
-python simulator.py --scene chalk --no-frames [flags]: whole processes (import, steps, log.csv, \
-plots.png,
-summary.png), medians of {repeats} run alternately; stepping wall: the closing line's figure. \
-Target for
-the pushed 3 s default: at most {target:g} s of wall time per simulated second: {verdict}."""
+python simulator.py --scene chalk --no-frames [flags]: whole processes (import, steps, log.csv,
+plots.png, summary.png), medians of {repeats} run alternately; stepping wall: the closing line's
+figure. Target for the pushed 3 s default: at most {target:g} s of wall time per simulated second:
+{verdict}."""
 WINDOW_PIXELS = 652         # the window's default side on a 1024x768 projector
 MEMORY_DRIVER = "dummy"     # SDL's driver that draws into memory only, no display needed
+WINDOW_HEAD = ("  n_seg  driver  speed  wall/simulated s  CPU/simulated s  busy  frames  "
+               "frames 'slower'  lowest rate  -> x real time")
+WINDOW_ROW = ("  {n_seg:>5}  {driver:>6}  {speed:>5g}  {wall_per_simulated:>16.3f}  "
+              "{cpu_per_simulated:>15.3f}  {busy:>4.0%}  {frames:>6}  {slow_frames:>15}  "
+              "{lowest:>11}  {real_time:>6.2f}")
 WINDOW_NOTE = """\
 CPU/simulated: CPU seconds per simulated second (below 1: one free core keeps real time);
 busy: share of the wall time not spent sleeping between frames; lowest rate: simulated over wall
@@ -42,48 +46,38 @@ time over the window's one-second spans, / speed ('-': the run was shorter than 
 memory, x11: the frames shown on the display (the X server's own CPU time not included)"""
 
 
-def run_simulator(folder, flags, python=sys.executable):
-    """One `python simulator.py *flags` process into a new folder in `folder`: wall and CPU s, the
-    stepping's wall s (its closing line), Newton iterations per step and simulated s (log.csv),
-    frames written."""
-    out = tempfile.mkdtemp(dir=folder)
-    command = [python, os.path.join(ROOT, "simulator.py"), "--out", out, *flags]
-    wall, cpu, _, stderr = tables.run_process(command)
-    with open(os.path.join(out, "log.csv")) as f:
-        steps = list(csv.DictReader(f))[1:]         # row 0 is t = 0
-    return {"wall": wall, "cpu": cpu,
-            "stepping": float(re.search(r"in ([0-9.]+) s wall", stderr).group(1)),
-            "newton": statistics.mean(int(r["newton_iterations"]) for r in steps),
-            "simulated": float(steps[-1]["t"]),
-            "frames": len([f for f in os.listdir(out) if re.fullmatch(r"frame_.*\.png", f)])}
-
-
-def in_turn(runs, repeats, pythons=(sys.executable,), common=()):
-    """run_simulator of each of `runs` ({name: flags}, after the `common` flags) under each of
-    `pythons`, all in turn, `repeats` rounds: {(python, name): [what each returned]}."""
-    with tempfile.TemporaryDirectory(prefix="waits-") as folder:
-        return tables.in_turn({
-            (python, name): functools.partial(run_simulator, folder, [*common, *flags], python)
-            for python in pythons for name, flags in runs.items()}, repeats)
+def run_simulator(flags, python=sys.executable):
+    """One `python simulator.py *flags` process: wall, CPU and stepping wall s (its closing line),
+    Newton iterations per step and simulated s (log.csv), frames written."""
+    with tempfile.TemporaryDirectory(prefix="waits-") as out:
+        wall, cpu, stderr = tables.run_process(
+            [python, os.path.join(ROOT, "simulator.py"), "--out", out, *flags])
+        with open(os.path.join(out, "log.csv")) as f:
+            steps = list(csv.DictReader(f))[1:]         # row 0 is t = 0
+        frames = len(glob.glob(os.path.join(out, "frame_*.png")))
+    return {"wall_s": wall, "cpu_s": cpu,
+            "stepping_wall_s": float(re.search(r"in ([0-9.]+) s wall", stderr).group(1)),
+            "newton_per_step": statistics.mean(int(r["newton_iterations"]) for r in steps),
+            "simulated_s": float(steps[-1]["t"]), "frames": frames}
 
 
 def print_frames_overhead(repeats):
     """The default run with frames and with --no-frames, in turn: medians and their ratio."""
-    done = in_turn({"frames": [], "no-frames": ["--no-frames"]}, repeats)
-    walls = [[r["wall"] for r in results] for results in done.values()]
+    done = tables.in_turn({"frames": functools.partial(run_simulator, []),
+                           "no-frames": functools.partial(run_simulator, ["--no-frames"])}, repeats)
+    walls = [[r["wall_s"] for r in results] for results in done.values()]
     with_frames, without = (statistics.median(w) for w in walls)
-    first, ratio = done[sys.executable, "frames"][0], with_frames / without
+    first, ratio = done["frames"][0], with_frames / without
     verdict = "met" if ratio <= FRAMES_TARGET else "NOT met"
     print(f"python simulator.py: {with_frames:.2f} s with {first['frames']} frames "
-          f"({(first['frames'] - 1) / first['simulated']:.1f} per simulated second), "
+          f"({(first['frames'] - 1) / first['simulated_s']:.1f} per simulated second), "
           f"{without:.2f} s with --no-frames (whole processes, medians of {repeats}, run "
           f"alternately): {ratio:.2f}x (target <= {FRAMES_TARGET:g}x: {verdict}; "
           f"repeats spread {100 * max(map(tables.spread, walls)):.0f}%)")
 
 
 def python_version(python):
-    """The version ("3.11.2") of the interpreter at the path `python`, which must import the
-    requirements; ValueError naming --python where it cannot."""
+    """The version of the interpreter `python`; ValueError unless it imports the requirements."""
     code = "import numpy, scipy, pygame, platform; print(platform.python_version())"
     try:
         done = subprocess.run([python, "-c", code], capture_output=True, text=True, timeout=300,
@@ -102,16 +96,16 @@ def chalk_table(repeats=3, duration=None, runs=RUNS, pythons=None):
     medians over `repeats` processes, all taken in turn; a row's python: its version and path."""
     pythons = pythons or {sys.executable: platform.python_version()}
     seconds = [] if duration is None else ["--duration", str(duration)]
-    done = in_turn(runs, repeats, pythons, ["--scene", "chalk", "--no-frames", *seconds])
+    done = tables.in_turn({(python, name): functools.partial(
+        run_simulator, ["--scene", "chalk", "--no-frames", *seconds, *flags], python)
+        for python in pythons for name, flags in runs.items()}, repeats)
     rows = []
     for (python, name), results in done.items():
-        m = tables.medians(results)
-        walls, cpus = [r["wall"] for r in results], [r["cpu"] for r in results]
-        rows.append({"python": f"{pythons[python]} {python}", "run": name,
-                     "simulated_s": m["simulated"], "wall_s": m["wall"], "cpu_s": m["cpu"],
-                     "stepping_wall_s": m["stepping"],
-                     "wall_per_simulated_s": m["wall"] / m["simulated"],
-                     "newton_per_step": m["newton"], "noise": tables.noise(walls, cpus)})
+        row = {key: statistics.median(r[key] for r in results) for key in results[0]}
+        walls, cpus = ([r[key] for r in results] for key in ("wall_s", "cpu_s"))
+        rows.append({"python": f"{pythons[python]} {python}", "run": name, **row,
+                     "wall_per_simulated_s": row["wall_s"] / row["simulated_s"],
+                     "noise": tables.noise(walls, cpus)})
     return rows
 
 
@@ -152,11 +146,9 @@ class MeteredClock:
 
 
 def window_real_time(n_seg, speed=1.0, duration=3.0, driver=MEMORY_DRIVER):
-    """A run of `duration` s of the default scene in the live window at `speed` on SDL's `driver`:
-    wall and CPU s per simulated s, the share of wall time busy (not sleeping), frames drawn and
-    those noted 'slower than real time', and the lowest one-second rate (a fraction of speed)."""
+    """The live window's run of the default scene at `speed` on SDL's `driver`: wall and CPU s per
+    simulated s, the share of wall time not sleeping, frames (and 'slower' ones), lowest rate."""
     os.environ["SDL_VIDEODRIVER"] = driver
-    sys.path.insert(0, ROOT)
     import simulator
     from viewer.demo import window
     scene = simulator.build_scene(n_seg=n_seg)
@@ -195,16 +187,9 @@ def window_table(sizes=(4, 8, 16)):
     where = (f"DISPLAY={os.environ.get('DISPLAY')}" if len(drivers) > 1
              else "no display found: dummy only")
     lines = [f"Live window ({WINDOW_PIXELS} px, drawing included; {where}), a 3 s run:",
-             "  n_seg  driver  speed  wall/simulated s  CPU/simulated s  busy  frames  "
-             "frames 'slower'  lowest rate  -> x real time"]
-    for n_seg in sizes:
-        for driver in drivers:
-            for speed in (1.0, 100.0):
-                r = window_real_time(n_seg, speed, driver=driver)
-                lowest = f"{r['lowest_rate']:.2g}" if r["lowest_rate"] < math.inf else "-"
-                lines.append(
-                    f"  {n_seg:>5}  {driver:>6}  {speed:>5g}  {r['wall_per_simulated']:>16.3f}  "
-                    f"{r['cpu_per_simulated']:>15.3f}  {100 * r['busy']:>3.0f}%  "
-                    f"{r['frames']:>6}  {r['slow_frames']:>15}  {lowest:>11}  "
-                    f"{1 / r['wall_per_simulated']:>6.2f}")
+             WINDOW_HEAD]
+    for n_seg, driver, speed in itertools.product(sizes, drivers, (1.0, 100.0)):
+        r = window_real_time(n_seg, speed, driver=driver)
+        lowest = f"{r['lowest_rate']:.2g}" if r["lowest_rate"] < math.inf else "-"
+        lines.append(WINDOW_ROW.format(**r, lowest=lowest, real_time=1 / r["wall_per_simulated"]))
     return "\n".join(lines + [WINDOW_NOTE])

@@ -3,8 +3,7 @@ quick table."""
 import os
 import tempfile
 
-import benchmarks
-from benchmarks import energies, error_vs_runtime, speed
+from benchmarks import energies, error_vs_runtime, speed, tables
 from helpers.checkout import checkout_state
 
 
@@ -34,6 +33,6 @@ def test_smoke_runs_write_into_a_temporary_folder_and_leave_the_checkout_clean(
     assert written == {"error_vs_runtime": ["error_vs_runtime.csv", "error_vs_runtime.png"],
                        "energies": ["energies.csv"], "speed": ["speed.csv"]}
     assert str(tmp_path) in capsys.readouterr().err                 # each says where it wrote
-    assert benchmarks.output_folder(None, True, "speed") == benchmarks.RESULTS
+    assert tables.output_folder(None, True, "speed") == tables.RESULTS
     mine = str(tmp_path / "mine")
-    assert benchmarks.output_folder(mine, False, "speed") == mine
+    assert tables.output_folder(mine, False, "speed") == mine

@@ -40,10 +40,10 @@ def test_the_chalk_table_has_each_run_once_with_quick(tmp_path, monkeypatch, cap
     (The processes are stubbed: the test above runs them.)"""
     calls = []
 
-    def run_simulator(folder, flags, python=sys.executable):
+    def run_simulator(flags, python=sys.executable):
         calls.append((python, flags))
-        return {"wall": 1.234567891, "cpu": 1.2, "stepping": 0.5, "newton": 1.25,
-                "simulated": 0.3, "frames": 0}
+        return {"wall_s": 1.234567891, "cpu_s": 1.2, "stepping_wall_s": 0.5,
+                "newton_per_step": 1.25, "simulated_s": 0.3, "frames": 0}
     monkeypatch.setattr(waits, "run_simulator", run_simulator)
     before = checkout_state()
     out = tmp_path / "out"
@@ -69,11 +69,11 @@ def test_each_python_runs_every_run_in_turn(monkeypatch):
     against the target per interpreter. (The processes are stubbed: the test above runs them.)"""
     calls = []
 
-    def run_simulator(folder, flags, python=sys.executable):
+    def run_simulator(flags, python=sys.executable):
         calls.append((python, flags))
         wall = [3.0, 9.0, 6.0][(len(calls) - 1) // 4 % 3] + (python == "B")
-        return {"wall": wall, "cpu": wall, "stepping": 1.0, "newton": len(flags),
-                "simulated": 3.0, "frames": 0}
+        return {"wall_s": wall, "cpu_s": wall, "stepping_wall_s": 1.0,
+                "newton_per_step": len(flags), "simulated_s": 3.0, "frames": 0}
     monkeypatch.setattr(waits, "run_simulator", run_simulator)
     runs = {"pushed": [], "dragged": ["--drag"]}
     rows = waits.chalk_table(3, None, runs, {"A": "3.11.2", "B": "3.14.0"})
@@ -97,11 +97,11 @@ def test_the_frames_cost_is_the_ratio_of_the_medians_of_runs_in_turn(monkeypatch
     ratio against the target of 3x, frames per simulated second. (The processes are stubbed.)"""
     calls = []
 
-    def run_simulator(folder, flags, python=sys.executable):
+    def run_simulator(flags, python=sys.executable):
         calls.append(flags)
         wall = (2.0 if flags == [] else 1.0) * [1.0, 1.1, 0.9][(len(calls) - 1) // 2]
-        return {"wall": wall, "cpu": wall, "stepping": 0.5, "newton": 2.0, "simulated": 6.0,
-                "frames": 201 if flags == [] else 0}
+        return {"wall_s": wall, "cpu_s": wall, "stepping_wall_s": 0.5, "newton_per_step": 2.0,
+                "simulated_s": 6.0, "frames": 201 if flags == [] else 0}
     monkeypatch.setattr(waits, "run_simulator", run_simulator)
     assert speed.main(["--frames", "--quick"]) == 0
     assert calls == 3 * [[], ["--no-frames"]]

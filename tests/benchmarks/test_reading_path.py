@@ -54,14 +54,14 @@ def test_reading_path_counts_the_functions_that_ran_once_with_their_generators(t
                 walk(const)
     walk(module)
     ran = {codes["f"], codes["<genexpr>"], codes["method"]}
+    outside = compile(SOURCE, str(tmp_path / "tests" / "mod.py"), "exec")   # not at the top level
+    ran |= {const for const in outside.co_consts if hasattr(const, "co_name")}
     found = reading_path.functions_that_ran(ran, str(tmp_path))
-    assert found == {"mod.py": {(5, "f"): {5, 9, 11}, (23, "method"): {23, 24}}}
-    assert reading_path.reading_path(found) == {"mod.py": (2, 5)}
-    listed = reading_path.format_functions([("mod.py", "f", 5, 3), ("mod.py", "method", 23, 2)])
+    assert found == [("mod.py", "f", 5, [5, 9, 11]), ("mod.py", "method", 23, [23, 24])]
+    assert reading_path.per_file(found) == {"mod.py": (2, 5)}
+    listed = reading_path.format_functions(found)
     assert [line.split() for line in listed.splitlines()] == [
         ["mod.py:5", "f", "3"], ["mod.py:23", "method", "2"]]
-    assert reading_path.is_project_file(str(path), str(tmp_path))
-    assert not reading_path.is_project_file(str(tmp_path / "tests" / "mod.py"), str(tmp_path))
 
 
 def test_reading_path_of_this_tree_against_itself(capsys):
@@ -82,6 +82,6 @@ def test_reading_path_of_this_tree_against_itself(capsys):
         assert 0 < functions <= lines
         with open(os.path.join(ROOT, name)) as f:
             assert lines <= len(reading_path.code_lines(f.read()))
-    functions, lines = reading_path.totals(per_file)
+    functions, lines = map(sum, zip(*per_file.values()))
     counted = f"{lines} lines in {functions} functions"
     assert out[-1] == f"working tree {counted}; {ROOT} {counted}"

@@ -5,8 +5,7 @@ import subprocess
 
 import pytest
 
-import benchmarks
-from benchmarks import speed
+from benchmarks import speed, tables
 from helpers.checkout import ROOT, checkout_state
 
 
@@ -39,8 +38,8 @@ def test_speed_benchmark_quick_table_and_comparison(tmp_path, capsys):
 def test_speed_comparison_flags_a_newton_mismatch(monkeypatch):
     """Two trees whose runs take different Newton iteration counts are flagged."""
     newton = {"a": 10, "b": 11}
-    monkeypatch.setattr(benchmarks, "in_fresh_process",
-                        lambda module, tree, n_seg, steps: (0.01, 0.01, newton[tree]))
+    monkeypatch.setattr(tables, "in_fresh_process",
+                        lambda module, function, tree, n_seg, steps: (0.01, 0.01, newton[tree]))
     row, = speed.compare("a", "b", {4: (5, 2)})
     assert row["newton_new"] == 10 and row["newton_old"] == 11
     assert row["noise"].startswith("NEWTON MISMATCH") and row["cpu_ratio"] == 1.0
@@ -52,6 +51,6 @@ def test_trees_to_compare_are_exported_with_git_archive(tmp_path):
     if shutil.which("git") is None or subprocess.run(
             ["git", "-C", ROOT, "rev-parse", "HEAD"], capture_output=True).returncode != 0:
         pytest.skip("not a git checkout")
-    assert benchmarks.export_tree("HEAD", str(tmp_path)) == str(tmp_path)
+    assert tables.export_tree("HEAD", str(tmp_path)) == str(tmp_path)
     assert (tmp_path / "time_integrator.py").is_file() and (tmp_path / "simulator.py").is_file()
-    assert benchmarks.export_tree(str(tmp_path), "unused") == str(tmp_path)
+    assert tables.export_tree(str(tmp_path), "unused") == str(tmp_path)
