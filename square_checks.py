@@ -8,8 +8,8 @@ import os
 
 import numpy as np
 
-from utils import (NEWTON_STARTS, ParameterError, as_float, check_choice, check_epsv,
-                   check_positive, check_vector, check_whole)
+import utils
+from utils import ParameterError
 
 EPS = np.finfo(float).eps
 # A node nearer the slope than ROUNDOFF_ULPS eps (max_i |x_i| + |o|) touches it as far as float64
@@ -27,38 +27,23 @@ MEMORY_PER_NODE = 16 * 1024
 
 def check_params(defaults, aliases, overrides):
     """`defaults` updated by `overrides` (aliases renamed to their parameter), values checked."""
-    unknown = sorted(set(overrides) - set(defaults) - set(aliases))
-    if unknown:
-        raise ParameterError(unknown[0], f"unknown scene parameter(s): {', '.join(unknown)}; "
-                                         f"valid: {', '.join(sorted([*defaults, *aliases]))}")
-    p = dict(defaults)
-    for name, value in overrides.items():
-        real = aliases.get(name, name)
-        if real != name and real in overrides:
-            raise ParameterError(real, f"{real} is given twice, as {real} and as its alias {name}; "
-                                       f"give one")
-        p[real] = value
+    checks = {**dict.fromkeys(("side_len", "rho"), utils.check_positive), **utils.SOLVER_CHECKS,
+              "n_seg": lambda name, value: check_memory(utils.check_count(name, value)),
+              **dict.fromkeys(("slope_point", "v0", "center"), utils.check_pair)}
+    p = utils.check_params(checks, defaults, overrides, "scene", aliases)
     if p["mass"] is not None and "rho" in overrides:
         raise ParameterError("mass", f"mass = {p['mass']} and rho = {p['rho']} are both given: the "
                                      f"total mass is mass, or rho side_len^2; give one")
-    positive = ("side_len", "rho", "k", "h", "dhat", "kappa", "tol")
-    for name in positive + ("mass",) * (p["mass"] is not None):
-        p[name] = check_positive(name, p[name])
-    p["epsv"] = check_epsv(p["epsv"])
-    for name, minimum in (("n_seg", 1), ("friction_updates", 0), ("max_newton_iterations", 1),
-                          ("max_halvings", 1)):
-        p[name] = check_whole(name, p[name], minimum)
-    check_memory(p["n_seg"])
-    p["newton_start"] = check_choice("newton_start", p["newton_start"], NEWTON_STARTS)
+    if p["mass"] is not None:
+        p["mass"] = utils.check_positive("mass", p["mass"])
     for name in ("mu", "angle"):
-        p[name] = as_float(name, p[name], "must be a finite number")
+        p[name] = utils.as_float(name, p[name], "must be a finite number")
         if not np.isfinite(p[name]):
             raise ParameterError(name, f"{name} must be finite, got {p[name]}")
     if p["mu"] < 0:
         raise ParameterError("mu", f"mu must be >= 0, got {p['mu']}")
-    for name in ("gravity", "slope_point", "v0", "center") + ("slope",) * (p["slope"] is not None):
-        p[name] = tuple(check_vector(name, p[name]).tolist())
     if p["slope"] is not None:
+        p["slope"] = utils.check_pair("slope", p["slope"])
         slope_normal(p["slope"])
     return p
 
@@ -93,7 +78,7 @@ def physical_memory():
 
 
 def check_memory(n_seg):
-    """ValueError if (n_seg + 1)^2 nodes of MEMORY_PER_NODE each do not fit this machine."""
+    """n_seg, or a ValueError if (n_seg + 1)^2 nodes of MEMORY_PER_NODE each do not fit here."""
     nodes, have = (n_seg + 1) ** 2, physical_memory()      # Python ints: exact at any n_seg
     if have is not None and MEMORY_PER_NODE * nodes > have:
         need = decimal.Decimal(MEMORY_PER_NODE * nodes) / 2**30
@@ -102,6 +87,7 @@ def check_memory(n_seg):
                    f"this machine's {have / 2**30:.3g} GiB (largest n_seg that fits: "
                    f"{math.isqrt(have // MEMORY_PER_NODE) - 1})")
         raise ParameterError("n_seg", message)
+    return n_seg
 
 
 def roundoff(x, o):

@@ -3,6 +3,8 @@
 A Hessian is an IJV triplet (rows, cols, values), DOF index 2*node + axis, duplicates summed.
 """
 import decimal
+import functools
+import types
 from dataclasses import dataclass
 
 import numpy as np
@@ -141,12 +143,13 @@ def check_unit_normal(name, n):
     return n
 
 
-def check_positive(name, value):
-    """`value` as a float, a finite number > 0."""
-    value = as_float(name, value, "must be a finite number > 0")
-    if not np.isfinite(value) or value <= 0.0:
-        raise ParameterError(name, f"{name} must be a finite number > 0, got {value}")
-    return value
+def check_positive(name, value, bound="> 0"):
+    """`value` as a float, a finite number > 0 (bound ">= 0": or zero)."""
+    requirement = f"must be a finite number {bound}"
+    number = as_float(name, value, requirement)
+    if not np.isfinite(number) or number < 0.0 or (number == 0.0 and bound == "> 0"):
+        raise ParameterError(name, f"{name} {requirement}, got {number}")
+    return number
 
 
 def check_whole(name, value, minimum):
@@ -195,6 +198,43 @@ def check_edges(name, e, n_nodes):
         message = f"{name} has node index {bad} outside [0, {n_nodes}) for {n_nodes} nodes"
         raise ParameterError(name, message)
     return e
+
+
+def check_pair(name, value):
+    """check_vector's 2-vector as a tuple, a scene parameter's form."""
+    return tuple(check_vector(name, value).tolist())
+
+
+# A table's checks, check(name, value) (check_params), and the solver's that every scene has.
+check_count = functools.partial(check_whole, minimum=1)
+check_nonnegative = functools.partial(check_positive, bound=">= 0")
+SOLVER_CHECKS = types.MappingProxyType({
+    **dict.fromkeys(("h", "k", "dhat", "kappa", "tol"), check_positive),
+    "epsv": lambda name, value: check_epsv(value),
+    "friction_updates": functools.partial(check_whole, minimum=0),
+    **dict.fromkeys(("max_newton_iterations", "max_halvings"), check_count),
+    "newton_start": functools.partial(check_choice, choices=NEWTON_STARTS),
+    "gravity": check_pair,
+})
+
+
+def check_params(checks, defaults, overrides, scene, aliases=types.MappingProxyType({})):
+    """`defaults` updated by `overrides` (aliases renamed); p[name] = checks[name](name, p[name])
+    in the table's order."""
+    unknown = sorted(set(overrides) - set(defaults) - set(aliases))
+    if unknown:
+        raise ParameterError(unknown[0], f"unknown {scene} parameter(s): {', '.join(unknown)}; "
+                                         f"valid: {', '.join(sorted([*defaults, *aliases]))}")
+    p = dict(defaults)
+    for name, value in overrides.items():
+        real = aliases.get(name, name)
+        if real != name and real in overrides:
+            raise ParameterError(real, f"{real} is given twice, as {real} and as its alias {name}; "
+                                       f"give one")
+        p[real] = value
+    for name, check in checks.items():
+        p[name] = check(name, p[name])
+    return p
 
 
 def finite_result(what, value, arguments):
