@@ -1,10 +1,6 @@
-"""The closed-form cases, their exact answers, and how a run is measured against them, shared by
-tests/physics/test_accuracy.py (asserts) and benchmarks/error_vs_runtime.py (reports).
-
-- Sliding (mu < tan theta): a rigid square at rest on the slope (`resting_scene`) accelerates at
-  g (sin theta - mu cos theta); sticking (mu > tan theta): it creeps at `creep_speed` < eps_v.
-- Free fall without a slope: x0 + v0 t + 1/2 g t^2.
-- The lecture's full scene has no closed form: measured against a run with a smaller step.
+"""The closed-form cases (sliding, sticking, free fall; the full scene against a smaller step),
+their exact answers and how a run is measured against them: tests/physics/test_accuracy.py
+asserts, benchmarks/error_vs_runtime.py reports.
 """
 import math
 from dataclasses import dataclass
@@ -78,9 +74,8 @@ def _bracketed_root(f, lo, hi):
 
 def resting_pose(scene):
     """Distance d0 of the bottom edge's midpoint from the slope and tilt s = sin(-beta) of the edge
-    at which the barrier carries a rigid square at rest, or sliding steadily, without rocking:
-    sum_i f(d0 - s r_i) = N and sum_i r_i f(d0 - s r_i) = (side/2) N tan(gamma - beta), tan(gamma)
-    = F/N (docs/limits.md). Solved by brentq: d0 for a given s, then s."""
+    at which the barrier carries a rigid square without rocking (docs/limits.md): brentq for d0
+    at a given s, then for s."""
     normal_load, _, friction = _loads(scene)
     side, n_seg = scene.params["side_len"], scene.params["n_seg"]
     r = -side / 2 + np.arange(n_seg + 1) * side / n_seg
@@ -195,12 +190,6 @@ def acceleration_error(scene, run, start=SETTLING):
     return (2.0 * np.polyfit(run.t[window], s[window], 2)[0] - exact) / exact
 
 
-def observed_orders(hs, errors):
-    """log(e_i / e_{i+1}) / log(h_i / h_{i+1}) for consecutive pairs of time steps."""
-    hs, errors = np.asarray(hs, dtype=np.float64), np.asarray(errors, dtype=np.float64)
-    return np.log(errors[:-1] / errors[1:]) / np.log(hs[:-1] / hs[1:])
-
-
 def max_com_error(run, reference):
     """Largest distance between the centres of mass of `run` and `reference` at the run's times;
     the reference's step must divide the run's, and it must last at least as long."""
@@ -212,11 +201,9 @@ def max_com_error(run, reference):
 
 
 def tablecloth_travel(pull_speed, pull_length, mu, g=9.81):
-    """How far a dish at rest on a cloth pulled a length L at speed U travels: friction drives it
-    at mu g toward the cloth's speed. Where U^2 >= mu g L the cloth outruns it for T = L / U: the
-    dish reaches mu g T having gone mu g T^2 / 2, then slides as far again to a stop, mu g T^2 =
-    mu g L^2 / U^2 in all. Else it catches the cloth, rides along, and stops as far past the cloth's
-    end as it lagged behind: L. g is the magnitude of gravity."""
+    """How far a dish on a cloth pulled a length L at speed U travels, friction driving it at mu g:
+    mu g T^2 = mu g L^2 / U^2 where the cloth outruns it (U^2 >= mu g L: speed mu g T at T = L / U,
+    then as far again to a stop), else L (it rides along, stops as far past the end as it lags)."""
     U, L = pull_speed, pull_length
     return mu * g * L * L / (U * U) if U * U >= mu * g * L else L
 

@@ -261,11 +261,6 @@ def blocks_to_ijv(nodes, blocks):
     return np.repeat(dofs, size, axis=1).ravel(), np.tile(dofs, (1, size)).ravel(), blocks.ravel()
 
 
-def concat_ijv(triplets):
-    """Several IJV triplets joined into one."""
-    return tuple(np.concatenate(parts) for parts in zip(*triplets))
-
-
 def ijv_to_csr(ijv, n_dofs):
     """Sum an IJV triplet (duplicates added) into an (n_dofs, n_dofs) CSR matrix."""
     rows, cols, vals = ijv
@@ -335,10 +330,9 @@ class SPDSolver:
         return lapack.dpbtrs(factor, b, lower=0)[0]
 
     def _superlu_solve(self, H, b):
-        rows, cols, vals = concat_ijv(blocks_to_ijv(nodes, blocks) for nodes, blocks in H)
-        A = scipy.sparse.csc_matrix((vals, (rows, cols)), shape=(self.n_dofs, self.n_dofs))
+        A = sum(ijv_to_csr(blocks_to_ijv(nodes, blocks), self.n_dofs) for nodes, blocks in H)
         try:
-            return scipy.sparse.linalg.splu(A).solve(b)
+            return scipy.sparse.linalg.splu(A.tocsc()).solve(b)
         except RuntimeError as err:         # SuperLU: the matrix is singular
             raise np.linalg.LinAlgError(str(err)) from None
 
