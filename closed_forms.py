@@ -160,8 +160,6 @@ def _slip(scene, x, v):
 def run(scene, duration, progress=None):
     """Simulate `duration` seconds (whole steps) and measure it; calls `progress(fraction)`."""
     steps = int(round(duration / scene.h))
-    if steps < 1 or abs(steps * scene.h - duration) > 1e-9 * duration:
-        raise ValueError(f"duration {duration} s is not a whole number of steps of h = {scene.h} s")
     states = [(0.0, com(scene, scene.x0), com(scene, scene.v0), _slip(scene, scene.x0, scene.v0))]
     reports, wall, every = [], 0.0, max(1, steps // 20)
     for rec in simulator.simulate(scene, steps):
@@ -192,11 +190,8 @@ def acceleration_error(scene, run, start=SETTLING):
 
 def max_com_error(run, reference):
     """Largest distance between the centres of mass of `run` and `reference` at the run's times;
-    the reference's step must divide the run's, and it must last at least as long."""
+    the reference's step divides the run's, and it lasts at least as long."""
     stride = int(round((run.t[1] - run.t[0]) / (reference.t[1] - reference.t[0])))
-    ref_t = reference.t[::stride][:len(run.t)]
-    if len(ref_t) != len(run.t) or not np.allclose(ref_t, run.t, rtol=0, atol=1e-9):
-        raise ValueError("the reference's samples do not match the run's times")
     return float(np.linalg.norm(run.com - reference.com[::stride][:len(run.com)], axis=1).max())
 
 

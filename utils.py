@@ -303,10 +303,8 @@ class SPDSolver:
         the element node lists (B, m) in `elements`; band 2 max(node span) + 1. `kind` None picks
         "banded" unless the band is over BAND_LIMIT times the nodes' and edges' nonzeros."""
         e = np.array(e, dtype=np.int64).reshape(-1, 2)
-        spans = [np.abs(e[:, 0] - e[:, 1]).max(initial=0)]
-        spans += [np.ptp(np.asarray(nodes, dtype=np.int64), axis=1).max(initial=0)
-                  for nodes in elements]
-        bandwidth = int(2 * max(spans) + 1)
+        span = max(np.ptp(np.asarray(nodes), axis=1).max(initial=0) for nodes in [e, *elements])
+        bandwidth = int(2 * span + 1)
         nonzeros = 4 * n_nodes + 8 * len(e)
         if kind is None:
             banded = (bandwidth + 1) * 2 * n_nodes <= BAND_LIMIT * nonzeros
