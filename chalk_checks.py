@@ -11,7 +11,7 @@ def check_params(defaults, overrides):
     checks = {**dict.fromkeys(("length", "width", "rho", "v_c", "k_hand", "t_press", "t_hold"),
                               utils.check_positive),
               **dict.fromkeys(("mu", "mu_s", "press", "drive"), utils.check_nonnegative),
-              **dict.fromkeys(("nx", "ny", "held_columns"), utils.check_count),
+              **dict.fromkeys(("nx", "ny", "held_columns"), utils.check_whole),
               **utils.SOLVER_CHECKS}
     p = utils.check_params(checks, defaults, overrides, "chalk")
     p["tilt"] = utils.as_float("tilt", p["tilt"], "must be a number of degrees in (0, 180)")

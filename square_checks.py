@@ -28,7 +28,7 @@ MEMORY_PER_NODE = 16 * 1024
 def check_params(defaults, aliases, overrides):
     """`defaults` updated by `overrides` (aliases renamed to their parameter), values checked."""
     checks = {**dict.fromkeys(("side_len", "rho"), utils.check_positive), **utils.SOLVER_CHECKS,
-              "n_seg": lambda name, value: check_memory(utils.check_count(name, value)),
+              "n_seg": lambda name, value: check_memory(utils.check_whole(name, value)),
               **dict.fromkeys(("slope_point", "v0", "center"), utils.check_pair)}
     p = utils.check_params(checks, defaults, overrides, "scene", aliases)
     if p["mass"] is not None and "rho" in overrides:

@@ -10,7 +10,7 @@ import utils
 
 def _cells(nx, ny):
     """(nx, ny) checked; ny None is the square's ny = nx (the functions below take n_seg alone)."""
-    return utils.check_count("nx", nx), utils.check_count("ny", nx if ny is None else ny)
+    return utils.check_whole("nx", nx), utils.check_whole("ny", nx if ny is None else ny)
 
 
 def _grid(nx, ny):
@@ -39,7 +39,7 @@ def rectangle(width, height, nx, ny, origin=(0.0, 0.0)):
 def generate(side_len, n_seg):
     """Nodes and edges of the lecture's square of n_seg x n_seg cells, centred at the origin."""
     side_len = utils.check_positive("side_len", side_len)
-    n_seg = utils.check_count("n_seg", n_seg)
+    n_seg = utils.check_whole("n_seg", n_seg)
     return rectangle(side_len, side_len, n_seg, n_seg, (-side_len / 2.0, -side_len / 2.0))
 
 

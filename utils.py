@@ -152,7 +152,7 @@ def check_positive(name, value, bound="> 0"):
     return number
 
 
-def check_whole(name, value, minimum):
+def check_whole(name, value, minimum=1):
     """`value` as an int, a whole number >= minimum."""
     if type(value) is int and minimum <= value <= 2 ** 53:      # exact in float64: as it is
         return value
@@ -206,13 +206,12 @@ def check_pair(name, value):
 
 
 # A table's checks, check(name, value) (check_params), and the solver's that every scene has.
-check_count = functools.partial(check_whole, minimum=1)
 check_nonnegative = functools.partial(check_positive, bound=">= 0")
 SOLVER_CHECKS = types.MappingProxyType({
     **dict.fromkeys(("h", "k", "dhat", "kappa", "tol"), check_positive),
     "epsv": lambda name, value: check_epsv(value),
     "friction_updates": functools.partial(check_whole, minimum=0),
-    **dict.fromkeys(("max_newton_iterations", "max_halvings"), check_count),
+    **dict.fromkeys(("max_newton_iterations", "max_halvings"), check_whole),
     "newton_start": functools.partial(check_choice, choices=NEWTON_STARTS),
     "gravity": check_pair,
 })

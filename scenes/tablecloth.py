@@ -38,7 +38,7 @@ def check_params(overrides):
     """TABLECLOTH updated by `overrides`, each value checked (a ValueError naming the parameter)."""
     checks = {**dict.fromkeys(("width", "height", "mass", "pull_speed", "pull_length"),
                               utils.check_positive),
-              **dict.fromkeys(("nx", "ny"), utils.check_count),
+              **dict.fromkeys(("nx", "ny"), utils.check_whole),
               **dict.fromkeys(("mu", "t_pull"), utils.check_nonnegative), **utils.SOLVER_CHECKS}
     p = utils.check_params(checks, TABLECLOTH, overrides, "tablecloth")
     if not p["gravity"][1] < 0.0:
