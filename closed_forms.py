@@ -51,13 +51,10 @@ def sliding_acceleration(scene):
 
 def creep_speed(scene):
     """Steady creep under the mollifier f1(v) = 2v/eps_v - v^2/eps_v^2 where mu N f1(v) balances
-    the drive: v = eps_v (1 - sqrt(1 - tan(theta)/mu)); implicit Euler reproduces it exactly."""
+    the drive: v = eps_v (1 - sqrt(1 - tan(theta)/mu)), mu > tan(theta); implicit Euler reproduces
+    it exactly."""
     normal_load, drive, _ = _loads(scene)
-    ratio = drive / (scene.mu * normal_load)
-    if not 0.0 <= ratio < 1.0:
-        raise ValueError(f"no creep: tan(theta)/mu = {ratio:.3g} is not in [0, 1) "
-                         f"(the block slides)")
-    return scene.epsv * (1.0 - math.sqrt(1.0 - ratio))
+    return scene.epsv * (1.0 - math.sqrt(1.0 - drive / (scene.mu * normal_load)))
 
 
 def barrier_force(scene, d):
