@@ -159,9 +159,8 @@ def check_start(p, defaults, x, n, o, d):
         mass = {a: -b for a, b in _mass_powers(p).items()}
         name = _culprit(p, defaults, {"k": 1, "h": 2, "n_seg": 2, **mass})
         message = (f"{name} = {_shown(p[name])}: float64 cannot resolve the Newton matrix "
-                   f"M + h^2 K, as h^2 k / m = {ratio:.3g} (h = {h:g} s, k = {k:g}, node mass "
-                   f"m = {m:.3g} kg) is above 0.1/eps = {NEWTON_RATIO_LIMIT:.2g}, where m is lost "
-                   f"in the round-off of h^2 k (lower k or h, or raise the mass)")
+                   f"M + h^2 K, as h^2 k / m = {ratio:.3g} (node mass m = {m:.3g} kg) is above "
+                   f"0.1/eps = {NEWTON_RATIO_LIMIT:.2g}: lower k or h, or raise the mass")
         raise ParameterError(name, message)
     if not h * h >= np.finfo(float).tiny:
         raise ParameterError("h", f"h = {h:g} s is too small for float64: h^2 = {h * h:.3g} "
@@ -220,7 +219,6 @@ def scene_warnings(p, x, n, d):
     floor = max(math.sqrt(EPS * h * h * M * g * reach / (M / len(x))), EPS * reach) / h
     if p["tol"] < floor:
         warnings.append(f"tol = {p['tol']:g} m/s is below the residual float64 can resolve in this "
-                        f"scene (about {floor:.2g} m/s: E's rounding hides smaller Newton steps): "
-                        f"Newton stops at that floor where it must, and log.csv flags those steps "
-                        f"newton_stalled")
+                        f"scene, about {floor:.2g} m/s: Newton stops at that floor where it must, "
+                        f"and log.csv flags those steps newton_stalled (docs/limits.md)")
     return tuple(warnings)
