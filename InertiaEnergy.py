@@ -26,9 +26,8 @@ def grad(x, x_tilde, m):
 
 
 def hess(x, x_tilde, m):
-    """hess E_I = M as an IJV triplet (checked)."""
-    nodes, blocks = hess_kernel(*_check(x, x_tilde, m))
-    return utils.blocks_to_ijv(nodes, utils.finite_result("InertiaEnergy.hess", blocks, ARGUMENTS))
+    """hess E_I = M as an IJV triplet (checked; finite, as m is)."""
+    return utils.blocks_to_ijv(*hess_kernel(*_check(x, x_tilde, m)))
 
 
 def val_kernel(x, x_tilde, m):

@@ -1,10 +1,6 @@
-"""The closed-form cases, their exact answers, and how a run is measured against them, shared by
-tests/physics/test_accuracy.py (asserts) and benchmarks/error_vs_runtime.py (reports).
-
-- Sliding (mu < tan theta): a rigid square at rest on the slope (`resting_scene`) accelerates at
-  g (sin theta - mu cos theta); sticking (mu > tan theta): it creeps at `creep_speed` < eps_v.
-- Free fall without a slope: x0 + v0 t + 1/2 g t^2.
-- The lecture's full scene has no closed form: measured against a run with a smaller step.
+"""The closed-form cases (sliding, sticking, free fall; the full scene against a smaller step),
+their exact answers and how a run is measured against them: tests/physics/test_accuracy.py
+asserts, benchmarks/error_vs_runtime.py reports.
 """
 import math
 from dataclasses import dataclass
@@ -55,13 +51,10 @@ def sliding_acceleration(scene):
 
 def creep_speed(scene):
     """Steady creep under the mollifier f1(v) = 2v/eps_v - v^2/eps_v^2 where mu N f1(v) balances
-    the drive: v = eps_v (1 - sqrt(1 - tan(theta)/mu)); implicit Euler reproduces it exactly."""
+    the drive: v = eps_v (1 - sqrt(1 - tan(theta)/mu)), mu > tan(theta); implicit Euler reproduces
+    it exactly."""
     normal_load, drive, _ = _loads(scene)
-    ratio = drive / (scene.mu * normal_load)
-    if not 0.0 <= ratio < 1.0:
-        raise ValueError(f"no creep: tan(theta)/mu = {ratio:.3g} is not in [0, 1) "
-                         f"(the block slides)")
-    return scene.epsv * (1.0 - math.sqrt(1.0 - ratio))
+    return scene.epsv * (1.0 - math.sqrt(1.0 - drive / (scene.mu * normal_load)))
 
 
 def barrier_force(scene, d):
@@ -78,9 +71,8 @@ def _bracketed_root(f, lo, hi):
 
 def resting_pose(scene):
     """Distance d0 of the bottom edge's midpoint from the slope and tilt s = sin(-beta) of the edge
-    at which the barrier carries a rigid square at rest, or sliding steadily, without rocking:
-    sum_i f(d0 - s r_i) = N and sum_i r_i f(d0 - s r_i) = (side/2) N tan(gamma - beta), tan(gamma)
-    = F/N (docs/limits.md). Solved by brentq: d0 for a given s, then s."""
+    at which the barrier carries a rigid square without rocking (docs/limits.md): brentq for d0
+    at a given s, then for s."""
     normal_load, _, friction = _loads(scene)
     side, n_seg = scene.params["side_len"], scene.params["n_seg"]
     r = -side / 2 + np.arange(n_seg + 1) * side / n_seg
@@ -165,8 +157,6 @@ def _slip(scene, x, v):
 def run(scene, duration, progress=None):
     """Simulate `duration` seconds (whole steps) and measure it; calls `progress(fraction)`."""
     steps = int(round(duration / scene.h))
-    if steps < 1 or abs(steps * scene.h - duration) > 1e-9 * duration:
-        raise ValueError(f"duration {duration} s is not a whole number of steps of h = {scene.h} s")
     states = [(0.0, com(scene, scene.x0), com(scene, scene.v0), _slip(scene, scene.x0, scene.v0))]
     reports, wall, every = [], 0.0, max(1, steps // 20)
     for rec in simulator.simulate(scene, steps):
@@ -195,28 +185,17 @@ def acceleration_error(scene, run, start=SETTLING):
     return (2.0 * np.polyfit(run.t[window], s[window], 2)[0] - exact) / exact
 
 
-def observed_orders(hs, errors):
-    """log(e_i / e_{i+1}) / log(h_i / h_{i+1}) for consecutive pairs of time steps."""
-    hs, errors = np.asarray(hs, dtype=np.float64), np.asarray(errors, dtype=np.float64)
-    return np.log(errors[:-1] / errors[1:]) / np.log(hs[:-1] / hs[1:])
-
-
 def max_com_error(run, reference):
     """Largest distance between the centres of mass of `run` and `reference` at the run's times;
-    the reference's step must divide the run's, and it must last at least as long."""
+    the reference's step divides the run's, and it lasts at least as long."""
     stride = int(round((run.t[1] - run.t[0]) / (reference.t[1] - reference.t[0])))
-    ref_t = reference.t[::stride][:len(run.t)]
-    if len(ref_t) != len(run.t) or not np.allclose(ref_t, run.t, rtol=0, atol=1e-9):
-        raise ValueError("the reference's samples do not match the run's times")
     return float(np.linalg.norm(run.com - reference.com[::stride][:len(run.com)], axis=1).max())
 
 
 def tablecloth_travel(pull_speed, pull_length, mu, g=9.81):
-    """How far a dish at rest on a cloth pulled a length L at speed U travels: friction drives it
-    at mu g toward the cloth's speed. Where U^2 >= mu g L the cloth outruns it for T = L / U: the
-    dish reaches mu g T having gone mu g T^2 / 2, then slides as far again to a stop, mu g T^2 =
-    mu g L^2 / U^2 in all. Else it catches the cloth, rides along, and stops as far past the cloth's
-    end as it lagged behind: L. g is the magnitude of gravity."""
+    """How far a dish on a cloth pulled a length L at speed U travels, friction driving it at mu g:
+    mu g T^2 = mu g L^2 / U^2 where the cloth outruns it (U^2 >= mu g L: speed mu g T at T = L / U,
+    then as far again to a stop), else L (it rides along, stops as far past the end as it lags)."""
     U, L = pull_speed, pull_length
     return mu * g * L * L / (U * U) if U * U >= mu * g * L else L
 

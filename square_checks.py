@@ -8,8 +8,8 @@ import os
 
 import numpy as np
 
-from utils import (NEWTON_STARTS, ParameterError, as_float, check_choice, check_epsv,
-                   check_positive, check_vector, check_whole)
+import utils
+from utils import ParameterError
 
 EPS = np.finfo(float).eps
 # A node nearer the slope than ROUNDOFF_ULPS eps (max_i |x_i| + |o|) touches it as far as float64
@@ -27,49 +27,33 @@ MEMORY_PER_NODE = 16 * 1024
 
 def check_params(defaults, aliases, overrides):
     """`defaults` updated by `overrides` (aliases renamed to their parameter), values checked."""
-    unknown = sorted(set(overrides) - set(defaults) - set(aliases))
-    if unknown:
-        raise ParameterError(unknown[0], f"unknown scene parameter(s): {', '.join(unknown)}; "
-                                         f"valid: {', '.join(sorted([*defaults, *aliases]))}")
-    p = dict(defaults)
-    for name, value in overrides.items():
-        real = aliases.get(name, name)
-        if real != name and real in overrides:
-            raise ParameterError(real, f"{real} is given twice, as {real} and as its alias {name}; "
-                                       f"give one")
-        p[real] = value
+    checks = {**dict.fromkeys(("side_len", "rho"), utils.check_positive), **utils.SOLVER_CHECKS,
+              "n_seg": lambda name, value: check_memory(utils.check_whole(name, value)),
+              **dict.fromkeys(("slope_point", "v0", "center"), utils.check_pair)}
+    p = utils.check_params(checks, defaults, overrides, "scene", aliases)
     if p["mass"] is not None and "rho" in overrides:
         raise ParameterError("mass", f"mass = {p['mass']} and rho = {p['rho']} are both given: the "
                                      f"total mass is mass, or rho side_len^2; give one")
-    positive = ("side_len", "rho", "k", "h", "dhat", "kappa", "tol")
-    for name in positive + ("mass",) * (p["mass"] is not None):
-        p[name] = check_positive(name, p[name])
-    p["epsv"] = check_epsv(p["epsv"])
-    for name, minimum in (("n_seg", 1), ("friction_updates", 0), ("max_newton_iterations", 1),
-                          ("max_halvings", 1)):
-        p[name] = check_whole(name, p[name], minimum)
-    check_memory(p["n_seg"])
-    p["newton_start"] = check_choice("newton_start", p["newton_start"], NEWTON_STARTS)
+    if p["mass"] is not None:
+        p["mass"] = utils.check_positive("mass", p["mass"])
     for name in ("mu", "angle"):
-        p[name] = as_float(name, p[name], "must be a finite number")
+        p[name] = utils.as_float(name, p[name], "must be a finite number")
         if not np.isfinite(p[name]):
             raise ParameterError(name, f"{name} must be finite, got {p[name]}")
     if p["mu"] < 0:
         raise ParameterError("mu", f"mu must be >= 0, got {p['mu']}")
-    for name in ("gravity", "slope_point", "v0", "center") + ("slope",) * (p["slope"] is not None):
-        p[name] = tuple(check_vector(name, p[name]).tolist())
     if p["slope"] is not None:
+        p["slope"] = utils.check_pair("slope", p["slope"])
         slope_normal(p["slope"])
     return p
 
 
 def slope_normal(slope):
     """n = s / |s|, s = slope / max_i |slope_i|: unit length within 1 eps for any components
-    (subnormal too), the lecture's (0.1, 1) bit for bit. ValueError if zero or not finite."""
+    (subnormal too), the lecture's (0.1, 1) bit for bit; `slope` finite, a ValueError if zero."""
     scale = float(np.abs(slope).max())
-    if not 0.0 < scale < np.inf:
-        problem = "must be non-zero" if scale == 0.0 else "must be finite"
-        raise ParameterError("slope", f"slope normal {problem}, got {list(slope)}")
+    if scale == 0.0:
+        raise ParameterError("slope", f"slope normal must be non-zero, got {list(slope)}")
     s = np.array(slope) / scale
     return s / np.hypot(*s)
 
@@ -93,7 +77,7 @@ def physical_memory():
 
 
 def check_memory(n_seg):
-    """ValueError if (n_seg + 1)^2 nodes of MEMORY_PER_NODE each do not fit this machine."""
+    """n_seg, or a ValueError if (n_seg + 1)^2 nodes of MEMORY_PER_NODE each do not fit here."""
     nodes, have = (n_seg + 1) ** 2, physical_memory()      # Python ints: exact at any n_seg
     if have is not None and MEMORY_PER_NODE * nodes > have:
         need = decimal.Decimal(MEMORY_PER_NODE * nodes) / 2**30
@@ -102,6 +86,7 @@ def check_memory(n_seg):
                    f"this machine's {have / 2**30:.3g} GiB (largest n_seg that fits: "
                    f"{math.isqrt(have // MEMORY_PER_NODE) - 1})")
         raise ParameterError("n_seg", message)
+    return n_seg
 
 
 def roundoff(x, o):
@@ -174,9 +159,8 @@ def check_start(p, defaults, x, n, o, d):
         mass = {a: -b for a, b in _mass_powers(p).items()}
         name = _culprit(p, defaults, {"k": 1, "h": 2, "n_seg": 2, **mass})
         message = (f"{name} = {_shown(p[name])}: float64 cannot resolve the Newton matrix "
-                   f"M + h^2 K, as h^2 k / m = {ratio:.3g} (h = {h:g} s, k = {k:g}, node mass "
-                   f"m = {m:.3g} kg) is above 0.1/eps = {NEWTON_RATIO_LIMIT:.2g}, where m is lost "
-                   f"in the round-off of h^2 k (lower k or h, or raise the mass)")
+                   f"M + h^2 K, as h^2 k / m = {ratio:.3g} (node mass m = {m:.3g} kg) is above "
+                   f"0.1/eps = {NEWTON_RATIO_LIMIT:.2g}: lower k or h, or raise the mass")
         raise ParameterError(name, message)
     if not h * h >= np.finfo(float).tiny:
         raise ParameterError("h", f"h = {h:g} s is too small for float64: h^2 = {h * h:.3g} "
@@ -235,7 +219,6 @@ def scene_warnings(p, x, n, d):
     floor = max(math.sqrt(EPS * h * h * M * g * reach / (M / len(x))), EPS * reach) / h
     if p["tol"] < floor:
         warnings.append(f"tol = {p['tol']:g} m/s is below the residual float64 can resolve in this "
-                        f"scene (about {floor:.2g} m/s: E's rounding hides smaller Newton steps): "
-                        f"Newton stops at that floor where it must, and log.csv flags those steps "
-                        f"newton_stalled")
+                        f"scene, about {floor:.2g} m/s: Newton stops at that floor where it must, "
+                        f"and log.csv flags those steps newton_stalled (docs/limits.md)")
     return tuple(warnings)

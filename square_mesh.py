@@ -10,9 +10,7 @@ import utils
 
 def _cells(nx, ny):
     """(nx, ny) checked; ny None is the square's ny = nx (the functions below take n_seg alone)."""
-    if ny is None:
-        return (utils.check_whole("n_seg", nx, 1),) * 2
-    return utils.check_whole("nx", nx, 1), utils.check_whole("ny", ny, 1)
+    return utils.check_whole("nx", nx), utils.check_whole("ny", nx if ny is None else ny)
 
 
 def _grid(nx, ny):
@@ -41,7 +39,7 @@ def rectangle(width, height, nx, ny, origin=(0.0, 0.0)):
 def generate(side_len, n_seg):
     """Nodes and edges of the lecture's square of n_seg x n_seg cells, centred at the origin."""
     side_len = utils.check_positive("side_len", side_len)
-    n_seg = utils.check_whole("n_seg", n_seg, 1)
+    n_seg = utils.check_whole("n_seg", n_seg)
     return rectangle(side_len, side_len, n_seg, n_seg, (-side_len / 2.0, -side_len / 2.0))
 
 
@@ -69,8 +67,8 @@ def obj_text(x, nx, ny=None):
     x = utils.check_points("x", x)
     nx, ny = _cells(nx, ny)
     if len(x) != (nx + 1) * (ny + 1):
-        cells = f"n_seg = {nx}" if nx == ny else f"nx x ny = {nx} x {ny} cells"
-        raise ValueError(f"x has {len(x)} nodes but {cells} needs {(nx + 1) * (ny + 1)}")
+        cells = (nx + 1) * (ny + 1)
+        raise ValueError(f"x has {len(x)} nodes but nx x ny = {nx} x {ny} cells needs {cells}")
     faces = triangles(nx, ny) + 1
     # one C-level format call per block of lines, no Python loop over nodes or faces
     vertices = ("v %.6f %.6f 0.0\n" * len(x)) % tuple(x.ravel().tolist())

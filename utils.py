@@ -3,6 +3,8 @@
 A Hessian is an IJV triplet (rows, cols, values), DOF index 2*node + axis, duplicates summed.
 """
 import decimal
+import functools
+import types
 from dataclasses import dataclass
 
 import numpy as np
@@ -141,15 +143,16 @@ def check_unit_normal(name, n):
     return n
 
 
-def check_positive(name, value):
-    """`value` as a float, a finite number > 0."""
-    value = as_float(name, value, "must be a finite number > 0")
-    if not np.isfinite(value) or value <= 0.0:
-        raise ParameterError(name, f"{name} must be a finite number > 0, got {value}")
-    return value
+def check_positive(name, value, bound="> 0"):
+    """`value` as a float, a finite number > 0 (bound ">= 0": or zero)."""
+    requirement = f"must be a finite number {bound}"
+    number = as_float(name, value, requirement)
+    if not np.isfinite(number) or number < 0.0 or (number == 0.0 and bound == "> 0"):
+        raise ParameterError(name, f"{name} {requirement}, got {number}")
+    return number
 
 
-def check_whole(name, value, minimum):
+def check_whole(name, value, minimum=1):
     """`value` as an int, a whole number >= minimum."""
     if type(value) is int and minimum <= value <= 2 ** 53:      # exact in float64: as it is
         return value
@@ -197,6 +200,42 @@ def check_edges(name, e, n_nodes):
     return e
 
 
+def check_pair(name, value):
+    """check_vector's 2-vector as a tuple, a scene parameter's form."""
+    return tuple(check_vector(name, value).tolist())
+
+
+# A table's checks, check(name, value) (check_params), and the solver's that every scene has.
+check_nonnegative = functools.partial(check_positive, bound=">= 0")
+SOLVER_CHECKS = types.MappingProxyType({
+    **dict.fromkeys(("h", "k", "dhat", "kappa", "tol"), check_positive),
+    "epsv": lambda name, value: check_epsv(value),
+    "friction_updates": functools.partial(check_whole, minimum=0),
+    **dict.fromkeys(("max_newton_iterations", "max_halvings"), check_whole),
+    "newton_start": functools.partial(check_choice, choices=NEWTON_STARTS),
+    "gravity": check_pair,
+})
+
+
+def check_params(checks, defaults, overrides, scene, aliases=types.MappingProxyType({})):
+    """`defaults` updated by `overrides` (aliases renamed); p[name] = checks[name](name, p[name])
+    in the table's order."""
+    unknown = sorted(set(overrides) - set(defaults) - set(aliases))
+    if unknown:
+        raise ParameterError(unknown[0], f"unknown {scene} parameter(s): {', '.join(unknown)}; "
+                                         f"valid: {', '.join(sorted([*defaults, *aliases]))}")
+    p = dict(defaults)
+    for name, value in overrides.items():
+        real = aliases.get(name, name)
+        if real != name and real in overrides:
+            raise ParameterError(real, f"{real} is given twice, as {real} and as its alias {name}; "
+                                       f"give one")
+        p[real] = value
+    for name, check in checks.items():
+        p[name] = check(name, p[name])
+    return p
+
+
 def finite_result(what, value, arguments):
     """`value` if every entry is finite; else a ValueError (never a NaN): finite `arguments` (their
     names) overflowed float64, e.g. springs stretched to 1e308 m."""
@@ -219,11 +258,6 @@ def blocks_to_ijv(nodes, blocks):
     dofs = block_dofs(nodes)
     size = dofs.shape[1]
     return np.repeat(dofs, size, axis=1).ravel(), np.tile(dofs, (1, size)).ravel(), blocks.ravel()
-
-
-def concat_ijv(triplets):
-    """Several IJV triplets joined into one."""
-    return tuple(np.concatenate(parts) for parts in zip(*triplets))
 
 
 def ijv_to_csr(ijv, n_dofs):
@@ -268,10 +302,8 @@ class SPDSolver:
         the element node lists (B, m) in `elements`; band 2 max(node span) + 1. `kind` None picks
         "banded" unless the band is over BAND_LIMIT times the nodes' and edges' nonzeros."""
         e = np.array(e, dtype=np.int64).reshape(-1, 2)
-        spans = [np.abs(e[:, 0] - e[:, 1]).max(initial=0)]
-        spans += [np.ptp(np.asarray(nodes, dtype=np.int64), axis=1).max(initial=0)
-                  for nodes in elements]
-        bandwidth = int(2 * max(spans) + 1)
+        span = max(np.ptp(np.asarray(nodes), axis=1).max(initial=0) for nodes in [e, *elements])
+        bandwidth = int(2 * span + 1)
         nonzeros = 4 * n_nodes + 8 * len(e)
         if kind is None:
             banded = (bandwidth + 1) * 2 * n_nodes <= BAND_LIMIT * nonzeros
@@ -295,10 +327,9 @@ class SPDSolver:
         return lapack.dpbtrs(factor, b, lower=0)[0]
 
     def _superlu_solve(self, H, b):
-        rows, cols, vals = concat_ijv(blocks_to_ijv(nodes, blocks) for nodes, blocks in H)
-        A = scipy.sparse.csc_matrix((vals, (rows, cols)), shape=(self.n_dofs, self.n_dofs))
+        A = sum(ijv_to_csr(blocks_to_ijv(nodes, blocks), self.n_dofs) for nodes, blocks in H)
         try:
-            return scipy.sparse.linalg.splu(A).solve(b)
+            return scipy.sparse.linalg.splu(A.tocsc()).solve(b)
         except RuntimeError as err:         # SuperLU: the matrix is singular
             raise np.linalg.LinAlgError(str(err)) from None
 

@@ -4,7 +4,6 @@ rides along (closed_forms.tablecloth_travel).
 
     scene = build_tablecloth_scene(pull_speed=8.0)  # the numbers (TABLECLOTH), one of them changed
 """
-import math
 import types
 
 import numpy as np
@@ -33,31 +32,18 @@ TABLECLOTH = types.MappingProxyType({
     "friction_updates": 0, "max_newton_iterations": 1000, "max_halvings": 60,
     "newton_start": "x_n",
 })
-POSITIVE = ("width", "height", "mass", "k", "h", "pull_speed", "pull_length", "dhat", "kappa",
-            "tol")
-WHOLE = {"nx": 1, "ny": 1, "friction_updates": 0, "max_newton_iterations": 1, "max_halvings": 1}
 
 
 def check_params(overrides):
     """TABLECLOTH updated by `overrides`, each value checked (a ValueError naming the parameter)."""
-    unknown = sorted(set(overrides) - set(TABLECLOTH))
-    if unknown:
-        raise utils.ParameterError(unknown[0], f"unknown tablecloth parameter(s): {unknown}")
-    p = {**TABLECLOTH, **overrides}
-    for name in POSITIVE:
-        p[name] = utils.check_positive(name, p[name])
-    for name, minimum in WHOLE.items():
-        p[name] = utils.check_whole(name, p[name], minimum)
-    for name in ("mu", "t_pull"):
-        p[name] = utils.as_float(name, p[name], "must be a finite number >= 0")
-        if not 0.0 <= p[name] < math.inf:
-            raise utils.ParameterError(name, f"{name} must be a finite number >= 0, got {p[name]}")
-    p["gravity"] = tuple(utils.check_vector("gravity", p["gravity"]).tolist())
+    checks = {**dict.fromkeys(("width", "height", "mass", "pull_speed", "pull_length"),
+                              utils.check_positive),
+              **dict.fromkeys(("nx", "ny"), utils.check_whole),
+              **dict.fromkeys(("mu", "t_pull"), utils.check_nonnegative), **utils.SOLVER_CHECKS}
+    p = utils.check_params(checks, TABLECLOTH, overrides, "tablecloth")
     if not p["gravity"][1] < 0.0:
         raise utils.ParameterError("gravity", f"gravity must press the dish down on the table "
                                    f"(y < 0), got {p['gravity']}")
-    p["epsv"] = utils.check_epsv(p["epsv"])
-    p["newton_start"] = utils.check_choice("newton_start", p["newton_start"], utils.NEWTON_STARTS)
     return p
 
 

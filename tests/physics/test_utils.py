@@ -13,8 +13,8 @@ import utils
 def test_ijv_assembles_symmetric_matrix_of_right_size():
     x, e = square_mesh.generate(1.0, 2)
     d = x[e[:, 0]] - x[e[:, 1]]
-    ijv = utils.concat_ijv([MassSpringEnergy.hess(1.1 * x, e, np.einsum("ij,ij->i", d, d), 3.0),
-                            InertiaEnergy.hess(x, x, np.ones(len(x)))])
+    ijv = concat_ijv([MassSpringEnergy.hess(1.1 * x, e, np.einsum("ij,ij->i", d, d), 3.0),
+                      InertiaEnergy.hess(x, x, np.ones(len(x)))])
     A = utils.ijv_to_csr(ijv, 2 * len(x))
     assert A.shape == (2 * len(x), 2 * len(x))
     # symmetric up to the order of summation: entry (i, j) and (j, i) add the same values (every
@@ -28,9 +28,14 @@ def test_ijv_assembles_symmetric_matrix_of_right_size():
     assert all(a.ndim == 1 and len(a) == len(ijv[0]) for a in ijv)
 
 
+def concat_ijv(triplets):
+    """Several IJV triplets joined into one."""
+    return tuple(np.concatenate(parts) for parts in zip(*triplets))
+
+
 def to_csr(blocks, n_dofs):
     """The sparse matrix that element blocks [(nodes, blocks), ...] sum to."""
-    return utils.ijv_to_csr(utils.concat_ijv(utils.blocks_to_ijv(*h) for h in blocks), n_dofs)
+    return utils.ijv_to_csr(concat_ijv(utils.blocks_to_ijv(*h) for h in blocks), n_dofs)
 
 
 def system_setup(n_seg, seed=0):
