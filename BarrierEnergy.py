@@ -126,9 +126,7 @@ def compute_mu_lambda(x, n, o, contact_area, mu, dhat=DHAT, kappa=KAPPA):
     see compute_mu_lambda_kernel)."""
     x, n, o, contact_area, dhat, kappa = _check(x, n, o, contact_area, dhat, kappa)
     if np.ndim(mu) == 0:
-        mu = utils.as_float("mu", mu, "must be a finite number >= 0")
-        if not np.isfinite(mu) or mu < 0.0:
-            raise ValueError(f"mu must be a finite number >= 0, got {mu}")
+        mu = utils.check_nonnegative("mu", mu)
     else:
         mu = utils.check_per_item("mu", mu, len(x), must_be=">= 0")
     mu_lambda = compute_mu_lambda_kernel(x, n, o, contact_area, mu, dhat, kappa)

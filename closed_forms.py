@@ -122,11 +122,6 @@ def free_fall_com(scene, t):
     return com(scene, scene.x0) + com(scene, scene.v0) * t + 0.5 * scene.g * t * t
 
 
-def full_scene(**overrides):
-    """The lecture's scene: dropped from rest 0.5 m above the slope, lands at t ~ 0.3 s, slides."""
-    return simulator.build_scene(**overrides)
-
-
 # ---- Measuring a run -----------------------------------------------------------------------------
 
 @dataclass

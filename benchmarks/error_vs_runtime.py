@@ -12,6 +12,7 @@ from collections import namedtuple
 import numpy as np
 
 import closed_forms as cases
+import simulator
 import time_integrator
 from benchmarks import plot, tables
 
@@ -51,7 +52,7 @@ CASES = (
          lambda scene, run, reference: float(np.linalg.norm(
              run.com[-1] - cases.free_fall_com(scene, run.t[-1:])[0]))),
     Case("full scene", f"max COM error over 0.6 s vs h = {REFERENCE_H:g}, m", 0.6, True, True,
-         lambda h, tol, fu: cases.full_scene(h=h, tol=tol, friction_updates=fu),
+         lambda h, tol, fu: simulator.build_scene(h=h, tol=tol, friction_updates=fu),
          lambda scene, run, reference: cases.max_com_error(run, reference)),
 )
 

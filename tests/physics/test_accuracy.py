@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 import closed_forms as cases
+import simulator
 
 # Newton tolerance on ||p||_inf / h (m/s). It must sit well below eps_v = 1e-3 m/s and below the
 # velocity change per step (a h = 4.9e-3 m/s when sliding at h = 0.01): Newton starts every step
@@ -140,8 +141,8 @@ def test_full_scene_order_rises_towards_one():
     even at h_ref).
     """
     h_ref, hs, duration = 0.000625, (0.04, 0.02, 0.01, 0.005), 0.6
-    reference = cases.run(cases.full_scene(h=h_ref, tol=TOL), duration)
-    runs = [cases.run(cases.full_scene(h=h, tol=TOL), duration) for h in hs]
+    reference = cases.run(simulator.build_scene(h=h_ref, tol=TOL), duration)
+    runs = [cases.run(simulator.build_scene(h=h, tol=TOL), duration) for h in hs]
     errors = [cases.max_com_error(run, reference) for run in runs]
     orders = observed_orders(hs, errors)
     assert np.all(np.diff(orders) > 0), orders
