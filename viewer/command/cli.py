@@ -1,9 +1,6 @@
-"""The command line, `python simulator.py [flags]`: its flags, comparisons by lists, its errors.
-
-Each scene flag sets one parameter of a scene's mapping (`scene_kinds()`: simulator.DEFAULTS, CHALK,
-TABLECLOTH) and applies to the scenes whose mapping has it; only those given reach the builder.
-One scene flag may take a list, one run per value (docs/command-line.md). A bad command line is
-one line naming the flag, exit code 2.
+"""The command line, `python simulator.py [flags]` (docs/command-line.md): a scene flag sets one
+parameter of the scenes whose mapping (scene_kinds) has it; one may take a list, one run per value.
+A bad command line is one line naming the flag, exit code 2.
 """
 import argparse
 import math
@@ -98,12 +95,10 @@ def shown(value):
 
 def make_parser():
     ap = Parser(prog="simulator.py", allow_abbrev=False, description=(
-        "Simulate the lecture's elastic square on a slope (implicit Euler as optimization, "
-        "log-barrier contact, semi-implicit friction) and write into a folder: index.html, a page "
-        "that plays the run; PNG frames and OBJ meshes; log.csv; plots.png and summary.png. "
-        "Compare runs by giving one scene flag a list: comma-separated values, or ';'-separated "
-        "pairs, e.g. --mu 0.1,0.11,0.2 (the lecture's comparison; "
-        f"{DURATION:g} s unless --duration or --steps says otherwise)."))
+        "Simulate the lecture's elastic square on a slope (or --scene chalk, tablecloth) into a "
+        "folder: frames, OBJs, log.csv, plots.png, summary.png and index.html, a page that plays "
+        "the run. One scene flag may take a list, e.g. --mu 0.1,0.11,0.2: one run per value, "
+        "compared (docs/command-line.md)."))
     g = ap.add_argument_group("scene (the lecture's numbers by default)")
     g.add_argument("--scene", choices=("square", "chalk", "tablecloth"), default="square",
                    help="square: the lecture's square on a slope (default); chalk: Rabinowicz's "
@@ -180,13 +175,6 @@ def parse_command_line(argv):
                                f"once")
     is_pair = param in PAIR
     values = [v.replace(" ", "") for v in text.split(";" if is_pair else ",")]
-    if not all(values):
-        raise CommandLineError(f"{flag}: the list {text!r} has an empty value")
-    numbers = [as_number(value, is_pair) for value in values]
-    for j, number in enumerate(numbers):
-        if number in numbers[:j]:
-            raise CommandLineError(f"{flag}: the list {text} repeats a value: "
-                                   f"{values[numbers.index(number)]} and {values[j]} are equal")
     runs, rest, name = [], argv[i + (1 if "=" in argv[i] else 2):], flag.lstrip("-")
     said = decimal_comma(name, param, values)
     for value in values:
@@ -194,15 +182,12 @@ def parse_command_line(argv):
         args.label, args.said = f"{name} = {value}", said
         args.tag = f"{name}_{value.replace(',', '_')}" if is_pair else f"{name}{value}"
         runs.append(args)
+    numbers = [getattr(args, param) for args in runs]       # as the flag parses them: 0.1 = 0.10
+    for j, number in enumerate(numbers):
+        if number in numbers[:j]:
+            raise CommandLineError(f"{flag}: the list {text} repeats a value: "
+                                   f"{values[numbers.index(number)]} and {values[j]} are equal")
     return runs
-
-
-def as_number(text, is_pair):
-    """A list value as its flag parses it, so '0.1' and '0.10' compare equal; else the text."""
-    try:
-        return pair(text) if is_pair else float(text)
-    except (ValueError, argparse.ArgumentTypeError):
-        return text
 
 
 def decimal_comma(name, param, values):
@@ -216,7 +201,7 @@ def decimal_comma(name, param, values):
 
 
 def scene_kinds():
-    """Each --scene's parameter mapping and builder."""
+    """Each --scene's parameter mapping and builder (looked up when called)."""
     return {"square": (simulator.DEFAULTS, simulator.build_scene),
             "chalk": (simulator.CHALK, simulator.build_chalk_scene),
             "tablecloth": (simulator.TABLECLOTH, simulator.build_tablecloth_scene)}

@@ -1,12 +1,7 @@
-"""The run driver: scenes stepped side by side, a log.csv row appended as each step ends.
-
-A Track is one scene being run: StepRecords from simulator.simulate become Samples (log rows) and
-what the pictures need. `record` advances every track to each frame's time, then draws the frame
-with all of them, so a comparison shows every run in each frame.
+"""The run driver: scenes stepped side by side (a Track each), a log.csv row appended as each step
+ends; `record` advances every track to each frame's time, then draws them all in that frame.
 """
-from dataclasses import dataclass
-
-import numpy as np
+import types
 
 from analysis import diagnostics, log, wear
 from viewer.command.progress import Progress, step_warnings
@@ -36,31 +31,8 @@ class History:
         return self.items if self.items[-1] is self.last else self.items + [self.last]
 
 
-@dataclass
-class Sample:
-    """The figures of one state (report None at t = 0): log.COLUMN reads its row off them."""
-    step: int
-    t: float
-    wall: float
-    com: np.ndarray
-    v_tangential: float         # centre-of-mass velocity along the slope, m/s
-    report: object
-    min_distance: float
-    energies: dict
-    friction_work: float        # W_friction so far (J; <= 0 on a still surface)
-    numerical_dissipation: float  # D = E(0) + W_friction (+ W_hand) - E (J)
-    speeds: np.ndarray          # the contact nodes' tangential speeds relative to the surface (m/s)
-    sticking: int
-    sliding: int
-    inverted: int               # mesh triangles with negative signed area
-    hand_work: float = 0.0      # W_hand so far (J; 0 without a hand)
-    surface_work: float = 0.0   # W_surface so far (J; 0 on a still surface)
-    heat: float = 0.0           # W_surface - W_friction so far (J, >= 0): friction's, surface frame
-    surface_speed: float = 0.0  # v_s along t over the last step (m/s)
-    tip_x: float = None         # the chalk's: diagnostics.tip_figures
-    tip_speed: float = None
-    drive_speed: float = None
-    normal_force: float = None
+# One state's figures, as log.COLUMN reads them (report None at t = 0; W and D in J, speeds in m/s)
+Sample = types.SimpleNamespace
 
 
 class Track:

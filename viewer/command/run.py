@@ -139,17 +139,17 @@ Failure = collections.namedtuple("Failure", "code text pictures", defaults=(True
 ENDINGS = (Stopped, OSError, time_integrator.SimulationError, ValueError)   # end a run early
 
 
-def failure_of(err, plan):
-    """The Failure an exception of ENDINGS ends a run with; a failed write names its file, else
-    the run's folder."""
+def failure_of(err, plan, when=""):
+    """The Failure an exception of ENDINGS ends a run with, `when` it came; a failed write names
+    its file."""
     if isinstance(err, Stopped):
-        return Failure(err.code, f"stopped: {err.reason}")
+        return Failure(err.code, f"stopped: {err.reason}{when}")
     if isinstance(err, OSError):
         where = err.filename or plan.out or "the run's folder"
         return Failure(1, f"error: cannot write {where}: {err.strerror or err}", pictures=False)
     if isinstance(err, time_integrator.SimulationError):
         return Failure(1, f"stopped: simulation failed: {err}")
-    return Failure(1, f"stopped: {err}")        # a number the checks did not foresee
+    return Failure(1, f"stopped: {err}{when}")        # a number the checks did not foresee
 
 
 def end(plan, signals, folder, tracks, frame_log, failure, messages, done):
@@ -162,17 +162,13 @@ def end(plan, signals, folder, tracks, frame_log, failure, messages, done):
                 track.last_snapshot()
             header = summary_header(plan)
             run_pictures.write(tracks, folder, plan.stride, plan.frames, frame_log, header)
-        except Stopped as stopped:
-            text = f"stopped: {stopped.reason} while writing the last pictures"
-            failure = failure or Failure(stopped.code, text)
         except ENDINGS as err:
-            failure = failure or failure_of(err, plan)
+            failure = failure or failure_of(err, plan, " while writing the last pictures")
     signals.close()
     for track in tracks:
         track.csv.close()
     if failure is None and signals.pending is not None:        # came as the run was closing
-        pending = signals.pending
-        failure = Failure(EXIT_CODES[pending], f"stopped: {REASONS[pending]} as the run ended")
+        failure = failure_of(Stopped(signals.pending), plan, " as the run ended")
     if failure is None:
         print(done, file=messages)
         return 0
@@ -222,10 +218,8 @@ def simulated(plan):
     """'300 steps (3.00 s)', and for a comparison its runs'."""
     runs = [f"{steps} steps ({steps * scene.h:.2f} s)"
             for steps, scene in zip(plan.steps, plan.scenes)]
-    if len(runs) == 1:
-        return runs[0]
     if len(set(runs)) == 1:
-        return f"{runs[0]} x {len(runs)} runs"
+        return runs[0] + (f" x {len(runs)} runs" if len(runs) > 1 else "")
     return f"{len(runs)} runs: " + ", ".join(runs)
 
 

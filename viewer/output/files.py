@@ -137,19 +137,14 @@ class RunFolder:
                 except FileExistsError:
                     made = []
                     check_empty(out)
-            try:
-                probe(out, "probe", "a probe: can a file be written here?\n")
-            except OSError as err:
-                remove(made)
-                raise refused(f"out folder {out!r} cannot be written: {err.strerror}") from None
-            for name in names:
+            probes = [("probe", "can a file be written here?\n")] + [(n, None) for n in names]
+            for name, data in probes:
                 try:
-                    probe(out, name, None)
+                    probe(out, name, data)
                 except OSError as err:
                     remove(made)
-                    raise refused(f"output name {name!r} cannot be written in {out!r}: "
-                                  f"{err.strerror} (shorten the list value it is named after)"
-                                  ) from None
+                    raise refused(f"output name {name!r} in out folder {out!r} cannot be written: "
+                                  f"{err.strerror}") from None
             return cls(out, signals)
 
     def path(self, name):
