@@ -138,8 +138,7 @@ def make_parser():
 
 
 def attach_negative_values(argv):
-    """['--k', '-2e4'] -> ['--k=-2e4']: no flag starts with a digit, a dot, 'inf' or 'nan', so such
-    a token is the previous option's value (argparse would take it for an option)."""
+    """['--k', '-2e4'] -> ['--k=-2e4']: a token '-<digit, dot, inf or nan>' is a value, no flag."""
     out = []
     for token in argv:
         if (out and out[-1].startswith("--") and "=" not in out[-1]
@@ -151,8 +150,7 @@ def attach_negative_values(argv):
 
 
 def parse_command_line(argv):
-    """One argparse Namespace per run, each with its `label`, file `tag` ('' for a single run) and
-    `said` (decimal_comma)."""
+    """One argparse Namespace per run, with its `label`, file `tag` and `said` (decimal_comma)."""
     argv, parser = attach_negative_values(list(argv)), make_parser()
     param_of = {flag: param for flags, param, _, _ in FLAGS for flag in flags}
     uses = []           # (token index, flag, parameter, value) of each scene flag given
@@ -191,8 +189,7 @@ def parse_command_line(argv):
 
 
 def decimal_comma(name, param, values):
-    """Two whole numbers given to a flag of decimals read like a decimal comma ('--mu 0,11'): the
-    run's first line says what it compares; None for any other list."""
+    """The first line of a list that reads like a decimal comma ('--mu 0,11'), else None."""
     if (param in COUNT or param in PAIR or len(values) != 2
             or not all(re.fullmatch(r"-?[0-9]+", v) for v in values)):
         return None
@@ -208,8 +205,7 @@ def scene_kinds():
 
 
 def scene_from_args(args):
-    """The --scene's builder (simulator.build_scene by default) with the scene flags given; a flag
-    whose parameter is not in that scene's mapping is refused."""
+    """The --scene built with the scene flags given; refused: a flag that scene does not have."""
     overrides = {param: getattr(args, param) for _, param, _, _ in FLAGS if hasattr(args, param)}
     slopes = {"--slope-normal": "slope" in overrides, "--slope-angle": args.slope_angle is not None,
               "--no-slope": args.no_slope}
@@ -238,8 +234,7 @@ def scene_from_args(args):
 
 
 def default_duration(scenes):
-    """DURATION; the chalk's CHALK_DURATION; a tablecloth's until the last of its runs' closed-form
-    dishes has stopped (closed_forms.tablecloth_stop_time), plus STOP_MARGIN."""
+    """DURATION, CHALK_DURATION, or STOP_MARGIN after the runs' last closed-form dish stops."""
     if scenes[0].surface is None:
         return CHALK_DURATION if scenes[0].hand else DURATION
     stops = [closed_forms.tablecloth_stop_time(s.surface.pull_speed, s.surface.pull_length, s.mu,
@@ -268,8 +263,7 @@ def steps_from_args(args, scene, duration=None):
 
 
 def frame_stride(args, scenes):
-    """--frame-stride, or the largest stride giving FRAMES_PER_SECOND frames per simulated second
-    at the smallest h (3 at h = 0.01: 33 a second)."""
+    """--frame-stride, or the largest giving FRAMES_PER_SECOND a simulated second at the least h."""
     if args.frame_stride is not None:
         return utils.check_whole("frame-stride", args.frame_stride, 1)
     return max(1, math.floor(1.0 / (FRAMES_PER_SECOND * min(s.h for s in scenes)) + 1e-9))
@@ -292,12 +286,11 @@ def plan_from_args(runs):
     return run.Plan(scenes=scenes, labels=labels, tags=[a.tag for a in runs],
                     steps=[steps_from_args(a, s, duration) for a, s in zip(runs, scenes)],
                     out=args.out, stride=frame_stride(args, scenes), frames=not args.no_frames,
-                    forces=not args.no_forces, said=args.said)
+                    forces=not args.no_forces, said=args.said, kind=args.scene)
 
 
 def default_label(scene):
-    """A single run's label: 'mu = 0.11'; the chalk's 'pushed, mu_s = 0.5, mu = 0.35'; the
-    tablecloth's 'pull-speed = 4, mu = 0.2'."""
+    """A single run's label: 'mu = 0.11', 'pushed, mu_s = 0.5, mu = 0.35', 'pull-speed = 4, ...'."""
     if scene.surface is not None:
         return f"pull-speed = {scene.surface.pull_speed:g}, mu = {scene.mu:g}"
     if scene.hand is None:

@@ -1,5 +1,4 @@
-"""What a run says on stderr as it goes: progress lines and warnings about its steps, for a run to
-files (recording.Track) and the window (demo.live) alike, each warning the first time it applies.
+"""What a run says on stderr as it goes, to files or in the window: progress lines and warnings.
 """
 import time
 
@@ -9,9 +8,8 @@ PROGRESS_EVERY = 2.0        # s of wall time: a progress line at least this ofte
 
 
 class Progress:
-    """Progress lines on `log` at every tenth of the first run and at least every PROGRESS_EVERY s.
-    The line of step N gives each run's figures of its own step N, as its log.csv has them: it
-    waits until every run has logged step N or ended."""
+    """Progress lines at every tenth of the first run and at least every PROGRESS_EVERY s; the line
+    of step N waits until every run has logged its own step N (or ended)."""
 
     def __init__(self, tracks, log):
         self.log, self.tracks = log, tracks
@@ -60,8 +58,7 @@ def warning(log, label, text):
 
 
 def step_warnings(scene, step, t, report, inverted):
-    """The warnings about the step that ended at `step`, by kind: the mesh folded over
-    ("inverted"), Newton stopped at float64's round-off floor ("stalled")."""
+    """The warnings about the step that ended at `step`, by kind: "inverted", "stalled"."""
     said, at = {}, f"at step {step} (t = {t:.2f} s)"
     if inverted:
         cells = len(diagnostics.mesh_triangles(scene))

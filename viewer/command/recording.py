@@ -13,8 +13,7 @@ MAX_SAMPLES, MAX_SNAPSHOTS = 100_000, 2_000     # kept for the pictures, however
 
 
 class History:
-    """Items kept in bounded memory: all until `cap`, then every other one, then every 4th, ...;
-    `last` is the newest, `all()` the kept ones and the newest."""
+    """Items in bounded memory: all until `cap`, then every 2nd, 4th, ...; `last` the newest."""
 
     def __init__(self, cap):
         self.items, self.cap, self.every, self.seen, self.last = [], cap, 1, 0, None
@@ -36,8 +35,7 @@ Sample = types.SimpleNamespace
 
 
 class Track:
-    """One scene being run into `folder` (files.RunFolder): its log.csv, samples and snapshots;
-    `row` is its latest state's named row, `logged` the last step log.csv holds."""
+    """One scene run into `folder`; `row`: its latest log row; `logged`: log.csv's last step."""
 
     def __init__(self, scene, steps, records, label, tag, color, folder):
         self.scene, self.steps, self.records = scene, steps, records
@@ -122,8 +120,7 @@ class Track:
 
 
 def record(tracks, folder, stride, frames, forces, messages, frame_log):
-    """Run every track to its end, a frame (and OBJs) every `stride` steps when `frames`; a
-    FrameInfo per frame appended to `frame_log`."""
+    """Run every track to its end, a frame every `stride` steps when `frames` (into `frame_log`)."""
     writer = FrameWriter(tracks, folder, forces, frame_log) if frames else None
     progress = Progress(tracks, messages)
     for j, targets in frame_steps(tracks, stride):

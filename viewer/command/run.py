@@ -1,7 +1,5 @@
-"""A run of the command line, to files or in the window: its folder, its signals, its ending.
-
-A run ends in one line on stderr and an exit code: 0 done; 1 after a failed step or write; 130 after
-Ctrl+C, 143 after SIGTERM (docs/output.md, "How a run ends").
+"""A run of the command line, to files or in the window: its folder, its signals, its ending in one
+line and an exit code, 0, 1, 130 or 143 (docs/output.md, "How a run ends").
 """
 import collections
 import contextlib
@@ -32,8 +30,8 @@ class Stopped(BaseException):
 
 
 class Signals:
-    """`with Signals() as signals:` SIGINT and SIGTERM raise Stopped, at once or, inside `held()`,
-    as it ends. Set from the main thread only (a notebook's other threads leave signals alone)."""
+    """`with Signals() as signals:` SIGINT and SIGTERM raise Stopped, at once or as `held()` ends
+    (set from the main thread only)."""
 
     def __init__(self):
         self.depth, self.pending, self.previous = 0, None, {}
@@ -71,8 +69,7 @@ class Signals:
 
 @dataclass
 class Plan:
-    """What the command line asks for: scenes with their labels, file tags and steps; the folder
-    (`out`, or None: a new one under output/), a frame every `stride` steps, what to draw."""
+    """What the command line asks for (`out` None: a new folder under output/)."""
     scenes: list
     labels: list
     tags: list
@@ -82,21 +79,16 @@ class Plan:
     frames: bool
     forces: bool
     said: str = None        # the run's first line (cli.decimal_comma), or None
+    kind: str = "square"    # the --scene, as output/<kind>-<date>-<time> names it
 
     def chalk(self):
         return self.scenes[0].hand is not None
-
-    def kind(self):
-        """The scene's name, as output/<kind>-<date>-<time> says it."""
-        if self.chalk():
-            return "chalk"
-        return "square" if self.scenes[0].surface is None else "tablecloth"
 
     def folder(self, signals):
         """The run's folder, made (files.RunFolder.make): `out`, or output/<scene>-<date>-<time>."""
         count = frame_count(self.scenes, self.steps, self.stride)
         names = files.run_names(self.tags, count, self.frames, marks=self.chalk())
-        return files.RunFolder.make(self.out, self.kind(), names, signals)
+        return files.RunFolder.make(self.out, self.kind, names, signals)
 
 
 def warn(plan, messages):
@@ -140,8 +132,7 @@ ENDINGS = (Stopped, OSError, time_integrator.SimulationError, ValueError)   # en
 
 
 def failure_of(err, plan, when=""):
-    """The Failure an exception of ENDINGS ends a run with, `when` it came; a failed write names
-    its file."""
+    """The Failure an exception of ENDINGS ends a run with, `when` it came."""
     if isinstance(err, Stopped):
         return Failure(err.code, f"stopped: {err.reason}{when}")
     if isinstance(err, OSError):
@@ -153,9 +144,8 @@ def failure_of(err, plan, when=""):
 
 
 def end(plan, signals, folder, tracks, frame_log, failure, messages, done):
-    """How every run ends, to files or in the window: the last pictures for the steps kept (a
-    second signal leaves out the rest), the logs closed, one line (`done` if all went well);
-    returns the exit code."""
+    """How every run ends: the last pictures of the steps kept, the logs closed, one line (`done` if
+    all went well); returns the exit code."""
     if tracks and (failure is None or failure.pictures):
         try:
             for track in tracks:
@@ -188,8 +178,7 @@ def kept(tracks, folder, plan):
 
 
 def to_files(plan, signals, messages=None):
-    """Run the plan's scenes side by side to their ends, writing frames, OBJs and log rows as they
-    go, then the last pictures; one closing line on `messages` (stderr). Returns the exit code."""
+    """Run the plan's scenes side by side into files, one closing line on `messages`; exit code."""
     messages = messages or sys.stderr
     folder = plan.folder(signals)       # ValueError: refused, nothing written
     tracks, frame_log, failure, start = [], [], None, time.perf_counter()

@@ -1,6 +1,7 @@
 """`python simulator.py` (and `python -m figures`) before numpy loads: one BLAS thread, Ctrl+C and
 SIGTERM in one line, stdout and stderr best effort; then the command line (viewer.main).
 """
+import contextlib
 import functools
 import importlib
 import io
@@ -17,28 +18,26 @@ class BestEffort(io.TextIOBase):
     disk, a closed stream) it points at os.devnull, so neither the run nor Python's exit fails."""
 
     def __init__(self, stream):
-        self.stream, self.broken = stream, stream is None
+        self.stream = stream
 
     def write(self, text):
-        self._try(lambda: self.stream.write(text))
+        self._try("write", text)
         return len(text)
 
     def flush(self):
-        self._try(lambda: self.stream.flush())
+        self._try("flush")
 
-    def _try(self, act):
-        if self.broken:
+    def _try(self, method, *args):
+        if self.stream is None:             # no stream, or broken already
             return
         try:
-            act()
+            getattr(self.stream, method)(*args)
         except (OSError, ValueError):       # ValueError: the stream was closed
-            self.broken = True
-            try:
+            with contextlib.suppress(OSError, ValueError, AttributeError):
                 devnull = os.open(os.devnull, os.O_WRONLY)
                 os.dup2(devnull, self.stream.fileno())
                 os.close(devnull)
-            except (OSError, ValueError, AttributeError):
-                pass
+            self.stream = None
 
 
 def _stopped_while_starting(program, signum, frame):

@@ -1,6 +1,5 @@
-"""A run's folder: a new one the run made, or the empty one --out names, and every file in it
-created new and written whole (whole_files). Nothing outside it is written, replaced or deleted
-(docs/output.md, "A run writes only into its own new folder").
+"""A run's folder, new or the empty one --out names, its files created new and written whole;
+nothing outside it is touched (docs/output.md, "A run writes only into its own new folder").
 """
 import datetime
 import os
@@ -76,8 +75,7 @@ def make_folders(path):
 
 
 def check_empty(path):
-    """ValueError unless `path` is an empty folder of this user's from which nobody else may remove
-    files (POSIX: not writable by others, or sticky as /tmp)."""
+    """ValueError unless `path` is an empty folder of this user's that others cannot write to."""
     if not os.path.isdir(path):
         raise refused(f"out folder {path!r} is not a folder: choose a new one")
     st = os.stat(path)
@@ -92,8 +90,8 @@ def check_empty(path):
 
 
 def new_folder(kind):
-    """A new output/<kind>-<date>-<time>, with -2, -3, ... where that is taken (mkdir is atomic:
-    two runs started in the same second get two folders); the folder and the folders made."""
+    """A new output/<kind>-<date>-<time>, -2, -3, ... where taken (by one atomic mkdir); the folder
+    and the folders made."""
     base = os.path.join(OUTPUT, f"{kind}-{datetime.datetime.now():%Y%m%d-%H%M%S}")
     for out in [base] + [f"{base}-{k}" for k in range(2, 1000)]:
         try:
@@ -104,8 +102,7 @@ def new_folder(kind):
 
 
 def probe(folder, name, data):
-    """Create the file `name` in `folder` as its temporary file is named (with `data`: written
-    whole), then remove it."""
+    """Create `name` in `folder` as its temporary file is named (with `data`), then remove it."""
     path = os.path.join(folder, f".tmp-{secrets.token_hex(4)}-{name}")
     try:
         if data is None:
@@ -125,9 +122,8 @@ class RunFolder:
 
     @classmethod
     def make(cls, out, kind, names, signals):
-        """The run's folder: `out`, new or empty, or a new_folder. A ValueError naming --out, with
-        nothing made, where it cannot be, or a file cannot be written in it (a probe), or one of
-        `names` as its temporary file is too long."""
+        """The run's folder: `out`, new or empty, or a new_folder; a ValueError naming --out,
+        nothing made, where it cannot be or a probe or one of `names` cannot be written in it."""
         with signals.held():
             if out is None:
                 out, made = new_folder(kind)
@@ -155,8 +151,7 @@ class RunFolder:
         return pathlib.Path(os.path.abspath(self.path(name))).as_uri()
 
     def write(self, name, data):
-        """Write the file `name` whole (never over another file; over this run's own, replaced),
-        signals held until it is."""
+        """Write the file `name` whole (replacing only this run's own), signals held until it is."""
         with self.signals.held():
             whole_files.write_whole(self.path(name), data, replace=name in self.written)
             self.written.add(name)

@@ -152,7 +152,7 @@ def test_tablecloth_flags_compare_and_the_run_lasts_until_the_dishes_stop():
                for s in plan.scenes)
     assert plan.labels == ["pull-speed = 1", "pull-speed = 2", "pull-speed = 4", "pull-speed = 8"]
     slowest = 0.05 + 1.0 + 1.0 / (0.2 * 9.81) + cli.STOP_MARGIN
-    assert plan.steps == [round(slowest / 0.005)] * 4 and plan.kind() == "tablecloth"
+    assert plan.steps == [round(slowest / 0.005)] * 4 and plan.kind == "tablecloth"
     assert run.summary_header(plan)[1:] == [
         "dish 20 x 5 cm, 0.5 kg   cloth pulled L = 1 m at U = 1 m/s from t = 0.05 s   mu = 0.2",
         "h = 0.005 s   k = 300000 N/m   dhat = 0.001 m   kappa = 100000   eps_v = 0.001 m/s   "
