@@ -102,9 +102,8 @@ def make_parser():
     g = ap.add_argument_group("scene (the lecture's numbers by default)")
     g.add_argument("--scene", choices=("square", "chalk", "tablecloth"), default="square",
                    help="square: the lecture's square on a slope (default); chalk: Rabinowicz's "
-                        f"chalk pushed across a board, stick-slip ({CHALK_DURATION:g} s unless "
-                        "--duration or --steps says otherwise); tablecloth: a dish on a cloth "
-                        "pulled from under it (until the dish stops)")
+                        f"chalk pushed across a board ({CHALK_DURATION:g} s); tablecloth: a dish "
+                        "on a cloth pulled from under it (until the dish stops)")
     for flags, param, metavar, what in FLAGS:
         default = shown({**simulator.TABLECLOTH, **simulator.CHALK, **simulator.DEFAULTS}[param])
         kind = ({"choices": utils.NEWTON_STARTS} if param == "newton_start" else

@@ -63,11 +63,9 @@ def step_warnings(scene, step, t, report, inverted):
     if inverted:
         cells = len(diagnostics.mesh_triangles(scene))
         said["inverted"] = (f"{at} {inverted} of {cells} mesh triangles are inverted (the square "
-                            f"folded over; the mass-spring model has no inversion barrier): use a "
-                            f"stiffer --k or a smaller --h")
+                            f"folded over, docs/limits.md): use a stiffer --k or a smaller --h")
     if report.stalled:
         said["stalled"] = (f"{at} Newton stopped at float64's round-off floor, residual "
-                           f"{report.residual:.2g} m/s above tol = {scene.tol:g} m/s (E can no "
-                           f"longer resolve a smaller step); the run goes on, such steps are "
-                           f"flagged newton_stalled in log.csv")
+                           f"{report.residual:.2g} m/s above tol = {scene.tol:g} m/s; the run goes "
+                           f"on (newton_stalled in log.csv)")
     return said

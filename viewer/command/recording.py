@@ -91,11 +91,6 @@ class Track:
             self.snapshots.add((t, x.copy()))
         return sample
 
-    def advance(self, target, progress):
-        """Step until `target` steps are done (or the scene's last step), logging each step."""
-        while self.step < min(target, self.steps):
-            self.take(next(self.records), progress)
-
     def take(self, record, progress):
         """Log the StepRecord of the step from the current state (the window hands them in)."""
         E_hand = self.samples.last.energies.get("hand")      # at x^n, known
@@ -107,10 +102,9 @@ class Track:
         self.surface_work += record.report.surface_work
         sample = self._add(record.report, record.t, record.wall)
         said = step_warnings(self.scene, sample.step, sample.t, record.report, sample.inverted)
-        for kind, text in said.items():
-            if kind not in self.warned:         # each kind said once, the first time
-                self.warned.add(kind)
-                progress.warn(self, text)
+        for kind in [kind for kind in said if kind not in self.warned]:   # each kind said once
+            progress.warn(self, said[kind])
+        self.warned.update(said)
         progress.tick(self)
 
     def last_snapshot(self):
@@ -125,7 +119,8 @@ def record(tracks, folder, stride, frames, forces, messages, frame_log):
     progress = Progress(tracks, messages)
     for j, targets in frame_steps(tracks, stride):
         for track, target in zip(tracks, targets):
-            track.advance(target, progress)
+            while track.step < min(target, track.steps):
+                track.take(next(track.records), progress)
         if writer is not None:
             writer.write(j)
     for track in tracks:

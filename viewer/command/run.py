@@ -123,11 +123,8 @@ def summary_header(plan):
     return lines
 
 
-# How a run ended early: exit code, line, and whether its last pictures may still be written (not
-# after a failed write: the disk is full, or the folder gone).
+# How a run ended early: exit code, line, and whether its last pictures may still be written
 Failure = collections.namedtuple("Failure", "code text pictures", defaults=(True,))
-
-
 ENDINGS = (Stopped, OSError, time_integrator.SimulationError, ValueError)   # end a run early
 
 

@@ -41,11 +41,9 @@ class BestEffort(io.TextIOBase):
 
 
 def _stopped_while_starting(program, signum, frame):
-    try:
-        line = f"{program}: stopped: {REASONS[signum]} while starting; nothing written\n"
+    line = f"{program}: stopped: {REASONS[signum]} while starting; nothing written\n"
+    with contextlib.suppress(OSError):      # stderr closed or full: the exit code still says it
         os.write(2, line.encode())
-    except OSError:             # stderr closed or full: the exit code still says it
-        pass
     os._exit(EXIT_CODES[signum])
 
 

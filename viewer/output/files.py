@@ -101,14 +101,12 @@ def new_folder(kind):
     raise refused(f"no new folder could be made as {base}-N: give --out")
 
 
-def probe(folder, name, data):
-    """Create `name` in `folder` as its temporary file is named (with `data`), then remove it."""
+def probe(folder, name):
+    """Create `name` in `folder` as its temporary file is named, write a line, then remove it."""
     path = os.path.join(folder, f".tmp-{secrets.token_hex(4)}-{name}")
     try:
-        if data is None:
-            os.close(os.open(path, whole_files.NEW))
-        else:
-            whole_files.write_temporary(path, data)
+        with os.fdopen(os.open(path, whole_files.NEW), "w") as f:
+            f.write("a probe: can a file be written here?\n")
     finally:
         if os.path.lexists(path):
             os.remove(path)
@@ -133,10 +131,9 @@ class RunFolder:
                 except FileExistsError:
                     made = []
                     check_empty(out)
-            probes = [("probe", "can a file be written here?\n")] + [(n, None) for n in names]
-            for name, data in probes:
+            for name in ["probe", *names]:
                 try:
-                    probe(out, name, data)
+                    probe(out, name)
                 except OSError as err:
                     remove(made)
                     raise refused(f"output name {name!r} in out folder {out!r} cannot be written: "
