@@ -5,11 +5,11 @@ import sys
 from viewer.command import cli, run
 
 
-def main(argv=None):
+def main(argv):
     """Run the command line; returns the exit code (messages on stderr)."""
     with run.Signals() as signals:
         try:
-            runs = cli.parse_command_line(sys.argv[1:] if argv is None else argv)
+            runs = cli.parse_command_line(argv)
             plan = cli.plan_from_args(runs)
             if runs[0].window:
                 from viewer.demo import window

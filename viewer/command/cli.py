@@ -1,7 +1,6 @@
 """The command line, `python simulator.py [flags]` (docs/command-line.md): a scene flag sets one
 parameter of the scenes whose mapping (scene_kinds) has it; one may take a list, one run per value.
-A bad command line is one line naming the flag, exit code 2.
-"""
+A bad command line is one line naming the flag, exit code 2."""
 import argparse
 import math
 import re
@@ -16,8 +15,7 @@ CHALK_DURATION = 3.0    # s: about 17 stick-slip cycles of the pushed chalk
 STOP_MARGIN = 0.05      # s a tablecloth run goes on after its slowest closed-form dish has stopped
 FRAMES_PER_SECOND = 30      # at least this many frames per simulated second by default
 
-# (flags, parameter, metavar, what it is): the flags that set a scene parameter; the square's
-# (simulator.DEFAULTS), then the chalk's own (simulator.CHALK), then the tablecloth's (TABLECLOTH)
+# (flags, parameter, metavar, what it is): the square's scene flags, the chalk's, the tablecloth's
 FLAGS = [
     (("--mu",), "mu", "MU", "friction coefficient, no unit"),
     (("--h", "--dt"), "h", "SECONDS", "time step in s"),
@@ -241,16 +239,14 @@ def default_duration(scenes):
     return max(stops) + STOP_MARGIN
 
 
-def steps_from_args(args, scene, duration=None):
-    """--steps, or --duration (default `duration`, else default_duration([scene])) in steps of h."""
+def steps_from_args(args, scene, duration):
+    """--steps, or --duration (default `duration`) in steps of h."""
     if args.steps is not None:
         if args.duration is not None:
             raise CommandLineError("--duration and --steps both set the run's length; give one")
         return utils.check_whole("steps", args.steps, 1)
     if args.duration is not None:
         duration = args.duration
-    elif duration is None:
-        duration = default_duration([scene])
     duration, h = utils.check_positive("duration", duration), scene.h
     if duration < h:
         raise utils.ParameterError("duration", f"duration {duration:g} s is shorter than one time "

@@ -1,5 +1,4 @@
-"""What a run says on stderr as it goes, to files or in the window: progress lines and warnings.
-"""
+"""What a run says on stderr as it goes, to files or in the window: progress lines and warnings."""
 import time
 
 from analysis import diagnostics

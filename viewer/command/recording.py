@@ -1,6 +1,5 @@
 """The run driver: scenes stepped side by side (a Track each), a log.csv row appended as each step
-ends; `record` advances every track to each frame's time, then draws them all in that frame.
-"""
+ends; `record` advances every track to each frame's time, then draws them all in that frame."""
 import types
 
 from analysis import diagnostics, log, wear

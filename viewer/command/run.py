@@ -1,6 +1,5 @@
 """A run of the command line, to files or in the window: its folder, its signals, its ending in one
-line and an exit code, 0, 1, 130 or 143 (docs/output.md, "How a run ends").
-"""
+line and an exit code, 0, 1, 130 or 143 (docs/output.md, "How a run ends")."""
 import collections
 import contextlib
 import signal
@@ -8,8 +7,6 @@ import sys
 import threading
 import time
 from dataclasses import dataclass
-
-import numpy as np
 
 import simulator
 import time_integrator
@@ -113,7 +110,7 @@ def summary_header(plan):
                  f"pulled L = {p['pull_length']:g} m at U = {p['pull_speed']:g} m/s from t = "
                  f"{p['t_pull']:g} s   mu = {scene.mu:g}", solver]
     else:
-        normal = None if scene.n is None else np.round(scene.n, 4).tolist()
+        normal = None if scene.n is None else [round(float(c), 4) for c in scene.n]
         lines = [f"mu = {scene.mu:g}   h = {scene.h:g} s   k = {p['k']:g} N/m   "
                  f"n_seg = {p['n_seg']}",
                  f"slope normal = {normal}   dhat = {scene.dhat:g} m   kappa = {scene.kappa:g}   "

@@ -1,6 +1,5 @@
 """`python simulator.py` (and `python -m figures`) before numpy loads: one BLAS thread, Ctrl+C and
-SIGTERM in one line, stdout and stderr best effort; then the command line (viewer.main).
-"""
+SIGTERM in one line, stdout and stderr best effort; then the command line (viewer.main)."""
 import contextlib
 import functools
 import importlib

@@ -1,6 +1,5 @@
 """A run's folder, new or the empty one --out names, its files created new and written whole;
-nothing outside it is touched (docs/output.md, "A run writes only into its own new folder").
-"""
+nothing outside it is touched (docs/output.md, "A run writes only into its own new folder")."""
 import datetime
 import os
 import pathlib

@@ -1,6 +1,5 @@
 """Files created new and written whole: O_EXCL never opens an existing name, a link included; a
-finished temporary file gets its name by a hard link, which fails where the name is taken.
-"""
+finished temporary file gets its name by a hard link, which fails where the name is taken."""
 import errno
 import os
 import secrets
