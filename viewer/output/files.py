@@ -155,6 +155,5 @@ class RunFolder:
     def open_log(self, name, header):
         """A new whole_files.LineFile `name`, starting with `header`."""
         with self.signals.held():
-            log = whole_files.LineFile(self.path(name), header)
             self.written.add(name)
-            return log
+            return whole_files.LineFile(self.path(name), header)
