@@ -34,16 +34,16 @@ class Progress:
     def words(self, track):
         """One run's figures of the step it has just logged (its t too where the runs' h differ)."""
         last = track.samples.last
+        label = f"{track.label}: " if len(self.tracks) > 1 else ""
         t = f"t={track.t:.2f}s " if len({tr.scene.h for tr in self.tracks}) > 1 else ""
-        return (f"{t}newton={last.report.newton_iterations}  residual={last.report.residual:.1e}  "
-                f"min_d={last.min_distance:.2e}")
+        return (f"{label}{t}newton={last.report.newton_iterations}  "
+                f"residual={last.report.residual:.1e}  min_d={last.min_distance:.2e}")
 
     def say(self, n, runs):
         """The line of step n: the first run's step count and time, each run's figures."""
         if runs:
             first = self.tracks[min(runs)]
-            parts = [f"{self.tracks[k].label}: {text}" if len(self.tracks) > 1 else text
-                     for k, text in sorted(runs.items())]
+            parts = [text for _, text in sorted(runs.items())]
             print(f"step {n}/{first.steps}  t={n * first.scene.h:.2f}s  " + "  ".join(parts),
                   file=self.log, flush=True)
 

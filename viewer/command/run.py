@@ -78,13 +78,10 @@ class Plan:
     said: str = None        # the run's first line (cli.decimal_comma), or None
     kind: str = "square"    # the --scene, as output/<kind>-<date>-<time> names it
 
-    def chalk(self):
-        return self.scenes[0].hand is not None
-
     def folder(self, signals):
         """The run's folder, made (files.RunFolder.make): `out`, or output/<scene>-<date>-<time>."""
         count = frame_count(self.scenes, self.steps, self.stride)
-        names = files.run_names(self.tags, count, self.frames, marks=self.chalk())
+        names = files.run_names(self.tags, count, self.frames, self.scenes[0].hand is not None)
         return files.RunFolder.make(self.out, self.kind, names, signals)
 
 
@@ -100,7 +97,7 @@ def summary_header(plan):
     scene, p = plan.scenes[0], plan.scenes[0].params
     solver = (f"h = {scene.h:g} s   k = {p['k']:g} N/m   dhat = {scene.dhat:g} m   kappa = "
               f"{scene.kappa:g}   eps_v = {scene.epsv:g} m/s   tol = {scene.tol:g} m/s")
-    if plan.chalk():
+    if scene.hand is not None:
         how = "dragged" if p["drag"] else "pushed"
         lines = [f"chalk {p['length'] * 100:g} x {p['width'] * 100:g} cm, {how} at tilt = "
                  f"{p['tilt']:g} deg   grip k_hand = {p['k_hand']:g} N/m   drive = {p['drive']:g} "
@@ -120,8 +117,7 @@ def summary_header(plan):
     return lines
 
 
-# How a run ended early: exit code, line, and whether its last pictures may still be written
-Failure = collections.namedtuple("Failure", "code text pictures", defaults=(True,))
+Failure = collections.namedtuple("Failure", "code text")     # how a run ended early
 ENDINGS = (Stopped, OSError, time_integrator.SimulationError, ValueError)   # end a run early
 
 
@@ -131,7 +127,7 @@ def failure_of(err, plan, when=""):
         return Failure(err.code, f"stopped: {err.reason}{when}")
     if isinstance(err, OSError):
         where = err.filename or plan.out or "the run's folder"
-        return Failure(1, f"error: cannot write {where}: {err.strerror or err}", pictures=False)
+        return Failure(1, f"error: cannot write {where}: {err.strerror or err}")
     if isinstance(err, time_integrator.SimulationError):
         return Failure(1, f"stopped: simulation failed: {err}")
     return Failure(1, f"stopped: {err}{when}")        # a number the checks did not foresee
@@ -140,7 +136,7 @@ def failure_of(err, plan, when=""):
 def end(plan, signals, folder, tracks, frame_log, failure, messages, done):
     """How every run ends: the last pictures of the steps kept, the logs closed, one line (`done` if
     all went well); returns the exit code."""
-    if tracks and (failure is None or failure.pictures):
+    if tracks:
         try:
             for track in tracks:
                 track.last_snapshot()
@@ -211,7 +207,7 @@ def written(plan):
     one = len(plan.scenes) == 1
     logs = "log.csv" if one else f"a log per run ({', '.join(map(files.log_csv, plan.tags))})"
     marks = "marks.csv" if one else f"the marks ({', '.join(map(files.marks_csv, plan.tags))})"
-    logs += f", {marks}" if plan.chalk() else ""
+    logs += f", {marks}" if plan.scenes[0].hand is not None else ""
     if plan.frames:
         return f"frames, OBJs, {logs}, plots.png, summary.png and index.html"
     return f"{logs}, plots.png and summary.png"
