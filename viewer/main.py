@@ -15,9 +15,7 @@ def main(argv):
                 from viewer.demo import window
                 return window.run_window(plan, runs[0].speed, runs[0].size, signals)
             return run.to_files(plan, signals)
-        except cli.CommandLineError as err:
-            print(f"simulator.py: error: {err}", file=sys.stderr)
-        except ValueError as err:
+        except (cli.CommandLineError, ValueError) as err:
             print(f"simulator.py: error: {cli.flag_of(err)}{err}", file=sys.stderr)
         except run.Stopped as stopped:
             print(f"simulator.py: stopped: {stopped.reason}; nothing written", file=sys.stderr)

@@ -4,7 +4,6 @@ import collections
 import contextlib
 import signal
 import sys
-import threading
 import time
 from dataclasses import dataclass
 
@@ -34,7 +33,7 @@ class Signals:
         self.depth, self.pending, self.previous = 0, None, {}
 
     def __enter__(self):
-        if threading.current_thread() is threading.main_thread():
+        with contextlib.suppress(ValueError):       # not the main thread: signals left alone
             self.previous = {signum: signal.signal(signum, self._handle) for signum in EXIT_CODES}
         return self
 
