@@ -14,6 +14,8 @@ DURATION = 6.0          # s: long enough to see mu = 0.11 come to rest (about 5.
 CHALK_DURATION = 3.0    # s: about 17 stick-slip cycles of the pushed chalk
 STOP_MARGIN = 0.05      # s a tablecloth run goes on after its slowest closed-form dish has stopped
 FRAMES_PER_SECOND = 30      # at least this many frames per simulated second by default
+LABEL = {"square": "mu = {mu:g}", "chalk": "{how}, mu_s = {mu_s:g}, mu = {mu:g}",
+         "tablecloth": "pull-speed = {pull_speed:g}, mu = {mu:g}"}      # a single run's label
 
 # (flags, parameter, metavar, what it is): the square's scene flags, the chalk's, the tablecloth's
 FLAGS = [
@@ -276,22 +278,13 @@ def plan_from_args(runs):
         raise CommandLineError(f"--window shows one run; --{name} was given {len(runs)} values "
                                f"(compare them without --window)")
     scenes = [scene_from_args(a) for a in runs]
-    labels = [a.label or default_label(s) for a, s in zip(runs, scenes)]
+    labels = [a.label or LABEL[a.scene].format(how="dragged" if a.drag else "pushed", **s.params)
+              for a, s in zip(runs, scenes)]
     duration = default_duration(scenes)
     return run.Plan(scenes=scenes, labels=labels, tags=[a.tag for a in runs],
                     steps=[steps_from_args(a, s, duration) for a, s in zip(runs, scenes)],
                     out=args.out, stride=frame_stride(args, scenes), frames=not args.no_frames,
                     forces=not args.no_forces, said=args.said, kind=args.scene)
-
-
-def default_label(scene):
-    """A single run's label: 'mu = 0.11', 'pushed, mu_s = 0.5, mu = 0.35', 'pull-speed = 4, ...'."""
-    if scene.surface is not None:
-        return f"pull-speed = {scene.surface.pull_speed:g}, mu = {scene.mu:g}"
-    if scene.hand is None:
-        return f"mu = {scene.mu:g}"
-    how = "dragged" if scene.params["drag"] else "pushed"
-    return f"{how}, mu_s = {scene.params['mu_s']:g}, mu = {scene.mu:g}"
 
 
 def flag_of(err):
