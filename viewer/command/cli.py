@@ -41,13 +41,11 @@ FLAGS = [
     (("--newton-start",), "newton_start", "START", "where each step's Newton starts: x_n, as the "
      "lecture, or x_tilde = x^n + h v^n cut back by CCD (the chalk's default)"),
     (("--tilt",), "tilt", "DEG", "--scene chalk: the chalk's angle from the board in degrees"),
-    (("--grip",), "k_hand", "N_PER_M",
-     "--scene chalk: the grip, each held node's spring stiffness in N/m"),
+    (("--grip",), "k_hand", "N_PER_M", "--scene chalk: grip stiffness per held node in N/m"),
     (("--mu-static",), "mu_s", "MU",
      "--scene chalk: static friction coefficient (equal to --mu: one coefficient)"),
     (("--pull-speed",), "pull_speed", "M_PER_S", "--scene tablecloth: the cloth's speed U in m/s"),
-    (("--pull-length",), "pull_length", "METRES", "--scene tablecloth: how far the cloth is "
-     "pulled, L in m"),
+    (("--pull-length",), "pull_length", "METRES", "--scene tablecloth: the pull's length L in m"),
 ]
 FLAG_OF = {param: flags[0] for flags, param, _, _ in FLAGS}     # a ValueError's parameter -> flag
 FLAG_OF.update({name: "--" + name.replace("_", "-") for name in

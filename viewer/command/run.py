@@ -26,8 +26,7 @@ class Stopped(BaseException):
 
 
 class Signals:
-    """`with Signals() as signals:` SIGINT and SIGTERM raise Stopped, at once or as `held()` ends
-    (set from the main thread only)."""
+    """`with Signals():` SIGINT and SIGTERM raise Stopped, at once or as `held()` ends."""
 
     def __init__(self):
         self.depth, self.pending, self.previous = 0, None, {}

@@ -13,8 +13,7 @@ REASONS = {signal.SIGINT: "interrupted", signal.SIGTERM: "terminated (SIGTERM)"}
 
 
 class BestEffort(io.TextIOBase):
-    """A text stream whose writes never fail: after the first that does (a broken pipe, a full
-    disk, a closed stream) it points at os.devnull, so neither the run nor Python's exit fails."""
+    """A text stream whose writes never fail: after the first that does, it writes to os.devnull."""
 
     def __init__(self, stream):
         self.stream = stream
@@ -47,8 +46,7 @@ def _stopped_while_starting(program, signum, frame):
 
 
 def run_command_line(program="simulator.py", main="viewer.main"):
-    """The exit code of `main`'s main(argv), with one BLAS thread set before numpy loads (two on two
-    busy cores made the small banded solves 10-25x slower: benchmarks/README.md)."""
+    """The exit code of `main`'s main(argv), one BLAS thread set first (benchmarks/README.md)."""
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     os.environ.setdefault("OMP_NUM_THREADS", "1")
     for signum in EXIT_CODES:

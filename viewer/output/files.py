@@ -89,8 +89,7 @@ def check_empty(path):
 
 
 def new_folder(kind):
-    """A new output/<kind>-<date>-<time>, -2, -3, ... where taken (by one atomic mkdir); the folder
-    and the folders made."""
+    """A new output/<kind>-<date>-<time> (-2, -3, ... where taken); the folder, the folders made."""
     base = os.path.join(OUTPUT, f"{kind}-{datetime.datetime.now():%Y%m%d-%H%M%S}")
     for out in [base] + [f"{base}-{k}" for k in range(2, 1000)]:
         try:
