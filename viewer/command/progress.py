@@ -41,11 +41,10 @@ class Progress:
 
     def say(self, n, runs):
         """The line of step n: the first run's step count and time, each run's figures."""
-        if runs:
-            first = self.tracks[min(runs)]
-            parts = [text for _, text in sorted(runs.items())]
-            print(f"step {n}/{first.steps}  t={n * first.scene.h:.2f}s  " + "  ".join(parts),
-                  file=self.log, flush=True)
+        first = self.tracks[min(runs)]
+        parts = [text for _, text in sorted(runs.items())]
+        print(f"step {n}/{first.steps}  t={n * first.scene.h:.2f}s  " + "  ".join(parts),
+              file=self.log, flush=True)
 
     def warn(self, track, text):
         warning(self.log, track.label if len(self.tracks) > 1 else None, text)

@@ -48,7 +48,6 @@ class Track:
         self.warned = set()         # the kinds of warning said so far
         self.rest_since = None      # t from which every contact node has stayed below eps_v
         self.csv = folder.open_log(files.log_csv(tag), ",".join(self.columns))
-        self.logged = None
         self.samples = History(MAX_SAMPLES)
         self.snapshots = History(MAX_SNAPSHOTS)     # (t, x) every SNAPSHOT_EVERY s
         self._add(None, 0.0, 0.0)

@@ -158,7 +158,7 @@ def kept(tracks, folder, plan):
     """'N steps kept in out/' (the last step log.csv holds), and the last pictures left out."""
     if not tracks:
         return "nothing written" + (f" in {folder.folder}/" if folder is not None else "")
-    steps = min(track.logged or 0 for track in tracks)
+    steps = min(track.logged for track in tracks)
     left_out = [name for name in run_pictures.names(tracks)
                 if (plan.frames or name != "index.html") and name not in folder.written]
     said = f"; left out: {', '.join(left_out)}" if left_out else ""

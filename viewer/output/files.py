@@ -57,17 +57,16 @@ def remove(made):
 def make_folders(path):
     """Make the folder `path` and its missing parents; returns those made, outermost first.
     FileExistsError where `path` exists; a ValueError, nothing left made, where it cannot be."""
-    missing = [os.path.abspath(path)]
-    while not os.path.lexists(os.path.dirname(missing[0])):
-        missing.insert(0, os.path.dirname(missing[0]))
+    parents = pathlib.Path(os.path.abspath(path)).parents
+    missing = [str(at) for at in reversed(parents) if not os.path.lexists(at)]
     made = []
     try:
-        for at in missing:
+        for at in missing + [os.path.abspath(path)]:
             os.mkdir(at)
             made.append(at)
     except OSError as err:
         remove(made)
-        if isinstance(err, FileExistsError) and len(made) == len(missing) - 1:
+        if isinstance(err, FileExistsError) and len(made) == len(missing):
             raise                           # `path` itself exists: the caller decides
         raise refused(f"out folder {path!r} cannot be created: {err.strerror or err}") from None
     return made
