@@ -269,8 +269,7 @@ def plan_from_args(runs):
     args = runs[0]
     for flag in ("--size", "--speed"):
         if getattr(args, flag[2:]) is not None and not args.window:
-            raise CommandLineError(f"{flag} applies only to the window; add --window, or leave "
-                                   f"{flag} out")
+            raise CommandLineError(f"{flag} applies only to the window: add --window or drop it")
     if args.window and len(runs) > 1:
         name = args.label.split(" = ")[0]
         raise CommandLineError(f"--window shows one run; --{name} was given {len(runs)} values "

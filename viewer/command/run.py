@@ -77,9 +77,14 @@ class Plan:
     kind: str = "square"    # the --scene, as output/<kind>-<date>-<time> names it
 
     def folder(self, signals):
-        """The run's folder, made (files.RunFolder.make): `out`, or output/<scene>-<date>-<time>."""
-        count = frame_count(self.scenes, self.steps, self.stride)
-        names = files.run_names(self.tags, count, self.frames, self.scenes[0].hand is not None)
+        """The run's folder (files.RunFolder.make), probed with the longest name of each kind."""
+        last = frame_count(self.scenes, self.steps, self.stride) - 1
+        names = [files.log_csv(tag) for tag in self.tags] + ["summary.png", "plots.png"]
+        if self.scenes[0].hand is not None:
+            names += [files.marks_csv(tag) for tag in self.tags]
+        if self.frames:
+            names += ["index.html", files.frame_png(last)]
+            names += [files.frame_obj(last, tag) for tag in self.tags]
         return files.RunFolder.make(self.out, self.kind, names, signals)
 
 

@@ -35,18 +35,7 @@ def log_csv(tag=""):
 
 
 def marks_csv(tag=""):
-    """The chalk's mark (analysis.wear.csv_text)."""
     return tagged("marks", tag, "csv")
-
-
-def run_names(tags, n_frames, frames, marks=False):
-    """The longest names of each kind a run writes (never all: n_frames may be 1e308)."""
-    names = [log_csv(tag) for tag in tags] + ["summary.png", "plots.png"]
-    names += [marks_csv(tag) for tag in tags] if marks else []
-    if frames:
-        names += ["index.html", frame_png(n_frames - 1)]
-        names += [frame_obj(n_frames - 1, tag) for tag in tags]
-    return names
 
 
 def remove(made):
@@ -141,7 +130,6 @@ class RunFolder:
         return os.path.join(self.folder, name)
 
     def url(self, name):
-        """A file:// URL of `name`, which most terminals open with a click."""
         return pathlib.Path(os.path.abspath(self.path(name))).as_uri()
 
     def write(self, name, data):
