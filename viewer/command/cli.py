@@ -116,8 +116,7 @@ def make_parser():
     r = ap.add_argument_group("run and output")
     r.add_argument("--duration", type=float, metavar="SECONDS",
                    help=f"simulated seconds (default {DURATION:g})")
-    r.add_argument("--steps", type=whole, metavar="N", help="number of time steps, instead of "
-                   "--duration")
+    r.add_argument("--steps", type=whole, metavar="N", help="time steps, instead of --duration")
     r.add_argument("--out", metavar="FOLDER", help="a new or empty folder to write into (default: "
                    "a new one, output/<scene>-<date>-<time>; with --window, files only when given)")
     r.add_argument("--frame-stride", type=whole, metavar="N", help="write a frame every N steps "
@@ -125,8 +124,7 @@ def make_parser():
     r.add_argument("--no-forces", action="store_true", help="draw no force arrows in the frames")
     r.add_argument("--no-frames", action="store_true", help="write only log.csv, plots.png and "
                    "summary.png (no frames, OBJs or index.html)")
-    r.add_argument("--window", action="store_true",
-                   help="show the run live in a pygame window (docs/live-demo.md)")
+    r.add_argument("--window", action="store_true", help="run live in a window (docs/live-demo.md)")
     r.add_argument("--size", type=float, metavar="PIXELS",
                    help="--window: its side in pixels (default: fit the display)")
     r.add_argument("--speed", type=float, metavar="FACTOR", help="--window: simulated seconds per "

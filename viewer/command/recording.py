@@ -1,5 +1,4 @@
-"""The run driver: scenes stepped side by side (a Track each), a log.csv row appended as each step
-ends; `record` advances every track to each frame's time, then draws them all in that frame."""
+"""The run driver: scenes stepped side by side (a Track each), a log.csv row as each step ends."""
 import types
 
 from analysis import diagnostics, log, wear
@@ -112,7 +111,7 @@ class Track:
 
 
 def record(tracks, folder, stride, frames, forces, messages, frame_log):
-    """Run every track to its end, a frame every `stride` steps when `frames` (into `frame_log`)."""
+    """Run every track to its end, all in a frame every `stride` steps when `frames` (frame_log)."""
     writer = FrameWriter(tracks, folder, forces, frame_log) if frames else None
     progress = Progress(tracks, messages)
     for j, targets in frame_steps(tracks, stride):
