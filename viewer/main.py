@@ -5,19 +5,17 @@ import sys
 from viewer.command import cli, run
 
 
-def main(argv=None):
+def main(argv):
     """Run the command line; returns the exit code (messages on stderr)."""
     with run.Signals() as signals:
         try:
-            runs = cli.parse_command_line(sys.argv[1:] if argv is None else argv)
+            runs = cli.parse_command_line(argv)
             plan = cli.plan_from_args(runs)
             if runs[0].window:
                 from viewer.demo import window
                 return window.run_window(plan, runs[0].speed, runs[0].size, signals)
             return run.to_files(plan, signals)
-        except cli.CommandLineError as err:
-            print(f"simulator.py: error: {err}", file=sys.stderr)
-        except ValueError as err:
+        except (cli.CommandLineError, ValueError) as err:
             print(f"simulator.py: error: {cli.flag_of(err)}{err}", file=sys.stderr)
         except run.Stopped as stopped:
             print(f"simulator.py: stopped: {stopped.reason}; nothing written", file=sys.stderr)

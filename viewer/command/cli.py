@@ -1,10 +1,6 @@
-"""The command line, `python simulator.py [flags]`: its flags, comparisons by lists, its errors.
-
-Each scene flag sets one parameter of a scene's mapping (`scene_kinds()`: simulator.DEFAULTS, CHALK,
-TABLECLOTH) and applies to the scenes whose mapping has it; only those given reach the builder.
-One scene flag may take a list, one run per value (docs/command-line.md). A bad command line is
-one line naming the flag, exit code 2.
-"""
+"""The command line, `python simulator.py [flags]` (docs/command-line.md): a scene flag sets one
+parameter of the scenes whose mapping (scene_kinds) has it; one may take a list, one run per value.
+A bad command line is one line naming the flag, exit code 2."""
 import argparse
 import math
 import re
@@ -18,9 +14,10 @@ DURATION = 6.0          # s: long enough to see mu = 0.11 come to rest (about 5.
 CHALK_DURATION = 3.0    # s: about 17 stick-slip cycles of the pushed chalk
 STOP_MARGIN = 0.05      # s a tablecloth run goes on after its slowest closed-form dish has stopped
 FRAMES_PER_SECOND = 30      # at least this many frames per simulated second by default
+LABEL = {"square": "mu = {mu:g}", "chalk": "{how}, mu_s = {mu_s:g}, mu = {mu:g}",
+         "tablecloth": "pull-speed = {pull_speed:g}, mu = {mu:g}"}      # a single run's label
 
-# (flags, parameter, metavar, what it is): the flags that set a scene parameter; the square's
-# (simulator.DEFAULTS), then the chalk's own (simulator.CHALK), then the tablecloth's (TABLECLOTH)
+# (flags, parameter, metavar, what it is): the square's scene flags, the chalk's, the tablecloth's
 FLAGS = [
     (("--mu",), "mu", "MU", "friction coefficient, no unit"),
     (("--h", "--dt"), "h", "SECONDS", "time step in s"),
@@ -44,13 +41,11 @@ FLAGS = [
     (("--newton-start",), "newton_start", "START", "where each step's Newton starts: x_n, as the "
      "lecture, or x_tilde = x^n + h v^n cut back by CCD (the chalk's default)"),
     (("--tilt",), "tilt", "DEG", "--scene chalk: the chalk's angle from the board in degrees"),
-    (("--grip",), "k_hand", "N_PER_M",
-     "--scene chalk: the grip, each held node's spring stiffness in N/m"),
+    (("--grip",), "k_hand", "N_PER_M", "--scene chalk: grip stiffness per held node in N/m"),
     (("--mu-static",), "mu_s", "MU",
      "--scene chalk: static friction coefficient (equal to --mu: one coefficient)"),
     (("--pull-speed",), "pull_speed", "M_PER_S", "--scene tablecloth: the cloth's speed U in m/s"),
-    (("--pull-length",), "pull_length", "METRES", "--scene tablecloth: how far the cloth is "
-     "pulled, L in m"),
+    (("--pull-length",), "pull_length", "METRES", "--scene tablecloth: the pull's length L in m"),
 ]
 FLAG_OF = {param: flags[0] for flags, param, _, _ in FLAGS}     # a ValueError's parameter -> flag
 FLAG_OF.update({name: "--" + name.replace("_", "-") for name in
@@ -98,18 +93,15 @@ def shown(value):
 
 def make_parser():
     ap = Parser(prog="simulator.py", allow_abbrev=False, description=(
-        "Simulate the lecture's elastic square on a slope (implicit Euler as optimization, "
-        "log-barrier contact, semi-implicit friction) and write into a folder: index.html, a page "
-        "that plays the run; PNG frames and OBJ meshes; log.csv; plots.png and summary.png. "
-        "Compare runs by giving one scene flag a list: comma-separated values, or ';'-separated "
-        "pairs, e.g. --mu 0.1,0.11,0.2 (the lecture's comparison; "
-        f"{DURATION:g} s unless --duration or --steps says otherwise)."))
+        "Simulate the lecture's elastic square on a slope (or --scene chalk, tablecloth) into a "
+        "folder: frames, OBJs, log.csv, plots.png, summary.png and index.html, a page that plays "
+        "the run. One scene flag may take a list, e.g. --mu 0.1,0.11,0.2: one run per value, "
+        "compared (docs/command-line.md)."))
     g = ap.add_argument_group("scene (the lecture's numbers by default)")
     g.add_argument("--scene", choices=("square", "chalk", "tablecloth"), default="square",
                    help="square: the lecture's square on a slope (default); chalk: Rabinowicz's "
-                        f"chalk pushed across a board, stick-slip ({CHALK_DURATION:g} s unless "
-                        "--duration or --steps says otherwise); tablecloth: a dish on a cloth "
-                        "pulled from under it (until the dish stops)")
+                        f"chalk pushed across a board ({CHALK_DURATION:g} s); tablecloth: a dish "
+                        "on a cloth pulled from under it (until the dish stops)")
     for flags, param, metavar, what in FLAGS:
         default = shown({**simulator.TABLECLOTH, **simulator.CHALK, **simulator.DEFAULTS}[param])
         kind = ({"choices": utils.NEWTON_STARTS} if param == "newton_start" else
@@ -124,8 +116,7 @@ def make_parser():
     r = ap.add_argument_group("run and output")
     r.add_argument("--duration", type=float, metavar="SECONDS",
                    help=f"simulated seconds (default {DURATION:g})")
-    r.add_argument("--steps", type=whole, metavar="N", help="number of time steps, instead of "
-                   "--duration")
+    r.add_argument("--steps", type=whole, metavar="N", help="time steps, instead of --duration")
     r.add_argument("--out", metavar="FOLDER", help="a new or empty folder to write into (default: "
                    "a new one, output/<scene>-<date>-<time>; with --window, files only when given)")
     r.add_argument("--frame-stride", type=whole, metavar="N", help="write a frame every N steps "
@@ -133,8 +124,7 @@ def make_parser():
     r.add_argument("--no-forces", action="store_true", help="draw no force arrows in the frames")
     r.add_argument("--no-frames", action="store_true", help="write only log.csv, plots.png and "
                    "summary.png (no frames, OBJs or index.html)")
-    r.add_argument("--window", action="store_true",
-                   help="show the run live in a pygame window (docs/live-demo.md)")
+    r.add_argument("--window", action="store_true", help="run live in a window (docs/live-demo.md)")
     r.add_argument("--size", type=float, metavar="PIXELS",
                    help="--window: its side in pixels (default: fit the display)")
     r.add_argument("--speed", type=float, metavar="FACTOR", help="--window: simulated seconds per "
@@ -143,8 +133,7 @@ def make_parser():
 
 
 def attach_negative_values(argv):
-    """['--k', '-2e4'] -> ['--k=-2e4']: no flag starts with a digit, a dot, 'inf' or 'nan', so such
-    a token is the previous option's value (argparse would take it for an option)."""
+    """['--k', '-2e4'] -> ['--k=-2e4']: a token '-<digit, dot, inf or nan>' is a value, no flag."""
     out = []
     for token in argv:
         if (out and out[-1].startswith("--") and "=" not in out[-1]
@@ -156,8 +145,7 @@ def attach_negative_values(argv):
 
 
 def parse_command_line(argv):
-    """One argparse Namespace per run, each with its `label`, file `tag` ('' for a single run) and
-    `said` (decimal_comma)."""
+    """One argparse Namespace per run, with its `label`, file `tag` and `said` (decimal_comma)."""
     argv, parser = attach_negative_values(list(argv)), make_parser()
     param_of = {flag: param for flags, param, _, _ in FLAGS for flag in flags}
     uses = []           # (token index, flag, parameter, value) of each scene flag given
@@ -180,13 +168,6 @@ def parse_command_line(argv):
                                f"once")
     is_pair = param in PAIR
     values = [v.replace(" ", "") for v in text.split(";" if is_pair else ",")]
-    if not all(values):
-        raise CommandLineError(f"{flag}: the list {text!r} has an empty value")
-    numbers = [as_number(value, is_pair) for value in values]
-    for j, number in enumerate(numbers):
-        if number in numbers[:j]:
-            raise CommandLineError(f"{flag}: the list {text} repeats a value: "
-                                   f"{values[numbers.index(number)]} and {values[j]} are equal")
     runs, rest, name = [], argv[i + (1 if "=" in argv[i] else 2):], flag.lstrip("-")
     said = decimal_comma(name, param, values)
     for value in values:
@@ -194,20 +175,16 @@ def parse_command_line(argv):
         args.label, args.said = f"{name} = {value}", said
         args.tag = f"{name}_{value.replace(',', '_')}" if is_pair else f"{name}{value}"
         runs.append(args)
+    numbers = [getattr(args, param) for args in runs]       # as the flag parses them: 0.1 = 0.10
+    for j, number in enumerate(numbers):
+        if number in numbers[:j]:
+            raise CommandLineError(f"{flag}: the list {text} repeats a value: "
+                                   f"{values[numbers.index(number)]} and {values[j]} are equal")
     return runs
 
 
-def as_number(text, is_pair):
-    """A list value as its flag parses it, so '0.1' and '0.10' compare equal; else the text."""
-    try:
-        return pair(text) if is_pair else float(text)
-    except (ValueError, argparse.ArgumentTypeError):
-        return text
-
-
 def decimal_comma(name, param, values):
-    """Two whole numbers given to a flag of decimals read like a decimal comma ('--mu 0,11'): the
-    run's first line says what it compares; None for any other list."""
+    """The first line of a list that reads like a decimal comma ('--mu 0,11'), else None."""
     if (param in COUNT or param in PAIR or len(values) != 2
             or not all(re.fullmatch(r"-?[0-9]+", v) for v in values)):
         return None
@@ -216,15 +193,14 @@ def decimal_comma(name, param, values):
 
 
 def scene_kinds():
-    """Each --scene's parameter mapping and builder."""
+    """Each --scene's parameter mapping and builder (looked up when called)."""
     return {"square": (simulator.DEFAULTS, simulator.build_scene),
             "chalk": (simulator.CHALK, simulator.build_chalk_scene),
             "tablecloth": (simulator.TABLECLOTH, simulator.build_tablecloth_scene)}
 
 
 def scene_from_args(args):
-    """The --scene's builder (simulator.build_scene by default) with the scene flags given; a flag
-    whose parameter is not in that scene's mapping is refused."""
+    """The --scene built with the scene flags given; refused: a flag that scene does not have."""
     overrides = {param: getattr(args, param) for _, param, _, _ in FLAGS if hasattr(args, param)}
     slopes = {"--slope-normal": "slope" in overrides, "--slope-angle": args.slope_angle is not None,
               "--no-slope": args.no_slope}
@@ -253,8 +229,7 @@ def scene_from_args(args):
 
 
 def default_duration(scenes):
-    """DURATION; the chalk's CHALK_DURATION; a tablecloth's until the last of its runs' closed-form
-    dishes has stopped (closed_forms.tablecloth_stop_time), plus STOP_MARGIN."""
+    """DURATION, CHALK_DURATION, or STOP_MARGIN after the runs' last closed-form dish stops."""
     if scenes[0].surface is None:
         return CHALK_DURATION if scenes[0].hand else DURATION
     stops = [closed_forms.tablecloth_stop_time(s.surface.pull_speed, s.surface.pull_length, s.mu,
@@ -262,16 +237,14 @@ def default_duration(scenes):
     return max(stops) + STOP_MARGIN
 
 
-def steps_from_args(args, scene, duration=None):
-    """--steps, or --duration (default `duration`, else default_duration([scene])) in steps of h."""
+def steps_from_args(args, scene, duration):
+    """--steps, or --duration (default `duration`) in steps of h."""
     if args.steps is not None:
         if args.duration is not None:
             raise CommandLineError("--duration and --steps both set the run's length; give one")
         return utils.check_whole("steps", args.steps, 1)
     if args.duration is not None:
         duration = args.duration
-    elif duration is None:
-        duration = default_duration([scene])
     duration, h = utils.check_positive("duration", duration), scene.h
     if duration < h:
         raise utils.ParameterError("duration", f"duration {duration:g} s is shorter than one time "
@@ -283,8 +256,7 @@ def steps_from_args(args, scene, duration=None):
 
 
 def frame_stride(args, scenes):
-    """--frame-stride, or the largest stride giving FRAMES_PER_SECOND frames per simulated second
-    at the smallest h (3 at h = 0.01: 33 a second)."""
+    """--frame-stride, or the largest giving FRAMES_PER_SECOND a simulated second at the least h."""
     if args.frame_stride is not None:
         return utils.check_whole("frame-stride", args.frame_stride, 1)
     return max(1, math.floor(1.0 / (FRAMES_PER_SECOND * min(s.h for s in scenes)) + 1e-9))
@@ -295,30 +267,19 @@ def plan_from_args(runs):
     args = runs[0]
     for flag in ("--size", "--speed"):
         if getattr(args, flag[2:]) is not None and not args.window:
-            raise CommandLineError(f"{flag} applies only to the window; add --window, or leave "
-                                   f"{flag} out")
+            raise CommandLineError(f"{flag} applies only to the window: add --window or drop it")
     if args.window and len(runs) > 1:
         name = args.label.split(" = ")[0]
         raise CommandLineError(f"--window shows one run; --{name} was given {len(runs)} values "
                                f"(compare them without --window)")
     scenes = [scene_from_args(a) for a in runs]
-    labels = [a.label or default_label(s) for a, s in zip(runs, scenes)]
+    labels = [a.label or LABEL[a.scene].format(how="dragged" if a.drag else "pushed", **s.params)
+              for a, s in zip(runs, scenes)]
     duration = default_duration(scenes)
     return run.Plan(scenes=scenes, labels=labels, tags=[a.tag for a in runs],
                     steps=[steps_from_args(a, s, duration) for a, s in zip(runs, scenes)],
                     out=args.out, stride=frame_stride(args, scenes), frames=not args.no_frames,
-                    forces=not args.no_forces, said=args.said)
-
-
-def default_label(scene):
-    """A single run's label: 'mu = 0.11'; the chalk's 'pushed, mu_s = 0.5, mu = 0.35'; the
-    tablecloth's 'pull-speed = 4, mu = 0.2'."""
-    if scene.surface is not None:
-        return f"pull-speed = {scene.surface.pull_speed:g}, mu = {scene.mu:g}"
-    if scene.hand is None:
-        return f"mu = {scene.mu:g}"
-    how = "dragged" if scene.params["drag"] else "pushed"
-    return f"{how}, mu_s = {scene.params['mu_s']:g}, mu = {scene.mu:g}"
+                    forces=not args.no_forces, said=args.said, kind=args.scene)
 
 
 def flag_of(err):

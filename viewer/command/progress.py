@@ -1,6 +1,4 @@
-"""What a run says on stderr as it goes: progress lines and warnings about its steps, for a run to
-files (recording.Track) and the window (demo.live) alike, each warning the first time it applies.
-"""
+"""What a run says on stderr as it goes, to files or in the window: progress lines and warnings."""
 import time
 
 from analysis import diagnostics
@@ -9,9 +7,8 @@ PROGRESS_EVERY = 2.0        # s of wall time: a progress line at least this ofte
 
 
 class Progress:
-    """Progress lines on `log` at every tenth of the first run and at least every PROGRESS_EVERY s.
-    The line of step N gives each run's figures of its own step N, as its log.csv has them: it
-    waits until every run has logged step N or ended."""
+    """Progress lines at every tenth of the first run and at least every PROGRESS_EVERY s; the line
+    of step N waits until every run has logged its own step N (or ended)."""
 
     def __init__(self, tracks, log):
         self.log, self.tracks = log, tracks
@@ -37,18 +34,17 @@ class Progress:
     def words(self, track):
         """One run's figures of the step it has just logged (its t too where the runs' h differ)."""
         last = track.samples.last
+        label = f"{track.label}: " if len(self.tracks) > 1 else ""
         t = f"t={track.t:.2f}s " if len({tr.scene.h for tr in self.tracks}) > 1 else ""
-        return (f"{t}newton={last.report.newton_iterations}  residual={last.report.residual:.1e}  "
-                f"min_d={last.min_distance:.2e}")
+        return (f"{label}{t}newton={last.report.newton_iterations}  "
+                f"residual={last.report.residual:.1e}  min_d={last.min_distance:.2e}")
 
     def say(self, n, runs):
         """The line of step n: the first run's step count and time, each run's figures."""
-        if runs:
-            first = self.tracks[min(runs)]
-            parts = [f"{self.tracks[k].label}: {text}" if len(self.tracks) > 1 else text
-                     for k, text in sorted(runs.items())]
-            print(f"step {n}/{first.steps}  t={n * first.scene.h:.2f}s  " + "  ".join(parts),
-                  file=self.log, flush=True)
+        first = self.tracks[min(runs)]
+        parts = [text for _, text in sorted(runs.items())]
+        print(f"step {n}/{first.steps}  t={n * first.scene.h:.2f}s  " + "  ".join(parts),
+              file=self.log, flush=True)
 
     def warn(self, track, text):
         warning(self.log, track.label if len(self.tracks) > 1 else None, text)
@@ -60,17 +56,14 @@ def warning(log, label, text):
 
 
 def step_warnings(scene, step, t, report, inverted):
-    """The warnings about the step that ended at `step`, by kind: the mesh folded over
-    ("inverted"), Newton stopped at float64's round-off floor ("stalled")."""
+    """The warnings about the step that ended at `step`, by kind: "inverted", "stalled"."""
     said, at = {}, f"at step {step} (t = {t:.2f} s)"
     if inverted:
         cells = len(diagnostics.mesh_triangles(scene))
         said["inverted"] = (f"{at} {inverted} of {cells} mesh triangles are inverted (the square "
-                            f"folded over; the mass-spring model has no inversion barrier): use a "
-                            f"stiffer --k or a smaller --h")
+                            f"folded over, docs/limits.md): use a stiffer --k or a smaller --h")
     if report.stalled:
         said["stalled"] = (f"{at} Newton stopped at float64's round-off floor, residual "
-                           f"{report.residual:.2g} m/s above tol = {scene.tol:g} m/s (E can no "
-                           f"longer resolve a smaller step); the run goes on, such steps are "
-                           f"flagged newton_stalled in log.csv")
+                           f"{report.residual:.2g} m/s above tol = {scene.tol:g} m/s; the run goes "
+                           f"on (newton_stalled in log.csv)")
     return said

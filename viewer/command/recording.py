@@ -1,12 +1,5 @@
-"""The run driver: scenes stepped side by side, a log.csv row appended as each step ends.
-
-A Track is one scene being run: StepRecords from simulator.simulate become Samples (log rows) and
-what the pictures need. `record` advances every track to each frame's time, then draws the frame
-with all of them, so a comparison shows every run in each frame.
-"""
-from dataclasses import dataclass
-
-import numpy as np
+"""The run driver: scenes stepped side by side (a Track each), a log.csv row as each step ends."""
+import types
 
 from analysis import diagnostics, log, wear
 from viewer.command.progress import Progress, step_warnings
@@ -18,8 +11,7 @@ MAX_SAMPLES, MAX_SNAPSHOTS = 100_000, 2_000     # kept for the pictures, however
 
 
 class History:
-    """Items kept in bounded memory: all until `cap`, then every other one, then every 4th, ...;
-    `last` is the newest, `all()` the kept ones and the newest."""
+    """Items in bounded memory: all until `cap`, then every 2nd, 4th, ...; `last` the newest."""
 
     def __init__(self, cap):
         self.items, self.cap, self.every, self.seen, self.last = [], cap, 1, 0, None
@@ -36,36 +28,12 @@ class History:
         return self.items if self.items[-1] is self.last else self.items + [self.last]
 
 
-@dataclass
-class Sample:
-    """The figures of one state (report None at t = 0): log.COLUMN reads its row off them."""
-    step: int
-    t: float
-    wall: float
-    com: np.ndarray
-    v_tangential: float         # centre-of-mass velocity along the slope, m/s
-    report: object
-    min_distance: float
-    energies: dict
-    friction_work: float        # W_friction so far (J; <= 0 on a still surface)
-    numerical_dissipation: float  # D = E(0) + W_friction (+ W_hand) - E (J)
-    speeds: np.ndarray          # the contact nodes' tangential speeds relative to the surface (m/s)
-    sticking: int
-    sliding: int
-    inverted: int               # mesh triangles with negative signed area
-    hand_work: float = 0.0      # W_hand so far (J; 0 without a hand)
-    surface_work: float = 0.0   # W_surface so far (J; 0 on a still surface)
-    heat: float = 0.0           # W_surface - W_friction so far (J, >= 0): friction's, surface frame
-    surface_speed: float = 0.0  # v_s along t over the last step (m/s)
-    tip_x: float = None         # the chalk's: diagnostics.tip_figures
-    tip_speed: float = None
-    drive_speed: float = None
-    normal_force: float = None
+# One state's figures, as log.COLUMN reads them (report None at t = 0; W and D in J, speeds in m/s)
+Sample = types.SimpleNamespace
 
 
 class Track:
-    """One scene being run into `folder` (files.RunFolder): its log.csv, samples and snapshots;
-    `row` is its latest state's named row, `logged` the last step log.csv holds."""
+    """One scene run into `folder`; `row`: its latest log row; `logged`: log.csv's last step."""
 
     def __init__(self, scene, steps, records, label, tag, color, folder):
         self.scene, self.steps, self.records = scene, steps, records
@@ -79,7 +47,6 @@ class Track:
         self.warned = set()         # the kinds of warning said so far
         self.rest_since = None      # t from which every contact node has stayed below eps_v
         self.csv = folder.open_log(files.log_csv(tag), ",".join(self.columns))
-        self.logged = None
         self.samples = History(MAX_SAMPLES)
         self.snapshots = History(MAX_SNAPSHOTS)     # (t, x) every SNAPSHOT_EVERY s
         self._add(None, 0.0, 0.0)
@@ -121,11 +88,6 @@ class Track:
             self.snapshots.add((t, x.copy()))
         return sample
 
-    def advance(self, target, progress):
-        """Step until `target` steps are done (or the scene's last step), logging each step."""
-        while self.step < min(target, self.steps):
-            self.take(next(self.records), progress)
-
     def take(self, record, progress):
         """Log the StepRecord of the step from the current state (the window hands them in)."""
         E_hand = self.samples.last.energies.get("hand")      # at x^n, known
@@ -137,10 +99,9 @@ class Track:
         self.surface_work += record.report.surface_work
         sample = self._add(record.report, record.t, record.wall)
         said = step_warnings(self.scene, sample.step, sample.t, record.report, sample.inverted)
-        for kind, text in said.items():
-            if kind not in self.warned:         # each kind said once, the first time
-                self.warned.add(kind)
-                progress.warn(self, text)
+        for kind in [kind for kind in said if kind not in self.warned]:   # each kind said once
+            progress.warn(self, said[kind])
+        self.warned.update(said)
         progress.tick(self)
 
     def last_snapshot(self):
@@ -150,13 +111,13 @@ class Track:
 
 
 def record(tracks, folder, stride, frames, forces, messages, frame_log):
-    """Run every track to its end, a frame (and OBJs) every `stride` steps when `frames`; a
-    FrameInfo per frame appended to `frame_log`."""
+    """Run every track to its end, all in a frame every `stride` steps when `frames` (frame_log)."""
     writer = FrameWriter(tracks, folder, forces, frame_log) if frames else None
     progress = Progress(tracks, messages)
     for j, targets in frame_steps(tracks, stride):
         for track, target in zip(tracks, targets):
-            track.advance(target, progress)
+            while track.step < min(target, track.steps):
+                track.take(next(track.records), progress)
         if writer is not None:
             writer.write(j)
     for track in tracks:

@@ -1,17 +1,11 @@
-"""A run of the command line, to files or in the window: its folder, its signals, its ending.
-
-A run ends in one line on stderr and an exit code: 0 done; 1 after a failed step or write; 130 after
-Ctrl+C, 143 after SIGTERM (docs/output.md, "How a run ends").
-"""
+"""A run of the command line, to files or in the window: its folder, its signals, its ending in one
+line and an exit code, 0, 1, 130 or 143 (docs/output.md, "How a run ends")."""
 import collections
 import contextlib
 import signal
 import sys
-import threading
 import time
 from dataclasses import dataclass
-
-import numpy as np
 
 import simulator
 import time_integrator
@@ -32,14 +26,13 @@ class Stopped(BaseException):
 
 
 class Signals:
-    """`with Signals() as signals:` SIGINT and SIGTERM raise Stopped, at once or, inside `held()`,
-    as it ends. Set from the main thread only (a notebook's other threads leave signals alone)."""
+    """`with Signals():` SIGINT and SIGTERM raise Stopped, at once or as `held()` ends."""
 
     def __init__(self):
         self.depth, self.pending, self.previous = 0, None, {}
 
     def __enter__(self):
-        if threading.current_thread() is threading.main_thread():
+        with contextlib.suppress(ValueError):       # not the main thread: signals left alone
             self.previous = {signum: signal.signal(signum, self._handle) for signum in EXIT_CODES}
         return self
 
@@ -71,8 +64,7 @@ class Signals:
 
 @dataclass
 class Plan:
-    """What the command line asks for: scenes with their labels, file tags and steps; the folder
-    (`out`, or None: a new one under output/), a frame every `stride` steps, what to draw."""
+    """What the command line asks for (`out` None: a new folder under output/)."""
     scenes: list
     labels: list
     tags: list
@@ -82,21 +74,18 @@ class Plan:
     frames: bool
     forces: bool
     said: str = None        # the run's first line (cli.decimal_comma), or None
-
-    def chalk(self):
-        return self.scenes[0].hand is not None
-
-    def kind(self):
-        """The scene's name, as output/<kind>-<date>-<time> says it."""
-        if self.chalk():
-            return "chalk"
-        return "square" if self.scenes[0].surface is None else "tablecloth"
+    kind: str = "square"    # the --scene, as output/<kind>-<date>-<time> names it
 
     def folder(self, signals):
-        """The run's folder, made (files.RunFolder.make): `out`, or output/<scene>-<date>-<time>."""
-        count = frame_count(self.scenes, self.steps, self.stride)
-        names = files.run_names(self.tags, count, self.frames, marks=self.chalk())
-        return files.RunFolder.make(self.out, self.kind(), names, signals)
+        """The run's folder (files.RunFolder.make), probed with the longest name of each kind."""
+        last = frame_count(self.scenes, self.steps, self.stride) - 1
+        names = [files.log_csv(tag) for tag in self.tags] + ["summary.png", "plots.png"]
+        if self.scenes[0].hand is not None:
+            names += [files.marks_csv(tag) for tag in self.tags]
+        if self.frames:
+            names += ["index.html", files.frame_png(last)]
+            names += [files.frame_obj(last, tag) for tag in self.tags]
+        return files.RunFolder.make(self.out, self.kind, names, signals)
 
 
 def warn(plan, messages):
@@ -111,7 +100,7 @@ def summary_header(plan):
     scene, p = plan.scenes[0], plan.scenes[0].params
     solver = (f"h = {scene.h:g} s   k = {p['k']:g} N/m   dhat = {scene.dhat:g} m   kappa = "
               f"{scene.kappa:g}   eps_v = {scene.epsv:g} m/s   tol = {scene.tol:g} m/s")
-    if plan.chalk():
+    if scene.hand is not None:
         how = "dragged" if p["drag"] else "pushed"
         lines = [f"chalk {p['length'] * 100:g} x {p['width'] * 100:g} cm, {how} at tilt = "
                  f"{p['tilt']:g} deg   grip k_hand = {p['k_hand']:g} N/m   drive = {p['drive']:g} "
@@ -121,7 +110,7 @@ def summary_header(plan):
                  f"pulled L = {p['pull_length']:g} m at U = {p['pull_speed']:g} m/s from t = "
                  f"{p['t_pull']:g} s   mu = {scene.mu:g}", solver]
     else:
-        normal = None if scene.n is None else np.round(scene.n, 4).tolist()
+        normal = None if scene.n is None else [round(float(c), 4) for c in scene.n]
         lines = [f"mu = {scene.mu:g}   h = {scene.h:g} s   k = {p['k']:g} N/m   "
                  f"n_seg = {p['n_seg']}",
                  f"slope normal = {normal}   dhat = {scene.dhat:g} m   kappa = {scene.kappa:g}   "
@@ -131,48 +120,38 @@ def summary_header(plan):
     return lines
 
 
-# How a run ended early: exit code, line, and whether its last pictures may still be written (not
-# after a failed write: the disk is full, or the folder gone).
-Failure = collections.namedtuple("Failure", "code text pictures", defaults=(True,))
-
-
+Failure = collections.namedtuple("Failure", "code text")     # how a run ended early
 ENDINGS = (Stopped, OSError, time_integrator.SimulationError, ValueError)   # end a run early
 
 
-def failure_of(err, plan):
-    """The Failure an exception of ENDINGS ends a run with; a failed write names its file, else
-    the run's folder."""
+def failure_of(err, plan, when=""):
+    """The Failure an exception of ENDINGS ends a run with, `when` it came."""
     if isinstance(err, Stopped):
-        return Failure(err.code, f"stopped: {err.reason}")
+        return Failure(err.code, f"stopped: {err.reason}{when}")
     if isinstance(err, OSError):
         where = err.filename or plan.out or "the run's folder"
-        return Failure(1, f"error: cannot write {where}: {err.strerror or err}", pictures=False)
+        return Failure(1, f"error: cannot write {where}: {err.strerror or err}")
     if isinstance(err, time_integrator.SimulationError):
         return Failure(1, f"stopped: simulation failed: {err}")
-    return Failure(1, f"stopped: {err}")        # a number the checks did not foresee
+    return Failure(1, f"stopped: {err}{when}")        # a number the checks did not foresee
 
 
 def end(plan, signals, folder, tracks, frame_log, failure, messages, done):
-    """How every run ends, to files or in the window: the last pictures for the steps kept (a
-    second signal leaves out the rest), the logs closed, one line (`done` if all went well);
-    returns the exit code."""
-    if tracks and (failure is None or failure.pictures):
+    """How every run ends: the last pictures of the steps kept, the logs closed, one line (`done` if
+    all went well); returns the exit code."""
+    if tracks:
         try:
             for track in tracks:
                 track.last_snapshot()
             header = summary_header(plan)
             run_pictures.write(tracks, folder, plan.stride, plan.frames, frame_log, header)
-        except Stopped as stopped:
-            text = f"stopped: {stopped.reason} while writing the last pictures"
-            failure = failure or Failure(stopped.code, text)
         except ENDINGS as err:
-            failure = failure or failure_of(err, plan)
+            failure = failure or failure_of(err, plan, " while writing the last pictures")
     signals.close()
     for track in tracks:
         track.csv.close()
     if failure is None and signals.pending is not None:        # came as the run was closing
-        pending = signals.pending
-        failure = Failure(EXIT_CODES[pending], f"stopped: {REASONS[pending]} as the run ended")
+        failure = failure_of(Stopped(signals.pending), plan, " as the run ended")
     if failure is None:
         print(done, file=messages)
         return 0
@@ -184,7 +163,7 @@ def kept(tracks, folder, plan):
     """'N steps kept in out/' (the last step log.csv holds), and the last pictures left out."""
     if not tracks:
         return "nothing written" + (f" in {folder.folder}/" if folder is not None else "")
-    steps = min(track.logged or 0 for track in tracks)
+    steps = min(track.logged for track in tracks)
     left_out = [name for name in run_pictures.names(tracks)
                 if (plan.frames or name != "index.html") and name not in folder.written]
     said = f"; left out: {', '.join(left_out)}" if left_out else ""
@@ -192,8 +171,7 @@ def kept(tracks, folder, plan):
 
 
 def to_files(plan, signals, messages=None):
-    """Run the plan's scenes side by side to their ends, writing frames, OBJs and log rows as they
-    go, then the last pictures; one closing line on `messages` (stderr). Returns the exit code."""
+    """Run the plan's scenes side by side into files, one closing line on `messages`; exit code."""
     messages = messages or sys.stderr
     folder = plan.folder(signals)       # ValueError: refused, nothing written
     tracks, frame_log, failure, start = [], [], None, time.perf_counter()
@@ -222,10 +200,8 @@ def simulated(plan):
     """'300 steps (3.00 s)', and for a comparison its runs'."""
     runs = [f"{steps} steps ({steps * scene.h:.2f} s)"
             for steps, scene in zip(plan.steps, plan.scenes)]
-    if len(runs) == 1:
-        return runs[0]
     if len(set(runs)) == 1:
-        return f"{runs[0]} x {len(runs)} runs"
+        return runs[0] + (f" x {len(runs)} runs" if len(runs) > 1 else "")
     return f"{len(runs)} runs: " + ", ".join(runs)
 
 
@@ -234,7 +210,7 @@ def written(plan):
     one = len(plan.scenes) == 1
     logs = "log.csv" if one else f"a log per run ({', '.join(map(files.log_csv, plan.tags))})"
     marks = "marks.csv" if one else f"the marks ({', '.join(map(files.marks_csv, plan.tags))})"
-    logs += f", {marks}" if plan.chalk() else ""
+    logs += f", {marks}" if plan.scenes[0].hand is not None else ""
     if plan.frames:
         return f"frames, OBJs, {logs}, plots.png, summary.png and index.html"
     return f"{logs}, plots.png and summary.png"

@@ -1,6 +1,6 @@
 """`python simulator.py` (and `python -m figures`) before numpy loads: one BLAS thread, Ctrl+C and
-SIGTERM in one line, stdout and stderr best effort; then the command line (viewer.main).
-"""
+SIGTERM in one line, stdout and stderr best effort; then the command line (viewer.main)."""
+import contextlib
 import functools
 import importlib
 import io
@@ -13,46 +13,40 @@ REASONS = {signal.SIGINT: "interrupted", signal.SIGTERM: "terminated (SIGTERM)"}
 
 
 class BestEffort(io.TextIOBase):
-    """A text stream whose writes never fail: after the first that does (a broken pipe, a full
-    disk, a closed stream) it points at os.devnull, so neither the run nor Python's exit fails."""
+    """A text stream whose writes never fail: after the first that does, it writes to os.devnull."""
 
     def __init__(self, stream):
-        self.stream, self.broken = stream, stream is None
+        self.stream = stream
 
     def write(self, text):
-        self._try(lambda: self.stream.write(text))
+        self._try("write", text)
         return len(text)
 
     def flush(self):
-        self._try(lambda: self.stream.flush())
+        self._try("flush")
 
-    def _try(self, act):
-        if self.broken:
+    def _try(self, method, *args):
+        if self.stream is None:             # no stream, or broken already
             return
         try:
-            act()
+            getattr(self.stream, method)(*args)
         except (OSError, ValueError):       # ValueError: the stream was closed
-            self.broken = True
-            try:
+            with contextlib.suppress(OSError, ValueError, AttributeError):
                 devnull = os.open(os.devnull, os.O_WRONLY)
                 os.dup2(devnull, self.stream.fileno())
                 os.close(devnull)
-            except (OSError, ValueError, AttributeError):
-                pass
+            self.stream = None
 
 
 def _stopped_while_starting(program, signum, frame):
-    try:
-        line = f"{program}: stopped: {REASONS[signum]} while starting; nothing written\n"
+    line = f"{program}: stopped: {REASONS[signum]} while starting; nothing written\n"
+    with contextlib.suppress(OSError):      # stderr closed or full: the exit code still says it
         os.write(2, line.encode())
-    except OSError:             # stderr closed or full: the exit code still says it
-        pass
     os._exit(EXIT_CODES[signum])
 
 
 def run_command_line(program="simulator.py", main="viewer.main"):
-    """The exit code of `main`'s main(argv), with one BLAS thread set before numpy loads (two on two
-    busy cores made the small banded solves 10-25x slower: benchmarks/README.md)."""
+    """The exit code of `main`'s main(argv), one BLAS thread set first (benchmarks/README.md)."""
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     os.environ.setdefault("OMP_NUM_THREADS", "1")
     for signum in EXIT_CODES:

@@ -1,7 +1,5 @@
-"""A run's folder: a new one the run made, or the empty one --out names, and every file in it
-created new and written whole (whole_files). Nothing outside it is written, replaced or deleted
-(docs/output.md, "A run writes only into its own new folder").
-"""
+"""A run's folder, new or the empty one --out names, its files created new and written whole;
+nothing outside it is touched (docs/output.md, "A run writes only into its own new folder")."""
 import datetime
 import os
 import pathlib
@@ -37,18 +35,7 @@ def log_csv(tag=""):
 
 
 def marks_csv(tag=""):
-    """The chalk's mark (analysis.wear.csv_text)."""
     return tagged("marks", tag, "csv")
-
-
-def run_names(tags, n_frames, frames, marks=False):
-    """The longest names of each kind a run writes (never all: n_frames may be 1e308)."""
-    names = [log_csv(tag) for tag in tags] + ["summary.png", "plots.png"]
-    names += [marks_csv(tag) for tag in tags] if marks else []
-    if frames:
-        names += ["index.html", frame_png(n_frames - 1)]
-        names += [frame_obj(n_frames - 1, tag) for tag in tags]
-    return names
 
 
 def remove(made):
@@ -59,25 +46,23 @@ def remove(made):
 def make_folders(path):
     """Make the folder `path` and its missing parents; returns those made, outermost first.
     FileExistsError where `path` exists; a ValueError, nothing left made, where it cannot be."""
-    missing = [os.path.abspath(path)]
-    while not os.path.lexists(os.path.dirname(missing[0])):
-        missing.insert(0, os.path.dirname(missing[0]))
+    parents = pathlib.Path(os.path.abspath(path)).parents
+    missing = [str(at) for at in reversed(parents) if not os.path.lexists(at)]
     made = []
     try:
-        for at in missing:
+        for at in missing + [os.path.abspath(path)]:
             os.mkdir(at)
             made.append(at)
     except OSError as err:
         remove(made)
-        if isinstance(err, FileExistsError) and len(made) == len(missing) - 1:
+        if isinstance(err, FileExistsError) and len(made) == len(missing):
             raise                           # `path` itself exists: the caller decides
         raise refused(f"out folder {path!r} cannot be created: {err.strerror or err}") from None
     return made
 
 
 def check_empty(path):
-    """ValueError unless `path` is an empty folder of this user's from which nobody else may remove
-    files (POSIX: not writable by others, or sticky as /tmp)."""
+    """ValueError unless `path` is an empty folder of this user's that others cannot write to."""
     if not os.path.isdir(path):
         raise refused(f"out folder {path!r} is not a folder: choose a new one")
     st = os.stat(path)
@@ -92,8 +77,7 @@ def check_empty(path):
 
 
 def new_folder(kind):
-    """A new output/<kind>-<date>-<time>, with -2, -3, ... where that is taken (mkdir is atomic:
-    two runs started in the same second get two folders); the folder and the folders made."""
+    """A new output/<kind>-<date>-<time> (-2, -3, ... where taken); the folder, the folders made."""
     base = os.path.join(OUTPUT, f"{kind}-{datetime.datetime.now():%Y%m%d-%H%M%S}")
     for out in [base] + [f"{base}-{k}" for k in range(2, 1000)]:
         try:
@@ -103,15 +87,12 @@ def new_folder(kind):
     raise refused(f"no new folder could be made as {base}-N: give --out")
 
 
-def probe(folder, name, data):
-    """Create the file `name` in `folder` as its temporary file is named (with `data`: written
-    whole), then remove it."""
+def probe(folder, name):
+    """Create `name` in `folder` as its temporary file is named, write a line, then remove it."""
     path = os.path.join(folder, f".tmp-{secrets.token_hex(4)}-{name}")
     try:
-        if data is None:
-            os.close(os.open(path, whole_files.NEW))
-        else:
-            whole_files.write_temporary(path, data)
+        with os.fdopen(os.open(path, whole_files.NEW), "w") as f:
+            f.write("a probe: can a file be written here?\n")
     finally:
         if os.path.lexists(path):
             os.remove(path)
@@ -125,9 +106,8 @@ class RunFolder:
 
     @classmethod
     def make(cls, out, kind, names, signals):
-        """The run's folder: `out`, new or empty, or a new_folder. A ValueError naming --out, with
-        nothing made, where it cannot be, or a file cannot be written in it (a probe), or one of
-        `names` as its temporary file is too long."""
+        """The run's folder: `out`, new or empty, or a new_folder; a ValueError naming --out,
+        nothing made, where it cannot be or a probe or one of `names` cannot be written in it."""
         with signals.held():
             if out is None:
                 out, made = new_folder(kind)
@@ -137,31 +117,23 @@ class RunFolder:
                 except FileExistsError:
                     made = []
                     check_empty(out)
-            try:
-                probe(out, "probe", "a probe: can a file be written here?\n")
-            except OSError as err:
-                remove(made)
-                raise refused(f"out folder {out!r} cannot be written: {err.strerror}") from None
-            for name in names:
+            for name in ["probe", *names]:
                 try:
-                    probe(out, name, None)
+                    probe(out, name)
                 except OSError as err:
                     remove(made)
-                    raise refused(f"output name {name!r} cannot be written in {out!r}: "
-                                  f"{err.strerror} (shorten the list value it is named after)"
-                                  ) from None
+                    raise refused(f"output name {name!r} in out folder {out!r} cannot be written: "
+                                  f"{err.strerror}") from None
             return cls(out, signals)
 
     def path(self, name):
         return os.path.join(self.folder, name)
 
     def url(self, name):
-        """A file:// URL of `name`, which most terminals open with a click."""
         return pathlib.Path(os.path.abspath(self.path(name))).as_uri()
 
     def write(self, name, data):
-        """Write the file `name` whole (never over another file; over this run's own, replaced),
-        signals held until it is."""
+        """Write the file `name` whole (replacing only this run's own), signals held until it is."""
         with self.signals.held():
             whole_files.write_whole(self.path(name), data, replace=name in self.written)
             self.written.add(name)
@@ -169,6 +141,5 @@ class RunFolder:
     def open_log(self, name, header):
         """A new whole_files.LineFile `name`, starting with `header`."""
         with self.signals.held():
-            log = whole_files.LineFile(self.path(name), header)
             self.written.add(name)
-            return log
+            return whole_files.LineFile(self.path(name), header)

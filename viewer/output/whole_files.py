@@ -1,7 +1,5 @@
-"""Files created new and written whole: O_EXCL never opens an existing name, a symbolic link
-included (POSIX and Windows alike); a finished temporary file gets its name by a hard link, which
-fails where the name is taken.
-"""
+"""Files created new and written whole: O_EXCL never opens an existing name, a link included; a
+finished temporary file gets its name by a hard link, which fails where the name is taken."""
 import errno
 import os
 import secrets
@@ -34,8 +32,8 @@ def link_new(tmp, path):
 
 
 def write_whole(path, data, replace=False):
-    """Write `path` whole: a new temporary file beside it, then given its name (link_new) or, with
-    `replace`, renamed over it. An OSError names `path`, never the temporary file."""
+    """Write `path` whole: a new temporary file beside it, then linked (link_new) or, `replace`,
+    renamed to `path`. An OSError names `path`, never the temporary file."""
     head, name = os.path.split(path)
     tmp = os.path.join(head, f".tmp-{secrets.token_hex(4)}-{name}")
     try:

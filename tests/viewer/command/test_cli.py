@@ -98,7 +98,7 @@ def test_flags_reach_the_scene():
     assert scene.epsv == 1e-4 and scene.tol == 1e-3 and scene.friction_updates == 3
     assert np.allclose(scene.n, [np.sin(np.radians(10)), np.cos(np.radians(10))])
     assert np.allclose(scene.v0, [1.0, -2.0])
-    assert cli.steps_from_args(args, scene) == round(cli.DURATION / 0.005)  # the default duration
+    assert cli.steps_from_args(args, scene, cli.DURATION) == round(cli.DURATION / 0.005)
     assert scene.newton_start == "x_n"          # the lecture's, unless asked
     for argv, start in ((["--newton-start", "x_tilde"], "x_tilde"),
                         (["--scene", "chalk"], "x_tilde"),
@@ -152,13 +152,13 @@ def test_tablecloth_flags_compare_and_the_run_lasts_until_the_dishes_stop():
                for s in plan.scenes)
     assert plan.labels == ["pull-speed = 1", "pull-speed = 2", "pull-speed = 4", "pull-speed = 8"]
     slowest = 0.05 + 1.0 + 1.0 / (0.2 * 9.81) + cli.STOP_MARGIN
-    assert plan.steps == [round(slowest / 0.005)] * 4 and plan.kind() == "tablecloth"
+    assert plan.steps == [round(slowest / 0.005)] * 4 and plan.kind == "tablecloth"
     assert run.summary_header(plan)[1:] == [
         "dish 20 x 5 cm, 0.5 kg   cloth pulled L = 1 m at U = 1 m/s from t = 0.05 s   mu = 0.2",
         "h = 0.005 s   k = 300000 N/m   dhat = 0.001 m   kappa = 100000   eps_v = 0.001 m/s   "
         "tol = 1e-06 m/s"]
     (fast,) = cli.parse_command_line(["--scene", "tablecloth"])
-    assert cli.steps_from_args(fast, cli.scene_from_args(fast)) == round(0.6 / 0.005)
+    assert cli.plan_from_args([fast]).steps == [round(0.6 / 0.005)]
     (given,) = cli.parse_command_line(["--scene", "tablecloth", "--duration", "2"])
     assert cli.plan_from_args([given]).steps == [400]
 
