@@ -7,7 +7,6 @@ import numpy as np
 
 import BarrierEnergy
 import FrictionEnergy
-import square_mesh
 import time_integrator
 
 LECTURE_TERMS = ("gravity", "spring", "barrier")     # always in the budget, 0 where absent
@@ -38,9 +37,9 @@ def energies(scene, x, v, t=0.0):
     return out
 
 
-def hand_work(scene, x, t0, t1, before):
+def hand_work(scene, x, t1, before):
     """W_hand = P_hand(x^n, targets(t1)) - P_hand(x^n, targets(t0)) (J; 0 without a hand), so that
-    E^{n+1} - E^n = W_hand + W_friction - (numerical dissipation). `before`: the second term."""
+    E^{n+1} - E^n = W_hand + W_friction - (numerical dissipation); `before` is the second term."""
     if "hand" not in scene.terms:
         return 0.0
     return term_energy(scene, "hand", x, scene.hand.targets(t1)) - before
@@ -128,11 +127,6 @@ def signed_areas(x, triangles):
     a, b, c = x[triangles[:, 0]], x[triangles[:, 1]], x[triangles[:, 2]]
     ab, ac = b - a, c - a
     return ab[:, 0] * ac[:, 1] - ab[:, 1] * ac[:, 0]
-
-
-def mesh_triangles(scene):
-    """The mesh's triangles, two per cell (square_mesh.triangles)."""
-    return square_mesh.triangles(*scene.cells)
 
 
 def inverted_triangles(x, triangles):

@@ -120,4 +120,4 @@ def save_loglog_panels(path, title, panels, labels, legend, notes):
         surface.blit(small.render(note, True, GREY), (40, y + 28 * legend_rows + 8 + 24 * i))
     buffer = io.BytesIO()
     pygame.image.save(surface, buffer, "png")
-    whole_files.write_atomic(path, buffer.getvalue())
+    whole_files.write_whole(path, buffer.getvalue(), replace=True)

@@ -67,7 +67,7 @@ def write_csv(path, columns, rows, digits=6):
     writer.writeheader()
     writer.writerows({k: f"{v:.{digits}g}" if isinstance(v, float) else v for k, v in row.items()}
                      for row in rows)
-    whole_files.write_atomic(path, buffer.getvalue())
+    whole_files.write_whole(path, buffer.getvalue(), replace=True)
     print(f"wrote {path}", file=sys.stderr)
 
 

@@ -1,7 +1,7 @@
 """What a run says on stderr as it goes, to files or in the window: progress lines and warnings."""
 import time
 
-from analysis import diagnostics
+import square_mesh
 
 PROGRESS_EVERY = 2.0        # s of wall time: a progress line at least this often
 
@@ -59,7 +59,7 @@ def step_warnings(scene, step, t, report, inverted):
     """The warnings about the step that ended at `step`, by kind: "inverted", "stalled"."""
     said, at = {}, f"at step {step} (t = {t:.2f} s)"
     if inverted:
-        cells = len(diagnostics.mesh_triangles(scene))
+        cells = len(square_mesh.triangles(*scene.cells))
         said["inverted"] = (f"{at} {inverted} of {cells} mesh triangles are inverted (the square "
                             f"folded over, docs/limits.md): use a stiffer --k or a smaller --h")
     if report.stalled:

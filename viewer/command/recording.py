@@ -1,6 +1,8 @@
 """The run driver: scenes stepped side by side (a Track each), a log.csv row as each step ends."""
 import types
 
+import square_mesh
+
 from analysis import diagnostics, log, wear
 from viewer.command.progress import Progress, step_warnings
 from viewer.output import files
@@ -38,7 +40,7 @@ class Track:
     def __init__(self, scene, steps, records, label, tag, color, folder):
         self.scene, self.steps, self.records = scene, steps, records
         self.label, self.tag, self.color, self.folder = label, tag, color, folder
-        self.triangles = diagnostics.mesh_triangles(scene)
+        self.triangles = square_mesh.triangles(*scene.cells)
         self.tangent = diagnostics.tangent(scene)
         self.x, self.v = scene.x0, scene.v0
         self.step, self.friction_work, self.hand_work, self.surface_work = 0, 0.0, 0.0, 0.0
@@ -91,7 +93,7 @@ class Track:
     def take(self, record, progress):
         """Log the StepRecord of the step from the current state (the window hands them in)."""
         E_hand = self.samples.last.energies.get("hand")      # at x^n, known
-        self.hand_work += diagnostics.hand_work(self.scene, self.x, self.t, record.t, E_hand)
+        self.hand_work += diagnostics.hand_work(self.scene, self.x, record.t, E_hand)
         if self.marks is not None:
             self.marks.step(self.scene, self.x, record.x)       # what the tip left over the step
         self.x, self.v, self.step = record.x, record.v, record.index + 1

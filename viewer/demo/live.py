@@ -5,6 +5,7 @@ import time
 from collections import deque
 from types import SimpleNamespace
 
+import square_mesh
 import time_integrator
 from simulator import StepRecord
 from analysis import diagnostics, wear
@@ -158,7 +159,7 @@ class LiveDemo:
         self.failure = self.write_error = None     # what stopped the run, the files (if any)
         self.message = self.slow = None             # the last key's message; the rate, < SLOW
         self.warnings = {f"scene {i}": text for i, text in enumerate(scene.warnings)}
-        self.triangles = diagnostics.mesh_triangles(scene)
+        self.triangles = square_mesh.triangles(*scene.cells)
 
     def stopped(self):
         """At the end of the run, or after a failed step: nothing to play or step."""

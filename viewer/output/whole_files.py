@@ -49,11 +49,6 @@ def write_whole(path, data, replace=False):
             os.remove(tmp)
 
 
-def write_atomic(path, data):
-    """Write `path` whole, over what is there (a benchmark's own table)."""
-    write_whole(path, data, replace=True)
-
-
 class LineFile:
     """A text file created new, then written one whole line at a time: a write that fails part way
     (a full disk, a signal) is cut back to the last whole line."""
