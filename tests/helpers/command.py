@@ -1,5 +1,6 @@
 """The command line as the tests run it in this process."""
 import io
+import os
 import sys
 
 import simulator
@@ -35,3 +36,16 @@ def recorded(folder, scenes, steps):
     for track in tracks:
         track.csv.close()
     return tracks
+
+
+def refused(args, out):
+    """The command line run on `out` holding an earlier run's log.csv: its one error line, after
+    checking exit code 2 and that `out` is as it was."""
+    out.mkdir(exist_ok=True)
+    (out / "log.csv").write_text("an earlier run\n")
+    length = [] if {"--steps", "--duration"} & set(args) else ["--steps", "3"]
+    code, lines = run_main(*args, "--out", str(out), *length)
+    assert code == 2 and len(lines) == 1, lines
+    assert lines[0].startswith("simulator.py: error: ")
+    assert os.listdir(out) == ["log.csv"] and (out / "log.csv").read_text() == "an earlier run\n"
+    return lines[0]

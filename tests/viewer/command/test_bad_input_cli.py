@@ -8,7 +8,7 @@ import sys
 import pytest
 
 from helpers import ROOT
-from helpers.command import run_main
+from helpers.command import refused, run_main
 
 
 def cli(*args):
@@ -16,19 +16,6 @@ def cli(*args):
     return subprocess.run([sys.executable, os.path.join(ROOT, "simulator.py"), *args],
                           capture_output=True, text=True, timeout=120,
                           env={**os.environ, "SDL_VIDEODRIVER": "dummy"})
-
-
-def refused(args, out):
-    """The command line run on `out` holding an earlier run's log.csv: its one error line, after
-    checking exit code 2 and that `out` is as it was."""
-    out.mkdir(exist_ok=True)
-    (out / "log.csv").write_text("an earlier run\n")
-    length = [] if {"--steps", "--duration"} & set(args) else ["--steps", "3"]
-    code, lines = run_main(*args, "--out", str(out), *length)
-    assert code == 2 and len(lines) == 1, lines
-    assert lines[0].startswith("simulator.py: error: ")
-    assert os.listdir(out) == ["log.csv"] and (out / "log.csv").read_text() == "an earlier run\n"
-    return lines[0]
 
 
 CLI = [

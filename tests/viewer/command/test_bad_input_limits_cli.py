@@ -7,21 +7,8 @@ import os
 import numpy as np
 import pytest
 
-from helpers.command import run_main
+from helpers.command import refused, run_main
 from viewer.command import cli
-
-
-def refused_in_one_line(args, out):
-    """The command line run on `out` holding an earlier run's log.csv: its one error line, after
-    checking exit code 2 and that `out` is as it was."""
-    out.mkdir(exist_ok=True)
-    (out / "log.csv").write_text("an earlier run\n")
-    length = [] if {"--steps", "--duration"} & set(args) else ["--steps", "3"]
-    code, lines = run_main(*args, "--out", str(out), *length)
-    assert code == 2 and len(lines) == 1, lines
-    assert lines[0].startswith("simulator.py: error: ")
-    assert os.listdir(out) == ["log.csv"] and (out / "log.csv").read_text() == "an earlier run\n"
-    return lines[0]
 
 
 def scene_of(argv):
@@ -41,7 +28,7 @@ def test_the_lectures_45_degree_start_touches_the_slope_and_is_refused(tmp_path)
     scene = scene_of(["--slope-angle", "45", "--center", f"{center[0]!r},{center[1]!r}"])
     d = (scene.x0 - scene.o) @ scene.n
     assert d.min() == pytest.approx(scene.dhat, rel=1e-5)      # dhat above, as said (6 digits)
-    line = refused_in_one_line(["--slope-angle", "45"], tmp_path / "out")
+    line = refused(["--slope-angle", "45"], tmp_path / "out")
     assert line.startswith("simulator.py: error: --center: the square starts touching or below")
 
 
@@ -78,7 +65,7 @@ CLI = [
 
 @pytest.mark.parametrize("args, message", CLI, ids=[" ".join(a) for a, _ in CLI])
 def test_absurd_value_is_one_line_naming_flag_and_value(args, message, tmp_path):
-    line = refused_in_one_line(args, tmp_path / "out")
+    line = refused(args, tmp_path / "out")
     assert line.startswith(f"simulator.py: error: {message}"), line
 
 
