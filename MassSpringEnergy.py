@@ -66,7 +66,9 @@ def hess_kernel(x, e, l2, k, project_psd=True):
     if project_psd:
         lam_par, lam_perp = np.maximum(lam_par, 0.0), np.maximum(lam_perp, 0.0)
     w = (lam_par - lam_perp) / np.maximum(sq, np.finfo(float).tiny)
-    H = (w[:, None] * diff)[:, :, None] * diff[:, None, :] + lam_perp[:, None, None] * np.eye(2)
+    H = (w[:, None] * diff)[:, :, None] * diff[:, None, :]
+    H[:, 0, 0] += lam_perp          # + lam_perp I, in place: faster than adding an (E, 2, 2) eye
+    H[:, 1, 1] += lam_perp
     return e, np.tile(H, (1, 2, 2)) * _PAIR_SIGNS
 
 

@@ -268,8 +268,8 @@ def ijv_to_csr(ijv, n_dofs):
 
 def add_to_pairs(e, f, n):
     """(n, 2): each pair (a, b) of `e` adds its row of f (E, 2) to node a, subtracts it from b."""
-    dofs = 2 * e[:, :, None] + np.arange(2)             # (E, 2, 2): the DOFs of a, then of b
-    return np.bincount(dofs.ravel(), np.stack([f, -f], axis=1).ravel(), 2 * n).reshape(n, 2)
+    a, b = ((2 * e[:, i:i + 1] + np.arange(2)).ravel() for i in (0, 1))     # DOFs of a, of b
+    return (np.bincount(a, f.ravel(), 2 * n) - np.bincount(b, f.ravel(), 2 * n)).reshape(n, 2)
 
 
 # ---- The Newton system's SPD solve, solver.solve(H, b): read it as spsolve(H, b) ----------------
