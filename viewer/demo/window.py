@@ -1,6 +1,4 @@
-"""The live window, `python simulator.py --window` (docs/live-demo.md): its loop (keys, status,
-drawing), opening the display, the entry point. The keys' effects, pacing and files: demo.live."""
-import contextlib
+"""The live window, `python simulator.py --window` (docs/live-demo.md): its loop, its display."""
 import math
 import os
 import sys
@@ -71,8 +69,8 @@ class LiveWindow(live.LiveDemo):
             keys.get(event.key, lambda: None)()
 
     def draw(self):
-        """The frame the files show (or the Newton iterate), the status under its legends, the key
-        hints at the bottom, and the chalk's strip (self.reserve) or the Newton inset between."""
+        """The frame the files show (or the Newton iterate), the status under it, the key hints at
+        the bottom, and the chalk's strip (self.reserve) or the Newton inset between."""
         run, pg, it = self.run, self.pygame, self.run.iterate
         self.view.follow(diagnostics.centre_of_mass(self.scene, run.shown_x)[None])
         forces = self.newton_per_metre if it is None else None
@@ -143,32 +141,24 @@ def display_problem(driver, requested):
     return None
 
 
-@contextlib.contextmanager
-def c_stderr_hidden():
-    """Hide what SDL's C code writes to fd 2 while the display opens: a failure is one line."""
-    sys.stderr.flush()
-    saved = os.dup(2)
-    try:
-        with open(os.devnull, "w") as null:
-            os.dup2(null.fileno(), 2)
-        yield
-    finally:
-        os.dup2(saved, 2)
-        os.close(saved)
-
-
 def open_display():
     """pygame with its display initialized on a real screen; ValueError when there is none."""
     requested = os.environ.get("SDL_VIDEODRIVER")
     os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
     os.environ.setdefault("SDL_VIDEO_CENTERED", "1")
     import pygame
+    sys.stderr.flush()
+    saved = os.dup(2)           # what SDL's C code writes to fd 2 is hidden: a failure is one line
     try:
-        with c_stderr_hidden():
-            pygame.display.init()
+        with open(os.devnull, "w") as null:
+            os.dup2(null.fileno(), 2)
+        pygame.display.init()
         problem = display_problem(pygame.display.get_driver(), requested)
     except pygame.error as err:
         problem = f"SDL: {err}"
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)
     if problem:
         pygame.display.quit()
         raise ValueError(f"no display to open the window on ({problem}): run on a desktop, "
