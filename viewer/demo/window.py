@@ -177,14 +177,9 @@ def window_size(size, pygame):
 
 def check_flags(speed, size):
     """--speed (default 1), finite and > 0; --size, whole pixels in [MIN_SIZE, MAX_SIZE]."""
-    speed = 1.0 if speed is None else speed
-    if not (math.isfinite(speed) and speed > 0.0):
-        raise utils.ParameterError("speed", f"speed must be a finite number > 0 (simulated seconds "
-                                            f"per second), got {speed:g}")
-    if size is not None and not (math.isfinite(size) and float(size).is_integer()
-                                 and MIN_SIZE <= size <= MAX_SIZE):
-        raise utils.ParameterError("size", f"size must be a whole number of pixels in [{MIN_SIZE}, "
-                                           f"{MAX_SIZE}] (the window's side), got {size:g}")
+    speed = 1.0 if speed is None else utils.check_positive("speed", speed)
+    if size is not None and utils.check_whole("size", size, MIN_SIZE) > MAX_SIZE:
+        raise utils.ParameterError("size", f"size must be at most {MAX_SIZE} px, got {size:g}")
     return speed
 
 
@@ -200,10 +195,7 @@ def run_window(plan, speed, size, signals, clock=None, log=None):
         try:
             orchestration.warn(plan, log)
             screen = pygame.display.set_mode((window_size(size, pygame),) * 2)
-            what = (f"chalk, grip {scene.hand.k_hand:g} N/m" if scene.hand is not None
-                    else f"tablecloth, U = {scene.surface.pull_speed:g} m/s" if scene.surface
-                    else f"n_seg = {scene.params['n_seg']}")
-            pygame.display.set_caption(f"simulator.py: mu = {scene.mu:g}, {what}")
+            pygame.display.set_caption(f"simulator.py: {plan.labels[0]}")
             output = live.Files(plan, folder, log) if folder is not None else None
             window = LiveWindow(pygame, screen, scene, plan.steps[0], speed, output, clock, log,
                                 plan.labels[0], plan.forces)
