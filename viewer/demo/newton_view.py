@@ -142,8 +142,7 @@ def draw_inset(pygame, surface, scene, it, inset, fonts, notes):
 
 
 def place_inset(pygame, surface, scene, it, view, fonts, top, bottom):
-    """Draw the inset between rows `top` and `bottom`, beside the body (else over it); circle and
-    label its node. The Inset, or None without room."""
+    """The Inset drawn between rows `top` and `bottom`, its node circled and labelled; or None."""
     size, px = view.size, view(it.x)
     room_left, room_right = px[:, 0].min(), size - px[:, 0].max()
     width = int(min(INSET * size, max(max(room_left, room_right) - 24, MIN_INSET * size)))
@@ -195,13 +194,12 @@ def phrase_rows(font, text, width, breaks=BREAKS):
     return [part for row in rows for part in phrase_rows(font, row, width, breaks[1:])]
 
 
-def label_corner(pygame, scene, view, px, node, size, inset, rows=None, numbers=()):
+def label_corner(pygame, scene, view, px, node, size, inset, rows, numbers):
     """The corner of the label, `size` (w, h) px, of the node at `node` (`px`: all nodes), off it
     away from the body (the chalk's: on the board): the first clear of the `inset`, within `rows`,
     of the slope's `numbers` and the body's hull; else the first clear of fewer of them."""
     w, h = size
     out = np.where(node >= px.mean(axis=0), 1, -1)
-    top_row, bottom_row = (0, view.height) if rows is None else rows
     if scene.hand is None:
         turns = [(out[0], out[1]), (out[0], -out[1]), (-out[0], out[1]), (-out[0], -out[1])]
         corners = [(node[0] + side * (6 + w / 2) - w / 2, node[1] + up * (14 + far + h / 2) - h / 2)
@@ -214,7 +212,7 @@ def label_corner(pygame, scene, view, px, node, size, inset, rows=None, numbers=
         sides = (right, left) if out[0] > 0 else (left, right)
         corners = [(min(max(side, 0), view.size - w), top) for side in sides]
     labels = [pygame.FRect(corner, size) for corner in corners]
-    within = pygame.FRect(0, top_row, view.size, bottom_row - top_row)
+    within = pygame.FRect(0, rows[0], view.size, rows[1] - rows[0])
     clear = [label for label in labels if not label.colliderect(inset)]
     free = [label for label in clear if within.contains(label)
             and label.inflate(2 * (h // 5), 2 * (h // 5)).collidelist(numbers) < 0]

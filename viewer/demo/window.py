@@ -69,8 +69,7 @@ class LiveWindow(live.LiveDemo):
             keys.get(event.key, lambda: None)()
 
     def draw(self):
-        """The frame the files show (or the Newton iterate), the status under it, the key hints at
-        the bottom, and the chalk's strip (self.reserve) or the Newton inset between."""
+        """The frame (or Newton iterate), the status under it, the key hints, the strip or inset."""
         run, pg, it = self.run, self.pygame, self.run.iterate
         self.view.follow(diagnostics.centre_of_mass(self.scene, run.shown_x)[None])
         forces = self.newton_per_metre if it is None else None
@@ -175,18 +174,14 @@ def window_size(size, pygame):
     return draw.RESOLUTION if size is None else int(size)
 
 
-def check_flags(speed, size):
-    """--speed (default 1), finite and > 0; --size, whole pixels in [MIN_SIZE, MAX_SIZE]."""
+def run_window(plan, speed, size, signals, clock=None, log=None):
+    """`python simulator.py --window` (ParameterError: a bad --speed, --size): the demo until
+    closed, with --out its files, ended as command.run.end ends a run; exit code 0, 1 (a failed
+    step or write), 130, 143."""
     speed = 1.0 if speed is None else utils.check_positive("speed", speed)
     if size is not None and utils.check_whole("size", size, MIN_SIZE) > MAX_SIZE:
         raise utils.ParameterError("size", f"size must be at most {MAX_SIZE} px, got {size:g}")
-    return speed
-
-
-def run_window(plan, speed, size, signals, clock=None, log=None):
-    """`python simulator.py --window`: the demo until closed (with --out, its files), ended as a
-    run without it ends (command.run.end); exit code 0, 1 (a failed step or write), 130, 143."""
-    speed, log, scene = check_flags(speed, size), log or sys.stderr, plan.scenes[0]
+    log, scene = log or sys.stderr, plan.scenes[0]
     with signals.held():                        # SDL starts after the run's signal handlers
         pygame = open_display()                 # before anything is written
     try:
