@@ -1,5 +1,4 @@
-"""The live demo without its window (no pygame): the run a step or a Newton iteration at a time,
-paced to the wall clock, what the keys do, its files (--out) and warnings."""
+"""The live demo without its window (no pygame): the run, its pacing, keys, files and warnings."""
 import sys
 import time
 from collections import deque
@@ -204,8 +203,7 @@ class LiveDemo:
                             f"{record.report.residual:.3g} <= tol = {self.scene.tol:g} m/s")
 
     def _take(self, action):
-        """Run `action` (run.step, run.newton_iteration) unless stopped; note the warnings of the
-        step it completes (progress.step_warnings), hand it to the files; returns its record."""
+        """`action` unless stopped; the step it completes to the warnings and files; its record."""
         try:
             record = None if self.stopped() else action()
         except time_integrator.SimulationError as err:

@@ -1,8 +1,7 @@
-"""The Newton view (key n): an iterate of Algorithm 4, x^i under x^i + alpha p, the direction of p,
-and an inset magnifying one node and the slope together (p, alpha_CCD, alpha at true size)."""
+"""The Newton view (key n), as docs/live-demo.md shows it: an iterate of Algorithm 4, its inset."""
 import math
 import re
-from dataclasses import dataclass
+from collections import namedtuple
 
 import numpy as np
 from scipy import ndimage, spatial
@@ -24,18 +23,10 @@ GROUND = (219, 219, 255)  # the inset's tint below the slope
 BREAKS = ("   ", r"(?<=;) ", r" (?=\()", r"(?<=,) ", " ")
 
 
-@dataclass(frozen=True)
-class Inset:
-    """One node of the iterate and the slope, magnified together; pixels are the inset's own."""
-    rect: tuple             # (left, top, width, height) in the window, px
-    node: int               # the node magnified,
-    why: str                # ... as it sets alpha_CCD, or is the nearest to the slope
-    view: draw.View         # world to the inset's pixels, `magnification` times the window's scale
-    magnification: float
-    points: dict            # name -> (2,) the node's x^i, x^i + p, ... (Algorithm 4), m
-    markers: dict           # name -> (2,) the same in the inset's pixels
-    slope: tuple            # the slope's ends as drawn, in the inset's pixels (None: not drawn)
-    distance: float         # the node's distance to the slope at x^i, m (inf without a slope)
+# The node magnified with the slope: its rect in the window (px), why it was chosen, the view to the
+# inset's pixels, points (x^i, x^i + p, ..., m) and markers (the same in px), the slope's ends (px;
+# None: not framed) and the node's distance to the slope (m; inf without a barrier).
+Inset = namedtuple("Inset", "rect node why view magnification points markers slope distance")
 
 
 def ground(scene):
@@ -44,8 +35,7 @@ def ground(scene):
 
 
 def focus(scene, it):
-    """(k, why, d, framed): the node setting alpha_CCD (Algorithm 4, line 1) where it is < 1, else
-    the nearest the slope (or the lowest); why; d = n^T (x_k - o); d <= SLOPE_REACH |p_k|."""
+    """(k, why, d = n^T (x_k - o), framed): k sets alpha_CCD if it is < 1, else is the nearest."""
     if "barrier" not in scene.terms:
         return int(np.argmin(it.x[:, 1])), "the lowest", math.inf, False
     d = BarrierEnergy.distances(it.x, scene.n, scene.o)
@@ -57,9 +47,8 @@ def focus(scene, it):
 
 
 def newton_inset(scene, it, view, rect, header=0, footer=0, whole=False):
-    """The Inset in `rect` of the focus node: x^i, x^i + p and the slope's foot (if framed) fill
-    INSET_FILL of the rows between `header` and `footer`, magnified by ZOOMS times a power of ten;
-    its height cut to what they need (at least half its width) unless `whole`."""
+    """The Inset in `rect`: x^i, x^i + p (and the slope's foot) fill INSET_FILL of the rows between
+    `header` and `footer`; its height cut to what they need (>= half its width) unless `whole`."""
     k, why, d, with_slope = focus(scene, it)
     x, p = it.x[k], it.p[k]
     points = {"x^i": x, "x^i + p": x + p, "x^i + alpha_CCD p": x + it.alpha_ccd * p,
@@ -104,8 +93,7 @@ def iterate_lines(run, scene):
 
 
 def draw_iterate(pygame, surface, scene, it, view):
-    """x^i in grey under x^i + alpha p in blue; along p an arrow HINT of the window long (at most a
-    node spacing) at each node where |p_k| >= HINT_FLOOR max |p|: p is too short to see."""
+    """x^i grey under x^i + alpha p blue; the direction of p (too short to see) at each node."""
     reach = min(HINT * view.size, draw.spacing(scene) * view.scale)         # px
     draw.draw_square(pygame, surface, scene, it.x, view, draw.GREY, nodes=False)
     draw.draw_square(pygame, surface, scene, it.x_next, view)
@@ -120,8 +108,7 @@ def draw_iterate(pygame, surface, scene, it, view):
 
 
 def draw_inset(pygame, surface, scene, it, inset, fonts, notes):
-    """The inset on its `surface`: the slope tinted below, x^i (grey), x^i + alpha p (blue), p (red)
-    from x^i, a black ring at x^i + alpha_CCD p, a green dot at x^i + alpha p; title, notes, bar."""
+    """The inset on its `surface`, as docs/live-demo.md lists it; title, notes, scale bar."""
     view, m = inset.view, inset.markers
     width, height = surface.get_size()
     surface.fill((255, 255, 255))
@@ -155,8 +142,7 @@ def draw_inset(pygame, surface, scene, it, inset, fonts, notes):
 
 
 def place_inset(pygame, surface, scene, it, view, fonts, top, bottom):
-    """Draw the inset between rows `top` and `bottom` beside the body (else over it), covering a
-    number of the slope whole or ending above it; circle and label its node. The Inset, or None."""
+    """The Inset drawn between rows `top` and `bottom`, its node circled and labelled; or None."""
     size, px = view.size, view(it.x)
     room_left, room_right = px[:, 0].min(), size - px[:, 0].max()
     width = int(min(INSET * size, max(max(room_left, room_right) - 24, MIN_INSET * size)))
@@ -208,14 +194,12 @@ def phrase_rows(font, text, width, breaks=BREAKS):
     return [part for row in rows for part in phrase_rows(font, row, width, breaks[1:])]
 
 
-def label_corner(pygame, scene, view, px, node, size, inset, rows=None, numbers=()):
-    """The corner of the label, `size` (w, h) px, of the node at `node` (`px`: all nodes): off it
-    diagonally away from the body, else on its other sides, a row further (the chalk's: on the board
-    beside it). The first clear of the `inset`, within `rows`, h/5 off the slope's `numbers` and off
-    the body's hull; else the first clear of all but the body; else the first clear of the inset."""
+def label_corner(pygame, scene, view, px, node, size, inset, rows, numbers):
+    """The corner of the label, `size` (w, h) px, of the node at `node` (`px`: all nodes), off it
+    away from the body (the chalk's: on the board): the first clear of the `inset`, within `rows`,
+    of the slope's `numbers` and the body's hull; else the first clear of fewer of them."""
     w, h = size
     out = np.where(node >= px.mean(axis=0), 1, -1)
-    top_row, bottom_row = (0, view.height) if rows is None else rows
     if scene.hand is None:
         turns = [(out[0], out[1]), (out[0], -out[1]), (-out[0], out[1]), (-out[0], -out[1])]
         corners = [(node[0] + side * (6 + w / 2) - w / 2, node[1] + up * (14 + far + h / 2) - h / 2)
@@ -228,7 +212,7 @@ def label_corner(pygame, scene, view, px, node, size, inset, rows=None, numbers=
         sides = (right, left) if out[0] > 0 else (left, right)
         corners = [(min(max(side, 0), view.size - w), top) for side in sides]
     labels = [pygame.FRect(corner, size) for corner in corners]
-    within = pygame.FRect(0, top_row, view.size, bottom_row - top_row)
+    within = pygame.FRect(0, rows[0], view.size, rows[1] - rows[0])
     clear = [label for label in labels if not label.colliderect(inset)]
     free = [label for label in clear if within.contains(label)
             and label.inflate(2 * (h // 5), 2 * (h // 5)).collidelist(numbers) < 0]

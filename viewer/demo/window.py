@@ -1,6 +1,4 @@
-"""The live window, `python simulator.py --window` (docs/live-demo.md): its loop (keys, status,
-drawing), opening the display, the entry point. The keys' effects, pacing and files: demo.live."""
-import contextlib
+"""The live window, `python simulator.py --window` (docs/live-demo.md): its loop, its display."""
 import math
 import os
 import sys
@@ -71,8 +69,7 @@ class LiveWindow(live.LiveDemo):
             keys.get(event.key, lambda: None)()
 
     def draw(self):
-        """The frame the files show (or the Newton iterate), the status under its legends, the key
-        hints at the bottom, and the chalk's strip (self.reserve) or the Newton inset between."""
+        """The frame (or Newton iterate), the status under it, the key hints, the strip or inset."""
         run, pg, it = self.run, self.pygame, self.run.iterate
         self.view.follow(diagnostics.centre_of_mass(self.scene, run.shown_x)[None])
         forces = self.newton_per_metre if it is None else None
@@ -143,32 +140,24 @@ def display_problem(driver, requested):
     return None
 
 
-@contextlib.contextmanager
-def c_stderr_hidden():
-    """Hide what SDL's C code writes to fd 2 while the display opens: a failure is one line."""
-    sys.stderr.flush()
-    saved = os.dup(2)
-    try:
-        with open(os.devnull, "w") as null:
-            os.dup2(null.fileno(), 2)
-        yield
-    finally:
-        os.dup2(saved, 2)
-        os.close(saved)
-
-
 def open_display():
     """pygame with its display initialized on a real screen; ValueError when there is none."""
     requested = os.environ.get("SDL_VIDEODRIVER")
     os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
     os.environ.setdefault("SDL_VIDEO_CENTERED", "1")
     import pygame
+    sys.stderr.flush()
+    saved = os.dup(2)           # what SDL's C code writes to fd 2 is hidden: a failure is one line
     try:
-        with c_stderr_hidden():
-            pygame.display.init()
+        with open(os.devnull, "w") as null:
+            os.dup2(null.fileno(), 2)
+        pygame.display.init()
         problem = display_problem(pygame.display.get_driver(), requested)
     except pygame.error as err:
         problem = f"SDL: {err}"
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)
     if problem:
         pygame.display.quit()
         raise ValueError(f"no display to open the window on ({problem}): run on a desktop, "
@@ -185,23 +174,14 @@ def window_size(size, pygame):
     return draw.RESOLUTION if size is None else int(size)
 
 
-def check_flags(speed, size):
-    """--speed (default 1), finite and > 0; --size, whole pixels in [MIN_SIZE, MAX_SIZE]."""
-    speed = 1.0 if speed is None else speed
-    if not (math.isfinite(speed) and speed > 0.0):
-        raise utils.ParameterError("speed", f"speed must be a finite number > 0 (simulated seconds "
-                                            f"per second), got {speed:g}")
-    if size is not None and not (math.isfinite(size) and float(size).is_integer()
-                                 and MIN_SIZE <= size <= MAX_SIZE):
-        raise utils.ParameterError("size", f"size must be a whole number of pixels in [{MIN_SIZE}, "
-                                           f"{MAX_SIZE}] (the window's side), got {size:g}")
-    return speed
-
-
 def run_window(plan, speed, size, signals, clock=None, log=None):
-    """`python simulator.py --window`: the demo until closed (with --out, its files), ended as a
-    run without it ends (command.run.end); exit code 0, 1 (a failed step or write), 130, 143."""
-    speed, log, scene = check_flags(speed, size), log or sys.stderr, plan.scenes[0]
+    """`python simulator.py --window` (ParameterError: a bad --speed, --size): the demo until
+    closed, with --out its files, ended as command.run.end ends a run; exit code 0, 1 (a failed
+    step or write), 130, 143."""
+    speed = 1.0 if speed is None else utils.check_positive("speed", speed)
+    if size is not None and utils.check_whole("size", size, MIN_SIZE) > MAX_SIZE:
+        raise utils.ParameterError("size", f"size must be at most {MAX_SIZE} px, got {size:g}")
+    log, scene = log or sys.stderr, plan.scenes[0]
     with signals.held():                        # SDL starts after the run's signal handlers
         pygame = open_display()                 # before anything is written
     try:
@@ -210,10 +190,7 @@ def run_window(plan, speed, size, signals, clock=None, log=None):
         try:
             orchestration.warn(plan, log)
             screen = pygame.display.set_mode((window_size(size, pygame),) * 2)
-            what = (f"chalk, grip {scene.hand.k_hand:g} N/m" if scene.hand is not None
-                    else f"tablecloth, U = {scene.surface.pull_speed:g} m/s" if scene.surface
-                    else f"n_seg = {scene.params['n_seg']}")
-            pygame.display.set_caption(f"simulator.py: mu = {scene.mu:g}, {what}")
+            pygame.display.set_caption(f"simulator.py: {plan.labels[0]}")
             output = live.Files(plan, folder, log) if folder is not None else None
             window = LiveWindow(pygame, screen, scene, plan.steps[0], speed, output, clock, log,
                                 plan.labels[0], plan.forces)

@@ -202,7 +202,8 @@ def test_the_chalks_inset_magnifies_its_tip_against_the_board(monkeypatch, steps
     assert inset.slope is not None or out_of_frame in notes
     px = w.view(it.x)
     size = w.fonts[1].size(f"node {k}")
-    left, top = newton_view.label_corner(pygame, scene, w.view, px, px[k], size, inset.rect)
+    left, top = newton_view.label_corner(pygame, scene, w.view, px, px[k], size, inset.rect,
+                                         (0, w.view.height), ())
     right, low = left + size[0], top + size[1]
     assert low < w.view(scene.o)[1]                                 # above the board's line
     assert not ((px[:, 0] > left) & (px[:, 0] < right) & (px[:, 1] > top) & (px[:, 1] < low)).any()
