@@ -1,5 +1,5 @@
 """One frame, drawn by pygame off-screen in the lecture's style: the slope with marks every 0.5 m,
-the bodies, the contact forces as arrows, one colour per run; and PNG bytes (encode_png)."""
+the bodies, the contact forces as arrows, one colour per run; and PNG bytes (png_data)."""
 import io
 import math
 import os
@@ -104,9 +104,8 @@ def slope_ends(scene, view):
 
 
 def draw_slope(pygame, surface, scene, view, color=BLUE, font=None, clear=0.0):
-    """The slope's line, a tick every MARK_SPACING x view.unit of arc length from o, and with `font`
-    a number every whole unit where it fits whole, `clear` x view.unit m under the line at least;
-    returns the lowest row drawn (None: no slope)."""
+    """The slope's line, a tick every MARK_SPACING x view.unit, with `font` a number every whole
+    unit, `clear` x view.unit m under the line at least; returns the lowest row drawn."""
     if scene.n is None:
         return None
     a, b = slope_ends(scene, view)
@@ -136,10 +135,8 @@ def draw_slope(pygame, surface, scene, view, color=BLUE, font=None, clear=0.0):
 
 
 def draw_cloths(pygame, surface, cloths, t, view):
-    """Each run's cloth (scene.surface) as a band under the table, one under the other: from its
-    trailing edge, L behind the dish's rear at the start and pulled up to it (the dish on the cloth
-    throughout the pull), on past the view; striped (in the run's colour in a comparison), the
-    stripes moved by surface.offset(t)."""
+    """Each run's cloth as a band under the table, one under the other, from its trailing edge
+    (L behind the dish's rear at t = 0) on, its stripes moved by surface.offset(t)."""
     for i, run in enumerate(cloths):
         scene, cloth = run["scene"], run["scene"].surface
         tangent, s_lo, s_hi = slope_span(scene, view)
@@ -199,8 +196,7 @@ def newton_per_metre(scene):
 
 
 def arrow_heads(tail, head, length):
-    """(K, 2, 2): the back corners of the heads of arrows tail to head (K, 2) px, `length` behind
-    the tip, half that to either side (an arrow of no length: its tip)."""
+    """(K, 2, 2): the back corners of arrowheads tail to head (K, 2) px, `length` long and wide."""
     back = (tail - head) / np.maximum(np.hypot(*(tail - head).T), 1e-9)[:, None]
     side = np.stack([-back[:, 1], back[:, 0]], axis=1)
     corner = head + length * back
@@ -238,8 +234,7 @@ def draw_hand(pygame, surface, scene, x, t, view):
 
 
 def draw_legend(pygame, surface, font, entries, top):
-    """(colour, text) rows from `top` down, a line apart, each swatch as tall as the capitals and
-    level with them, twice as wide; returns the next free row."""
+    """(colour, text) rows from `top` down, swatches level with capitals; returns the next row."""
     line, baseline, cap = font.get_linesize(), font.get_ascent(), cap_height(font)
     for color, text in entries:
         pygame.draw.rect(surface, color, (12, top + baseline - cap, 2 * cap, cap))
@@ -275,9 +270,8 @@ def fonts(pygame, height=RESOLUTION):
 
 
 def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None, reserve=(0, 0)):
-    """One frame of `runs` (dicts: scene, x, label, color; normal, friction (N, 2); marks) and its
-    legends; the chalk's strip clear of `reserve` (rows under the legends, at the bottom; None: no
-    strip). Returns the frame and the row under its text."""
+    """One frame of `runs` (frame_run's dicts, with marks), the chalk's strip clear of `reserve`
+    (rows under the legends, at the bottom; None: no strip); returns it, the row under its text."""
     surface = pygame.Surface((view.size, view.size))
     surface.fill(WHITE)
     font, small = fonts
@@ -336,9 +330,13 @@ PALETTE = np.array([(round(r * 255 / 7), round(g * 255 / 7), round(b * 255 / 3))
                     for r in range(8) for g in range(8) for b in range(4)], np.uint8)
 
 
-def encode_png(pygame, surface):
-    """The surface as an 8-bit palette PNG (5 ms, not pygame's 20-25): each pixel its PALETTE index,
-    each row after a 0 byte (no filter), one zlib stream at level 1; chunks as PNG's section 5."""
+def png_data(pygame, surface, exact=False):
+    """PNG bytes: with `exact` (plots, summary) pygame's 24-bit colour; else (frames, 5 ms, not
+    pygame's 20-25) an 8-bit PNG of PALETTE indices, rows unfiltered, one zlib stream at level 1."""
+    if exact:
+        buffer = io.BytesIO()
+        pygame.image.save(surface, buffer, "png")
+        return buffer.getvalue()
     rgb = pygame.surfarray.pixels3d(surface)            # a view, [x, y, channel]
     width, height = rgb.shape[:2]
     rows = np.zeros((height, 1 + width), np.uint8)
@@ -351,12 +349,3 @@ def encode_png(pygame, surface):
     header = struct.pack(">IIBBBBB", width, height, 8, 3, 0, 0, 0)     # 8 bits, palette
     return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"PLTE", PALETTE.tobytes())
             + chunk(b"IDAT", zlib.compress(rows.tobytes(), 1)) + chunk(b"IEND", b""))
-
-
-def png_data(pygame, surface, exact=False):
-    """PNG bytes: a frame's by encode_png; with `exact` (plots, summary) pygame's 24-bit colour."""
-    if not exact:
-        return encode_png(pygame, surface)
-    buffer = io.BytesIO()
-    pygame.image.save(surface, buffer, "png")
-    return buffer.getvalue()
