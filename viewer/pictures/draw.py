@@ -60,7 +60,7 @@ class View:
     def __init__(self, scale=SCALE, size=RESOLUTION, height=None, unit=1.0):
         self.scale, self.size, self.center, self.unit = scale, size, np.zeros(2), unit
         self.height = size if height is None else height
-        self.arrow_factor = 1.0         # see arrow_factor
+        self.arrow_factor = 1.0         # see draw_forces
 
     @classmethod
     def of(cls, scene, size=RESOLUTION):
@@ -203,25 +203,33 @@ def arrow_heads(tail, head, length):
     return np.stack([corner + 0.5 * length * side, corner - 0.5 * length * side], axis=1)
 
 
-def arrow_factor(runs, newton_per_metre, view):
-    """The arrows' scale in newton_per_metre: 1, or the least of 2, 5, 10, ... keeping every arrow
-    within ARROW_FIT x view.unit m; kept in view.arrow_factor, it never refines (docs/output.md)."""
-    longest = max(max(np.hypot(*run["normal"].T).max(initial=0.0),
-                      friction_zoom(run["scene"]) * np.hypot(*run["friction"].T).max(initial=0.0))
-                  for run in runs) / newton_per_metre
-    needed = longest / (ARROW_FIT * view.unit)
+def draw_forces(pygame, surface, runs, view, newton_per_metre):
+    """The runs' contact forces as arrows, 1 m per factor x newton_per_metre: the least factor of
+    1, 2, 5, 10, ... keeping every arrow within ARROW_FIT x view.unit m, kept in view.arrow_factor
+    (it never refines: docs/output.md); returns the arrows' legend rows."""
+    arrows = []
+    for run in runs:
+        friction = friction_zoom(run["scene"]) * run["friction"]
+        arrows += [(run["x"], run["normal"], NORMAL_COLOR), (run["x"], friction, FRICTION_COLOR)]
+    longest = max(np.hypot(*forces.T).max(initial=0.0) for _, forces, _ in arrows)
+    needed = longest / newton_per_metre / (ARROW_FIT * view.unit)
     if needed > view.arrow_factor:
         view.arrow_factor = nice_number(needed, up=True)
-    return view.arrow_factor
-
-
-def draw_arrows(pygame, surface, view, x, forces, newton_per_metre, color):
-    """An arrow from each node whose force is not zero, 1 m (in the world) per newton_per_metre."""
-    on = np.hypot(*forces.T) > 0.0
-    tail, head = view(x[on]), view(x[on] + forces[on] / newton_per_metre)
-    for t, h, (c1, c2) in zip(tail.tolist(), head.tolist(), arrow_heads(tail, head, 8).tolist()):
-        pygame.draw.line(surface, color, t, h, 2)
-        pygame.draw.polygon(surface, color, [h, c1, c2])
+    newton_per_metre *= view.arrow_factor
+    for x, forces, color in arrows:
+        on = np.hypot(*forces.T) > 0.0
+        tail, head = view(x[on]), view(x[on] + forces[on] / newton_per_metre)
+        heads = arrow_heads(tail, head, 8).tolist()
+        for t, h, (c1, c2) in zip(tail.tolist(), head.tolist(), heads):
+            pygame.draw.line(surface, color, t, h, 2)
+            pygame.draw.polygon(surface, color, [h, c1, c2])
+    scene, metres = runs[0]["scene"], ARROW_PER_WEIGHT * view.unit
+    words = reference_force(scene)[1]
+    words = words if view.arrow_factor == 1 else f"{view.arrow_factor:g} x {words}"
+    z = friction_zoom(scene)
+    friction = f"friction force, drawn {z:g}x longer" if z != 1 else "friction force"
+    return [(NORMAL_COLOR, "normal force lambda_k n"), (FRICTION_COLOR, friction),
+            (WHITE, f"{metres:g} m of arrow = {newton_per_metre * metres:.5g} N ({words})")]
 
 
 def draw_hand(pygame, surface, scene, x, t, view):
@@ -287,20 +295,14 @@ def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None, reserve=(0, 
         if run["scene"].hand is not None:
             draw_hand(pygame, surface, run["scene"], run["x"], t, view)
     if newton_per_metre is not None:
-        factor = arrow_factor(runs, newton_per_metre, view)
-        newton_per_metre *= factor                  # this frame's scale, as its legend says
-        for run in runs:
-            zoomed = friction_zoom(run["scene"]) * run["friction"]
-            for forces, color in ((run["normal"], NORMAL_COLOR), (zoomed, FRICTION_COLOR)):
-                draw_arrows(pygame, surface, view, run["x"], forces, newton_per_metre, color)
+        arrows = draw_forces(pygame, surface, runs, view, newton_per_metre)
     title = f"t = {t:.2f} s" + (f"   {runs[0]['label']}" if len(runs) == 1 else "")
     surface.blit(font.render(title, True, BLACK), (12, 10))
     top = 10 + font.get_linesize()
     if len(runs) > 1:
         top = draw_legend(pygame, surface, font, [(r["color"], r["label"]) for r in runs], top)
     if newton_per_metre is not None:
-        rows = arrows_legend(scene, view, factor, newton_per_metre)
-        top = draw_legend(pygame, surface, small, rows, top + 4)
+        top = draw_legend(pygame, surface, small, arrows, top + 4)
     if cloths:
         words = "the cloth" if len(cloths) == 1 else "the cloths, top to bottom as the runs"
         top = draw_legend(pygame, surface, small, [(CLOTH_STRIPE, words)], top + 4)
@@ -311,18 +313,6 @@ def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None, reserve=(0, 
         rows = (top + reserve[0], view.height - reserve[1])
         tip_marks.place_strip(pygame, surface, chalks, t, view, small, rows, below)
     return surface, top
-
-
-def arrows_legend(scene, view, factor, newton_per_metre):
-    """The arrows' legend rows: their colours, and the scale drawn, `factor` x reference_force."""
-    metres = ARROW_PER_WEIGHT * view.unit
-    words = reference_force(scene)[1]
-    words = words if factor == 1 else f"{factor:g} x {words}"
-    newtons = newton_per_metre * metres
-    z = friction_zoom(scene)
-    friction = f"friction force, drawn {z:g}x longer" if z != 1 else "friction force"
-    return [(NORMAL_COLOR, "normal force lambda_k n"), (FRICTION_COLOR, friction),
-            (WHITE, f"{metres:g} m of arrow = {newtons:.5g} N ({words})")]
 
 
 # 3-3-2 bits of colour, index r << 5 | g << 2 | b: every colour named here is one of them
