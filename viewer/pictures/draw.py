@@ -71,10 +71,10 @@ class View:
             view.center = np.array([float(scene.x0[:, 0].mean()), 0.25 * view.size / view.scale])
         return view
 
-    def follow(self, points, margin=1.2, room=1.5):
-        """Keep `points` (k, 2) `room` m from the border: pan once their middle is `margin` m off
+    def follow(self, points):
+        """Keep `points` (k, 2) 1.5 units from the border: pan once their middle is 1.2 units off
         the centre, zoom out (never in) when they spread too far."""
-        margin, room = margin * self.unit, room * self.unit
+        margin, room = 1.2 * self.unit, 1.5 * self.unit
         lo, hi = points.min(axis=0), points.max(axis=0)
         self.scale = min(self.scale, self.size / (float((hi - lo).max()) + 2 * room))
         offset = 0.5 * (lo + hi) - self.center

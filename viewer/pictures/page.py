@@ -1,6 +1,5 @@
-"""index.html (page.html filled in): plays the run's PNG frames from the file system, with each
-run's figures of the frame's step and of the whole run beside it, written into the page as JSON (a
-page opened from a file may show images, not read files), and plots.png with a time cursor below."""
+"""index.html (page.html filled in): plays the PNG frames beside each run's figures (JSON in the
+page: a page opened from a file may show images, not read files), plots.png with a cursor below."""
 import html
 import json
 import math
