@@ -1,5 +1,5 @@
 """One frame, drawn by pygame off-screen in the lecture's style: the slope with marks every 0.5 m,
-the bodies, the contact forces as arrows, one colour per run; and PNG bytes (encode_png)."""
+the bodies, the contact forces as arrows, one colour per run; and PNG bytes (png_data)."""
 import io
 import math
 import os
@@ -60,7 +60,7 @@ class View:
     def __init__(self, scale=SCALE, size=RESOLUTION, height=None, unit=1.0):
         self.scale, self.size, self.center, self.unit = scale, size, np.zeros(2), unit
         self.height = size if height is None else height
-        self.arrow_factor = 1.0         # see arrow_factor
+        self.arrow_factor = 1.0         # see draw_forces
 
     @classmethod
     def of(cls, scene, size=RESOLUTION):
@@ -71,10 +71,10 @@ class View:
             view.center = np.array([float(scene.x0[:, 0].mean()), 0.25 * view.size / view.scale])
         return view
 
-    def follow(self, points, margin=1.2, room=1.5):
-        """Keep `points` (k, 2) `room` m from the border: pan once their middle is `margin` m off
+    def follow(self, points):
+        """Keep `points` (k, 2) 1.5 units from the border: pan once their middle is 1.2 units off
         the centre, zoom out (never in) when they spread too far."""
-        margin, room = margin * self.unit, room * self.unit
+        margin, room = 1.2 * self.unit, 1.5 * self.unit
         lo, hi = points.min(axis=0), points.max(axis=0)
         self.scale = min(self.scale, self.size / (float((hi - lo).max()) + 2 * room))
         offset = 0.5 * (lo + hi) - self.center
@@ -104,9 +104,8 @@ def slope_ends(scene, view):
 
 
 def draw_slope(pygame, surface, scene, view, color=BLUE, font=None, clear=0.0):
-    """The slope's line, a tick every MARK_SPACING x view.unit of arc length from o, and with `font`
-    a number every whole unit where it fits whole, `clear` x view.unit m under the line at least;
-    returns the lowest row drawn (None: no slope)."""
+    """The slope's line, a tick every MARK_SPACING x view.unit, with `font` a number every whole
+    unit, `clear` x view.unit m under the line at least; returns the lowest row drawn."""
     if scene.n is None:
         return None
     a, b = slope_ends(scene, view)
@@ -136,10 +135,8 @@ def draw_slope(pygame, surface, scene, view, color=BLUE, font=None, clear=0.0):
 
 
 def draw_cloths(pygame, surface, cloths, t, view):
-    """Each run's cloth (scene.surface) as a band under the table, one under the other: from its
-    trailing edge, L behind the dish's rear at the start and pulled up to it (the dish on the cloth
-    throughout the pull), on past the view; striped (in the run's colour in a comparison), the
-    stripes moved by surface.offset(t)."""
+    """Each run's cloth as a band under the table, one under the other, from its trailing edge
+    (L behind the dish's rear at t = 0) on, its stripes moved by surface.offset(t)."""
     for i, run in enumerate(cloths):
         scene, cloth = run["scene"], run["scene"].surface
         tangent, s_lo, s_hi = slope_span(scene, view)
@@ -199,33 +196,40 @@ def newton_per_metre(scene):
 
 
 def arrow_heads(tail, head, length):
-    """(K, 2, 2): the back corners of the heads of arrows tail to head (K, 2) px, `length` behind
-    the tip, half that to either side (an arrow of no length: its tip)."""
+    """(K, 2, 2): the back corners of arrowheads tail to head (K, 2) px, `length` long and wide."""
     back = (tail - head) / np.maximum(np.hypot(*(tail - head).T), 1e-9)[:, None]
     side = np.stack([-back[:, 1], back[:, 0]], axis=1)
     corner = head + length * back
     return np.stack([corner + 0.5 * length * side, corner - 0.5 * length * side], axis=1)
 
 
-def arrow_factor(runs, newton_per_metre, view):
-    """The arrows' scale in newton_per_metre: 1, or the least of 2, 5, 10, ... keeping every arrow
-    within ARROW_FIT x view.unit m; kept in view.arrow_factor, it never refines (docs/output.md)."""
-    longest = max(max(np.hypot(*run["normal"].T).max(initial=0.0),
-                      friction_zoom(run["scene"]) * np.hypot(*run["friction"].T).max(initial=0.0))
-                  for run in runs) / newton_per_metre
-    needed = longest / (ARROW_FIT * view.unit)
+def draw_forces(pygame, surface, runs, view, newton_per_metre):
+    """The runs' contact forces as arrows, 1 m per factor x newton_per_metre: the least factor of
+    1, 2, 5, 10, ... keeping every arrow within ARROW_FIT x view.unit m, kept in view.arrow_factor
+    (it never refines: docs/output.md); returns the arrows' legend rows."""
+    arrows = []
+    for run in runs:
+        friction = friction_zoom(run["scene"]) * run["friction"]
+        arrows += [(run["x"], run["normal"], NORMAL_COLOR), (run["x"], friction, FRICTION_COLOR)]
+    longest = max(np.hypot(*forces.T).max(initial=0.0) for _, forces, _ in arrows)
+    needed = longest / newton_per_metre / (ARROW_FIT * view.unit)
     if needed > view.arrow_factor:
         view.arrow_factor = nice_number(needed, up=True)
-    return view.arrow_factor
-
-
-def draw_arrows(pygame, surface, view, x, forces, newton_per_metre, color):
-    """An arrow from each node whose force is not zero, 1 m (in the world) per newton_per_metre."""
-    on = np.hypot(*forces.T) > 0.0
-    tail, head = view(x[on]), view(x[on] + forces[on] / newton_per_metre)
-    for t, h, (c1, c2) in zip(tail.tolist(), head.tolist(), arrow_heads(tail, head, 8).tolist()):
-        pygame.draw.line(surface, color, t, h, 2)
-        pygame.draw.polygon(surface, color, [h, c1, c2])
+    newton_per_metre *= view.arrow_factor
+    for x, forces, color in arrows:
+        on = np.hypot(*forces.T) > 0.0
+        tail, head = view(x[on]), view(x[on] + forces[on] / newton_per_metre)
+        heads = arrow_heads(tail, head, 8).tolist()
+        for t, h, (c1, c2) in zip(tail.tolist(), head.tolist(), heads):
+            pygame.draw.line(surface, color, t, h, 2)
+            pygame.draw.polygon(surface, color, [h, c1, c2])
+    scene, metres = runs[0]["scene"], ARROW_PER_WEIGHT * view.unit
+    words = reference_force(scene)[1]
+    words = words if view.arrow_factor == 1 else f"{view.arrow_factor:g} x {words}"
+    z = friction_zoom(scene)
+    friction = f"friction force, drawn {z:g}x longer" if z != 1 else "friction force"
+    return [(NORMAL_COLOR, "normal force lambda_k n"), (FRICTION_COLOR, friction),
+            (WHITE, f"{metres:g} m of arrow = {newton_per_metre * metres:.5g} N ({words})")]
 
 
 def draw_hand(pygame, surface, scene, x, t, view):
@@ -238,8 +242,7 @@ def draw_hand(pygame, surface, scene, x, t, view):
 
 
 def draw_legend(pygame, surface, font, entries, top):
-    """(colour, text) rows from `top` down, a line apart, each swatch as tall as the capitals and
-    level with them, twice as wide; returns the next free row."""
+    """(colour, text) rows from `top` down, swatches level with capitals; returns the next row."""
     line, baseline, cap = font.get_linesize(), font.get_ascent(), cap_height(font)
     for color, text in entries:
         pygame.draw.rect(surface, color, (12, top + baseline - cap, 2 * cap, cap))
@@ -275,9 +278,8 @@ def fonts(pygame, height=RESOLUTION):
 
 
 def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None, reserve=(0, 0)):
-    """One frame of `runs` (dicts: scene, x, label, color; normal, friction (N, 2); marks) and its
-    legends; the chalk's strip clear of `reserve` (rows under the legends, at the bottom; None: no
-    strip). Returns the frame and the row under its text."""
+    """One frame of `runs` (frame_run's dicts, with marks), the chalk's strip clear of `reserve`
+    (rows under the legends, at the bottom; None: no strip); returns it, the row under its text."""
     surface = pygame.Surface((view.size, view.size))
     surface.fill(WHITE)
     font, small = fonts
@@ -293,20 +295,14 @@ def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None, reserve=(0, 
         if run["scene"].hand is not None:
             draw_hand(pygame, surface, run["scene"], run["x"], t, view)
     if newton_per_metre is not None:
-        factor = arrow_factor(runs, newton_per_metre, view)
-        newton_per_metre *= factor                  # this frame's scale, as its legend says
-        for run in runs:
-            zoomed = friction_zoom(run["scene"]) * run["friction"]
-            for forces, color in ((run["normal"], NORMAL_COLOR), (zoomed, FRICTION_COLOR)):
-                draw_arrows(pygame, surface, view, run["x"], forces, newton_per_metre, color)
+        arrows = draw_forces(pygame, surface, runs, view, newton_per_metre)
     title = f"t = {t:.2f} s" + (f"   {runs[0]['label']}" if len(runs) == 1 else "")
     surface.blit(font.render(title, True, BLACK), (12, 10))
     top = 10 + font.get_linesize()
     if len(runs) > 1:
         top = draw_legend(pygame, surface, font, [(r["color"], r["label"]) for r in runs], top)
     if newton_per_metre is not None:
-        rows = arrows_legend(scene, view, factor, newton_per_metre)
-        top = draw_legend(pygame, surface, small, rows, top + 4)
+        top = draw_legend(pygame, surface, small, arrows, top + 4)
     if cloths:
         words = "the cloth" if len(cloths) == 1 else "the cloths, top to bottom as the runs"
         top = draw_legend(pygame, surface, small, [(CLOTH_STRIPE, words)], top + 4)
@@ -319,26 +315,18 @@ def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None, reserve=(0, 
     return surface, top
 
 
-def arrows_legend(scene, view, factor, newton_per_metre):
-    """The arrows' legend rows: their colours, and the scale drawn, `factor` x reference_force."""
-    metres = ARROW_PER_WEIGHT * view.unit
-    words = reference_force(scene)[1]
-    words = words if factor == 1 else f"{factor:g} x {words}"
-    newtons = newton_per_metre * metres
-    z = friction_zoom(scene)
-    friction = f"friction force, drawn {z:g}x longer" if z != 1 else "friction force"
-    return [(NORMAL_COLOR, "normal force lambda_k n"), (FRICTION_COLOR, friction),
-            (WHITE, f"{metres:g} m of arrow = {newtons:.5g} N ({words})")]
-
-
 # 3-3-2 bits of colour, index r << 5 | g << 2 | b: every colour named here is one of them
 PALETTE = np.array([(round(r * 255 / 7), round(g * 255 / 7), round(b * 255 / 3))
                     for r in range(8) for g in range(8) for b in range(4)], np.uint8)
 
 
-def encode_png(pygame, surface):
-    """The surface as an 8-bit palette PNG (5 ms, not pygame's 20-25): each pixel its PALETTE index,
-    each row after a 0 byte (no filter), one zlib stream at level 1; chunks as PNG's section 5."""
+def png_data(pygame, surface, exact=False):
+    """PNG bytes: with `exact` (plots, summary) pygame's 24-bit colour; else (frames, 5 ms, not
+    pygame's 20-25) an 8-bit PNG of PALETTE indices, rows unfiltered, one zlib stream at level 1."""
+    if exact:
+        buffer = io.BytesIO()
+        pygame.image.save(surface, buffer, "png")
+        return buffer.getvalue()
     rgb = pygame.surfarray.pixels3d(surface)            # a view, [x, y, channel]
     width, height = rgb.shape[:2]
     rows = np.zeros((height, 1 + width), np.uint8)
@@ -351,12 +339,3 @@ def encode_png(pygame, surface):
     header = struct.pack(">IIBBBBB", width, height, 8, 3, 0, 0, 0)     # 8 bits, palette
     return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"PLTE", PALETTE.tobytes())
             + chunk(b"IDAT", zlib.compress(rows.tobytes(), 1)) + chunk(b"IEND", b""))
-
-
-def png_data(pygame, surface, exact=False):
-    """PNG bytes: a frame's by encode_png; with `exact` (plots, summary) pygame's 24-bit colour."""
-    if not exact:
-        return encode_png(pygame, surface)
-    buffer = io.BytesIO()
-    pygame.image.save(surface, buffer, "png")
-    return buffer.getvalue()

@@ -23,13 +23,11 @@ def frame_count(scenes, steps, stride):
 
 def frame_steps(tracks, stride):
     """(j, each track's step for frame j): the last step it has reached by frame j's time."""
-    scenes = [tr.scene for tr in tracks]
-    h_min = min(scene.h for scene in scenes)
+    h_min = min(tr.scene.h for tr in tracks)
     duration = max(tr.steps * tr.scene.h for tr in tracks)
-    for j in range(frame_count(scenes, [tr.steps for tr in tracks], stride)):
+    for j in range(frame_count([tr.scene for tr in tracks], [tr.steps for tr in tracks], stride)):
         t = min(j * stride * h_min, duration)
-        q = [t / scene.h for scene in scenes]
-        yield j, [round(s) if abs(s - round(s)) < 1e-6 else math.floor(s) for s in q]
+        yield j, [math.floor(t / tr.scene.h + 1e-6) for tr in tracks]
 
 
 class FrameWriter:

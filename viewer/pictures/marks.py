@@ -180,10 +180,10 @@ def draw_strip(pygame, surface, runs, strip, font):
 
 def place_strip(pygame, surface, runs, t, view, font, rows, below):
     """The strip of the runs laid out (layout) between `rows` (top, bottom) and under row `below`,
-    and a box around the board its first row magnifies; returns its Strip (None: no room)."""
+    and a box around the board its first row magnifies; none where there is no room."""
     strip = layout(runs, t, view, font, *rows, below)
     if strip is None:
-        return None
+        return
     above = strip.board / strip.scale                               # m
     under = (strip.rows[0][1] - strip.board) / strip.scale
     s_lo, s_hi = strip.board_at(0.0), strip.board_at(strip.rect[2])
@@ -191,4 +191,3 @@ def place_strip(pygame, surface, runs, t, view, font, rows, below):
                for s, d in ((s_lo, above), (s_hi, above), (s_hi, -under), (s_lo, -under))]
     pygame.draw.polygon(surface, INK, view(np.array(corners)).tolist(), 1)
     draw_strip(pygame, surface.subsurface(strip.rect), runs, strip, font)
-    return strip

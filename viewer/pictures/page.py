@@ -1,6 +1,5 @@
-"""index.html (page.html filled in): plays the run's PNG frames from the file system, with each
-run's figures of the frame's step and of the whole run beside it, written into the page as JSON (a
-page opened from a file may show images, not read files), and plots.png with a time cursor below."""
+"""index.html (page.html filled in): plays the PNG frames beside each run's figures (JSON in the
+page: a page opened from a file may show images, not read files), plots.png with a cursor below."""
 import html
 import json
 import math
@@ -40,17 +39,14 @@ def run_figures(tracks):
     if tracks[0].scene.hand is None:
         return {"rest": [track.rest_since for track in tracks]}
     counted = [stick_slip.of_track(track) for track in tracks]
-
-    def row(header, text):
-        return header, [text(r) for r in counted]
-    return {"rows": [
-        (f"the whole run's stick-slip, from t = {counted[0].start:g} s", None),
-        row("stick-slip cycles", lambda r: str(len(r.slips)) if r.driven else "-"),
-        row("mean slip (mm)", lambda r: f"{1e3 * r.length:.2f}" if r.slips else "-"),
-        row("period (ms)", lambda r: f"{1e3 * r.period:.0f}" if len(r.slips) > 1 else "-"),
-        row("tip stuck (% of the drive)", lambda r: f"{100 * r.stuck:.0f}" if r.driven else "-"),
-        row("tip first slips at t (s)",
-            lambda r: "never" if r.start_up is None else f"{r.start_up:.2f}")]}
+    cells = (("stick-slip cycles", lambda r: str(len(r.slips)) if r.driven else "-"),
+             ("mean slip (mm)", lambda r: f"{1e3 * r.length:.2f}" if r.slips else "-"),
+             ("period (ms)", lambda r: f"{1e3 * r.period:.0f}" if len(r.slips) > 1 else "-"),
+             ("tip stuck (% of the drive)", lambda r: f"{100 * r.stuck:.0f}" if r.driven else "-"),
+             ("tip first slips at t (s)",
+              lambda r: "never" if r.start_up is None else f"{r.start_up:.2f}"))
+    rows = [(f"the whole run's stick-slip, from t = {counted[0].start:g} s", None)]
+    return {"rows": rows + [(name, [text(r) for r in counted]) for name, text in cells]}
 
 
 def page_html(title, labels, frame_log, fps, axis, plot_width, note="", rest=None, rows=()):

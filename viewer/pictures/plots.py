@@ -159,9 +159,8 @@ def series(track):
 def speed_range(speeds, epsv):
     """A log axis from a decade below min(eps_v, the least speed > 0), but at most 7 decades below
     eps_v (slower is drawn on the bottom edge), up to the largest speed."""
-    positive = speeds[speeds > 1e-6 * epsv]
-    lo = min(epsv, positive.min()) if positive.size else epsv
-    hi = max(epsv, positive.max()) if positive.size else epsv
+    shown = np.append(speeds[speeds > 1e-6 * epsv], epsv)
+    lo, hi = float(shown.min()), float(shown.max())
     return 10.0 ** math.floor(math.log10(lo) - 1), 10.0 ** math.ceil(math.log10(hi))
 
 

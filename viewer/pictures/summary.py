@@ -139,8 +139,7 @@ def draw_summary(pygame, tracks, header):
     length, row = layout.scale * metres, layout.top - 26
     pygame.draw.line(surface, BLACK, (12, row + 8), (12 + length, row + 8), 3)
     text = f"{draw.length_text(metres, metres)} ({length:.3g} pixels)"
-    bar = small.render(text, True, BLACK)
-    surface.blit(bar, (20 + length, row + 1))
+    surface.blit(small.render(text, True, BLACK), (20 + length, row + 1))
     for panel in layout.panels:
         draw_panel(pygame, surface, font, small, panel, layout.width)
     return surface
