@@ -122,7 +122,7 @@ def test_a_run_of_any_length_keeps_bounded_history():
 
 
 def test_frame_png_keeps_every_drawn_colour_exactly(tmp_path):
-    """encode_png's 3-3-2 palette: the colours frames are drawn in come back exactly, any other
+    """png_data's 3-3-2 palette: the colours frames are drawn in come back exactly, any other
     colour within one palette step (36 of 255 in red and green, 85 in blue): a channel's top bits
     pick the level, so 192..223 of red all become level 6, 219."""
     import pygame
