@@ -274,8 +274,7 @@ def newton_iterates(scene, x, v, *, step_index=0):
     try:
         t = step_time(scene, step_index)        # t^{n+1}: what the scene prescribes
         targets = scene.hand.targets(t) if "hand" in scene.terms else None
-        v_s = np.zeros(2) if scene.surface is None else scene.surface.velocity(t, scene.h)
-        lagged = Lagged(x_n, x_n + scene.h * v_n, None, targets, v_s)
+        lagged = Lagged(x_n, x_n + scene.h * v_n, None, targets, scene.surface_velocity(t))
         lagged = friction_update(scene, lagged, x_n, v_n)                 # mu*lambda^n
         # Newton from x^n, as the lecture (or the chalk's predicted start)
         x = lagged.x_n if scene.newton_start == "x_n" else predicted_start(scene, lagged)

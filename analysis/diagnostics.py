@@ -62,11 +62,6 @@ def min_distance(scene, x):
     return float(BarrierEnergy.distances(x, scene.n, scene.o).min())
 
 
-def surface_velocity(scene, t):
-    """v_s (2,) of the step ending at t (scenes/scene.py MovingSurface); zeros without a surface."""
-    return np.zeros(2) if scene.surface is None else scene.surface.velocity(t, scene.h)
-
-
 def contact_speeds(scene, x, v, v_s=0.0):
     """||(I - n n^T)(v_k - v_s)|| = |t . (v_k - v_s)| (m/s) of the nodes with d_k < dhat: the
     relative tangential speed (v_s 0: a still surface)."""

@@ -74,6 +74,10 @@ class Scene:
     static: StaticFriction = None           # static friction above kinetic, or None
     surface: MovingSurface = None           # the half-space's own tangential motion, or None
 
+    def surface_velocity(self, t):
+        """v_s (2,) of the step ending at t (MovingSurface.velocity); zero for a still surface."""
+        return np.zeros(2) if self.surface is None else self.surface.velocity(t, self.h)
+
 
 def readonly(a):
     """`a` as a new numpy array that cannot be written to: a scene's arrays never change."""

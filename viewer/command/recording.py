@@ -63,7 +63,7 @@ class Track:
         E = diagnostics.energies(scene, x, v, t)
         E0 = self.samples.items[0].energies["total"] if self.samples.items else E["total"]
         tip = diagnostics.tip_figures(scene, x, v, t) if scene.hand is not None else {}
-        v_s = diagnostics.surface_velocity(scene, t)
+        v_s = scene.surface_velocity(t)
         speeds = diagnostics.contact_speeds(scene, x, v, v_s)
         sticking, sliding = diagnostics.sticking_sliding(speeds, scene.epsv)
         sample = Sample(
