@@ -8,6 +8,7 @@ import numpy as np
 
 import closed_forms
 import simulator
+from analysis import diagnostics
 from figures.page import BLACK, GREY, Page
 from viewer.pictures.draw import run_color
 
@@ -29,11 +30,11 @@ def pull(U):
     t, v_p, v_s = [0.0], [0.0], [0.0]
     for record in simulator.simulate(scene, round(LONGEST / scene.h)):
         t.append(record.t)
-        v_p.append(np.average(record.v, axis=0, weights=scene.m) @ tangent)
-        v_s.append(scene.surface.velocity(record.t, scene.h) @ tangent)
+        v_p.append(diagnostics.centre_of_mass(scene, record.v) @ tangent)
+        v_s.append(scene.surface_velocity(record.t) @ tangent)
         if record.t > cloth_stops and np.abs(record.v).max() < scene.epsv:
             break
-    travel = float(np.average(record.x - scene.x0, axis=0, weights=scene.m) @ tangent)
+    travel = float(diagnostics.centre_of_mass(scene, record.x - scene.x0) @ tangent)
     closed = closed_forms.tablecloth_travel(U, p["pull_length"], scene.mu, -scene.g[1])
     return SimpleNamespace(U=U, t=np.array(t), v_p=np.array(v_p), v_s=np.array(v_s),
                            travel=travel, closed=closed, error=travel / closed - 1.0)
