@@ -49,6 +49,13 @@ def sliding_acceleration(scene):
     return (drive - scene.mu * normal_load) / float(np.sum(scene.m))
 
 
+def holds(scene):
+    """Whether Coulomb friction holds a rigid square on the slope, 0 <= G_t < mu N: where
+    creep_speed applies."""
+    normal_load, drive, _ = _loads(scene)
+    return 0.0 <= drive < scene.mu * normal_load
+
+
 def creep_speed(scene):
     """Steady creep under the mollifier f1(v) = 2v/eps_v - v^2/eps_v^2 where mu N f1(v) balances
     the drive: v = eps_v (1 - sqrt(1 - tan(theta)/mu)), mu > tan(theta); implicit Euler reproduces

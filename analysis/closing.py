@@ -1,5 +1,5 @@
-"""What a run showed, in words: when the square came to rest, the chalk's stick-slip, or how far
-the tablecloth's dish travelled."""
+"""What a run showed, in words: when the square stuck and how fast it still creeps, the chalk's
+stick-slip, or how far the tablecloth's dish travelled."""
 import closed_forms
 from analysis import stick_slip
 
@@ -11,16 +11,54 @@ def each(tracks, words):
     return "; ".join(f"{track.label}: {words(track)}" for track in tracks)
 
 
+def creep(track):
+    """How fast a run that sticks still creeps (m/s, downhill), None if it does not stick: the
+    contact nodes' mean velocity t . (v_k - v_s) averaged over the states kept since every contact
+    stuck (track.rest_since), so that the square's rocking averages out."""
+    if track.rest_since is None:
+        return None
+    u = [s.contact_velocity for s in track.samples.all() if s.t >= track.rest_since]
+    g = track.scene.g
+    return (-1.0 if g is not None and g @ track.tangent < 0 else 1.0) * sum(u) / len(u)
+
+
+def creep_figures(track):
+    """(measured creep, closed_forms.creep_speed or None where Coulomb would not hold), in mm/s."""
+    scene = track.scene
+    form = 1e3 * closed_forms.creep_speed(scene) if closed_forms.holds(scene) else None
+    return 1e3 * creep(track), form
+
+
+def loose(track):
+    """Whether the Newton tolerance (m/s) hides the creep: above a tenth of the closed form (of
+    the measured creep where none holds), the error of about -0.5 tol / u* is not small."""
+    scene = track.scene
+    expected = closed_forms.creep_speed(scene) if closed_forms.holds(scene) else creep(track)
+    return scene.tol > 0.1 * abs(expected)
+
+
 def rest_words(tracks):
-    """When each run came to rest (every contact below eps_v from then on): 'came to rest at
-    t = 5.53 s', 'was still sliding at t = 3.00 s', or in the air 'had not come to rest by ...'."""
+    """When each run stuck (every contact below eps_v from then on) and how fast it creeps then,
+    beside closed_forms.creep_speed: 'the square sticks at 5.54 s, creeps 0.52 mm/s (closed form
+    0.70, set by --epsv) below --tol 0.01 m/s'; 'still slides at 3.00 s', 'is in the air at ...'."""
+    one = len(tracks) == 1
+
     def words(track):
-        if track.rest_since is not None:
-            return f"came to rest at t = {track.rest_since:.2f} s"
-        if track.samples.last.sliding:
-            return f"was still sliding at t = {track.t:.2f} s"
-        return f"had not come to rest by t = {track.t:.2f} s"
-    return ("the square " if len(tracks) == 1 else "") + each(tracks, words)
+        if track.rest_since is None:
+            state = "still slides" if track.samples.last.sliding else "is in the air"
+            return f"{state} at {track.t:.2f} s"
+        digits = 2 if loose(track) else 3
+        measured, exact = creep_figures(track)
+        epsv = ", set by --epsv" if one else ""
+        form = "" if exact is None else f" (closed form {exact:.{digits}f}{epsv})"
+        tol = f" below --tol {track.scene.tol:g} m/s" if one and loose(track) else ""
+        return f"sticks at {track.rest_since:.2f} s, creeps {measured:.{digits}f} mm/s{form}{tol}"
+    if one:
+        return "the square " + words(tracks[0])
+    stuck = [track for track in tracks if track.rest_since is not None]
+    tail = ("; creep set by --epsv" + (", below --tol" if any(map(loose, stuck)) else "")
+            if stuck else "")
+    return each(tracks, words) + tail
 
 
 def travel_words(tracks):
@@ -40,20 +78,23 @@ def travel_words(tracks):
 
 def closing_words(tracks):
     """The closing line's words: the chalk's stick-slip (stick_slip.words), the dish's travel, else
-    the square's rest."""
+    the square's sticking and creep."""
     scene = tracks[0].scene
     if scene.hand is not None:
         return each(tracks, lambda track: stick_slip.words(stick_slip.of_track(track)))
     return travel_words(tracks) if scene.surface is not None else rest_words(tracks)
 
 
-def closing_note(tracks):
-    """closing_words with what they count, as the page and summary.png say them."""
-    scene = tracks[0].scene
+def counted(scene):
+    """What closing_words count, in words."""
     if scene.hand is not None:
-        what = " ".join(stick_slip.definition(scene))
-    elif scene.surface is not None:
-        what = "the centre of mass along the pull, end minus start"
-    else:
-        what = "every contact below eps_v from then on"
-    return f"{closing_words(tracks)} ({what})"
+        return " ".join(stick_slip.definition(scene))
+    if scene.surface is not None:
+        return "the centre of mass along the pull, end minus start"
+    return ("sticks: every contact below eps_v from then on; creeps: the contact nodes' mean "
+            "speed downhill since")
+
+
+def closing_note(tracks):
+    """closing_words with what they count, as the page says them."""
+    return f"{closing_words(tracks)} ({counted(tracks[0].scene)})"

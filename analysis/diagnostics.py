@@ -62,13 +62,18 @@ def min_distance(scene, x):
     return float(BarrierEnergy.distances(x, scene.n, scene.o).min())
 
 
-def contact_speeds(scene, x, v, v_s=0.0):
-    """||(I - n n^T)(v_k - v_s)|| = |t . (v_k - v_s)| (m/s) of the nodes with d_k < dhat: the
-    relative tangential speed (v_s 0: a still surface)."""
+def contact_velocities(scene, x, v, v_s=0.0):
+    """t . (v_k - v_s) (m/s) of the nodes with d_k < dhat: the relative tangential velocity along
+    `tangent` (v_s 0: a still surface)."""
     if scene.n is None:
         return np.zeros(0)
     in_contact = BarrierEnergy.distances(x, scene.n, scene.o) < scene.dhat
-    return np.abs((v[in_contact] - v_s) @ tangent(scene))
+    return (v[in_contact] - v_s) @ tangent(scene)
+
+
+def contact_speeds(scene, x, v, v_s=0.0):
+    """||(I - n n^T)(v_k - v_s)|| = |t . (v_k - v_s)| (m/s) of the nodes with d_k < dhat."""
+    return np.abs(contact_velocities(scene, x, v, v_s))
 
 
 def sticking_sliding(speeds, epsv):

@@ -1,6 +1,8 @@
 """The run driver: scenes stepped side by side (a Track each), a log.csv row as each step ends."""
 import types
 
+import numpy as np
+
 import square_mesh
 
 from analysis import diagnostics, log, wear
@@ -47,7 +49,7 @@ class Track:
         self.columns = log.columns(scene)
         self.marks = wear.Deposit() if scene.hand is not None else None   # the chalk's mark
         self.warned = set()         # the kinds of warning said so far
-        self.rest_since = None      # t from which every contact node has stayed below eps_v
+        self.rest_since = None      # t from which every contact node has stayed below eps_v: stuck
         self.csv = folder.open_log(files.log_csv(tag), ",".join(self.columns))
         self.samples = History(MAX_SAMPLES)
         self.snapshots = History(MAX_SNAPSHOTS)     # (t, x) every SNAPSHOT_EVERY s
@@ -64,7 +66,8 @@ class Track:
         E0 = self.samples.items[0].energies["total"] if self.samples.items else E["total"]
         tip = diagnostics.tip_figures(scene, x, v, t) if scene.hand is not None else {}
         v_s = scene.surface_velocity(t)
-        speeds = diagnostics.contact_speeds(scene, x, v, v_s)
+        velocities = diagnostics.contact_velocities(scene, x, v, v_s)      # along self.tangent
+        speeds = np.abs(velocities)
         sticking, sliding = diagnostics.sticking_sliding(speeds, scene.epsv)
         sample = Sample(
             step=self.step, t=t, wall=wall, com=diagnostics.centre_of_mass(scene, x),
@@ -76,6 +79,7 @@ class Track:
             surface_speed=float(v_s @ self.tangent),
             numerical_dissipation=E0 + self.friction_work + self.hand_work - E["total"],
             speeds=speeds, sticking=sticking, sliding=sliding,
+            contact_velocity=float(velocities.mean()) if len(velocities) else 0.0,
             inverted=diagnostics.inverted_triangles(x, self.triangles), **tip)
         if not diagnostics.at_rest(sticking, sliding):
             self.rest_since = None

@@ -5,7 +5,7 @@ import json
 import math
 from pathlib import Path
 
-from analysis import log, stick_slip
+from analysis import closing, log, stick_slip
 from viewer.pictures import draw
 
 # the figures beside each frame, by log.csv's column names, each as log.csv writes it (or in the
@@ -33,11 +33,21 @@ def header(name):
     return f"{column.label} ({column.unit})" if column.unit else column.label
 
 
+def creep_cell(track):
+    """The square's creep once it sticks, in mm/s, with the closed form: '0.52 (0.70)'; '-'."""
+    if track.rest_since is None:
+        return "-"
+    measured, exact = closing.creep_figures(track)
+    return f"{measured:.2f}" + ("" if exact is None else f" ({exact:.2f})")
+
+
 def run_figures(tracks):
-    """page_html's keywords for what the table says of each whole run: when the square came to
-    rest (`rest`); the chalk's stick-slip (analysis/stick_slip.py), a row per figure (`rows`)."""
+    """page_html's keywords for what the table says of each whole run: when the square stuck
+    (`rest`) and how fast it creeps since (closing.creep, `rows`); the chalk's stick-slip
+    (analysis/stick_slip.py), a row per figure (`rows`)."""
     if tracks[0].scene.hand is None:
-        return {"rest": [track.rest_since for track in tracks]}
+        return {"rest": [track.rest_since for track in tracks],
+                "rows": [("creeps since (mm/s; closed form)", [creep_cell(t) for t in tracks])]}
     counted = [stick_slip.of_track(track) for track in tracks]
     cells = (("stick-slip cycles", lambda r: str(len(r.slips)) if r.driven else "-"),
              ("mean slip (mm)", lambda r: f"{1e3 * r.length:.2f}" if r.slips else "-"),
@@ -51,8 +61,8 @@ def run_figures(tracks):
 
 def page_html(title, labels, frame_log, fps, axis, plot_width, note="", rest=None, rows=()):
     """The page: `frame_log` (frames.FrameInfo per frame), `fps` frames per simulated second, `axis`
-    (left px, right px, t_max) of plots.png's time axis; under the frame's figures each run's time
-    of rest (`rest`), or `rows`: (header, a text per run, or None: a heading across the table)."""
+    (left px, right px, t_max) of plots.png's time axis; under the frame's figures when each run
+    stuck (`rest`), and `rows`: (header, a text per run, or None: a heading across the table)."""
     escape = html.escape
     data = {"labels": [escape(label) for label in labels], "fps": fps,
             "rest": None if rest is None else [None if t is None else round(t, 6) for t in rest],

@@ -4,7 +4,7 @@ import math
 
 import numpy as np
 
-from analysis import diagnostics, log, stick_slip
+from analysis import closing, diagnostics, log, stick_slip
 from viewer.pictures import draw
 
 WIDTH, PANEL_HEIGHT, TOP = 900, 250, 10
@@ -293,11 +293,16 @@ def cycles_legend(r):
 
 
 def mark_rest(ax, track, color):
-    """The time the track came to rest (recording.Track.rest_since), dashed, or that it did not."""
-    if track.rest_since is not None:
-        ax.vline(track.rest_since, color, f"at rest from {track.rest_since:.2f} s")
-    else:
-        ax.legend(color, f"not at rest by {track.t:.2f} s")
+    """The time the track stuck (recording.Track.rest_since), dashed, and how fast it creeps since
+    beside the closed form (closing.creep_figures); or that it did not stick."""
+    if track.rest_since is None:
+        ax.legend(color, f"not stuck by {track.t:.2f} s")
+        return
+    ax.vline(track.rest_since, color, f"sticks from {track.rest_since:.2f} s,")
+    measured, exact = closing.creep_figures(track)
+    ax.note(f"creeps {measured:.2f} mm/s")
+    if exact is not None:
+        ax.note(f"(closed form {exact:.2f})")
 
 
 def energy_panel(axes, d):

@@ -73,21 +73,24 @@ def slope_room(scene, lo, hi, unit, scale, label_h):
 
 
 def header_lines(tracks, header):
-    """summary.png's lines of text: `header`, then when the square came to rest (each run's), or
-    what the chalk's stick-slip and the dish's travel count (each run's figures: panel_words)."""
+    """summary.png's lines of text: `header`, then what the square's sticking and creep, the
+    chalk's stick-slip and the dish's travel count (each run's figures: panel_words)."""
     if tracks[0].scene.hand is not None:
         first, second = stick_slip.definition(tracks[0].scene)
         return header + ["stick-slip, " + first, second]
     if tracks[0].scene.surface is not None:
-        return header + ["travel: the centre of mass along the pull, end minus start"]
-    return header + [closing.closing_note(tracks)]
+        return header + ["travel: " + closing.counted(tracks[0].scene)]
+    return header + [closing.counted(tracks[0].scene)]
 
 
 def panel_words(track):
-    """Under a panel's label: the chalk's stick-slip, the dish's travel; None for the square."""
+    """Under a panel's label: the chalk's stick-slip, the dish's travel, the square's sticking and
+    creep (analysis/closing.py)."""
     if track.scene.hand is not None:
         return stick_slip.words(stick_slip.of_track(track))
-    return closing.travel_words([track]) if track.scene.surface is not None else None
+    if track.scene.surface is not None:
+        return closing.travel_words([track])
+    return closing.rest_words([track])
 
 
 def plan(pygame, tracks, header):

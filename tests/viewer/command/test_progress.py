@@ -36,22 +36,6 @@ def test_a_run_to_files_says_each_kind_of_warning_once(tmp_path):
     assert len(stalled) > 1 and tracks[0].warned == {"stalled"}
 
 
-def test_rest_words_say_when_each_run_came_to_rest():
-    def track(label, rest_since, sliding, t=3.0):
-        last = types.SimpleNamespace(sliding=sliding)
-        return types.SimpleNamespace(label=label, rest_since=rest_since, t=t,
-                                     scene=simulator.build_scene(),
-                                     samples=types.SimpleNamespace(last=last))
-    assert closing.rest_words([track("a", 5.534, 0)]) == "the square came to rest at t = 5.53 s"
-    assert closing.rest_words([track("a", None, 2)]) == "the square was still sliding at t = 3.00 s"
-    assert closing.rest_words([track("mu = 0.1", None, 0), track("mu = 0.2", 2.8, 0)]) == \
-        "mu = 0.1: had not come to rest by t = 3.00 s; mu = 0.2: came to rest at t = 2.80 s"
-    runs = [track("mu = 0.1", None, 1), track("mu = 0.2", 2.8, 0)]
-    assert closing.closing_words(runs) == closing.rest_words(runs)      # the square's closing words
-    note = closing.rest_words(runs) + " (every contact below eps_v from then on)"
-    assert closing.closing_note(runs) == note
-
-
 def chalk_track(label, speeds, **scene):
     """A chalk run's track as the closing words read it: its scene and its kept states, the tip at
     rest while the hand presses and holds, then at `speeds` (m/s), one a step (x^{n+1} = x^n + h

@@ -283,8 +283,8 @@ def rest_from_log(rows):
 
 
 @pytest.mark.parametrize("duration", ["0.3", "0.05"])
-def test_the_closing_line_and_the_page_say_when_the_square_came_to_rest(tmp_path, duration):
-    """Slid onto flat ground at 0.3 m/s with mu = 0.3, the square stops within 0.3 s; after 0.05 s
+def test_the_closing_line_and_the_page_say_when_the_square_sticks(tmp_path, duration):
+    """Slid onto flat ground at 0.3 m/s with mu = 0.3, the square sticks within 0.3 s; after 0.05 s
     it still slides. The closing line and the page's data give the time log.csv gives."""
     code, lines = run_main("--slope-normal", "0,1", "--slope-point", "0,-0.505", "--v0", "0.3,0",
                            "--mu", "0.3", "--k", "1e5", "--duration", duration,
@@ -293,9 +293,9 @@ def test_the_closing_line_and_the_page_say_when_the_square_came_to_rest(tmp_path
     rest = rest_from_log(read_csv(tmp_path / "log.csv"))
     if duration == "0.3":
         assert rest is not None and 0.0 < rest < 0.2
-        assert f"; the square came to rest at t = {rest:.2f} s;" in lines[-1]
+        assert f"; the square sticks at {rest:.2f} s, creeps " in lines[-1]
     else:
-        assert rest is None and "; the square was still sliding at t = 0.05 s;" in lines[-1]
+        assert rest is None and "; the square still slides at 0.05 s;" in lines[-1]
     assert page_data(tmp_path)["rest"] == [rest]
 
 
@@ -387,7 +387,7 @@ def test_the_lectures_comparison_in_one_command(tmp_path):
     assert last_sliding["0.2"] < last_sliding["0.11"]
     rest = {mu: rest_from_log(read_csv(tmp_path / f"log_mu{mu}.csv"))
             for mu in ("0.1", "0.11", "0.2")}
-    assert rest["0.1"] is None and "mu = 0.1: was still sliding at t = 6.00 s" in lines[-1]
+    assert rest["0.1"] is None and "mu = 0.1: still slides at 6.00 s" in lines[-1]
     for mu in ("0.11", "0.2"):
         assert rest[mu] == pytest.approx(last_sliding[mu] + 0.01)
-        assert f"mu = {mu}: came to rest at t = {rest[mu]:.2f} s" in lines[-1]
+        assert f"mu = {mu}: sticks at {rest[mu]:.2f} s, creeps " in lines[-1]

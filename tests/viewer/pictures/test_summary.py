@@ -67,13 +67,14 @@ def test_the_scale_is_a_round_number_of_pixels_per_metre(recorded):
 
 def test_every_line_of_text_fits_and_the_chalk_says_its_stick_slip_not_rest(recorded):
     """The header's lines (the chalk's parameters are long) and each panel's line are whole inside
-    the picture: it is as wide as the widest. The square's header ends with when it came to rest;
-    the chalk's with how its stick-slip is counted, each run's figures in its panel."""
+    the picture: it is as wide as the widest. The square's header ends with what its sticking and
+    creep count, its panel with its own; the chalk's with how its stick-slip is counted, each
+    run's figures in its panel."""
     pygame = draw.load_pygame()
     font, small = pygame.font.Font(None, 24), pygame.font.Font(None, 20)
     square = recorded("square", [{}], 20)
-    assert summary.header_lines(square, ["h"]) == ["h", closing.closing_note(square)]
-    assert summary.panel_words(square[0]) is None
+    assert summary.header_lines(square, ["h"]) == ["h", closing.counted(square[0].scene)]
+    assert summary.panel_words(square[0]) == closing.rest_words(square)
     chalks = recorded("chalk", [{}, {"drag": True}], 150)
     plan = summary.plan(pygame, chalks, ["chalk 9 x 1 cm, pushed at tilt = 60 deg   grip k_hand = "
                                          "2000 N/m   drive = 0.01 m/s   mu_s = 0.5   mu = 0.35   "
