@@ -19,8 +19,10 @@ SLOPE_REACH = 1.5         # ... the slope framed within this many |p_k| of the n
 MAX_ZOOM = 1e4            # ... magnified at most this much (p_k = 0 asks for infinitely much)
 ZOOMS = (1, 2, 3, 5)      # ... by one of these times a power of ten
 GROUND = (219, 219, 255)  # the inset's tint below the slope
-# where a line breaks, the strongest first: between key hints, after ";", before "(", after ",", " "
-BREAKS = ("   ", r"(?<=;) ", r" (?=\()", r"(?<=,) ", " ")
+RULE = (200, 200, 200)    # the line between the inset's drawing and its text panels
+# where a line breaks, the strongest first: between key hints, after ";", before "(", after ",",
+# after ":", " "
+BREAKS = ("   ", r"(?<=;) ", r" (?=\()", r"(?<=,) ", r"(?<=:) ", " ")
 
 
 # The node magnified with the slope: its rect in the window (px), why it was chosen, the view to the
@@ -107,8 +109,16 @@ def draw_iterate(pygame, surface, scene, it, view):
         pygame.draw.polygon(surface, draw.RED, [b, w1, w2])
 
 
+def text_room(fonts, notes):
+    """(header, footer): the inset's rows (px) above for its title and `notes`, below for its
+    scale bar."""
+    big, small = fonts
+    return 8 + big.get_linesize() + len(notes) * small.get_linesize(), 12 + small.get_linesize()
+
+
 def draw_inset(pygame, surface, scene, it, inset, fonts, notes):
-    """The inset on its `surface`, as docs/live-demo.md lists it; title, notes, scale bar."""
+    """The inset on its `surface`, as docs/live-demo.md lists it; title and notes on a white panel
+    over the springs that reach up there, the scale bar on one below."""
     view, m = inset.view, inset.markers
     width, height = surface.get_size()
     surface.fill((255, 255, 255))
@@ -129,7 +139,11 @@ def draw_inset(pygame, surface, scene, it, inset, fonts, notes):
     pygame.draw.circle(surface, draw.BLACK, m["x^i + alpha_CCD p"], r + 2, 2)
     pygame.draw.circle(surface, draw.GREEN, m["x^i + alpha p"], r)
     big, small = fonts
-    line = small.get_linesize()
+    line, (header, footer) = small.get_linesize(), text_room(fonts, notes)
+    pygame.draw.rect(surface, (255, 255, 255), (0, 0, width, header))
+    pygame.draw.rect(surface, (255, 255, 255), (0, height - footer, width, footer))
+    for row in (header, height - footer):
+        pygame.draw.line(surface, RULE, (0, row), (width, row))
     title = f"node {inset.node}, x{inset.magnification:g}"
     surface.blit(big.render(title, True, draw.BLACK), (8, 6))
     for row, (text, color) in enumerate(notes):
@@ -153,8 +167,7 @@ def place_inset(pygame, surface, scene, it, view, fonts, top, bottom):
     if math.isfinite(d) and not framed:
         notes.insert(1, (f"{ground(scene)}: {length_text(d)} below x^i, out of frame", draw.BLUE))
     notes = [(row, color) for text, color in notes for row in phrase_rows(small, text, width - 16)]
-    line = small.get_linesize()
-    header, footer = 8 + big.get_linesize() + len(notes) * line, 12 + line
+    line, (header, footer) = small.get_linesize(), text_room(fonts, notes)
     if height < header + footer + line:                    # no room left under the text
         return None
     rect = (12 if room_left > room_right else size - 12 - width, int(top), width, height)

@@ -225,8 +225,8 @@ class TenPixelFont:
 
 def test_phrase_rows_break_between_phrases_before_words():
     """A line that does not fit breaks where its phrases meet, the strongest break first: between
-    the key hints (three spaces), after a semicolon, before a parenthesis, after a comma; only a
-    phrase still too wide breaks between words. A line that fits stays whole."""
+    the key hints (three spaces), after a semicolon, before a parenthesis, after a comma, after a
+    colon; only a phrase still too wide breaks between words. A line that fits stays whole."""
     font, rows = TenPixelFont(), newton_view.phrase_rows
     assert rows(font, "CCD bound alpha_CCD = 0.71 (black ring: x^i + alpha_CCD p)", 400) == [
         "CCD bound alpha_CCD = 0.71", "(black ring: x^i + alpha_CCD p)"]     # not "..." / "p)"
@@ -235,7 +235,7 @@ def test_phrase_rows_break_between_phrases_before_words():
     assert rows(font, "grey: x^i; blue: x^i + alpha p; red: p", 330) == [
         "grey: x^i; blue: x^i + alpha p;", "red: p"]
     assert rows(font, "the slope: 8.99 mm below x^i, out of frame", 200) == [
-        "the slope: 8.99 mm", "below x^i,", "out of frame"]
+        "the slope:", "8.99 mm below x^i,", "out of frame"]             # not "below x^i," alone
     assert rows(font, "a_very_long_word fits", 50) == ["a_very_long_word", "fits"]
     assert rows(font, "fits (whole)", 120) == ["fits (whole)"]
 
@@ -243,7 +243,7 @@ def test_phrase_rows_break_between_phrases_before_words():
 def phrase_break(text, first, second):
     """Do the rows `first` and `second` of `text` meet at one of newton_view.BREAKS but a word's?"""
     return any(first + joined + second in text for joined in ("   ", " ")) and (
-        second.startswith("(") or first.endswith((";", ",")) or f"{first}   {second}" in text)
+        second.startswith("(") or first.endswith((";", ",", ":")) or f"{first}   {second}" in text)
 
 
 @pytest.mark.parametrize("size", [510, 600, 652, 680, 900])
@@ -294,3 +294,30 @@ def test_the_newton_view_keeps_its_phrases_and_labels_apart(monkeypatch, size, o
         within = a <= x.start and x.stop <= a + c and b <= y.start and y.stop <= b + d
         apart = x.stop <= a or x.start >= a + c or y.stop <= b or y.start >= b + d
         assert within or apart, (x, y)
+
+
+@pytest.mark.parametrize("size", [510, 652])
+def test_the_inset_text_sits_on_a_panel_in_whole_phrases(monkeypatch, size):
+    """Sliding at step 397 (t = 3.96 s, node 20 with the slope 9 mm below x^i, out of frame), the
+    inset's notes broke into "the slope: 9.09 mm below" / "x^i," and the springs of x^i ran across
+    them. Now each note breaks only between phrases, and no spring reaches the white panels of the
+    title and notes above or of the scale bar below (x^i's springs drawn in a colour of their
+    own)."""
+    import pygame
+    drawn = legibility.record_text(monkeypatch)
+    monkeypatch.setattr(draw, "GREY", (1, 2, 3))
+    w = paused_at({}, 397, 1, size)
+    inset = w.inset
+    assert inset.slope is None and inset.why == "nearest the slope"
+    notes = drawn_notes(drawn, inset)
+    assert notes[0] == "(nearest the slope)" and notes[-1] == "thin lines: springs"
+    d = BarrierEnergy.distances(w.run.iterate.x[inset.node][None], w.scene.n, w.scene.o)[0]
+    text, rows = f"the slope: {newton_view.length_text(d)} below x^i, out of frame", notes[1:-1]
+    assert " ".join(rows) == text
+    assert all(phrase_break(text, a, b) for a, b in itertools.pairwise(rows)), rows
+    header, footer = newton_view.text_room(w.fonts, notes)
+    left, top, width, height = inset.rect
+    springs = np.all(pygame.surfarray.array3d(w.screen) == (1, 2, 3), axis=2)
+    inside = springs[left + 2:left + width - 2, top + 2:top + height - 2]     # within the border
+    assert inside.any()                                         # x^i's springs, in the drawing
+    assert not inside[:, :header - 2].any() and not inside[:, height - footer - 2:].any()
