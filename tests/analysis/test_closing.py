@@ -80,3 +80,17 @@ def test_the_default_square_creeps_at_the_closed_form_at_a_tight_tolerance(tmp_p
     assert closing.creep(tr) == pytest.approx(LECTURE_CREEP, rel=0.02)
     assert closing.rest_words([tr]).startswith(f"the square sticks at {tr.rest_since:.2f} s, "
                                                f"creeps {1e3 * closing.creep(tr):.3f} mm/s")
+
+
+def test_a_state_where_every_contact_sticks_says_its_creep():
+    """The window's line for a state (closing.state_words): the square at rest on the slope, moved
+    at 0.45 mm/s downhill, sticks and creeps at that speed beside the closed form; at 2 mm/s (above
+    eps_v = 1 mm/s) it slides, and in the air it touches nothing: no line."""
+    scene = closed_forms.resting_scene(0.1, 0.11)
+    down = diagnostics.tangent(scene)
+    words = closing.state_words(scene, scene.x0, np.tile(0.45e-3 * down, (len(scene.x0), 1)), 0.0)
+    exact = 1e3 * 1e-3 * (1.0 - math.sqrt(1.0 - 0.1 / 0.11))
+    assert words == f"sticks: every contact below eps_v, creeps 0.45 mm/s (closed form {exact:.2f})"
+    assert closing.state_words(scene, scene.x0, np.tile(2e-3 * down, (len(scene.x0), 1)), 0.0) \
+        is None
+    assert closing.state_words(scene, scene.x0 + [0.0, 1.0], 0.0 * scene.x0, 0.0) is None

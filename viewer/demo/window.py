@@ -4,7 +4,7 @@ import os
 import sys
 
 import utils
-from analysis import diagnostics
+from analysis import closing, diagnostics
 from viewer.pictures import draw, frames
 from viewer.demo import live, newton_view
 from viewer.command import run as orchestration
@@ -121,9 +121,18 @@ class LiveWindow(live.LiveDemo):
             lines.append((self.message, draw.GREEN))
         lines += [(f"warning: {text}", draw.RED) for kind, text in self.warnings.items()
                   if kind != "slow"]
-        figures = (newton_view.iterate_lines(run, self.scene) if run.iterate is not None else
-                   live.tip_lines(self.scene, run.x, run.v, run.t) if self.scene.hand else [])
-        return lines + [(text, draw.BLACK) for text in figures]
+        return lines + [(text, draw.BLACK) for text in self.figure_lines()]
+
+    def figure_lines(self):
+        """The state's figures: Algorithm 4's in the Newton view, the chalk's tip, the square's
+        creep once it sticks (closing.state_words)."""
+        run, scene = self.run, self.scene
+        if run.iterate is not None:
+            return newton_view.iterate_lines(run, scene)
+        if scene.hand is not None:
+            return live.tip_lines(scene, run.x, run.v, run.t)
+        stuck = closing.state_words(scene, run.x, run.v, run.t) if scene.surface is None else None
+        return [stuck] if stuck else []
 
     def help_lines(self):
         keys = ("" if self.stopped() else "space: pause   " if self.playing else

@@ -470,3 +470,18 @@ def test_the_window_says_what_a_run_to_files_warns_about(overrides, steps, words
     if "impacts" not in words:          # a scene's warnings are printed when the run starts
         assert log.getvalue().count(words) == 1
         assert log.getvalue().startswith("simulator.py: warning: ")
+
+
+def test_the_window_says_the_square_sticks_and_how_fast_it_creeps():
+    """Paused before step 581 (t = 5.80 s, stuck from 5.54 s) the status says the square sticks and
+    creeps, at the contact nodes' mean speed downhill, beside the closed form 0.70 mm/s; sliding
+    at step 101 it says nothing of it."""
+    w = paused_window({}, 581, 0, 652)
+    said = [text for text, _ in w.status_lines()]
+    run = w.run
+    u = diagnostics.contact_velocities(w.scene, run.x, run.v).mean()
+    assert said[-1] == ("sticks: every contact below eps_v, creeps "
+                        f"{1e3 * u:.2f} mm/s (closed form 0.70)")
+    assert 0.3 < 1e3 * u < 0.7                  # below the closed form at the default tolerance
+    w = paused_window({}, 101, 0, 652)
+    assert not [text for text, _ in w.status_lines() if "sticks" in text]
