@@ -49,36 +49,36 @@ def state_words(scene, x, v, t):
     return f"sticks: every contact below eps_v, creeps {measured:.2f} mm/s{form}"
 
 
-def loose(track):
-    """Whether the Newton tolerance (m/s) hides the creep: above a tenth of the closed form (of
-    the measured creep where none holds), the error of about -0.5 tol / u* is not small."""
+def blur(track):
+    """How the Newton tolerance (m/s) stands to the creep u* (the closed form, else the measured
+    creep), whose error it makes about -0.5 tol / u*: 'below' (tol >= u*: the solver cannot tell
+    the creep from rest), 'near' (tol > u* / 10), or '' (measured well)."""
     scene = track.scene
-    expected = closed_forms.creep_speed(scene) if closed_forms.holds(scene) else creep(track)
-    return scene.tol > 0.1 * abs(expected)
+    expected = abs(closed_forms.creep_speed(scene) if closed_forms.holds(scene) else creep(track))
+    return "below" if scene.tol >= expected else "near" if scene.tol > 0.1 * expected else ""
 
 
 def rest_words(tracks):
     """When each run stuck (every contact below eps_v from then on) and how fast it creeps then,
     beside closed_forms.creep_speed: 'the square sticks at 5.54 s, creeps 0.52 mm/s (closed form
-    0.70, set by --epsv) below --tol 0.01 m/s'; 'still slides at 3.00 s', 'is in the air at ...'."""
+    0.70, set by --epsv) below --tol 0.01'; 'still slides at 3.00 s', 'is in the air at ...'."""
     one = len(tracks) == 1
 
     def words(track):
         if track.rest_since is None:
             state = "still slides" if track.samples.last.sliding else "is in the air"
             return f"{state} at {track.t:.2f} s"
-        digits = 2 if loose(track) else 3
+        digits = 2 if blur(track) else 3
         measured, exact = creep_figures(track)
         epsv = ", set by --epsv" if one else ""
         form = "" if exact is None else f" (closed form {exact:.{digits}f}{epsv})"
-        tol = f" below --tol {track.scene.tol:g} m/s" if one and loose(track) else ""
+        tol = f" {blur(track)} --tol {track.scene.tol:g}" if one and blur(track) else ""
         return f"sticks at {track.rest_since:.2f} s, creeps {measured:.{digits}f} mm/s{form}{tol}"
     if one:
         return "the square " + words(tracks[0])
-    stuck = [track for track in tracks if track.rest_since is not None]
-    tail = ("; creep set by --epsv" + (", below --tol" if any(map(loose, stuck)) else "")
-            if stuck else "")
-    return each(tracks, words) + tail
+    blurs = {blur(track) for track in tracks if track.rest_since is not None}
+    tol = next((f", {word} --tol" for word in ("below", "near") if word in blurs), "")
+    return each(tracks, words) + (f"; creep set by --epsv{tol}" if blurs else "")
 
 
 def travel_words(tracks):
