@@ -10,7 +10,7 @@ import simulator
 import utils
 from viewer.command import run
 
-DURATION = 6.0          # s: long enough to see mu = 0.11 come to rest (about 5.5 s)
+DURATION = 6.0          # s: long enough to see mu = 0.11 stick (about 5.5 s), and creep
 CHALK_DURATION = 3.0    # s: about 17 stick-slip cycles of the pushed chalk
 STOP_MARGIN = 0.05      # s a tablecloth run goes on after its slowest closed-form dish has stopped
 FRAMES_PER_SECOND = 30      # at least this many frames per simulated second by default
