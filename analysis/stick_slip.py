@@ -8,10 +8,12 @@ MIN_STICK = 10          # steps (10 ms at the chalk's h): a shorter stick is not
 
 # A run's tip once the hand drove: cycles (start time s, length m, peak speed m/s), their mean
 # period, length and largest peak (nan without them), the fraction of driven states stuck, the
-# first slipping time `start_up` (None: never), the states from it (`after`) and how many stuck,
-# the drive's start, the run's last time, and whether the run went on past the start (`driven`).
-StickSlip = namedtuple("StickSlip", "slips period length peak stuck start_up stuck_after after "
-                       "start t_end driven")
+# tip's mean speed along the board over them (`creep_speed`, m/s: a stuck tip still creeps; nan
+# without them), the first slipping time `start_up` (None: never), the states from it (`after`)
+# and how many stuck, the drive's start, the run's last time, whether the run went on past the
+# start (`driven`).
+StickSlip = namedtuple("StickSlip", "slips period length peak stuck creep_speed start_up "
+                       "stuck_after after start t_end driven")
 
 
 def runs(stuck):
@@ -35,13 +37,14 @@ def measure(t, x, u, epsv, drive, start, steps=None):
             slips.append((float(t[slip[0]]), float(x[slip[-1]] - x[stick[-1]]),
                           float(speed[slip].max())))
     starts, lengths, peaks = (np.array(a) for a in zip(*slips)) if slips else ([np.nan],) * 3
-    moving = np.flatnonzero(driven & ~stuck)
+    moving, held = np.flatnonzero(driven & ~stuck), stuck & driven
     first = moving[0] if len(moving) else None
     period = float(np.mean(np.diff(starts))) if len(slips) > 1 else np.nan
     t_end = float(t[-1]) if len(t) else 0.0
     return StickSlip(slips=slips, period=period,
                      length=float(np.mean(lengths)), peak=float(np.max(peaks)),
                      stuck=float(stuck[driven].mean()) if driven.any() else np.nan,
+                     creep_speed=float(speed[held].mean()) if held.any() else np.nan,
                      start_up=None if first is None else float(t[first]),
                      stuck_after=None if first is None else int(stuck[first:].sum()),
                      after=0 if first is None else int(len(t) - first),
@@ -62,7 +65,9 @@ def of_track(track):
 
 def words(r):
     """A StickSlip in words: 'stick-slip: 25 slips, mean slip 1.06 mm, period 107 ms, tip stuck
-    86 % of the drive', or that the tip slid without a stick, jammed, made no cycle, or waits."""
+    86 % of the drive, creeping 0.067 mm/s', or that the tip slid without a stick, jammed, made no
+    cycle, or waits."""
+    creeping = f", creeping {1e3 * r.creep_speed:.2g} mm/s"
     if not r.driven:
         return f"not driven yet at t = {r.t_end:.2f} s (the hand drives from t = {r.start:g} s)"
     if r.slips:
@@ -70,19 +75,19 @@ def words(r):
         slips = f"{n} slips, mean slip" if n > 1 else "1 slip, slip"
         period = f", period {1e3 * r.period:.0f} ms" if n > 1 else ""
         return (f"stick-slip: {slips} {1e3 * r.length:.2f} mm{period}, "
-                f"tip stuck {100 * r.stuck:.0f} % of the drive")
+                f"tip stuck {100 * r.stuck:.0f} % of the drive{creeping}")
     if r.start_up is None:
-        return "the tip jammed, stuck throughout the drive"
+        return "the tip jammed, stuck throughout the drive" + creeping
     if r.stuck_after == 0:
         return f"the tip slid without a stick after its start-up at t = {r.start_up:.2f} s"
     return (f"no stick-slip cycle: the tip slid from t = {r.start_up:.2f} s, "
-            f"stuck at {r.stuck_after} of its {r.after} states since")
+            f"stuck at {r.stuck_after} of its {r.after} states since{creeping}")
 
 
 def definition(scene):
-    """What the words count, in two lines: when the tip is stuck, what a cycle is."""
+    """What the words count, in two lines: when the tip is stuck, its creep, what a cycle is."""
     return (f"counted once the hand drives, from t = {drive_start(scene):g} s: "
-            f"the tip is stuck below eps_v = {scene.epsv:g} m/s;",
+            f"the tip is stuck below eps_v = {scene.epsv:g} m/s (creeping: mean speed then);",
             f"a cycle is a stick of at least {MIN_STICK} steps "
             f"({1e3 * MIN_STICK * scene.h:.3g} ms), "
             f"then a slip faster than the drive's {scene.params['drive']:g} m/s")

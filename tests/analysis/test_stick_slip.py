@@ -83,19 +83,24 @@ def test_the_words_say_what_the_tip_did():
         return stick_slip.words(stick_slip.measure(t, x, u, EPSV, DRIVE, START))
     t, x, u, _ = history(SEGMENTS)
     r = stick_slip.measure(t, x, u, EPSV, DRIVE, START)
+    creeping = f", creeping {1e3 * STUCK:.2g} mm/s"       # every stuck state at STUCK
+    assert r.creep_speed == pytest.approx(STUCK)
     assert words(SEGMENTS) == (f"stick-slip: 3 slips, mean slip {1e3 * r.length:.2f} mm, "
                                f"period {1e3 * r.period:.0f} ms, "
-                               f"tip stuck {100 * r.stuck:.0f} % of the drive")
+                               f"tip stuck {100 * r.stuck:.0f} % of the drive{creeping}")
     assert words([(30, STUCK), (5, FAST), (30, STUCK)]) == (
         f"stick-slip: 1 slip, slip {5 * H * FAST * 1e3:.2f} mm, "
-        f"tip stuck {100 * 60 / 65:.0f} % of the drive")
+        f"tip stuck {100 * 60 / 65:.0f} % of the drive{creeping}")
     start_up = START + 91 * H                  # the first state after the 90 stuck ones
     assert words([(90, STUCK), (500, 0.01)]) == (
         f"the tip slid without a stick after its start-up at t = {start_up:.2f} s")
-    assert words([(300, STUCK)]) == "the tip jammed, stuck throughout the drive"
+    assert words([(300, STUCK)]) == "the tip jammed, stuck throughout the drive" + creeping
+    assert words([(200, STUCK), (100, -3 * STUCK)]) == (       # stuck both ways: the mean speed
+        "the tip jammed, stuck throughout the drive, creeping "
+        f"{1e3 * (200 * STUCK + 100 * 3 * STUCK) / 300:.2g} mm/s")
     assert words([(5, STUCK), (5, FAST), (3, STUCK), (50, FAST)]) == (
         f"no stick-slip cycle: the tip slid from t = {START + 6 * H:.2f} s, "
-        "stuck at 3 of its 58 states since")
+        f"stuck at 3 of its 58 states since{creeping}")
     assert words([], pressing=0.15) == (
         "not driven yet at t = 0.15 s (the hand drives from t = 0.2 s)")
 
@@ -106,7 +111,7 @@ def test_the_definition_has_the_scenes_numbers():
     p = scene.params
     assert stick_slip.drive_start(scene) == p["t_press"] + p["t_hold"] == 0.2
     assert first == ("counted once the hand drives, from t = 0.2 s: "
-                     "the tip is stuck below eps_v = 0.0002 m/s;")
+                     "the tip is stuck below eps_v = 0.0002 m/s (creeping: mean speed then);")
     assert second == (f"a cycle is a stick of at least {MIN} steps ({MIN * 0.5:g} ms), "
                       "then a slip faster than the drive's 0.01 m/s")
 

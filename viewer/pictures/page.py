@@ -53,6 +53,8 @@ def run_figures(tracks):
              ("mean slip (mm)", lambda r: f"{1e3 * r.length:.2f}" if r.slips else "-"),
              ("period (ms)", lambda r: f"{1e3 * r.period:.0f}" if len(r.slips) > 1 else "-"),
              ("tip stuck (% of the drive)", lambda r: f"{100 * r.stuck:.0f}" if r.driven else "-"),
+             ("tip creeps while stuck (mm/s)",
+              lambda r: "-" if math.isnan(r.creep_speed) else f"{1e3 * r.creep_speed:.2g}"),
              ("tip first slips at t (s)",
               lambda r: "never" if r.start_up is None else f"{r.start_up:.2f}"))
     rows = [(f"the whole run's stick-slip, from t = {counted[0].start:g} s", None)]

@@ -58,7 +58,8 @@ def test_the_chalks_closing_words_are_its_stick_slip():
     sliding = chalk_track("mu-static = 0.35", [drive] * 200, mu_s=0.35)
     said = closing.closing_words([pushed])
     assert said == (f"stick-slip: 4 slips, mean slip {6 * 1e-3 * 0.1 * 1e3:.2f} mm, period "
-                    f"{46:.0f} ms, tip stuck {100 * 200 / 224:.0f} % of the drive")
+                    f"{46:.0f} ms, tip stuck {100 * 200 / 224:.0f} % of the drive, creeping "
+                    f"{1e3 * 1e-5:.2g} mm/s")
     assert "rest" not in said
     slid = "the tip slid without a stick after its start-up at t = 0.20 s"
     assert closing.closing_words([sliding]) == slid

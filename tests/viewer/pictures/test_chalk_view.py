@@ -162,6 +162,7 @@ def test_the_page_and_summary_say_each_runs_stick_slip_and_no_rest(compared):
     assert rows["mean slip (mm)"] == ["-", f"{1e3 * counted[1].length:.2f}"]
     assert rows["period (ms)"] == ["-", f"{1e3 * counted[1].period:.0f}"]
     assert rows["tip stuck (% of the drive)"] == [f"{100 * r.stuck:.0f}" for r in counted]
+    assert rows["tip creeps while stuck (mm/s)"] == [f"{1e3 * r.creep_speed:.2g}" for r in counted]
     assert rows["tip first slips at t (s)"] == [f"{r.start_up:.2f}" for r in counted]
     for label, r in zip(RUNS, counted):
         assert html.escape(f"{label}: {stick_slip.words(r)}") in page    # the note under the table
