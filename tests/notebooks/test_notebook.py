@@ -22,7 +22,7 @@ NOTEBOOK = os.path.join(FOLDER, "lecture.ipynb")
 CELL_TIMEOUT = 600      # s per cell; the slowest, three runs of 600 steps, takes about 5 s here
 MAX_BYTES = 300_000     # the saved notebook, its one picture included
 INTERPRETER = "import sys, json; print(json.dumps([sys.executable, sys.prefix]))"
-REST = re.compile(r"mu = (\S+)\s*: (?:comes to rest at t = (\S+) s|never comes to rest)")
+REST = re.compile(r"mu = (\S+)\s*: (?:sticks at t = (\S+) s, creeps \S+ mm/s|never sticks)")
 
 
 def jupyter():
@@ -85,7 +85,8 @@ def text(cell):
 
 
 def rest_times(nb):
-    """{mu: when the mu comparison prints it comes to rest, None for never} of a run notebook."""
+    """{mu: when the mu comparison prints it sticks (and creeps), None for never} of a run
+    notebook."""
     found = [m for cell in nb.cells if cell.cell_type == "code" for m in REST.finditer(text(cell))]
     return {float(mu): None if t is None else float(t) for mu, t in (m.groups() for m in found)}
 
@@ -149,7 +150,7 @@ def test_the_saved_notebook_carries_its_outputs():
 
 
 def tolerance(mu):
-    """How far two machines' rest times may differ. Newton stops once ||p||_inf / h <= tol, so the
+    """How far two machines' times of sticking may differ. Newton stops once ||p||_inf / h <= tol, so the
     two runs' velocities may differ by about tol (m/s); a rigid block decelerates on the slope at
     g (mu cos - sin), so its stop moves by tol / that, plus one step h for where eps_v is crossed:
     0.11 s for mu = 0.11, 0.02 s for mu = 0.2."""
