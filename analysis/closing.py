@@ -68,11 +68,11 @@ def rest_words(tracks):
         if track.rest_since is None:
             state = "still slides" if track.samples.last.sliding else "is in the air"
             return f"{state} at {track.t:.2f} s"
-        digits = 2 if blur(track) else 3
-        measured, exact = creep_figures(track)
+        blurred, (measured, exact) = blur(track), creep_figures(track)
+        digits = 2 if blurred else 3
         epsv = ", set by --epsv" if one else ""
         form = "" if exact is None else f" (closed form {exact:.{digits}f}{epsv})"
-        tol = f" {blur(track)} --tol {track.scene.tol:g}" if one and blur(track) else ""
+        tol = f" {blurred} --tol {track.scene.tol:g}" if one and blurred else ""
         return f"sticks at {track.rest_since:.2f} s, creeps {measured:.{digits}f} mm/s{form}{tol}"
     if one:
         return "the square " + words(tracks[0])

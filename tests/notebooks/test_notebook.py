@@ -150,10 +150,10 @@ def test_the_saved_notebook_carries_its_outputs():
 
 
 def tolerance(mu):
-    """How far two machines' times of sticking may differ. Newton stops once ||p||_inf / h <= tol, so the
-    two runs' velocities may differ by about tol (m/s); a rigid block decelerates on the slope at
-    g (mu cos - sin), so its stop moves by tol / that, plus one step h for where eps_v is crossed:
-    0.11 s for mu = 0.11, 0.02 s for mu = 0.2."""
+    """How far two machines' times of sticking may differ. Newton stops once ||p||_inf / h <= tol,
+    so the two runs' velocities may differ by about tol (m/s); a rigid block decelerates on the
+    slope at g (mu cos - sin), so its stop moves by tol / that, plus one step h for where eps_v is
+    crossed: 0.11 s for mu = 0.11, 0.02 s for mu = 0.2."""
     import simulator
     g = math.hypot(*simulator.DEFAULTS["gravity"])
     nx, ny = simulator.DEFAULTS["slope"]
