@@ -64,8 +64,9 @@ def resolved(out):
     so with x/a a link to x/t1/t2, x/a/../b is x/t1/b (os.path.abspath says x/b). A ValueError
     naming --out for `out` itself a link, a link another user planted (`planted`) or a loop. On
     Windows '..' goes up as text before any link is followed: os.path.abspath is where it writes."""
-    if os.path.islink(out):
-        raise refused(f"out folder {out!r} is a link to {os.readlink(out)!r}: give the folder "
+    last = out.rstrip(os.sep + (os.altsep or "")) or out       # out/ too: the link, not in it
+    if os.path.islink(last):
+        raise refused(f"out folder {out!r} is a link to {os.readlink(last)!r}: give the folder "
                       f"itself")
     if not whole_files.HAS_OWNERS:
         return os.path.abspath(out)
