@@ -165,8 +165,12 @@ def claim(path, out):
                       f"choose another --out") from None
     except OSError as err:
         raise refused(f"out folder {out!r} cannot be written: {err.strerror or err}") from None
-    with os.fdopen(fd, "w") as f:
-        f.write(f"the folder of the run of process {os.getpid()}, while it runs\n")
+    try:
+        with os.fdopen(fd, "w") as f:
+            f.write(f"the folder of the run of process {os.getpid()}, while it runs\n")
+    except OSError as err:          # a full disk
+        os.remove(name)
+        raise refused(f"out folder {out!r} cannot be written: {err.strerror or err}") from None
     if os.listdir(path) != [CLAIM]:
         os.remove(name)
         check_empty(path, out)
