@@ -70,6 +70,15 @@ def resolved(out):
                       f"itself")
     if not whole_files.HAS_OWNERS:
         return os.path.abspath(out)
+    try:
+        return walked(out)
+    except OSError as err:          # a folder on the way that cannot be read
+        raise refused(f"out folder {out!r} cannot be created: {err.strerror or err}") from None
+
+
+def walked(out):
+    """`resolved` on POSIX: the path walked one name at a time, each link's target put in its
+    place, '..' going up from where the walk is."""
     parts = list(reversed(pathlib.PurePath(os.path.abspath(os.curdir), out).parts[1:]))
     here, links = os.sep, 0
     while parts:
@@ -103,7 +112,7 @@ def make_parents(folder, out):
         except OSError as err:
             remove(made)
             raise refused(f"out folder {out!r} cannot be created: {err.strerror or err}") from None
-        if not stat.S_ISDIR(os.lstat(at).st_mode):
+        if not os.path.isdir(at) or os.path.islink(at):     # a link put there since `resolved`
             remove(made)
             raise refused(f"out folder {out!r} cannot be created: {at!r} is not a folder")
     return made
