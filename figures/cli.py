@@ -65,3 +65,5 @@ def main(argv=None):
             return 1
         finally:
             signals.close()
+            if folder is not None:
+                folder.release()        # its claim (files.CLAIM) removed: the folder is done

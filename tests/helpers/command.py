@@ -35,6 +35,7 @@ def recorded(folder, scenes, steps):
     recording.record(tracks, out, plan.stride, False, False, io.StringIO(), [])
     for track in tracks:
         track.csv.close()
+    out.release()
     return tracks
 
 

@@ -1,5 +1,6 @@
 """A run of the command line, to files or in the window: its folder, its signals, its ending in one
-line and an exit code, 0, 1, 130 or 143 (docs/output.md, "How a run ends")."""
+line and an exit code, 0, 1, or 128 + a stopping signal's number: 130, 143, 129, 131
+(docs/output.md, "How a run ends")."""
 import collections
 import contextlib
 import signal
@@ -18,7 +19,8 @@ from viewer.pictures.frames import frame_count
 
 
 class Stopped(BaseException):
-    """SIGINT (Ctrl+C) or SIGTERM: the run stops, says so in one line and keeps what it wrote."""
+    """SIGINT (Ctrl+C), SIGTERM, SIGHUP or SIGQUIT (startup.EXIT_CODES): the run stops, says so
+    in one line and keeps what it wrote."""
 
     def __init__(self, signum):
         super().__init__(signum)
@@ -26,7 +28,7 @@ class Stopped(BaseException):
 
 
 class Signals:
-    """`with Signals():` SIGINT and SIGTERM raise Stopped, at once or as `held()` ends."""
+    """`with Signals():` the signals of EXIT_CODES raise Stopped, at once or as `held()` ends."""
 
     def __init__(self):
         self.depth, self.pending, self.previous = 0, None, {}
@@ -137,21 +139,35 @@ def failure_of(err, plan, when=""):
 
 
 def end(plan, signals, folder, tracks, frame_log, failure, messages, done):
-    """How every run ends: the last pictures of the steps kept, the logs closed, one line (`done` if
-    all went well); returns the exit code."""
-    if tracks:
-        try:
-            for track in tracks:
-                track.last_snapshot()
-            header = summary_header(plan)
-            run_pictures.write(tracks, folder, plan.stride, plan.frames, frame_log, header)
-        except ENDINGS as err:
-            failure = failure or failure_of(err, plan, " while writing the last pictures")
+    """How every run ends: the last pictures of the steps kept, then `say`; returns the exit code.
+    A signal that comes between two steps of this, outside their try, is the run's ending too."""
+    try:
+        if tracks:
+            try:
+                for track in tracks:
+                    track.last_snapshot()
+                header = summary_header(plan)
+                run_pictures.write(tracks, folder, plan.stride, plan.frames, frame_log, header)
+            except ENDINGS as err:
+                failure = failure or failure_of(err, plan, " while writing the last pictures")
+        signals.close()
+    except Stopped as err:          # came between two steps of the ending, outside their try
+        failure = failure or failure_of(err, plan, " as the run ended")
+    return say(plan, signals, folder, tracks, failure, messages, done)
+
+
+def say(plan, signals, folder, tracks, failure, messages, done):
+    """The logs closed, the folder's claim released, one line (`done` if all went well and the
+    folder is still there); returns the exit code. Signals only wait from here on."""
     signals.close()
     for track in tracks:
         track.csv.close()
+    if folder is not None:
+        folder.release()
     if failure is None and signals.pending is not None:        # came as the run was closing
         failure = failure_of(Stopped(signals.pending), plan, " as the run ended")
+    if failure is None and folder is not None and folder.lost:
+        failure = Failure(1, "error: the run's folder was deleted or moved")
     if failure is None:
         print(done, file=messages)
         return 0
@@ -160,21 +176,25 @@ def end(plan, signals, folder, tracks, frame_log, failure, messages, done):
 
 
 def kept(tracks, folder, plan):
-    """'N steps kept in out/' (the last step log.csv holds), and the last pictures left out."""
+    """'N steps kept in out/' (the last step log.csv holds), its page's link where it was written,
+    and the last pictures left out; nothing kept where the folder disappeared."""
+    if folder is not None and folder.lost:
+        return f"nothing kept: {folder.folder}/ disappeared as the run wrote it"
     if not tracks:
         return "nothing written" + (f" in {folder.folder}/" if folder is not None else "")
     steps = min(track.logged for track in tracks)
     left_out = [name for name in run_pictures.names(tracks)
                 if (plan.frames or name != "index.html") and name not in folder.written]
     said = f"; left out: {', '.join(left_out)}" if left_out else ""
-    return f"{steps} steps kept in {folder.folder}/{said}"
+    at = where(plan, folder) if "index.html" in folder.written else f"{folder.folder}/"
+    return f"{steps} steps kept in {at}{said}"
 
 
 def to_files(plan, signals, messages=None):
     """Run the plan's scenes side by side into files, one closing line on `messages`; exit code."""
     messages = messages or sys.stderr
     folder = plan.folder(signals)       # ValueError: refused, nothing written
-    tracks, frame_log, failure, start = [], [], None, time.perf_counter()
+    tracks, frame_log, failure, done, start = [], [], None, None, time.perf_counter()
     try:
         if plan.said:
             print(plan.said, file=messages, flush=True)
@@ -187,13 +207,17 @@ def to_files(plan, signals, messages=None):
             color = draw.run_color(k)
             tracks.append(recording.Track(scene, steps, records, label, tag, color, folder))
         recording.record(tracks, folder, plan.stride, plan.frames, plan.forces, messages, frame_log)
-    except ENDINGS as err:
+        wall = time.perf_counter() - start
+        rest = f"; {closing_words(tracks)}" if tracks else ""
+        done = (f"simulated {simulated(plan)} in {wall:.2f} s wall{rest}; {written(plan)} in "
+                f"{where(plan, folder)}")
+    except ENDINGS as err:          # the closing words too: a signal as they are found
         failure = failure_of(err, plan)
-    wall = time.perf_counter() - start
-    rest = f"; {closing_words(tracks)}" if tracks else ""
-    done = (f"simulated {simulated(plan)} in {wall:.2f} s wall{rest}; {written(plan)} in "
-            f"{where(plan, folder)}")
-    return end(plan, signals, folder, tracks, frame_log, failure, messages, done)
+    try:
+        return end(plan, signals, folder, tracks, frame_log, failure, messages, done)
+    except Stopped as err:          # came as the ending began
+        failure = failure or failure_of(err, plan, " as the run ended")
+        return say(plan, signals, folder, tracks, failure, messages, done)
 
 
 def simulated(plan):

@@ -1,5 +1,6 @@
-"""`python simulator.py` (and `python -m figures`) before numpy loads: one BLAS thread, Ctrl+C and
-SIGTERM in one line, stdout and stderr best effort; then the command line (viewer.main)."""
+"""`python simulator.py` (and `python -m figures`) before numpy loads: one BLAS thread, Ctrl+C,
+SIGTERM, SIGHUP and SIGQUIT in one line, stdout and stderr best effort; then the command line
+(viewer.main)."""
 import contextlib
 import functools
 import importlib
@@ -8,8 +9,13 @@ import os
 import signal
 import sys
 
-EXIT_CODES = {signal.SIGINT: 130, signal.SIGTERM: 143}      # 128 + the signal's number
-REASONS = {signal.SIGINT: "interrupted", signal.SIGTERM: "terminated (SIGTERM)"}
+# the signals that stop a run in one line (docs/output.md, "How a run ends"): exit code 128 + the
+# signal's number; SIGHUP (a closed terminal or SSH session) and SIGQUIT (Ctrl+\) not on Windows
+SIGNALS = [(signal.SIGINT, 130, "interrupted"), (signal.SIGTERM, 143, "terminated (SIGTERM)"),
+           (getattr(signal, "SIGHUP", None), 129, "hangup (SIGHUP)"),
+           (getattr(signal, "SIGQUIT", None), 131, "quit (SIGQUIT)")]
+EXIT_CODES = {signum: code for signum, code, _ in SIGNALS if signum is not None}
+REASONS = {signum: reason for signum, _, reason in SIGNALS if signum is not None}
 
 
 class BestEffort(io.TextIOBase):

@@ -1,5 +1,7 @@
-"""A run's folder, new or the empty one --out names, its files created new and written whole;
-nothing outside it is touched (docs/output.md, "A run writes only into its own new folder")."""
+"""A run's folder, new or the empty one --out names, claimed in one atomic step by the run that
+writes it; its files created new and written whole; nothing outside it is touched (docs/output.md,
+"A run writes only into its own new folder")."""
+import contextlib
 import datetime
 import os
 import pathlib
@@ -10,6 +12,9 @@ import utils
 from viewer.output import whole_files
 
 OUTPUT = "output"       # where a run's folder is made without --out
+CLAIM = ".claimed-by-a-run"     # created O_EXCL in the run's folder: one run only; gone at its end
+TRIES = 5               # a parent removed by another run as this one made its folder: try again
+MAX_LINKS = 40          # as the kernel's ELOOP
 
 
 def refused(text):
@@ -39,52 +44,170 @@ def marks_csv(tag=""):
 
 
 def remove(made):
+    """Remove the folders this run made, innermost first, where still empty: one that another run
+    has put its folder or claim in stays."""
     for at in reversed(made):
-        os.rmdir(at)
+        with contextlib.suppress(OSError):
+            os.rmdir(at)
 
 
-def make_folders(path):
-    """Make the folder `path` and its missing parents; returns those made, outermost first.
-    FileExistsError where `path` exists; a ValueError, nothing left made, where it cannot be."""
-    parents = pathlib.Path(os.path.abspath(path)).parents
-    missing = [str(at) for at in reversed(parents) if not os.path.lexists(at)]
-    made = []
+def planted(link, folder):
+    """True where `link` is another user's link in a sticky folder all may write to (/tmp), which
+    the kernel itself would not follow (fs.protected_symlinks)."""
+    held, mode = os.lstat(link).st_uid, os.stat(folder).st_mode
+    shared = mode & stat.S_ISVTX and mode & stat.S_IWOTH
+    return bool(shared) and held not in (os.geteuid(), os.stat(folder).st_uid)
+
+
+def resolved(out):
+    """The absolute folder `out` names, as the kernel finds it: each link followed where it stands,
+    so with x/a a link to x/t1/t2, x/a/../b is x/t1/b (os.path.abspath says x/b). A ValueError
+    naming --out for `out` itself a link, a link another user planted (`planted`) or a loop. On
+    Windows '..' goes up as text before any link is followed: os.path.abspath is where it writes."""
+    last = out.rstrip(os.sep + (os.altsep or "")) or out       # out/ too: the link, not in it
+    if os.path.islink(last):
+        raise refused(f"out folder {out!r} is a link to {os.readlink(last)!r}: give the folder "
+                      f"itself")
+    if not whole_files.HAS_OWNERS:
+        return os.path.abspath(out)
     try:
-        for at in missing + [os.path.abspath(path)]:
-            os.mkdir(at)
-            made.append(at)
-    except OSError as err:
-        remove(made)
-        if isinstance(err, FileExistsError) and len(made) == len(missing):
-            raise                           # `path` itself exists: the caller decides
-        raise refused(f"out folder {path!r} cannot be created: {err.strerror or err}") from None
+        return walked(out)
+    except OSError as err:          # a folder on the way that cannot be read
+        raise refused(f"out folder {out!r} cannot be created: {err.strerror or err}") from None
+
+
+def walked(out):
+    """`resolved` on POSIX: the path walked one name at a time, each link's target put in its
+    place, '..' going up from where the walk is."""
+    parts = list(reversed(pathlib.PurePath(os.path.abspath(os.curdir), out).parts[1:]))
+    here, links = os.sep, 0
+    while parts:
+        part = parts.pop()
+        at = os.path.join(here, part)
+        if part == "..":
+            here = os.path.dirname(here)
+        elif not os.path.islink(at):
+            here = at
+        elif planted(at, here) or links == MAX_LINKS:
+            why = "another user's link" if links < MAX_LINKS else "too many links"
+            raise refused(f"out folder {out!r} goes through {at!r}: {why}: give another --out")
+        else:
+            links, target = links + 1, pathlib.PurePath(os.readlink(at))
+            parts.extend(reversed(target.parts[1:] if target.is_absolute() else target.parts))
+            here = os.sep if target.is_absolute() else here
+    return here
+
+
+def make_parents(folder, out):
+    """Make the missing parents of `folder`, outermost first; returns those made. A parent another
+    run makes at the same moment is taken as found, as os.makedirs(exist_ok=True) does."""
+    made = []
+    for at in map(str, reversed(pathlib.PurePath(folder).parents)):
+        try:
+            if not os.path.lexists(at):
+                os.mkdir(at)
+                made.append(at)
+        except FileExistsError:
+            pass
+        except OSError as err:
+            remove(made)
+            raise refused(f"out folder {out!r} cannot be created: {err.strerror or err}") from None
+        if not os.path.isdir(at) or os.path.islink(at):     # a link put there since `resolved`
+            remove(made)
+            raise refused(f"out folder {out!r} cannot be created: {at!r} is not a folder")
     return made
 
 
-def check_empty(path):
+def make_folders(folder, out):
+    """Make `folder` by one os.mkdir, and its missing parents; returns those made, outermost first
+    (`folder` last where this run made it; not there where it existed). A ValueError naming --out,
+    nothing left made, where it cannot be made."""
+    for _ in range(TRIES):
+        made = make_parents(folder, out)
+        try:
+            os.mkdir(folder)
+            return made + [folder]
+        except FileExistsError:
+            return made
+        except FileNotFoundError:       # a parent removed by the run that made it: again
+            remove(made)
+        except OSError as err:
+            remove(made)
+            raise refused(f"out folder {out!r} cannot be created: {err.strerror or err}") from None
+    raise refused(f"out folder {out!r} cannot be created: its parents keep disappearing")
+
+
+def check_empty(path, out):
     """ValueError unless `path` is an empty folder of this user's that others cannot write to."""
     if not os.path.isdir(path):
-        raise refused(f"out folder {path!r} is not a folder: choose a new one")
+        raise refused(f"out folder {out!r} is not a folder: choose a new one")
     st = os.stat(path)
     shared = st.st_mode & stat.S_IWOTH and not st.st_mode & stat.S_ISVTX
     if whole_files.HAS_OWNERS and (st.st_uid != os.geteuid() or shared):
-        raise refused(f"out folder {path!r} is another user's or others may write to it: choose "
+        raise refused(f"out folder {out!r} is another user's or others may write to it: choose "
                       f"a new folder")
     if os.listdir(path):
-        raise refused(f"out folder {path!r} is not empty: a run writes only into a new or empty "
+        raise refused(f"out folder {out!r} is not empty: a run writes only into a new or empty "
                       f"folder, so choose another --out (or leave it out: each run then makes "
                       f"its own under {OUTPUT}/)")
 
 
+def identity(path):
+    """(device, inode) of `path` itself, or None where it is not there."""
+    try:
+        st = os.lstat(path)
+    except OSError:
+        return None
+    return st.st_dev, st.st_ino
+
+
+def claim(path, out):
+    """Claim the folder `path` for this run: the file CLAIM created in it (O_EXCL: one run only
+    can), then the folder found empty but for it. A ValueError naming --out where another run
+    claimed it first or it is not empty; returns the claim's identity."""
+    check_empty(path, out)
+    name = os.path.join(path, CLAIM)
+    try:
+        fd = os.open(name, whole_files.NEW, 0o666)
+    except FileExistsError:
+        raise refused(f"out folder {out!r} was taken by another run started at the same moment: "
+                      f"choose another --out") from None
+    except OSError as err:
+        raise refused(f"out folder {out!r} cannot be written: {err.strerror or err}") from None
+    try:
+        with os.fdopen(fd, "w") as f:
+            f.write(f"the folder of the run of process {os.getpid()}, while it runs\n")
+    except OSError as err:          # a full disk
+        os.remove(name)
+        raise refused(f"out folder {out!r} cannot be written: {err.strerror or err}") from None
+    if os.listdir(path) != [CLAIM]:
+        os.remove(name)
+        check_empty(path, out)
+    return identity(name)
+
+
 def new_folder(kind):
-    """A new output/<kind>-<date>-<time> (-2, -3, ... where taken); the folder, the folders made."""
+    """A new output/<kind>-<date>-<time> (-2, -3, ... where taken) made by one os.mkdir, output/
+    made as os.makedirs(exist_ok=True) does and never removed; (the folder, its claim)."""
     base = os.path.join(OUTPUT, f"{kind}-{datetime.datetime.now():%Y%m%d-%H%M%S}")
-    for out in [base] + [f"{base}-{k}" for k in range(2, 1000)]:
-        try:
-            return out, make_folders(out)
-        except FileExistsError:
-            continue
+    try:
+        os.makedirs(OUTPUT, exist_ok=True)
+        for out in [base] + [f"{base}-{k}" for k in range(2, 1000)]:
+            with contextlib.suppress(FileExistsError):
+                os.mkdir(out)
+                return out, claim_made(out, [out], out)
+    except OSError as err:
+        raise refused(f"no new folder can be made in {OUTPUT}/: {err.strerror or err}") from None
     raise refused(f"no new folder could be made as {base}-N: give --out")
+
+
+def claim_made(folder, made, out):
+    """`claim` the folder (the folders `made` for it); where it cannot, those are removed."""
+    try:
+        return claim(folder, out)
+    except BaseException:
+        remove(made)
+        raise
 
 
 def probe(folder, name):
@@ -98,33 +221,60 @@ def probe(folder, name):
             os.remove(path)
 
 
-class RunFolder:
-    """The folder a run writes into; `written`, the names written so far."""
+def take(out, kind):
+    """(the run's folder, the folders made for it, its claim): a new_folder, or `out` where the
+    kernel puts it (`resolved`), made where missing, and claimed."""
+    if out is None:
+        folder, claimed = new_folder(kind)
+        return folder, [folder], claimed
+    real = resolved(out)
+    made = make_folders(real, out)
+    claimed = claim_made(real, made, out)
+    return (out if real == os.path.abspath(out) else real), made, claimed
 
-    def __init__(self, path, signals):
-        self.folder, self.signals, self.written = path, signals, set()
+
+class RunFolder:
+    """The folder a run writes into; `written`, the names written so far; `lost`, set as the run
+    ends (`release`) where its folder was deleted, moved or replaced while it ran."""
+
+    def __init__(self, path, made, claimed, signals):
+        self.folder, self.made, self.claimed, self.signals = path, made, claimed, signals
+        self.written, self.lost = set(), False
 
     @classmethod
     def make(cls, out, kind, names, signals):
-        """The run's folder: `out`, new or empty, or a new_folder; a ValueError naming --out,
-        nothing made, where it cannot be or a probe or one of `names` cannot be written in it."""
-        with signals.held():
-            if out is None:
-                out, made = new_folder(kind)
-            else:
-                try:
-                    made = make_folders(out)
-                except FileExistsError:
-                    made = []
-                    check_empty(out)
-            for name in ["probe", *names]:
-                try:
-                    probe(out, name)
-                except OSError as err:
-                    remove(made)
-                    raise refused(f"output name {name!r} in out folder {out!r} cannot be written: "
-                                  f"{err.strerror}") from None
-            return cls(out, signals)
+        """The run's folder (`take`): `out`, new or empty, or a new_folder; a ValueError naming
+        --out, nothing made, where it cannot be or a probe or one of `names` cannot be written in
+        it. Claimed until `release`."""
+        folder = None
+        try:
+            with signals.held():
+                folder = cls(*take(out, kind), signals)
+                for name in ["probe", *names]:
+                    try:
+                        probe(folder.folder, name)
+                    except OSError as err:
+                        raise refused(f"output name {name!r} in out folder {folder.folder!r} "
+                                      f"cannot be written: {err.strerror}") from None
+        except BaseException:           # refused, or a signal as it ended: nothing left made
+            if folder is not None:
+                folder.release()
+                remove(folder.made)
+            raise
+        return folder
+
+    def gone(self):
+        """True where the folder holds no longer this run's claim: deleted, moved or replaced."""
+        return identity(self.path(CLAIM)) != self.claimed
+
+    def release(self):
+        """The run ends: `lost` set where its folder is gone, else its claim removed."""
+        if self.claimed is not None:
+            self.lost = self.gone()
+            if not self.lost:
+                with contextlib.suppress(OSError):
+                    os.remove(self.path(CLAIM))
+            self.claimed = None
 
     def path(self, name):
         return os.path.join(self.folder, name)

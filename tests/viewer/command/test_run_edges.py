@@ -90,7 +90,7 @@ def test_a_signal_while_pygame_loads_ends_the_run_in_one_line(tmp_path, monkeypa
 @pytest.mark.parametrize("signum, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
 def test_a_signal_while_a_frame_is_written_keeps_files_whole(tmp_path, monkeypatch, signum, code):
     """The frame being written is finished, whole; no temporary is left; the steps kept are the last
-    step in log.csv, and the last pictures are written for them."""
+    step in log.csv, and the last pictures are written for them: the line links the page."""
     real = whole_files.write_temporary
 
     def write(path, data):
@@ -101,7 +101,8 @@ def test_a_signal_while_a_frame_is_written_keeps_files_whole(tmp_path, monkeypat
     status, lines = main("--steps", "300", "--frame-stride", "1", "--out", str(tmp_path))
     assert status == code and lines[-1].startswith("simulator.py: stopped: "), lines
     steps = log_steps(tmp_path / "log.csv")
-    assert lines[-1].endswith(f"; {steps[-1]} steps kept in {tmp_path}/")
+    page = (tmp_path / "index.html").as_uri()
+    assert lines[-1].endswith(f"; {steps[-1]} steps kept in {tmp_path}/: {page}")
     assert steps == list(range(steps[-1] + 1))
     assert (tmp_path / "frame_00003.png").stat().st_size > 0 and not leftovers(tmp_path)
     assert all((tmp_path / name).exists() for name in ("summary.png", "plots.png", "index.html"))

@@ -58,7 +58,7 @@ def test_a_name_taken_between_the_check_and_the_write_is_never_overwritten(tmp_p
 
 def test_a_folder_removed_mid_run_is_named_by_its_output(tmp_path, monkeypatch):
     """The output folder removed as a frame is written: the line names the frame, not its
-    temporary."""
+    temporary, and says the folder disappeared."""
     real, calls = whole_files.write_temporary, []
 
     def gone(path, data):
@@ -69,7 +69,8 @@ def test_a_folder_removed_mid_run_is_named_by_its_output(tmp_path, monkeypatch):
     monkeypatch.setattr(whole_files, "write_temporary", gone)
     code, lines = main("--steps", "30", "--frame-stride", "1", "--out", str(tmp_path / "out"))
     assert code == 1 and "cannot write " in lines[-1] and ".tmp-" not in lines[-1], lines
-    assert os.path.basename(calls[-1])[len(".tmp-12345678-"):] in lines[-1]
+    assert os.path.basename(calls[4])[len(".tmp-12345678-"):] in lines[-1]
+    assert lines[-1].endswith("out/ disappeared as the run wrote it")
 
 
 # ---- a new folder for each run
