@@ -25,17 +25,24 @@ def rest_words(tracks):
 
 def travel_words(tracks):
     """Each dish's travel (its centre of mass along the pull, end minus start) beside the closed
-    form: 'the dish travelled 0.1226 m, closed form mu g L^2 / U^2 = 0.1226 m (-0.0 %)'."""
-    def words(track):
+    form: 'the dish travelled 0.1226 m, closed form mu g L^2 / U^2 = 0.1226 m (-0.0 %)'; for a
+    comparison, in the order of its runs, 'the dish travelled 1.0000, 0.1226 m (closed form +0.0,
+    -0.0 %)' ('-' where the closed form is 0)."""
+    runs = []
+    for track in tracks:
         scene, surface = track.scene, track.scene.surface
         moved = track.samples.last.com - track.samples.items[0].com
         travel, g = float(moved @ surface.tangent), -scene.g[1]
         U, L = surface.pull_speed, surface.pull_length
         exact = closed_forms.tablecloth_travel(U, L, scene.mu, g)
-        form = "mu g L^2 / U^2" if U * U >= scene.mu * g * L else "L"
-        off = f" ({100 * (travel - exact) / exact:+.1f} %)" if exact else ""
-        return f"the dish travelled {travel:.4f} m, closed form {form} = {exact:.4f} m{off}"
-    return each(tracks, words)
+        off = f"{100 * (travel - exact) / exact:+.1f}" if exact else "-"
+        runs.append((travel, exact, "mu g L^2 / U^2" if U * U >= scene.mu * g * L else "L", off))
+    if len(runs) > 1:
+        return (f"the dish travelled {', '.join(f'{run[0]:.4f}' for run in runs)} m (closed form "
+                f"{', '.join(run[3] for run in runs)} %)")
+    travel, exact, form, off = runs[0]
+    off = f" ({off} %)" if exact else ""
+    return f"the dish travelled {travel:.4f} m, closed form {form} = {exact:.4f} m{off}"
 
 
 def closing_words(tracks):

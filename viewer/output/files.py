@@ -12,9 +12,15 @@ from viewer.output import whole_files
 OUTPUT = "output"       # where a run's folder is made without --out
 
 
-def refused(text):
-    """The ValueError that refuses a run's folder, naming --out."""
-    return utils.ParameterError("out", text)
+def refused(text, given=True):
+    """The ValueError that refuses a run's folder: about --out where it was `given`, else about the
+    folder tried under output/ (its parameter "output" has no flag to blame)."""
+    return utils.ParameterError("out" if given else "output", text)
+
+
+def named(path, given=True):
+    """The folder in a refusal's words: the --out given, or the one tried for a run without it."""
+    return f"out folder {path!r}" if given else f"folder {path!r}"
 
 
 def tagged(stem, tag, extension):
@@ -43,9 +49,10 @@ def remove(made):
         os.rmdir(at)
 
 
-def make_folders(path):
+def make_folders(path, given=True):
     """Make the folder `path` and its missing parents; returns those made, outermost first.
-    FileExistsError where `path` exists; a ValueError, nothing left made, where it cannot be."""
+    FileExistsError where `path` exists; a ValueError, nothing left made, where it cannot be (about
+    --out where it was `given`)."""
     parents = pathlib.Path(os.path.abspath(path)).parents
     missing = [str(at) for at in reversed(parents) if not os.path.lexists(at)]
     made = []
@@ -57,7 +64,8 @@ def make_folders(path):
         remove(made)
         if isinstance(err, FileExistsError) and len(made) == len(missing):
             raise                           # `path` itself exists: the caller decides
-        raise refused(f"out folder {path!r} cannot be created: {err.strerror or err}") from None
+        raise refused(f"{named(path, given)} cannot be created: {err.strerror or err}",
+                      given) from None
     return made
 
 
@@ -81,10 +89,10 @@ def new_folder(kind):
     base = os.path.join(OUTPUT, f"{kind}-{datetime.datetime.now():%Y%m%d-%H%M%S}")
     for out in [base] + [f"{base}-{k}" for k in range(2, 1000)]:
         try:
-            return out, make_folders(out)
+            return out, make_folders(out, given=False)
         except FileExistsError:
             continue
-    raise refused(f"no new folder could be made as {base}-N: give --out")
+    raise refused(f"no new folder could be made as {base}-N: give --out", given=False)
 
 
 def probe(folder, name):
@@ -109,6 +117,7 @@ class RunFolder:
         """The run's folder: `out`, new or empty, or a new_folder; a ValueError naming --out,
         nothing made, where it cannot be or a probe or one of `names` cannot be written in it."""
         with signals.held():
+            given = out is not None
             if out is None:
                 out, made = new_folder(kind)
             else:
@@ -122,8 +131,8 @@ class RunFolder:
                     probe(out, name)
                 except OSError as err:
                     remove(made)
-                    raise refused(f"output name {name!r} in out folder {out!r} cannot be written: "
-                                  f"{err.strerror}") from None
+                    raise refused(f"output name {name!r} in {named(out, given)} cannot be "
+                                  f"written: {err.strerror}", given) from None
             return cls(out, signals)
 
     def path(self, name):

@@ -115,20 +115,25 @@ def test_a_comparisons_progress_lines_give_each_runs_own_step_as_its_log(tmp_pat
 
 
 def check_lines_against_logs(folder, tags, lines, expected):
-    """Each progress line's figures, run by run, are the log rows of its step."""
+    """Each progress line's figures are the log rows of its step: each run's Newton iterations
+    ('-': a run already ended), the largest residual and the least min_d of the runs at that step,
+    and each run's t where their h differ."""
     said = [line for line in lines if line.startswith("step ")]
-    assert len(said) >= expected
+    assert len(said) >= expected and all(len(line) <= 100 for line in said)
     logs = []
     for tag in tags:
         with open(folder / f"log_{tag}.csv", newline="") as f:
             logs.append({int(row["step"]): row for row in csv.DictReader(f)})
     for line in said:
         step = int(line.split()[1].split("/")[0])
-        runs = re.findall(r"newton=(\d+)\s+residual=(\S+)\s+min_d=(\S+)", line)
-        present = [log for log in logs if step in log]
-        assert len(runs) == len(present) >= 1, line
-        for (newton, residual, min_d), log in zip(runs, present):
-            row = log[step]
-            assert int(newton) == int(row["newton_iterations"]), line
-            assert residual == f"{float(row['residual']):.1e}", line
-            assert min_d == f"{float(row['min_distance']):.2e}", line
+        times, newton, residual, min_d = re.fullmatch(
+            r"step \d+/\d+  t=(\S+)s  newton=(\S+)  residual<=(\S+)  min_d>=(\S+)", line).groups()
+        rows = [log.get(step) for log in logs]
+        present = [row for row in rows if row is not None]
+        assert newton.split(",") == ["-" if row is None else row["newton_iterations"]
+                                     for row in rows], line
+        assert residual == f"{max(float(row['residual']) for row in present):.1e}", line
+        assert min_d == f"{min(float(row['min_distance']) for row in present):.2e}", line
+        if len(times.split(",")) > 1:
+            assert times.split(",") == ["-" if row is None else f"{float(row['t']):.2f}"
+                                        for row in rows], line
