@@ -28,7 +28,7 @@ def too_wide(lines, *paths):
     [],                                                             # the lecture's square, 6 s
     ["--scene", "chalk", "--duration", "0.6"],                      # stick-slip from 0.31 s
     ["--scene", "tablecloth", "--pull-speed", "1,2,4,8", "--frame-stride", "40"],
-])                  # the mu comparison: test_run_outputs.test_the_lectures_comparison_in_one_command
+])              # the mu comparison's: test_run_outputs.test_the_lectures_comparison_in_one_command
 def test_every_line_of_a_run_fits_and_it_closes_in_3_lines(args, tmp_path, monkeypatch):
     """Each run into its default folder under output/ (the folder's own name counts)."""
     monkeypatch.chdir(tmp_path)
