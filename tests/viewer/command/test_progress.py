@@ -65,6 +65,17 @@ def chalk_track(label, speeds, **scene):
     return types.SimpleNamespace(label=label, scene=scene, samples=samples)
 
 
+def test_a_comparison_whose_chalks_all_stick_slip_says_each_figure_run_by_run():
+    """Four grips' words, each run's about 100 characters, in one list per figure (issue 40: the
+    closing within 3 lines of 100 columns), in the runs' order."""
+    stick, slip = [1e-5] * 40, [0.1] * 6        # 40 ms stuck, a 0.6 mm slip
+    longer = [1e-5] * 60                        # 60 ms stuck: a period of 66 ms
+    runs = [chalk_track("a", (stick + slip) * 4 + stick), chalk_track("b", (longer + slip) * 3)]
+    said = closing.closing_words(runs)
+    assert said == (f"stick-slip: 4, 2 slips; mean slip 0.60, 0.60 mm; period 46, 66 ms; tip stuck "
+                    f"{100 * 200 / 224:.0f}, {100 * 180 / 198:.0f} %")
+
+
 def test_the_chalks_closing_words_are_its_stick_slip():
     """Not when the tip was last stuck (the hand moves on) but what the tip did: the pushed chalk's
     cycles, a sliding one's start-up, in each run's words for a comparison."""
