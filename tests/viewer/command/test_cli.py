@@ -140,6 +140,23 @@ def test_help_documents_every_flag():
         assert flag in text
 
 
+def test_help_gives_each_scenes_own_defaults():
+    """Issue 40: --help said 6 s for every scene. Each scene's default is in its help, where it
+    differs from the square's: the duration, and each scene flag's value in the scene's table."""
+    helps = {action.dest: " ".join(action.help.split()) for action in cli.make_parser()._actions}
+    assert helps["duration"] == (f"simulated seconds (default: the square {cli.DURATION:g}, the "
+                                 f"chalk {cli.CHALK_DURATION:g}, the tablecloth until its "
+                                 f"closed-form dish stops, +{cli.STOP_MARGIN:g})")
+    tables = {kind: table for kind, (table, _) in cli.scene_kinds().items()}
+    for _, param, _, _ in cli.FLAGS:
+        default = helps[param].rsplit("(default ", 1)[1]
+        for kind, table in tables.items():
+            if param in table and table[param] != simulator.DEFAULTS.get(param, table[param]):
+                assert f"{kind} {cli.shown(table[param])}" in default, (param, default)
+    assert helps["h"].endswith("(default 0.01; chalk 0.001, tablecloth 0.005)")
+    assert helps["newton_start"].endswith("(default x_n; chalk x_tilde)")
+
+
 def test_tablecloth_flags_compare_and_the_run_lasts_until_the_dishes_stop():
     """A flag reaches the tablecloth where TABLECLOTH has its parameter; a list compares pulls, all
     run until the slowest closed-form dish has stopped, plus STOP_MARGIN: U 1 m/s stops at
