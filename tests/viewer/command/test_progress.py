@@ -145,6 +145,9 @@ def check_lines_against_logs(folder, tags, lines, expected):
                                      for row in rows], line
         assert residual == f"{max(float(row['residual']) for row in present):.1e}", line
         assert min_d == f"{min(float(row['min_distance']) for row in present):.2e}", line
-        if len(times.split(",")) > 1:
-            assert times.split(",") == ["-" if row is None else f"{float(row['t']):.2f}"
-                                        for row in rows], line
+        if len(times.split(",")) > 1:       # to 2 decimals (0.205 may show as 0.20 or 0.21)
+            for shown, row in zip(times.split(","), rows, strict=True):
+                if row is None:
+                    assert shown == "-", line
+                else:
+                    assert abs(float(shown) - float(row["t"])) <= 0.005 + 1e-9, line
