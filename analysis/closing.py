@@ -38,8 +38,8 @@ def travel_words(tracks):
         off = f"{100 * (travel - exact) / exact:+.1f}" if exact else "-"
         runs.append((travel, exact, "mu g L^2 / U^2" if U * U >= scene.mu * g * L else "L", off))
     if len(runs) > 1:
-        return (f"the dish travelled {', '.join(f'{run[0]:.4f}' for run in runs)} m (closed form "
-                f"{', '.join(run[3] for run in runs)} %)")
+        travels = ", ".join(f"{travel:.4f}" for travel, *_ in runs)
+        return f"the dish travelled {travels} m (closed form {', '.join(r[-1] for r in runs)} %)"
     travel, exact, form, off = runs[0]
     off = f" ({off} %)" if exact else ""
     return f"the dish travelled {travel:.4f} m, closed form {form} = {exact:.4f} m{off}"

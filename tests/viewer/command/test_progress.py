@@ -123,6 +123,7 @@ def test_a_comparisons_progress_lines_give_each_runs_own_step_as_its_log(tmp_pat
                            "--out", str(tmp_path / "h"))
     assert code == 0
     check_lines_against_logs(tmp_path / "h", ["h0.01", "h0.005"], lines, expected=12)
+    assert lines[-3].startswith("simulated 2 runs of 0.60 s: 60, 120 steps in ")
 
 
 def check_lines_against_logs(folder, tags, lines, expected):
