@@ -64,7 +64,7 @@ def of_track(track):
 
 
 def words(r):
-    """A StickSlip in words: 'stick-slip: 25 slips, mean slip 1.06 mm, period 107 ms, tip stuck
+    """A StickSlip in words: 'stick-slip: 25 slips, mean slip 1.06 mm, period 107 ms, stuck
     86 % of the drive, creeping 0.067 mm/s', or that the tip slid without a stick, jammed, made no
     cycle, or waits."""
     creeping = f", creeping {1e3 * r.creep_speed:.2g} mm/s"
@@ -75,7 +75,7 @@ def words(r):
         slips = f"{n} slips, mean slip" if n > 1 else "1 slip, slip"
         period = f", period {1e3 * r.period:.0f} ms" if n > 1 else ""
         return (f"stick-slip: {slips} {1e3 * r.length:.2f} mm{period}, "
-                f"tip stuck {100 * r.stuck:.0f} % of the drive{creeping}")
+                f"stuck {100 * r.stuck:.0f} % of the drive{creeping}")
     if r.start_up is None:
         return "the tip jammed, stuck throughout the drive" + creeping
     if r.stuck_after == 0:

@@ -84,7 +84,7 @@ def measure(n_seg, repeats):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(prog="python -m benchmarks.energies", description=__doc__)
     ap.add_argument("--quick", action="store_true", help="n_seg 8 and 16, three repeats")
     ap.add_argument("--out", help="folder for energies.csv (default: see benchmarks/README.md)")
     args = ap.parse_args(argv)

@@ -63,7 +63,7 @@ class Scene:
     h: float
     tol: float
     friction_updates: int
-    newton_start: str           # "x_n" or "x_tilde" (time_integrator.newton_start)
+    newton_start: str           # "x_n" or "x_tilde" (time_integrator.predicted_start)
     max_newton_iterations: int
     max_halvings: int
     terms: tuple                # the energy terms the Incremental Potential sums

@@ -87,10 +87,10 @@ def test_the_words_say_what_the_tip_did():
     assert r.creep_speed == pytest.approx(STUCK)
     assert words(SEGMENTS) == (f"stick-slip: 3 slips, mean slip {1e3 * r.length:.2f} mm, "
                                f"period {1e3 * r.period:.0f} ms, "
-                               f"tip stuck {100 * r.stuck:.0f} % of the drive{creeping}")
+                               f"stuck {100 * r.stuck:.0f} % of the drive{creeping}")
     assert words([(30, STUCK), (5, FAST), (30, STUCK)]) == (
         f"stick-slip: 1 slip, slip {5 * H * FAST * 1e3:.2f} mm, "
-        f"tip stuck {100 * 60 / 65:.0f} % of the drive{creeping}")
+        f"stuck {100 * 60 / 65:.0f} % of the drive{creeping}")
     start_up = START + 91 * H                  # the first state after the 90 stuck ones
     assert words([(90, STUCK), (500, 0.01)]) == (
         f"the tip slid without a stick after its start-up at t = {start_up:.2f} s")

@@ -148,7 +148,8 @@ def test_a_chalk_run_writes_its_mark_as_marks_csv(tmp_path):
     out = tmp_path / "rün 1"
     result = simulate("--steps", "300", "--out", str(out))
     assert result.returncode == 0, result.stderr
-    assert ", marks.csv, " in result.stderr.splitlines()[-1]
+    assert result.stderr.splitlines()[-1] == f"wrote 4 files in {out}/"    # log, marks, 2 PNGs
+    assert sorted(os.listdir(out)) == ["log.csv", "marks.csv", "plots.png", "summary.png"]
     with open(out / "marks.csv", newline="") as f:
         rows = list(csv.reader(f))
     assert rows[0] == ["x_mm", "deposit_N_m_per_0.1_mm"]

@@ -3,7 +3,9 @@ quick table."""
 import os
 import tempfile
 
-from benchmarks import energies, error_vs_runtime, speed, tables
+import pytest
+
+from benchmarks import energies, error_vs_runtime, reading_path, speed, tables
 from helpers.checkout import checkout_state
 
 
@@ -36,3 +38,17 @@ def test_smoke_runs_write_into_a_temporary_folder_and_leave_the_checkout_clean(
     assert tables.output_folder(None, True, "speed") == tables.RESULTS
     mine = str(tmp_path / "mine")
     assert tables.output_folder(mine, False, "speed") == mine
+
+
+@pytest.mark.parametrize("module", [energies, error_vs_runtime, reading_path, speed])
+def test_each_benchmarks_help_is_whole_sentences(module, capsys):
+    """--help names the command as it is run and says its purpose to the end, not cut at a line
+    of the docstring (issue 40: energies' stopped at "against one")."""
+    with pytest.raises(SystemExit) as ended:
+        module.main(["--help"])
+    assert ended.value.code == 0
+    said = capsys.readouterr().out
+    assert said.startswith(f"usage: python -m benchmarks.{module.__name__.split('.')[-1]} ")
+    description = " ".join(said.split("\n\n")[1].split())
+    assert description == " ".join(module.__doc__.split("\n\n")[0].split())
+    assert description.endswith(".")

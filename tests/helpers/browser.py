@@ -13,9 +13,10 @@ def find_browser():
     return next((path for path in map(shutil.which, BROWSERS) if path), None)
 
 
-def probe_page(out, probe, tmp_path, budget_ms=5000):
+def probe_page(out, probe, tmp_path, budget_ms=5000, size=None):
     """Open `out`/index.html in headless Chromium with `probe` appended (a script that writes JSON
-    into <pre id="probe">) and return what it wrote; skips where no browser is found."""
+    into <pre id="probe">) and return what it wrote; skips where no browser is found. `size`:
+    the window's (width, height) in px."""
     browser = find_browser()
     if browser is None:
         pytest.skip(f"no browser found (looked for {', '.join(BROWSERS)}); "
@@ -24,6 +25,7 @@ def probe_page(out, probe, tmp_path, budget_ms=5000):
     (out / "probe.html").write_text(page.replace("</body>", probe + "</body>"))
     command = [browser, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
                f"--user-data-dir={tmp_path / 'profile'}", f"--virtual-time-budget={budget_ms}",
+               *([f"--window-size={size[0]},{size[1]}"] if size else []),
                "--dump-dom", (out / "probe.html").as_uri()]
     result = subprocess.run(command, capture_output=True, text=True, timeout=120)
     found = re.search(r'<pre id="probe">(.*?)</pre>', result.stdout)

@@ -50,3 +50,21 @@ def refused(args, out):
     assert lines[0].startswith("simulator.py: error: ")
     assert os.listdir(out) == ["log.csv"] and (out / "log.csv").read_text() == "an earlier run\n"
     return lines[0]
+
+
+def closing_text(lines):
+    """A finished run's closing lines (from its 'simulated ...' line on) joined by '; ', as one
+    line would say them."""
+    first = max(i for i, line in enumerate(lines) if line.startswith("simulated "))
+    return "; ".join(lines[first:])
+
+
+def messages(lines):
+    """The lines as said: a warning's continuation lines (indented) joined to its first line."""
+    said = []
+    for line in lines:
+        if line.startswith("  ") and said:
+            said[-1] += " " + line.strip()
+        else:
+            said.append(line)
+    return said

@@ -39,7 +39,7 @@ FLAGS = [
      "fixed-point friction updates per step, fully implicit friction (Algorithm 5); 0: lagged"),
     (("--max-newton",), "max_newton_iterations", "N", "Newton iteration cap per solve"),
     (("--newton-start",), "newton_start", "START", "where each step's Newton starts: x_n, as the "
-     "lecture, or x_tilde = x^n + h v^n cut back by CCD (the chalk's default)"),
+     "lecture, or x_tilde = x^n + h v^n cut back by CCD"),
     (("--tilt",), "tilt", "DEG", "--scene chalk: the chalk's angle from the board in degrees"),
     (("--grip",), "k_hand", "N_PER_M", "--scene chalk: grip stiffness per held node in N/m"),
     (("--mu-static",), "mu_s", "MU",
@@ -91,6 +91,14 @@ def shown(value):
     return value if isinstance(value, str) else f"{value:g}"
 
 
+def default_words(param):
+    """A scene flag's default as --help shows it: the first scene's with it, then each other
+    scene's where it differs ('0.11; chalk 0.35, tablecloth 0.2')."""
+    values = [(kind, table[param]) for kind, (table, _) in scene_kinds().items() if param in table]
+    others = [f"{kind} {shown(value)}" for kind, value in values[1:] if value != values[0][1]]
+    return shown(values[0][1]) + (f"; {', '.join(others)}" if others else "")
+
+
 def make_parser():
     ap = Parser(prog="simulator.py", allow_abbrev=False, description=(
         "Simulate the lecture's elastic square on a slope (or --scene chalk, tablecloth) into a "
@@ -103,7 +111,7 @@ def make_parser():
                         f"chalk pushed across a board ({CHALK_DURATION:g} s); tablecloth: a dish "
                         "on a cloth pulled from under it (until the dish stops)")
     for flags, param, metavar, what in FLAGS:
-        default = shown({**simulator.TABLECLOTH, **simulator.CHALK, **simulator.DEFAULTS}[param])
+        default = default_words(param)
         kind = ({"choices": utils.NEWTON_STARTS} if param == "newton_start" else
                 {"type": pair if param in PAIR else whole if param in COUNT else float})
         g.add_argument(*flags, dest=param, metavar=metavar, default=argparse.SUPPRESS,
@@ -115,7 +123,9 @@ def make_parser():
                    help="--scene chalk: drag the chalk (acute angle) instead of pushing it")
     r = ap.add_argument_group("run and output")
     r.add_argument("--duration", type=float, metavar="SECONDS",
-                   help=f"simulated seconds (default {DURATION:g})")
+                   help=f"simulated seconds (default: the square {DURATION:g}, the chalk "
+                        f"{CHALK_DURATION:g}, the tablecloth until its closed-form dish stops, "
+                        f"+{STOP_MARGIN:g})")
     r.add_argument("--steps", type=whole, metavar="N", help="time steps, instead of --duration")
     r.add_argument("--out", metavar="FOLDER", help="a new or empty folder to write into (default: "
                    "a new one, output/<scene>-<date>-<time>; with --window, files only when given)")
@@ -184,9 +194,12 @@ def parse_command_line(argv):
 
 
 def decimal_comma(name, param, values):
-    """The first line of a list that reads like a decimal comma ('--mu 0,11'), else None."""
+    """The first line of a list that may be a decimal comma, else None: two whole numbers given to
+    a flag of decimals, read both ways only where the list is unlikely as written, its first 0
+    ('--mu 0,11') or its second with a leading 0 ('3,05'); '--pull-speed 3,6' is a comparison."""
     if (param in COUNT or param in PAIR or len(values) != 2
-            or not all(re.fullmatch(r"-?[0-9]+", v) for v in values)):
+            or not all(re.fullmatch(r"-?[0-9]+", v) for v in values)
+            or not (int(values[0]) == 0 or values[1].startswith("0"))):
         return None
     return (f"comparing {name} = {values[0]} and {name} = {values[1]} (a list; a decimal is "
             f"written {values[0]}.{values[1]})")

@@ -1,9 +1,11 @@
 """What a run says on stderr as it goes, to files or in the window: progress lines and warnings."""
+import textwrap
 import time
 
 import square_mesh
 
 PROGRESS_EVERY = 2.0        # s of wall time: a progress line at least this often
+WIDTH = 100                 # columns: every line a run prints fits (a path the user gave may not)
 
 
 class Progress:
@@ -32,18 +34,27 @@ class Progress:
                 self.say(n, self.due.pop(n))
 
     def words(self, track):
-        """One run's figures of the step it has just logged (its t too where the runs' h differ)."""
+        """One run's figures of the step it has just logged: (t, newton, residual, min_d)."""
         last = track.samples.last
-        label = f"{track.label}: " if len(self.tracks) > 1 else ""
-        t = f"t={track.t:.2f}s " if len({tr.scene.h for tr in self.tracks}) > 1 else ""
-        return (f"{label}{t}newton={last.report.newton_iterations}  "
-                f"residual={last.report.residual:.1e}  min_d={last.min_distance:.2e}")
+        return (track.t, last.report.newton_iterations, last.report.residual, last.min_distance)
 
     def say(self, n, runs):
-        """The line of step n: the first run's step count and time, each run's figures."""
+        """The line of step n, within WIDTH columns: the first run's step count and time, and the
+        run's figures; a comparison's Newton iterations run by run ('-': a run already ended), its
+        largest residual and its least min_d (and each run's t where the runs' h differ)."""
         first = self.tracks[min(runs)]
-        parts = [text for _, text in sorted(runs.items())]
-        print(f"step {n}/{first.steps}  t={n * first.scene.h:.2f}s  " + "  ".join(parts),
+        _, newton, residual, min_d = zip(*runs.values())
+        line = f"step {n}/{first.steps}  t={n * first.scene.h:.2f}s  "
+        if len(self.tracks) == 1:
+            print(f"{line}newton={newton[0]}  residual={residual[0]:.1e}  min_d={min_d[0]:.2e}",
+                  file=self.log, flush=True)
+            return
+        each = [runs.get(k) for k in range(len(self.tracks))]
+        if len({tr.scene.h for tr in self.tracks}) > 1:
+            times = ",".join("-" if r is None else f"{r[0]:.2f}" for r in each)
+            line = f"step {n}/{first.steps}  t={times}s  "
+        counts = ",".join("-" if r is None else str(r[1]) for r in each)
+        print(f"{line}newton={counts}  residual<={max(residual):.1e}  min_d>={min(min_d):.2e}",
               file=self.log, flush=True)
 
     def warn(self, track, text):
@@ -51,8 +62,17 @@ class Progress:
 
 
 def warning(log, label, text):
-    """One warning's line, after the run's label in a comparison."""
-    print(f"simulator.py: warning: {label + ': ' if label else ''}{text}", file=log, flush=True)
+    """One warning, after the run's label in a comparison: lines of at most WIDTH columns, broken
+    between words (a path stays whole), the next ones indented."""
+    said = f"simulator.py: warning: {label + ': ' if label else ''}{text}"
+    print(wrapped(said), file=log, flush=True)
+
+
+def wrapped(text, indent="  "):
+    """`text` in lines of at most WIDTH columns, broken at spaces only: a word longer (a path the
+    user gave) runs on."""
+    return "\n".join(textwrap.wrap(text, WIDTH, subsequent_indent=indent, break_long_words=False,
+                                   break_on_hyphens=False))
 
 
 def step_warnings(scene, step, t, report, inverted):

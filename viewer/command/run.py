@@ -186,8 +186,8 @@ def kept(tracks, folder, plan):
     left_out = [name for name in run_pictures.names(tracks)
                 if (plan.frames or name != "index.html") and name not in folder.written]
     said = f"; left out: {', '.join(left_out)}" if left_out else ""
-    at = where(plan, folder) if "index.html" in folder.written else f"{folder.folder}/"
-    return f"{steps} steps kept in {at}{said}"
+    page = f", the page: {folder.url('index.html')}" if "index.html" in folder.written else ""
+    return f"{steps} steps kept in {folder.folder}/{said}{page}"
 
 
 def to_files(plan, signals, messages=None):
@@ -207,10 +207,7 @@ def to_files(plan, signals, messages=None):
             color = draw.run_color(k)
             tracks.append(recording.Track(scene, steps, records, label, tag, color, folder))
         recording.record(tracks, folder, plan.stride, plan.frames, plan.forces, messages, frame_log)
-        wall = time.perf_counter() - start
-        rest = f"; {closing_words(tracks)}" if tracks else ""
-        done = (f"simulated {simulated(plan)} in {wall:.2f} s wall{rest}; {written(plan)} in "
-                f"{where(plan, folder)}")
+        done = closing(plan, folder, tracks, time.perf_counter() - start)
     except ENDINGS as err:          # the closing words too: a signal as they are found
         failure = failure_of(err, plan)
     try:
@@ -220,26 +217,39 @@ def to_files(plan, signals, messages=None):
         return say(plan, signals, folder, tracks, failure, messages, done)
 
 
+def closing(plan, folder, tracks, wall):
+    """A finished run's closing in lines of at most progress.WIDTH columns (a path may run longer),
+    3 at most where each run's words fit: what was simulated and the wall time; what it showed
+    (closing_words, after it or on lines of their own, broken at their '; '); what was written
+    and where."""
+    lines = [f"simulated {simulated(plan)} in {wall:.2f} s wall"]
+    for part in closing_words(tracks).split("; ") if tracks else []:
+        if len(lines[-1]) + 2 + len(part) <= progress.WIDTH:
+            lines[-1] += f"; {part}"
+        else:
+            lines.append(part)
+    return "\n".join(lines + [f"wrote {written(plan, folder, tracks)}{where(plan, folder)}"])
+
+
 def simulated(plan):
     """'300 steps (3.00 s)', and for a comparison its runs'."""
     runs = [f"{steps} steps ({steps * scene.h:.2f} s)"
             for steps, scene in zip(plan.steps, plan.scenes)]
     if len(set(runs)) == 1:
         return runs[0] + (f" x {len(runs)} runs" if len(runs) > 1 else "")
+    durations = {f"{steps * scene.h:.2f}" for steps, scene in zip(plan.steps, plan.scenes)}
+    if len(durations) == 1:
+        return f"{len(runs)} runs of {durations.pop()} s: {', '.join(map(str, plan.steps))} steps"
     return f"{len(runs)} runs: " + ", ".join(runs)
 
 
-def written(plan):
-    """What a run that ends well has written, in words."""
-    one = len(plan.scenes) == 1
-    logs = "log.csv" if one else f"a log per run ({', '.join(map(files.log_csv, plan.tags))})"
-    marks = "marks.csv" if one else f"the marks ({', '.join(map(files.marks_csv, plan.tags))})"
-    logs += f", {marks}" if plan.scenes[0].hand is not None else ""
-    if plan.frames:
-        return f"frames, OBJs, {logs}, plots.png, summary.png and index.html"
-    return f"{logs}, plots.png and summary.png"
+def written(plan, folder, tracks):
+    """How many files a run that ends well has written: those so far and its last pictures."""
+    last = [name for name in run_pictures.names(tracks) if plan.frames or name != "index.html"]
+    return f"{len(folder.written | set(last))} files"
 
 
 def where(plan, folder):
-    """The run's folder, and its page as a file:// URL (most terminals open it with a click)."""
-    return f"{folder.folder}/" + (f": {folder.url('index.html')}" if plan.frames else "")
+    """The run's page as a file:// URL (most terminals open it with a click; the folder is the
+    page's), else its folder."""
+    return f", the page: {folder.url('index.html')}" if plan.frames else f" in {folder.folder}/"

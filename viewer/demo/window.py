@@ -211,7 +211,8 @@ def run_window(plan, speed, size, signals, clock=None, log=None):
         steps = window.run.index if window else 0
         done = f"simulator.py: {steps} steps ({steps * scene.h:.2f} s) in the window"
         if output:
-            done += f"; {orchestration.written(plan)} in {orchestration.where(plan, folder)}"
+            wrote = orchestration.written(plan, folder, [output.track])
+            done += f"; wrote {wrote}{orchestration.where(plan, folder)}"
         return orchestration.end(plan, signals, folder, [output.track] if output else [],
                                  output and output.frame_log, failure, log, done)
     finally:

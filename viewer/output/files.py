@@ -17,9 +17,15 @@ TRIES = 5               # a parent removed by another run as this one made its f
 MAX_LINKS = 40          # as the kernel's ELOOP
 
 
-def refused(text):
-    """The ValueError that refuses a run's folder, naming --out."""
-    return utils.ParameterError("out", text)
+def refused(text, given=True):
+    """The ValueError that refuses a run's folder: about --out where it was `given`, else about the
+    folder tried under output/ (its parameter "output" has no flag to blame)."""
+    return utils.ParameterError("out" if given else "output", text)
+
+
+def named(path, given=True):
+    """The folder in a refusal's words: the --out given, or the one tried for a run without it."""
+    return f"out folder {path!r}" if given else f"folder {path!r}"
 
 
 def tagged(stem, tag, extension):
@@ -191,14 +197,16 @@ def new_folder(kind):
     made as os.makedirs(exist_ok=True) does and never removed; (the folder, its claim)."""
     base = os.path.join(OUTPUT, f"{kind}-{datetime.datetime.now():%Y%m%d-%H%M%S}")
     try:
-        os.makedirs(OUTPUT, exist_ok=True)
+        with contextlib.suppress(FileExistsError):      # a file named output: os.mkdir says so
+            os.makedirs(OUTPUT, exist_ok=True)
         for out in [base] + [f"{base}-{k}" for k in range(2, 1000)]:
             with contextlib.suppress(FileExistsError):
                 os.mkdir(out)
                 return out, claim_made(out, [out], out)
     except OSError as err:
-        raise refused(f"no new folder can be made in {OUTPUT}/: {err.strerror or err}") from None
-    raise refused(f"no new folder could be made as {base}-N: give --out")
+        raise refused(f"{named(base, False)} cannot be created: {err.strerror or err}",
+                      False) from None
+    raise refused(f"no new folder could be made as {base}-N: give --out", False)
 
 
 def claim_made(folder, made, out):
@@ -254,8 +262,9 @@ class RunFolder:
                     try:
                         probe(folder.folder, name)
                     except OSError as err:
-                        raise refused(f"output name {name!r} in out folder {folder.folder!r} "
-                                      f"cannot be written: {err.strerror}") from None
+                        given = out is not None
+                        raise refused(f"output name {name!r} in {named(folder.folder, given)} "
+                                      f"cannot be written: {err.strerror}", given) from None
         except BaseException:           # refused, or a signal as it ended: nothing left made
             if folder is not None:
                 folder.release()

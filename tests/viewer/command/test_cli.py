@@ -11,7 +11,7 @@ import analysis.log
 import simulator
 import utils
 from helpers import ROOT
-from helpers.command import run_main
+from helpers.command import closing_text, run_main
 from viewer.command import cli, run
 
 SIMULATOR = os.path.join(ROOT, "simulator.py")
@@ -48,7 +48,7 @@ def test_twenty_steps_write_frames_objs_csv_and_summary(twenty_steps):
     com_y = [float(r["com_y"]) for r in rows]
     assert all(b < a for a, b in zip(com_y, com_y[1:]))                  # falling
     assert all(int(r["newton_iterations"]) >= 1 for r in rows[1:])
-    assert "simulated 20 steps" in result.stderr.splitlines()[-1]
+    assert closing_text(result.stderr.splitlines()).startswith("simulated 20 steps")
     obj = (out / "frame_00020.obj").read_text().splitlines()
     last = np.array([line.split()[1:3] for line in obj if line.startswith("v ")], dtype=float)
     assert last.shape == (25, 2) and last[:, 1].mean() == pytest.approx(com_y[-1], abs=1e-6)
@@ -140,6 +140,23 @@ def test_help_documents_every_flag():
         assert flag in text
 
 
+def test_help_gives_each_scenes_own_defaults():
+    """Issue 40: --help said 6 s for every scene. Each scene's default is in its help, where it
+    differs from the square's: the duration, and each scene flag's value in the scene's table."""
+    helps = {action.dest: " ".join(action.help.split()) for action in cli.make_parser()._actions}
+    assert helps["duration"] == (f"simulated seconds (default: the square {cli.DURATION:g}, the "
+                                 f"chalk {cli.CHALK_DURATION:g}, the tablecloth until its "
+                                 f"closed-form dish stops, +{cli.STOP_MARGIN:g})")
+    tables = {kind: table for kind, (table, _) in cli.scene_kinds().items()}
+    for _, param, _, _ in cli.FLAGS:
+        default = helps[param].rsplit("(default ", 1)[1]
+        for kind, table in tables.items():
+            if param in table and table[param] != simulator.DEFAULTS.get(param, table[param]):
+                assert f"{kind} {cli.shown(table[param])}" in default, (param, default)
+    assert helps["h"].endswith("(default 0.01; chalk 0.001, tablecloth 0.005)")
+    assert helps["newton_start"].endswith("(default x_n; chalk x_tilde)")
+
+
 def test_tablecloth_flags_compare_and_the_run_lasts_until_the_dishes_stop():
     """A flag reaches the tablecloth where TABLECLOTH has its parameter; a list compares pulls, all
     run until the slowest closed-form dish has stopped, plus STOP_MARGIN: U 1 m/s stops at
@@ -202,19 +219,23 @@ def test_an_errors_flag_comes_from_its_parameter_not_its_words(monkeypatch):
 
 @pytest.mark.parametrize("args, said", [
     (["--mu", "0,11"], "comparing mu = 0 and mu = 11 (a list; a decimal is written 0.11)"),
-    (["--tilt", "60,70", "--scene", "chalk"],
-     "comparing tilt = 60 and tilt = 70 (a list; a decimal is written 60.70)"),
+    (["--pull-speed", "3,05", "--scene", "tablecloth"],
+     "comparing pull-speed = 3 and pull-speed = 05 (a list; a decimal is written 3.05)"),
 ])
 def test_a_list_that_reads_like_a_decimal_comma_is_said_first(args, said, tmp_path):
-    """A two-value list of whole numbers to a flag of decimals may be a decimal comma: the run's
-    first line says what it compares, and the run goes on."""
+    """Two whole numbers to a flag of decimals, a list unlikely as written (its first 0, its second
+    with a leading 0), may be a decimal comma: the run's first line says what it compares, and the
+    run goes on."""
     code, lines = run_main(*args, "--steps", "2", "--no-frames", "--out", str(tmp_path))
     assert code == 0 and lines[0] == said
 
 
 @pytest.mark.parametrize("args", [["--mu", "0.1,0.11"], ["--mu", "0,0.11,1"], ["--n-seg", "4,8"],
-                                  ["--k", "2e4,4e4"], ["--v0", "1,0;2,0"]])
+                                  ["--k", "2e4,4e4"], ["--v0", "1,0;2,0"],
+                                  ["--pull-speed", "3,6", "--scene", "tablecloth"],
+                                  ["--tilt", "60,70", "--scene", "chalk"]])
 def test_other_lists_say_nothing_about_decimals(args, tmp_path):
+    """Two speeds or two angles are a comparison as written: no note (issue 40)."""
     code, lines = run_main(*args, "--steps", "2", "--no-frames", "--out", str(tmp_path))
     assert code == 0 and not [line for line in lines if "decimal" in line]
 

@@ -102,7 +102,7 @@ def test_a_signal_while_a_frame_is_written_keeps_files_whole(tmp_path, monkeypat
     assert status == code and lines[-1].startswith("simulator.py: stopped: "), lines
     steps = log_steps(tmp_path / "log.csv")
     page = (tmp_path / "index.html").as_uri()
-    assert lines[-1].endswith(f"; {steps[-1]} steps kept in {tmp_path}/: {page}")
+    assert lines[-1].endswith(f"; {steps[-1]} steps kept in {tmp_path}/, the page: {page}")
     assert steps == list(range(steps[-1] + 1))
     assert (tmp_path / "frame_00003.png").stat().st_size > 0 and not leftovers(tmp_path)
     assert all((tmp_path / name).exists() for name in ("summary.png", "plots.png", "index.html"))

@@ -25,7 +25,7 @@ def ending(out, said=""):
     """The closing line of the run RUN into `out` stopped by Ctrl+C after its last step, with
     its 6 steps in log.csv and its page written."""
     page = (out / "index.html").as_uri()
-    return f"simulator.py: stopped: interrupted{said}; 6 steps kept in {out}/: {page}"
+    return f"simulator.py: stopped: interrupted{said}; 6 steps kept in {out}/, the page: {page}"
 
 
 def test_ctrl_c_as_the_closing_words_are_found_keeps_and_links_the_run(tmp_path, monkeypatch):

@@ -11,7 +11,7 @@ import pytest
 import closed_forms
 import simulator
 from analysis import closing, log
-from helpers.command import recorded, run_main
+from helpers.command import closing_text, recorded, run_main
 from viewer.command import cli
 
 SLOW, FAST = 1.0, 4.0       # m/s; sqrt(mu g L) = 1.4 m/s lies between
@@ -63,8 +63,8 @@ def test_the_budget_closes_and_friction_only_heats(tracks, k):
 
 @pytest.fixture(scope="module")
 def compared(tmp_path_factory):
-    """`python simulator.py --scene tablecloth --pull-speed 1,4 --no-frames`: exit code, the last
-    line, and each run's log.csv rows."""
+    """`python simulator.py --scene tablecloth --pull-speed 1,4 --no-frames`: exit code, the closing
+    lines joined, and each run's log.csv rows."""
     out = tmp_path_factory.mktemp("compared")
     code, lines = run_main("--scene", "tablecloth", "--pull-speed", "1,4", "--no-frames",
                            "--out", str(out))
@@ -72,25 +72,25 @@ def compared(tmp_path_factory):
     for U in ("1", "4"):
         with open(out / f"log_pull-speed{U}.csv") as f:
             logs[float(U)] = list(csv.DictReader(f))
-    return code, lines[-1], logs
+    return code, closing_text(lines), logs
 
 
 def test_a_comparison_says_each_travel_beside_the_closed_form(compared):
-    """The closing line gives each run's travel, final: the run lasts until the slower closed-form
-    dish has stopped, plus STOP_MARGIN, and both have (every node slower than eps_v)."""
+    """The closing gives each run's travel, final, in the runs' order, and how far it is off the
+    closed form: the run lasts until the slower closed-form dish has stopped, plus STOP_MARGIN,
+    and both have (every node slower than eps_v)."""
     code, last, logs = compared
     assert code == 0, last
     scene = simulator.build_tablecloth_scene(pull_speed=SLOW)
     stop = closed_forms.tablecloth_stop_time(SLOW, 1.0, 0.2, 0.05, 9.81)
     assert last.startswith(f"simulated {round((stop + cli.STOP_MARGIN) / scene.h)} steps")
-    said = re.findall(r"pull-speed = (\d): the dish travelled ([0-9.]+) m, closed form "
-                      r"(mu g L\^2 / U\^2|L) = ([0-9.]+) m \(([-+][0-9.]+) %\)", last)
-    assert [(U, form) for U, _, form, _, _ in said] == [("1", "L"), ("4", "mu g L^2 / U^2")]
-    for U, travel, _, exact, off in said:
-        assert float(exact) == pytest.approx(closed_forms.tablecloth_travel(float(U), 1.0, 0.2),
-                                             abs=5e-5)
-        assert float(travel) == pytest.approx(float(exact), rel=0.01) and abs(float(off)) < 1
-        assert abs(float(logs[float(U)][-1]["v_tangential"])) < scene.epsv
+    travels, offs = re.search(r"; the dish travelled (\S+, \S+) m \(closed form (\S+, \S+) %\);",
+                              last).groups()
+    for U, travel, off in zip((1.0, 4.0), travels.split(", "), offs.split(", ")):
+        exact = closed_forms.tablecloth_travel(U, 1.0, 0.2)
+        assert float(travel) == pytest.approx(exact, rel=0.01) and abs(float(off)) < 1
+        assert float(off) == pytest.approx(100 * (float(travel) - exact) / exact, abs=0.1)
+        assert abs(float(logs[U][-1]["v_tangential"])) < scene.epsv
 
 
 def test_the_log_has_the_surface_s_speed_the_slip_and_the_heat(compared):
@@ -127,9 +127,8 @@ def test_the_closing_words_name_the_closed_form_s_branch():
         "the dish travelled 0.1226 m, closed form mu g L^2 / U^2 = 0.1226 m (-0.0 %)"
     both = [dish("pull-speed = 1", 1.02, pull_speed=1.0),
             dish("pull-speed = 8", 0.0, pull_speed=8.0, mu=0.0)]
-    assert closing.closing_words(both) == (
-        "pull-speed = 1: the dish travelled 1.0200 m, closed form L = 1.0000 m (+2.0 %); "
-        "pull-speed = 8: the dish travelled 0.0000 m, closed form mu g L^2 / U^2 = 0.0000 m")
+    assert closing.closing_words(both) == \
+        "the dish travelled 1.0200, 0.0000 m (closed form +2.0, - %)"
     assert closing.closing_note(both).endswith(" (the centre of mass along the pull, end minus "
                                                "start)")
     assert math.isclose(closed_forms.tablecloth_travel(4.0, 1.0, 0.2), exact)

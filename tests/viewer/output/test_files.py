@@ -93,12 +93,15 @@ def test_two_runs_at_once_write_two_folders_and_leave_the_users_files(tmp_path):
     assert (tmp_path / "output" / "notes.txt").read_text() == "mine"
 
 
-def test_the_closing_line_names_the_folder_and_its_page(tmp_path, monkeypatch):
+def test_the_closing_line_counts_the_files_and_names_the_page(tmp_path, monkeypatch):
+    """Its last line: how many files the folder holds, and its page (the folder is the page's)."""
     monkeypatch.chdir(tmp_path)
     code, lines = main("--steps", "3")
     folder = next((tmp_path / "output").iterdir())
     page = (folder / "index.html").as_uri()
-    assert code == 0 and lines[-1].endswith(f"in output/{folder.name}/: {page}")
+    assert code == 0 and lines[-1] == f"wrote {len(os.listdir(folder))} files, the page: {page}"
+    code, lines = main("--steps", "3", "--no-frames", "--out", "plain")
+    assert code == 0 and lines[-1] == "wrote 3 files in plain/"        # log, plots, summary
 
 
 def test_a_second_run_into_the_same_out_is_refused_and_changes_nothing(tmp_path):

@@ -14,7 +14,7 @@ import pytest
 
 import simulator
 from helpers import legibility
-from helpers.command import run_main
+from helpers.command import closing_text, run_main
 from viewer.command import cli
 from analysis import diagnostics, log, stick_slip
 
@@ -116,7 +116,7 @@ def compared(tmp_path_factory):
         code, lines = run_main("--scene", "chalk", "--mu-static", "0.35,0.5", "--duration", "0.6",
                                "--out", str(out))
     assert code == 0, lines
-    return lines[-1], out, [text for text, _, _ in texts]
+    return closing_text(lines), out, [text for text, _, _ in texts]
 
 
 def counted_from_log(path):
@@ -142,7 +142,7 @@ def test_a_chalk_comparison_closes_with_each_runs_stick_slip(compared):
     counted = {label: counted_from_log(out / name) for label, name in RUNS.items()}
     said = "; ".join(f"{label}: {stick_slip.words(r)}" for label, r in counted.items())
     assert line.startswith("simulated 600 steps (0.60 s) x 2 runs in ")
-    assert f" wall; {said}; frames, " in line
+    assert f" wall; {said}; wrote " in line
     assert not re.search(r"\brest\b", line)
     pushed, sliding = counted["mu-static = 0.5"], counted["mu-static = 0.35"]
     catch_up = simulator.CHALK["drive"] * pushed.period
@@ -178,5 +178,5 @@ def test_one_chalk_run_closes_with_its_stick_slip(tmp_path):
                            "--out", str(tmp_path))
     assert code == 0, lines
     r = counted_from_log(tmp_path / "log.csv")
-    assert len(r.slips) == 1 and f"wall; {stick_slip.words(r)}; log.csv, " in lines[-1]
+    assert len(r.slips) == 1 and f"wall; {stick_slip.words(r)}; wrote " in closing_text(lines)
     assert stick_slip.words(r).startswith("stick-slip: 1 slip, slip ")

@@ -55,3 +55,47 @@ def test_index_html_plays_in_headless_chromium(tmp_path):
     before, after, src = seen["forward"]
     assert after == before + 1 and src == f"frame_{after:05d}.png"        # step: exactly one frame
     assert seen["slider"] == before == 5 and seen["back"] == 5 and seen["steppedLoaded"] == 900
+
+
+# Where the frame, the figures' table and plots.png are, and how wide the page is, once loaded.
+PLACES = """
+<script>
+window.addEventListener("load", () => {
+  const out = {width: document.documentElement.clientWidth,
+               scrollWidth: document.documentElement.scrollWidth};
+  for (const id of ["frame", "figures", "plots"]) {
+    const r = document.getElementById(id).getBoundingClientRect();
+    out[id] = {left: r.left, right: r.right, top: r.top, bottom: r.bottom};
+  }
+  const pre = document.createElement("pre");
+  pre.id = "probe";
+  pre.textContent = JSON.stringify(out);
+  document.body.appendChild(pre);
+});
+</script>
+"""
+
+
+@pytest.fixture(scope="module")
+def four_runs(tmp_path_factory):
+    """A 4-run tablecloth comparison's page (its table the widest: a column per run)."""
+    if find_browser() is None:
+        pytest.skip(f"no browser found (looked for {', '.join(BROWSERS)}); "
+                    ".ci/run installs Debian's chromium")
+    out = tmp_path_factory.mktemp("four") / "run"
+    assert viewer.main.main(["--scene", "tablecloth", "--pull-speed", "1,2,4,8", "--steps", "10",
+                             "--out", str(out)]) == 0
+    return out
+
+
+@pytest.mark.parametrize("width", [800, 1400, 1920])
+def test_nothing_on_the_page_is_cut_at_any_window_width(four_runs, tmp_path, width):
+    """Issue 40: at 1400 px the 4-run page cut its table (the frame fixed at 900 px beside it). The
+    table goes below the frame where it does not fit beside it (and beside it at 1920 px), the
+    frame and plots.png shrink to a window narrower than they are."""
+    seen = probe_page(four_runs, PLACES, tmp_path, size=(width, 1000))
+    assert seen["scrollWidth"] <= seen["width"]
+    for name in ("frame", "figures", "plots"):
+        assert 0 <= seen[name]["left"] and seen[name]["right"] <= seen["width"], (name, seen)
+    beside = seen["figures"]["top"] < seen["frame"]["bottom"]
+    assert beside == (width == 1920), seen

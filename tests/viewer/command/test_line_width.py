@@ -1,0 +1,62 @@
+"""Every line a run prints fits in 100 columns (issue 40): progress, warnings, the closing in at
+most 3 lines and a refusal in one. Only a path may run longer: the folder the run was given or
+its working folder, as the closing's file:// link repeats it."""
+import pytest
+
+from helpers.command import run_main
+from viewer.command import progress
+
+WIDTH = 100
+
+
+def closing_lines(lines):
+    """The closing: from the last 'simulated ...' line on."""
+    first = max(i for i, line in enumerate(lines) if line.startswith("simulated "))
+    return lines[first:]
+
+
+def too_wide(lines, *paths):
+    """The lines wider than WIDTH once the paths given are taken out."""
+    def width(line):
+        for path in paths:
+            line = line.replace(str(path), "")
+        return len(line)
+    return [line for line in lines if width(line) > WIDTH]
+
+
+@pytest.mark.parametrize("args", [
+    [],                                                             # the lecture's square, 6 s
+    ["--scene", "chalk", "--duration", "0.6"],                      # stick-slip from 0.31 s
+    ["--scene", "tablecloth", "--pull-speed", "1,2,4,8", "--frame-stride", "40"],
+])              # the mu comparison's: test_run_outputs.test_the_lectures_comparison_in_one_command
+def test_every_line_of_a_run_fits_and_it_closes_in_3_lines(args, tmp_path, monkeypatch):
+    """Each run into its default folder under output/ (the folder's own name counts)."""
+    monkeypatch.chdir(tmp_path)
+    code, lines = run_main(*args)
+    assert code == 0, lines
+    assert len(lines) > 3 and not too_wide(lines, tmp_path)
+    assert len(closing_lines(lines)) <= 3, lines
+    assert WIDTH == progress.WIDTH
+
+
+def test_a_refusal_is_one_line_that_fits(tmp_path, monkeypatch):
+    """A checkout where output/ cannot be made: the folder tried is named, --out is not blamed."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "output").write_text("a file where the runs' folder would be")
+    for args in ([], ["--scene", "tablecloth"]):
+        code, lines = run_main("--steps", "3", *args)
+        assert code == 2 and len(lines) == 1 and not too_wide(lines), lines
+        assert lines[0].startswith("simulator.py: error: folder 'output/")
+        assert lines[0].endswith(" cannot be created: Not a directory") and "--out" not in lines[0]
+    code, lines = run_main("--steps", "3", "--out", "output/mine")
+    assert code == 2 and lines == ["simulator.py: error: --out: out folder 'output/mine' cannot be "
+                                   f"created: '{tmp_path / 'output'}' is not a folder"]
+
+
+def test_a_long_warning_is_broken_between_words(tmp_path):
+    """The folding mesh's warning (about 150 characters) in lines that fit, the next indented."""
+    code, lines = run_main("--n-seg", "8", "--steps", "60", "--no-frames", "--out", str(tmp_path))
+    assert code == 0 and not too_wide(lines, tmp_path)
+    first = next(i for i, line in enumerate(lines) if "inverted" in line)
+    assert lines[first].startswith("simulator.py: warning: at step ")
+    assert lines[first + 1].startswith("  ") and "--h" in lines[first + 1]
