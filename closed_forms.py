@@ -282,3 +282,8 @@ def fitted_rate(t, s, start, end, order=1):
     leading coefficient) fitted to s over start <= t <= end."""
     window = (t >= start - 1e-9) & (t <= end + 1e-9)
     return float(np.polyfit(t[window], s[window], order)[0]) * order
+
+
+def grasp_drop_slip(scene):
+    """The slip at which the block has slid past the pads (its top below their bottom), m."""
+    return (scene.fingers.pad_length + scene.params["height"]) / 2

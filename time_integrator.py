@@ -68,6 +68,7 @@ class StepReport:
     surface_work: float = 0.0       # F_f . v_s h: the moving surface's work (J, 0 if still); heat
     #                                 surface_work - friction_work >= 0 (friction's, surface frame)
     friction_force: np.ndarray = None   # (N, 2) with the step's last mu*lambda; None without
+    lift_work: float = 0.0          # the work holding the fingers on their lift did (J, 0 if none)
 
     @property
     def newton_iterations(self):
@@ -174,11 +175,12 @@ def IP_val(scene, lagged, x):
     return InertiaEnergy.val_kernel(x, lagged.x_tilde, scene.m) + scene.h ** 2 * P
 
 
-def IP_grad(scene, lagged, x):
-    """grad E(x) = M (x - x_tilde) + h^2 sum grad P(x), (N, 2)."""
+def IP_grad(scene, lagged, x, with_lift=False):
+    """grad E(x) = M (x - x_tilde) + h^2 sum grad P(x), (N, 2); the fingers' components along
+    their prescribed lift removed (no unknowns), unless `with_lift`."""
     grad_P = sum(term.grad_kernel(*args) for term, args in potential_terms(scene, lagged, x))
     grad_E = InertiaEnergy.grad_kernel(x, lagged.x_tilde, scene.m) + scene.h ** 2 * grad_P
-    return grad_E if scene.fingers is None else scene.fingers.eliminate(grad_E)    # (the lift)
+    return grad_E if scene.fingers is None or with_lift else scene.fingers.eliminate(grad_E)
 
 
 def IP_hess(scene, lagged, x):
@@ -320,6 +322,11 @@ def newton_iterates(scene, x, v, *, step_index=0):
     if "fingers" in scene.terms:
         report.min_distance = min(report.min_distance,
                                   float(FingerEnergy.distances(x, scene.fingers.n).min()))
+        # what holds the fingers on their lift: the force F with grad E - h^2 F = 0 along it,
+        # grad E with the true x_tilde = x^n + h v^n (the prescribed one takes the lift as given)
+        free = dataclasses.replace(lagged, x_tilde=x_n + scene.h * v_n)
+        hold = IP_grad(scene, free, x, with_lift=True) / scene.h ** 2
+        report.lift_work = scene.fingers.work_along_lift(hold, x - x_n)
     return x, (x - x_n) / scene.h, report      # x^{n+1}, v^{n+1}
 
 

@@ -1,7 +1,7 @@
 """What a run showed, in words: when the square came to rest, the chalk's stick-slip, or how far
 the tablecloth's dish travelled."""
 import closed_forms
-from analysis import stick_slip
+from analysis import grasp, stick_slip
 
 
 def each(tracks, words):
@@ -44,6 +44,8 @@ def closing_words(tracks):
     scene = tracks[0].scene
     if scene.hand is not None:
         return each(tracks, lambda track: stick_slip.words(stick_slip.of_track(track)))
+    if scene.fingers is not None:
+        return ("the block " if len(tracks) == 1 else "") + each(tracks, grasp.of_track)
     return travel_words(tracks) if scene.surface is not None else rest_words(tracks)
 
 
@@ -52,6 +54,8 @@ def closing_note(tracks):
     scene = tracks[0].scene
     if scene.hand is not None:
         what = " ".join(stick_slip.definition(scene))
+    elif scene.fingers is not None:
+        what = "slip: the fingers' lift minus the block's rise; dropped: slid past the pads"
     elif scene.surface is not None:
         what = "the centre of mass along the pull, end minus start"
     else:

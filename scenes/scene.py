@@ -79,6 +79,11 @@ class Fingers:
         fingers += np.outer(self.start + self.offset(t) - fingers @ self.tangent, self.tangent)
         return x
 
+    def work_along_lift(self, force, dx):
+        """sum_f (t . force_f)(t . dx_f) over the fingers' rows of force and dx (N, 2), J."""
+        rows = slice(len(dx) - len(self.n), None)
+        return float((force[rows] @ self.tangent) @ (dx[rows] @ self.tangent))
+
     def eliminate(self, g):
         """g (N, 2) with its component along `tangent` on the fingers' rows removed: the prescribed
         coordinates are no unknowns of the step (5_mov_dirichlet's DBC elimination)."""

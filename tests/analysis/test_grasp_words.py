@@ -1,0 +1,34 @@
+"""analysis/grasp.py: a grasp's outcome from its slip, on slips of known speed and acceleration."""
+import numpy as np
+import pytest
+
+import closed_forms
+import simulator
+from analysis import grasp
+
+
+def test_a_creeping_slip_is_held_and_its_speed_is_measured_in_the_phase_it_ends_in():
+    scene = simulator.build_grasp_scene()
+    t = np.arange(0, 301) * scene.h
+    slip = 4.97e-4 * t                                  # 0.497 mm/s throughout
+    held, t_drop, phase, measured, exact = grasp.outcome(scene, t, slip)
+    assert held and t_drop is None and phase == "in the steady lift"
+    assert measured == pytest.approx(4.97e-4, rel=1e-9)
+    assert exact == closed_forms.grasp_creep_speed(scene)
+    words = grasp.words(scene, t, slip)
+    assert words.startswith("held: slid 0.75 mm (rigid Coulomb 0 mm), creeping at 0.497 mm/s")
+    assert words.endswith("(u* = 0.500 mm/s)")
+
+
+def test_a_slip_past_the_pads_is_dropped_at_that_time_with_its_acceleration():
+    """A slip of 2.462 (t - 0.1)^2 / 2 from t = 0.1 s reaches the pads' 0.05 m at 0.1 + 0.2015 s,
+    in the lift's acceleration (to 0.5 s)."""
+    scene = simulator.build_grasp_scene(squeeze=1.5696)
+    t = np.arange(0, 121) * scene.h
+    slip = 2.462 * np.maximum(t - 0.1, 0.0) ** 2 / 2
+    held, t_drop, phase, measured, _ = grasp.outcome(scene, t, slip)
+    assert not held and t_drop == pytest.approx(0.305) and phase == "while the lift accelerated"
+    assert measured == pytest.approx(2.462, rel=1e-9)
+    assert grasp.words(scene, t, slip) == (
+        "dropped at t = 0.30 s, slipping at 2.462 m/s^2 while the lift accelerated (closed form "
+        "(g + a) - 2 mu N / m = 2.462)")
