@@ -1,5 +1,6 @@
-"""What a grasp showed, in words: held (its creep measured beside u*) or dropped (its slip
-acceleration measured beside (g + a) - 2 mu N / m), from its slip at every kept state."""
+"""What a grasp showed, in words: held (its creep measured beside u*), dropped (its slip
+acceleration measured beside (g + a) - 2 mu N / m), or, where the run ended first, still slipping;
+from its slip at every kept state."""
 import math
 
 import numpy as np
@@ -31,9 +32,10 @@ def fit_window(t, start, end):
 
 
 def outcome(scene, t, slip):
-    """(held, t_drop, phase words, measured, closed form): a held block's creep speed (m/s) in the
-    phase the run ends in, or a dropped one's slip acceleration (m/s^2) in the phase it slid past
-    the pads in; t_drop None where held; measured nan where too few states."""
+    """(held, t_drop, phase words, measured, closed form): a block on the pads at the end, its slip
+    speed (m/s) in the phase the run ends in beside the creep u* (held where it is below eps_v,
+    else still slipping); a dropped one's slip acceleration (m/s^2) in the phase it slid past the
+    pads in; t_drop None where not dropped; measured nan where too few states."""
     dropped = np.flatnonzero(slip >= closed_forms.grasp_drop_slip(scene))
     end = float(t[dropped[0]]) if dropped.size else float(t[-1])
     words, start, _, a = phase_at(scene, end - 1e-9 if end > 0 else 0.0)
@@ -50,11 +52,15 @@ def words(scene, t, slip):
     """'held: slid 0.66 mm (rigid Coulomb 0 mm), creeping at 0.498 mm/s in the steady lift
     (u* = 0.500 mm/s)' or 'dropped at t = 0.62 s, slipping at 2.462 m/s^2 while the lift
     accelerated (closed form (g + a) - 2 mu N / m = 2.462)'."""
-    held, t_drop, phase, measured, exact = outcome(scene, t, slip)
-    if held:
+    on_pads, t_drop, phase, measured, exact = outcome(scene, t, slip)
+    if on_pads:
         coulomb = closed_forms.grasp_coulomb_slip(scene, float(t[-1]))
-        return (f"held: slid {1e3 * slip[-1]:.2f} mm (rigid Coulomb {1e3 * coulomb:.3g} mm), "
-                f"creeping at {1e3 * measured:.3f} mm/s {phase} (u* = {1e3 * exact:.3f} mm/s)")
+        slid = f"slid {1e3 * slip[-1]:.2f} mm (rigid Coulomb {1e3 * coulomb:.3g} mm)"
+        if not measured < scene.epsv:
+            return (f"still on the pads at t = {t[-1]:.2f} s: {slid}, slipping at "
+                    f"{1e3 * measured:.1f} mm/s {phase}")
+        return (f"held: {slid}, creeping at {1e3 * measured:.3f} mm/s {phase} (u* = "
+                f"{1e3 * exact:.3f} mm/s)")
     return (f"dropped at t = {t_drop:.2f} s, slipping at {measured:.3f} m/s^2 {phase} (closed "
             f"form (g + a) - 2 mu N / m = {exact:.3f})")
 

@@ -32,3 +32,13 @@ def test_a_slip_past_the_pads_is_dropped_at_that_time_with_its_acceleration():
     assert grasp.words(scene, t, slip) == (
         "dropped at t = 0.30 s, slipping at 2.462 m/s^2 while the lift accelerated (closed form "
         "(g + a) - 2 mu N / m = 2.462)")
+
+
+def test_a_run_that_ends_while_the_block_still_slides_says_so():
+    """Slipping at 50 mm/s, far above eps_v, when the run ends, 3 cm down, not yet past the pads:
+    neither held nor dropped."""
+    scene = simulator.build_grasp_scene(squeeze=2.0)
+    t = np.arange(0, 121) * scene.h
+    assert grasp.words(scene, t, 0.05 * t).startswith(
+        "still on the pads at t = 0.60 s: slid 30.00 mm (rigid Coulomb ")
+    assert grasp.words(scene, t, 0.05 * t).endswith("slipping at 50.0 mm/s in the steady lift")
