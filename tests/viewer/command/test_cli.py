@@ -136,7 +136,7 @@ def test_help_documents_every_flag():
                  "--slope-normal", "--slope-angle", "--v0", "--dhat", "--kappa", "--epsv", "--tol",
                  "--friction-iterations", "--newton-start", "--out", "--frame-stride", "--window",
                  "--scene", "--tilt", "--grip", "--mu-static", "--drag", "--no-frames",
-                 "--pull-speed", "--pull-length"):
+                 "--pull-speed", "--pull-length", "--squeeze", "--lift-accel"):
         assert flag in text
 
 
