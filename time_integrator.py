@@ -8,7 +8,9 @@ x^n (semi-implicit), and `scene.friction_updates` > 0 adds the fixed-point itera
 for fully implicit friction. What a scene prescribes is taken at the end of the step, as implicit
 Euler takes every force there: the hand's targets at t^{n+1} (the chalk's grip), and a moving
 surface's velocity v_s = (s(t^{n+1}) - s(t^n)) / h, the backward difference of its position as
-v = (x - x^n) / h is of x (the tablecloth); friction slips on v - v_s.
+v = (x - x^n) / h is of x (the tablecloth, the grasp's lift); friction slips on v - v_s. The grasp's
+fingers are rows of x (FingerEnergy): their offsets along their normals are unknowns, their lift a
+Dirichlet condition (scene.fingers.prescribe, .eliminate); barrier, friction and CCD sum over them.
 
 `step(scene, x, v, step_index=n)` maps (x^n, v^n) at t^n = n h to (x^{n+1}, v^{n+1}) at t^{n+1} =
 (n + 1) h, and a StepReport; it prints nothing and changes none of its inputs. `newton_iterates` is
@@ -21,6 +23,7 @@ import math
 import numpy as np
 
 import BarrierEnergy
+import FingerEnergy
 import FrictionEnergy
 import GravityEnergy
 import HandEnergy
@@ -58,13 +61,14 @@ class StepReport:
     residual: float = math.inf      # ||p||_inf / h (m/s) at the end, or ||grad E||_2 / (min m h)
     stalled: bool = False           # the last solve stopped at float64's floor, residual > tol
     alphas: list = field(default_factory=list)  # accepted line-search step sizes, in order
-    min_distance: float = math.inf  # smallest node distance to the slope after the step
+    min_distance: float = math.inf  # smallest node distance to a surface after the step
     friction_updates: int = 0       # Algorithm 5's updates that re-solved the step (0: lagged)
     friction_converged: bool = True  # Algorithm 5 reached its fixed point (always True when lagged)
     friction_work: float = 0.0      # F_f . (x^{n+1} - x^n): friction's work in the lab frame (J)
     surface_work: float = 0.0       # F_f . v_s h: the moving surface's work (J, 0 if still); heat
     #                                 surface_work - friction_work >= 0 (friction's, surface frame)
     friction_force: np.ndarray = None   # (N, 2) with the step's last mu*lambda; None without
+    lift_work: float = 0.0          # the work holding the fingers on their lift did (J, 0 if none)
 
     @property
     def newton_iterations(self):
@@ -110,6 +114,9 @@ def friction_update(scene, lagged, x, v=None):
     if "friction" not in scene.terms:
         return lagged
     mu = scene.mu if scene.static is None else slip_weakened_mu(scene, lagged, x, v)
+    if scene.fingers is not None:           # (F, N): a row per finger
+        return dataclasses.replace(lagged, mu_lambda=FingerEnergy.compute_mu_lambda_kernel(
+            x, scene.fingers.n, scene.contact_area, mu, scene.dhat, scene.kappa))
     return dataclasses.replace(lagged, mu_lambda=BarrierEnergy.compute_mu_lambda_kernel(
         x, scene.n, scene.o, scene.contact_area, mu, scene.dhat, scene.kappa))
 
@@ -141,9 +148,12 @@ TERMS = {
     "barrier": Term(BarrierEnergy,
                     lambda s, lagged, x, v: (x, s.n, s.o, s.contact_area, s.dhat, s.kappa), True),
     "friction": Term(FrictionEnergy,
-                     lambda s, lagged, x, v: (v, lagged.mu_lambda, s.h, s.n, s.epsv), False),
+                     lambda s, lagged, x, v: (v, lagged.mu_lambda, s.h, s.friction_n, s.epsv),
+                     False),
     "hand": Term(HandEnergy,
                  lambda s, lagged, x, v: (x, s.hand.nodes, lagged.targets, s.hand.k_hand), True),
+    "fingers": Term(FingerEnergy, lambda s, lagged, x, v: (x, s.fingers.n, s.fingers.squeeze,
+                                                           s.contact_area, s.dhat, s.kappa), True),
 }
 
 
@@ -165,10 +175,12 @@ def IP_val(scene, lagged, x):
     return InertiaEnergy.val_kernel(x, lagged.x_tilde, scene.m) + scene.h ** 2 * P
 
 
-def IP_grad(scene, lagged, x):
-    """grad E(x) = M (x - x_tilde) + h^2 sum grad P(x), (N, 2)."""
+def IP_grad(scene, lagged, x, with_lift=False):
+    """grad E(x) = M (x - x_tilde) + h^2 sum grad P(x), (N, 2); the fingers' components along
+    their prescribed lift removed (no unknowns), unless `with_lift`."""
     grad_P = sum(term.grad_kernel(*args) for term, args in potential_terms(scene, lagged, x))
-    return InertiaEnergy.grad_kernel(x, lagged.x_tilde, scene.m) + scene.h ** 2 * grad_P
+    grad_E = InertiaEnergy.grad_kernel(x, lagged.x_tilde, scene.m) + scene.h ** 2 * grad_P
+    return grad_E if scene.fingers is None or with_lift else scene.fingers.eliminate(grad_E)
 
 
 def IP_hess(scene, lagged, x):
@@ -194,8 +206,12 @@ def predicted_start(scene, lagged):
 
 
 def init_step_size(scene, x, p):
-    """Algorithm 4, line 1: CCD against the slope; without a slope the full step is safe."""
-    return 1.0 if scene.n is None else BarrierEnergy.init_step_size_kernel(x, scene.n, scene.o, p)
+    """Algorithm 4, line 1: CCD against the slope and the fingers; without either the full step is
+    safe."""
+    alpha = 1.0 if scene.n is None else BarrierEnergy.init_step_size_kernel(x, scene.n, scene.o, p)
+    if scene.fingers is None:
+        return alpha
+    return min(alpha, FingerEnergy.init_step_size_kernel(x, scene.fingers.n, p))
 
 
 # --- the time step --------------------------------------------------------------------------------
@@ -270,14 +286,21 @@ def newton_iterates(scene, x, v, *, step_index=0):
     v_n = utils.check_points("v", v, scene.x0.shape)
     if "barrier" in scene.terms:
         BarrierEnergy.check_above(x_n, scene.n, scene.o)
+    if "fingers" in scene.terms:
+        FingerEnergy.check_above(x_n, scene.fingers.n)
     report = StepReport()
     try:
         t = step_time(scene, step_index)        # t^{n+1}: what the scene prescribes
         targets = scene.hand.targets(t) if "hand" in scene.terms else None
-        lagged = Lagged(x_n, x_n + scene.h * v_n, None, targets, scene.surface_velocity(t))
+        x_tilde = x_n + scene.h * v_n
+        if scene.fingers is not None:           # the lift: the fingers' rows at t^{n+1}
+            x_tilde = scene.fingers.prescribe(x_tilde, t)
+        lagged = Lagged(x_n, x_tilde, None, targets, scene.surface_velocity(t))
         lagged = friction_update(scene, lagged, x_n, v_n)                 # mu*lambda^n
         # Newton from x^n, as the lecture (or the chalk's predicted start)
         x = lagged.x_n if scene.newton_start == "x_n" else predicted_start(scene, lagged)
+        if scene.fingers is not None:
+            x = scene.fingers.prescribe(x, t)
         x = yield from newton(scene, lagged, x, report, step_index)
         if "friction" in scene.terms and scene.friction_updates > 0:               # Algorithm 5
             for j in range(1, scene.friction_updates + 2):
@@ -296,6 +319,14 @@ def newton_iterates(scene, x, v, *, step_index=0):
         report.surface_work = float(np.vdot(F_f.sum(axis=0), lagged.v_s)) * scene.h
     if "barrier" in scene.terms:
         report.min_distance = float(BarrierEnergy.distances(x, scene.n, scene.o).min())
+    if "fingers" in scene.terms:
+        report.min_distance = min(report.min_distance,
+                                  float(FingerEnergy.distances(x, scene.fingers.n).min()))
+        # what holds the fingers on their lift: the force F with grad E - h^2 F = 0 along it,
+        # grad E with the true x_tilde = x^n + h v^n (the prescribed one takes the lift as given)
+        free = dataclasses.replace(lagged, x_tilde=x_n + scene.h * v_n)
+        hold = IP_grad(scene, free, x, with_lift=True) / scene.h ** 2
+        report.lift_work = scene.fingers.work_along_lift(hold, x - x_n)
     return x, (x - x_n) / scene.h, report      # x^{n+1}, v^{n+1}
 
 

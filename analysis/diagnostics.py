@@ -1,12 +1,14 @@
 """What a state tells beyond the step's report: contacts (d_k = n . (x_k - o) < dhat), sticking
 (||(I - n n^T)(v_k - v_s)|| < eps_v) and sliding, forces, inverted cells, the energy budget, the
-tip."""
+tip; with the grasp's fingers, each over every finger, and the body without the fingers' rows."""
 import math
 
 import numpy as np
 
 import BarrierEnergy
+import FingerEnergy
 import FrictionEnergy
+import closed_forms
 import time_integrator
 
 LECTURE_TERMS = ("gravity", "spring", "barrier")     # always in the budget, 0 where absent
@@ -45,18 +47,31 @@ def hand_work(scene, x, t1, before):
     return term_energy(scene, "hand", x, scene.hand.targets(t1)) - before
 
 
+def body(scene, x):
+    """The rows of x (N, 2) that are the body's: all but the grasp's fingers' (the last rows)."""
+    return x if scene.fingers is None else x[:len(x) - len(scene.fingers.n)]
+
+
 def centre_of_mass(scene, a):
-    """sum_i m_i a_i / sum_i m_i of per-node vectors a (N, 2)."""
+    """sum_i m_i a_i / sum_i m_i of per-node vectors a (N, 2): the body's (the block's, without the
+    grasp's fingers)."""
+    if scene.fingers is not None:
+        return closed_forms.grasp_block_com(scene, a)
     return scene.m @ a / scene.m.sum()
 
 
 def tangent(scene):
-    """The slope's unit tangent down to the right, (n_y, -n_x); (1, 0) without a slope."""
+    """The slope's unit tangent down to the right, (n_y, -n_x); the grasp's lift; (1, 0) without
+    either."""
+    if scene.fingers is not None:
+        return scene.fingers.tangent
     return np.array([1.0, 0.0]) if scene.n is None else FrictionEnergy.tangent(scene.n)
 
 
 def min_distance(scene, x):
-    """min_k n . (x_k - o) (inf without a slope)."""
+    """min_k n . (x_k - o), or to a finger (inf without either)."""
+    if scene.fingers is not None:
+        return float(FingerEnergy.distances(x, scene.fingers.n).min())
     if scene.n is None:
         return math.inf
     return float(BarrierEnergy.distances(x, scene.n, scene.o).min())
@@ -64,7 +79,12 @@ def min_distance(scene, x):
 
 def contact_velocities(scene, x, v, v_s=0.0):
     """t . (v_k - v_s) (m/s) of the nodes with d_k < dhat: the relative tangential velocity along
-    `tangent` (v_s 0: a still surface)."""
+    `tangent` (v_s 0: a still surface); the grasp's along the lift, each finger's contacts one
+    after the other."""
+    if scene.fingers is not None:
+        in_contact = FingerEnergy.distances(x, scene.fingers.n) < scene.dhat     # (F, N_block)
+        along = (v[:in_contact.shape[1]] - v_s) @ scene.fingers.tangent          # (N_block,)
+        return np.broadcast_to(along, in_contact.shape)[in_contact]
     if scene.n is None:
         return np.zeros(0)
     in_contact = BarrierEnergy.distances(x, scene.n, scene.o) < scene.dhat
@@ -87,8 +107,18 @@ def at_rest(sticking, sliding):
     return sticking > 0 and sliding == 0
 
 
+def finger_forces(scene, x):
+    """Each finger's normal force on the block, sum_i lambda_fi (F,), N."""
+    return FingerEnergy.compute_mu_lambda_kernel(x, scene.fingers.n, scene.contact_area, 1.0,
+                                                 scene.dhat, scene.kappa).sum(axis=1)
+
+
 def normal_forces(scene, x):
-    """lambda_k n at every node (N, 2): BarrierEnergy.compute_mu_lambda's kernel with mu = 1."""
+    """lambda_k n at every node (N, 2): BarrierEnergy.compute_mu_lambda's kernel with mu = 1; the
+    sum over the fingers of lambda_fk n_f with the grasp's."""
+    if scene.fingers is not None:
+        return FingerEnergy.compute_mu_lambda_kernel(x, scene.fingers.n, scene.contact_area, 1.0,
+                                                     scene.dhat, scene.kappa).T @ scene.fingers.n
     if "barrier" not in scene.terms:
         return np.zeros_like(x)
     lam = BarrierEnergy.compute_mu_lambda_kernel(x, scene.n, scene.o, scene.contact_area, 1.0,

@@ -7,13 +7,11 @@ rides along (closed_forms.tablecloth_travel).
 import types
 
 import numpy as np
-import scipy.optimize
 
-import BarrierEnergy
 import MassSpringEnergy
 import square_mesh
 import utils
-from scenes.scene import MovingSurface, Scene, readonly
+from scenes.scene import MovingSurface, Scene, gap_carrying, readonly
 
 TABLECLOTH = types.MappingProxyType({
     "width": 0.2, "height": 0.05,   # m: the dish, a plate
@@ -50,9 +48,8 @@ def check_params(overrides):
 def resting_gap(p):
     """d0, the gap at which the barrier carries the dish's weight on its nx + 1 bottom nodes:
     w dhat (-b'(d0)) = m |g_y| / (nx + 1), a root between 0 and dhat."""
-    w, load = p["width"] / p["nx"], -p["mass"] * p["gravity"][1] / (p["nx"] + 1)
-    return scipy.optimize.brentq(lambda d: -BarrierEnergy.dP_dd(d, w, p["dhat"], p["kappa"]) - load,
-                                 1e-12 * p["dhat"], p["dhat"], xtol=1e-15)
+    load = -p["mass"] * p["gravity"][1] / (p["nx"] + 1)
+    return gap_carrying(load, p["width"] / p["nx"], p["dhat"], p["kappa"])
 
 
 def build_tablecloth_scene(**overrides):

@@ -64,3 +64,20 @@ def assert_close(actual, expected, rtol=RTOL, what="", atol=0.0):
     err = np.abs(actual - expected).max(initial=0.0)
     assert err <= rtol * scale + atol, \
         f"{what}: max error {err:.3e} vs scale {scale:.3e} (rtol {rtol}, atol {atol:.1e})"
+
+
+def check_derivatives(val, grad, hess, x, eps, rtol=1e-6):
+    """grad == FD(val) and dense(hess) == FD(grad) at x; also hess is symmetric and 2N x 2N."""
+    fd = fd_gradient(val, x, eps)
+    assert_close(grad(x), fd, rtol, "grad vs FD of val", roundoff(val(x), eps))
+    ijv = hess(x)
+    assert all(a.ndim == 1 for a in ijv) and len({len(a) for a in ijv}) == 1
+    H = dense(ijv, x.size)
+    assert_close(H, H.T, 1e-12, "hess symmetry")
+    assert_close(H, fd_jacobian(grad, x, eps), rtol, "hess vs FD of grad", roundoff(grad(x), eps))
+
+
+def check_energy(module, x, eps, *args, **hess_kw):
+    """check_derivatives of module.val, grad and hess(y, *args, **hess_kw)."""
+    check_derivatives(lambda y: module.val(y, *args), lambda y: module.grad(y, *args),
+                      lambda y: module.hess(y, *args, **hess_kw), x, eps)

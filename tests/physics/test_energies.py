@@ -10,28 +10,11 @@ import HandEnergy
 import InertiaEnergy
 import MassSpringEnergy
 import square_mesh
-from helpers.fd import assert_close, dense, fd_gradient, fd_jacobian, roundoff
+from helpers.fd import assert_close, check_derivatives, check_energy, dense
 
 SEEDS = range(6)
 N_SLOPE = np.array([0.1, 1.0]) / np.hypot(0.1, 1.0)
 O_SLOPE = np.array([0.0, -1.0])
-
-
-def check_derivatives(val, grad, hess, x, eps, rtol=1e-6):
-    """grad == FD(val) and dense(hess) == FD(grad) at x; also hess is symmetric and 2N x 2N."""
-    fd = fd_gradient(val, x, eps)
-    assert_close(grad(x), fd, rtol, "grad vs FD of val", roundoff(val(x), eps))
-    ijv = hess(x)
-    assert all(a.ndim == 1 for a in ijv) and len({len(a) for a in ijv}) == 1
-    H = dense(ijv, x.size)
-    assert_close(H, H.T, 1e-12, "hess symmetry")
-    assert_close(H, fd_jacobian(grad, x, eps), rtol, "hess vs FD of grad", roundoff(grad(x), eps))
-
-
-def check_energy(module, x, eps, *args, **hess_kw):
-    """check_derivatives of module.val, grad and hess(y, *args, **hess_kw)."""
-    check_derivatives(lambda y: module.val(y, *args), lambda y: module.grad(y, *args),
-                      lambda y: module.hess(y, *args, **hess_kw), x, eps)
 
 
 def check_friction(x, x_n, hhat, args, eps):

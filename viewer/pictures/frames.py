@@ -53,7 +53,7 @@ class FrameWriter:
         with self.folder.signals.held():
             self.folder.write(files.frame_png(j), draw.png_data(self.pygame, surface))
             for tr in tracks:
-                obj = square_mesh.obj_text(tr.x, *tr.scene.cells)
+                obj = square_mesh.obj_text(diagnostics.body(tr.scene, tr.x), *tr.scene.cells)
                 self.folder.write(files.frame_obj(j, tr.tag), obj)
             self.frame_log.append(FrameInfo(j, t, [page.figures(tr.row) for tr in tracks]))
 

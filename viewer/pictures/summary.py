@@ -84,13 +84,9 @@ def header_lines(tracks, header):
 
 
 def panel_words(track):
-    """Under a panel's label: the chalk's stick-slip, the dish's travel, the square's sticking and
-    creep (analysis/closing.py)."""
-    if track.scene.hand is not None:
-        return stick_slip.words(stick_slip.of_track(track))
-    if track.scene.surface is not None:
-        return closing.travel_words([track])
-    return closing.rest_words([track])
+    """Under a panel's label: the chalk's stick-slip, the dish's travel, the grasp's hold or drop,
+    the square's sticking and creep (analysis/closing.py)."""
+    return closing.closing_words([track])
 
 
 def plan(pygame, tracks, header):

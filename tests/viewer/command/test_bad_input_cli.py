@@ -58,6 +58,13 @@ CLI = [
     (["--scene", "tablecloth", "--tilt", "60"], "--tilt applies only to --scene chalk;"),
     (["--scene", "tablecloth", "--slope-angle", "10"],
      "--slope-angle applies only to --scene square; --scene tablecloth has no such parameter"),
+    (["--scene", "grasp", "--squeeze", "0"], "--squeeze: squeeze must be a finite number > 0"),
+    (["--scene", "grasp", "--lift-accel", "1,-1"],
+     "--lift-accel: lift_accel must be a finite number > 0, got -1.0"),
+    (["--squeeze", "2"],
+     "--squeeze applies only to --scene grasp; --scene square has no such parameter"),
+    (["--scene", "grasp", "--gravity", "1,-9.81"],
+     "--gravity: gravity must point down along the fingers"),
 ]
 SCALARS = ("--mu", "--h", "--side", "--k", "--density", "--mass", "--dhat", "--kappa", "--epsv",
            "--tol", "--n-seg", "--duration", "--steps", "--frame-stride", "--slope-angle",

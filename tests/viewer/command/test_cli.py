@@ -136,7 +136,7 @@ def test_help_documents_every_flag():
                  "--slope-normal", "--slope-angle", "--v0", "--dhat", "--kappa", "--epsv", "--tol",
                  "--friction-iterations", "--newton-start", "--out", "--frame-stride", "--window",
                  "--scene", "--tilt", "--grip", "--mu-static", "--drag", "--no-frames",
-                 "--pull-speed", "--pull-length"):
+                 "--pull-speed", "--pull-length", "--squeeze", "--lift-accel"):
         assert flag in text
 
 
@@ -145,7 +145,8 @@ def test_help_gives_each_scenes_own_defaults():
     differs from the square's: the duration, and each scene flag's value in the scene's table."""
     helps = {action.dest: " ".join(action.help.split()) for action in cli.make_parser()._actions}
     assert helps["duration"] == (f"simulated seconds (default: the square {cli.DURATION:g}, the "
-                                 f"chalk {cli.CHALK_DURATION:g}, the tablecloth until its "
+                                 f"chalk {cli.CHALK_DURATION:g}, the grasp "
+                                 f"{cli.GRASP_DURATION:g}, the tablecloth until its "
                                  f"closed-form dish stops, +{cli.STOP_MARGIN:g})")
     tables = {kind: table for kind, (table, _) in cli.scene_kinds().items()}
     for _, param, _, _ in cli.FLAGS:
@@ -153,7 +154,7 @@ def test_help_gives_each_scenes_own_defaults():
         for kind, table in tables.items():
             if param in table and table[param] != simulator.DEFAULTS.get(param, table[param]):
                 assert f"{kind} {cli.shown(table[param])}" in default, (param, default)
-    assert helps["h"].endswith("(default 0.01; chalk 0.001, tablecloth 0.005)")
+    assert helps["h"].endswith("(default 0.01; chalk 0.001, tablecloth 0.005, grasp 0.005)")
     assert helps["newton_start"].endswith("(default x_n; chalk x_tilde)")
 
 

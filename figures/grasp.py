@@ -1,0 +1,135 @@
+"""Slide "Remarks - Applications: Robotics" (IPC-GraspSim's table of grasp successes), redrawn for
+the project's grasp (scenes/grasp.py): held or dropped over a grid of mu x N for one lift, each cell
+simulated, beside the line 2 mu N = m (g + a) and a rigid block's Coulomb slip through the lift's
+phases; and the creep a held block cannot avoid, u* = eps_v (1 - sqrt(1 - m g / (2 mu N))),
+simulated for two eps_v on the closed form's curve."""
+from types import SimpleNamespace
+
+import numpy as np
+import scipy.optimize
+
+import closed_forms
+import simulator
+from figures.page import BLACK, GREY, Page
+from viewer.pictures.draw import run_color
+
+MUS = (0.4, 0.45, 0.5, 0.55, 0.6)           # the grid's friction coefficients, and
+SQUEEZES = (1.7, 1.9, 2.05, 2.2, 2.4)       # N, each finger's force: mu N = 1.025 (mu 0.5) and
+#   1.02 (mu 0.6) lie just below the line mu N = m (g + a) / 2 = 1.031, where the block slips while
+#   the lift accelerates and grips again
+DURATION = 1.0      # s: the lift accelerates from 0.1 s to 0.5 s, then half a second steady
+EPSVS = (1e-3, 2e-3)                        # m/s, the creep panel's two eps_v
+RATIOS = (0.3, 0.5, 0.7, 0.85, 0.95)        # m g / (2 mu N) of its simulated points
+CREEP_TOL = 1e-6    # m/s: the creep read to about 0.5 tol / u* (under 1 % at u* >= 0.1 mm/s)
+CREEP_WINDOW = (0.2, 0.4)   # s: the creep fitted here, the fingers still (no lift: t_lift beyond)
+
+
+def held(scene):
+    """Whether the simulated block stays on the pads through DURATION (stops once it has left)."""
+    drop = closed_forms.grasp_drop_slip(scene)
+    for record in simulator.simulate(scene, round(DURATION / scene.h)):
+        if closed_forms.grasp_slip(scene, record.x) >= drop:
+            return False
+    return True
+
+
+def coulomb_held(scene):
+    """Whether the rigid Coulomb block stays on the pads through DURATION: its slip only grows, so
+    its slip at DURATION decides."""
+    return closed_forms.grasp_coulomb_slip(scene, DURATION) < closed_forms.grasp_drop_slip(scene)
+
+
+def coulomb_boundary(mu):
+    """The squeeze N at which the Coulomb block just reaches the pads' end by DURATION."""
+    def excess(N):
+        scene = simulator.build_grasp_scene(mu=mu, squeeze=N)
+        drop = closed_forms.grasp_drop_slip(scene)
+        return closed_forms.grasp_coulomb_slip(scene, DURATION) - drop
+    line = line_squeeze(mu)
+    return scipy.optimize.brentq(excess, 0.5 * line, line, xtol=1e-9)
+
+
+def line_squeeze(mu, lift_accel=simulator.GRASP["lift_accel"]):
+    """N on the line 2 mu N = m (g + a)."""
+    p = simulator.GRASP
+    return p["mass"] * (-p["gravity"][1] + lift_accel) / (2 * mu)
+
+
+def creep(epsv, ratio):
+    """A held block's creep speed with the fingers still, fitted over CREEP_WINDOW, beside u*."""
+    p = simulator.GRASP
+    N = p["mass"] * -p["gravity"][1] / (2 * p["mu"] * ratio)
+    scene = simulator.build_grasp_scene(squeeze=N, epsv=epsv, tol=CREEP_TOL, t_lift=10.0)
+    t, slip = closed_forms.grasp_run(scene, CREEP_WINDOW[1])
+    return closed_forms.fitted_rate(t, slip, *CREEP_WINDOW), closed_forms.grasp_creep_speed(scene)
+
+
+def compute(mus=MUS, squeezes=SQUEEZES, epsvs=EPSVS, ratios=RATIOS):
+    """The grid's cells (mu, N, simulated held, Coulomb held, above the line) and the creep
+    points (eps_v, ratio, simulated u, closed-form u*)."""
+    cells = []
+    for mu in mus:
+        for N in squeezes:
+            scene = simulator.build_grasp_scene(mu=mu, squeeze=N)
+            cells.append(SimpleNamespace(mu=mu, N=N, held=held(scene), coulomb=coulomb_held(scene),
+                                         line=closed_forms.grasp_holds(scene)))
+    points = [SimpleNamespace(epsv=e, ratio=r, u=u, exact=exact)
+              for e in epsvs for r in ratios for u, exact in [creep(e, r)]]
+    return SimpleNamespace(cells=cells, points=points, mus=mus, squeezes=squeezes, epsvs=epsvs)
+
+
+def caption(r):
+    """The slide's claim in this model, the agreement counts and the creep's worst error."""
+    n = len(r.cells)
+    coulomb = sum(c.held == c.coulomb for c in r.cells)
+    line = sum(c.held == c.line for c in r.cells)
+    worst = max(r.points, key=lambda p: abs(p.u / p.exact - 1))
+    p = simulator.GRASP
+    return [
+        f"A {p['mass']:g} kg block between two fingers pressed with N each, lifted at a = "
+        f"{p['lift_accel']:g} m/s^2 to {p['lift_speed']:g} m/s; held: still on the pads at "
+        f"{DURATION:g} s.",
+        f"Simulated outcome = rigid Coulomb block's in {coulomb} of {n} cells; = the line "
+        f"2 mu N >= m (g + a) in {line} of {n} (just below it,",
+        "the block slips while the lift accelerates and may grip again before the pads' end).",
+        f"Held, it still creeps: simulated creep on u* = eps_v (1 - sqrt(1 - m g / (2 mu N))) "
+        f"within {100 * abs(worst.u / worst.exact - 1):.2g} % (tol {CREEP_TOL:g} m/s)."]
+
+
+def draw(r):
+    """The grid of outcomes over mu x N with the line and the Coulomb boundary; the creep curves."""
+    page = Page("A grasp: held or dropped over mu x N, and the creep of a held block", 2,
+                caption(r))
+    mu_lo, mu_hi = min(r.mus) - 0.04, max(r.mus) + 0.04
+    N_lo, N_hi = min(r.squeezes) - 0.2, max(r.squeezes) + 0.2
+    ax = page.axes(0, mu_hi, N_lo, N_hi, "each finger's squeeze N (N) against "
+                   "mu: filled held, hollow dropped (simulated)", "mu", "N (N)", x_lo=mu_lo)
+    mu = np.linspace(mu_lo, mu_hi, 200)
+    inside = (line_squeeze(mu) <= N_hi) & (line_squeeze(mu, 0.0) >= N_lo)     # in the panel
+    mu = mu[inside]
+    ax.line(mu, line_squeeze(mu), run_color(0), 2)
+    ax.legend(run_color(0), "2 mu N = m (g + a)")
+    ax.line(mu, line_squeeze(mu, 0.0), GREY, 1)
+    ax.legend(GREY, "2 mu N = m g")
+    ax.line(mu, [coulomb_boundary(m) for m in mu], run_color(1), 2)
+    ax.legend(run_color(1), "rigid Coulomb: pads' end")
+    for c in r.cells:
+        ax.markers([c.mu], [c.N], BLACK, 6)
+        if not c.held:
+            ax.markers([c.mu], [c.N], (255, 255, 255), 4)
+        if c.held != c.coulomb:
+            ax.markers([c.mu], [c.N], run_color(3), 2)
+    ax.legend(BLACK, "simulated cell")
+    ax.legend(run_color(3), "differs from Coulomb")
+    u_max = 1e3 * max(r.epsvs)
+    ax = page.axes(1, 1.0, 0.0, u_max, "creep speed of a held block (mm/s) against the load "
+                   "m g / (2 mu N)", "m g / (2 mu N)", "u (mm/s)")
+    ratio = np.linspace(0.0, 1.0, 200)
+    for k, epsv in enumerate(r.epsvs):
+        ax.line(ratio, [1e3 * closed_forms.mollified_creep(epsv, x) for x in ratio],
+                run_color(2 + 3 * k), 2)
+        ax.legend(run_color(2 + 3 * k), f"u*, eps_v = {epsv:g} m/s")
+        shown = [p for p in r.points if p.epsv == epsv]
+        ax.markers([p.ratio for p in shown], [1e3 * p.u for p in shown], BLACK, 4)
+    ax.legend(BLACK, "simulated")
+    return page

@@ -1,0 +1,46 @@
+"""`--scene grasp` on the command line: its flags and lists, a run's closing words (held beside
+u*, dropped beside the slip acceleration), log.csv's slip and finger forces, the pads drawn."""
+import csv
+
+import numpy as np
+
+from helpers.command import closing_text, run_main
+from viewer.command import cli, run
+from viewer.pictures import draw
+
+
+def test_grasp_flags_reach_the_scene_and_a_list_compares_squeezes():
+    runs = cli.parse_command_line(["--scene", "grasp", "--squeeze", "1,2,4", "--lift-accel", "1",
+                                   "--mu", "0.4", "--mass", "0.3", "--epsv", "2e-3"])
+    plan = cli.plan_from_args(runs)
+    assert [float(s.fingers.squeeze[0]) for s in plan.scenes] == [1.0, 2.0, 4.0]
+    assert all(s.fingers.lift_accel == 1.0 and s.mu == 0.4 and s.params["mass"] == 0.3
+               and s.epsv == 2e-3 for s in plan.scenes)
+    assert plan.labels == ["squeeze = 1", "squeeze = 2", "squeeze = 4"]
+    assert plan.steps == [round(cli.GRASP_DURATION / 0.005)] * 3 and plan.kind == "grasp"
+    assert run.summary_header(plan)[1] == (
+        "block 5 x 5 cm, 0.3 kg   squeeze N = 1 N a finger   lift at a = 1 m/s^2 to 0.2 m/s from "
+        "t = 0.1 s   mu = 0.4")
+    (one,) = cli.parse_command_line(["--scene", "grasp"])
+    assert cli.plan_from_args([one]).labels == ["squeeze = 2.616 N, mu = 0.5"]
+
+
+def test_a_grasp_run_says_held_or_dropped_logs_the_slip_and_draws_the_pads(tmp_path):
+    """0.3 s: squeeze 1 N drops the block (2 mu N / m = 5 m/s^2 < g: it slides 0.5 (g - 5) t^2,
+    past the pads' 5 cm at about 0.14 s); 4 N holds it, each finger pressing with 4 N (the first
+    steps off by up to 0.12 % while the block's springs take the squeeze up; measured)."""
+    code, lines = run_main("--scene", "grasp", "--squeeze", "1,4", "--duration", "0.3",
+                           "--frame-stride", "30", "--out", str(tmp_path))
+    assert code == 0, lines
+    last = closing_text(lines)
+    assert all(len(line.replace(str(tmp_path), "")) <= 100 for line in lines), lines
+    assert "squeeze = 1: dropped at 0.14 s; squeeze = 4: held, creeps " in last and "(u* " in last
+    with open(tmp_path / "log_squeeze4.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert float(rows[0]["slip"]) == 0.0 and 0.0 < float(rows[-1]["slip"]) < 1e-3
+    forces = [float(r[k]) for r in rows for k in ("normal_force_left", "normal_force_right")]
+    assert np.allclose(forces, 4.0, rtol=1e-2)       # the springs take the squeeze up: 0.12 %
+    assert np.allclose(forces[-2:], 4.0, rtol=1e-4)     # settled
+    pygame = draw.load_pygame()
+    frame = pygame.surfarray.array3d(pygame.image.load(str(tmp_path / "frame_00000.png")))
+    assert np.all(frame == draw.FINGER_COLOR, axis=2).sum() > 500      # the pads, and the legend
