@@ -299,3 +299,11 @@ def test_an_object_array_of_numbers_converts_as_float_does():
                 np.array([[D(0), 1j], [D(1), D(0)]], dtype=object)):
         with pytest.raises(ValueError, match="^x must hold real numbers, got an object array"):
             MassSpringEnergy.val(bad, e, l2, 1e3)
+
+
+@pytest.mark.parametrize("step_index", ["a", None, 1.5, -1, float("nan")])
+def test_a_step_index_that_is_no_whole_number_is_refused_by_name(step_index):
+    """step(..., step_index=n): n numbers the step and sets its time, a whole number >= 0."""
+    scene = simulator.build_scene()
+    with pytest.raises(ValueError, match=r"^step_index must be a whole number >= 0, got "):
+        time_integrator.step(scene, scene.x0, scene.v0, step_index=step_index)
