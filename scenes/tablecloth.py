@@ -49,13 +49,6 @@ def check_params(overrides):
         if not p[name] <= ranges.FLOAT64_SCALE_LIMIT:
             raise utils.ParameterError(name, f"{name} must be <= {ranges.FLOAT64_SCALE_LIMIT:g} "
                                        f"(float64: the closed form squares it), got {p[name]:g}")
-    pull = p["pull_length"] / p["pull_speed"]           # T = L / U, s
-    if not pull <= ranges.MAX_STEPS * p["h"]:
-        name = ranges.culprit(p, TABLECLOTH, {"pull_length": 1, "pull_speed": -1, "h": -1})
-        raise utils.ParameterError(name, f"{name} = {p[name]:g}: the pull would last L/U = "
-                                   f"{pull:.3g} s, more than the {ranges.MAX_STEPS:.0e} steps of "
-                                   f"h = {p['h']:g} s a run may take (keep L/U <= "
-                                   f"{ranges.MAX_STEPS * p['h']:.3g} s)")
     return p
 
 
