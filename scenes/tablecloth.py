@@ -4,6 +4,7 @@ rides along (closed_forms.tablecloth_travel).
 
     scene = build_tablecloth_scene(pull_speed=8.0)  # the numbers (TABLECLOTH), one of them changed
 """
+import math
 import types
 
 import numpy as np
@@ -79,6 +80,8 @@ def resting_gap(p):
     w, load = p["width"] / p["nx"], -p["mass"] * p["gravity"][1] / (p["nx"] + 1)
     closest = CLOSEST_GAP * p["dhat"]
     kappa_min = load / -BarrierEnergy.dP_dd(closest, w, p["dhat"], 1.0)
+    digit = 10.0 ** (math.floor(math.log10(kappa_min)) - 2)
+    kappa_min = math.ceil(kappa_min / digit) * digit            # 3 digits, rounded up
     if not p["kappa"] >= kappa_min:
         name = ranges.culprit(p, TABLECLOTH, {"kappa": -1, "mass": 1, "gravity": 1, "width": -1,
                                               "nx": 2, "dhat": -1})
