@@ -284,6 +284,7 @@ def newton_iterates(scene, x, v, *, step_index=0):
     a moving surface's v_s that of the step."""
     x_n = utils.check_points("x", x, scene.x0.shape)
     v_n = utils.check_points("v", v, scene.x0.shape)
+    step_index = utils.check_whole("step_index", step_index, minimum=0)
     if "barrier" in scene.terms:
         BarrierEnergy.check_above(x_n, scene.n, scene.o)
     if "fingers" in scene.terms:

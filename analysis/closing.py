@@ -88,8 +88,9 @@ def rest_words(tracks):
 def travel_words(tracks):
     """Each dish's travel (its centre of mass along the pull, end minus start) beside the closed
     form: 'the dish travelled 0.1226 m, closed form mu g L^2 / U^2 = 0.1226 m (-0.0 %)'; for a
-    comparison, in the order of its runs, 'the dish travelled 1.0000, 0.1226 m (closed form +0.0,
-    -0.0 %)' ('-' where the closed form is 0)."""
+    comparison, in the order of its runs, 'the dish travelled 1.0000, 0.1226 m (closed form +0.0 %,
+    -0.0 %)' ('-' where the closed form is 0); 'unfinished' where the run ended before the closed
+    form's dish stops (closed_forms.tablecloth_stop_time)."""
     runs = []
     for track in tracks:
         scene, surface = track.scene, track.scene.surface
@@ -97,12 +98,19 @@ def travel_words(tracks):
         travel, g = float(moved @ surface.tangent), -scene.g[1]
         U, L = surface.pull_speed, surface.pull_length
         exact = closed_forms.tablecloth_travel(U, L, scene.mu, g)
+        stop = closed_forms.tablecloth_stop_time(U, L, scene.mu, surface.t_pull, g)
         off = f"{100 * (travel - exact) / exact:+.1f}" if exact else "-"
-        runs.append((travel, exact, "mu g L^2 / U^2" if U * U >= scene.mu * g * L else "L", off))
+        off = "unfinished" if track.t < stop else off
+        runs.append((travel, exact, "mu g L^2 / U^2" if U * U >= scene.mu * g * L else "L", off,
+                     stop))
     if len(runs) > 1:
         travels = ", ".join(f"{travel:.4f}" for travel, *_ in runs)
-        return f"the dish travelled {travels} m (closed form {', '.join(r[-1] for r in runs)} %)"
-    travel, exact, form, off = runs[0]
+        offs = ", ".join(r[3] + ("" if r[3] == "unfinished" else " %") for r in runs)
+        return f"the dish travelled {travels} m (closed form {offs})"
+    travel, exact, form, off, stop = runs[0]
+    if off == "unfinished":
+        return (f"the dish travelled {travel:.4f} m by {tracks[0].t:.2f} s, unfinished: the "
+                f"closed form's stops at {stop:.2f} s")
     off = f" ({off} %)" if exact else ""
     return f"the dish travelled {travel:.4f} m, closed form {form} = {exact:.4f} m{off}"
 

@@ -13,6 +13,7 @@ import MassSpringEnergy
 import chalk_checks
 import square_mesh
 import utils
+from scenes import ranges
 from scenes.scene import Scene, StaticFriction, readonly
 
 CHALK = types.MappingProxyType({
@@ -38,6 +39,10 @@ CHALK = types.MappingProxyType({
     "newton_start": "x_tilde",  # from x^n + h v^n cut by CCD: a sliding tip starts sliding
 })
 
+GROWS = types.MappingProxyType({        # what the chalk's sizes grow with (scenes.ranges)
+    "M": {"rho": 1, "length": 1, "width": 1}, "size": {"length": 1, "width": 1}, "X": {"dhat": 1},
+    "l": {"length": 1, "nx": -1, "width": 1, "ny": -1}, "N": {"nx": 1, "ny": 1}})
+
 
 def build_chalk_scene(**overrides):
     """Rabinowicz's chalk: a mass-spring rectangle at `tilt` to a flat board (normal (0, 1) through
@@ -45,11 +50,16 @@ def build_chalk_scene(**overrides):
     pushed, the chalk leans back over the tip; dragged, forward. A ValueError names a bad
     parameter."""
     p = chalk_checks.check_params(CHALK, overrides)
+    for name, other in sorted((("nx", "ny"), ("ny", "nx")), key=lambda pair: -p[pair[0]]):
+        ranges.check_memory(name, p[name], lambda n: (n + 1) * (p[other] + 1))
     x, e = square_mesh.rectangle(p["length"], p["width"], p["nx"], p["ny"], (0.0, -p["width"] / 2))
     tilt = math.radians(p["tilt"])
     a = np.array([math.cos(tilt) * (1.0 if p["drag"] else -1.0), math.sin(tilt)])   # tip to hand
     x = x @ np.array([a, [-a[1], a[0]]])                       # rows (u, w) -> u a + w a_perp
     x = x - [x[np.argmin(x[:, 1]), 0], x[:, 1].min() - p["dhat"]]      # the tip corner at (0, dhat)
+    m = np.full(len(x), p["rho"] * p["length"] * p["width"] / len(x))
+    ranges.check_start(p, CHALK, GROWS, x, m, min(p["length"] / p["nx"], p["width"] / p["ny"]),
+                       p["width"] / p["ny"], np.zeros(2), x[:, 1])
     held = np.arange((p["nx"] + 1 - p["held_columns"]) * (p["ny"] + 1), len(x))
     t1, t2, down = p["t_press"], p["t_press"] + p["t_hold"], -p["press"]
     hand = HandEnergy.Hand(nodes=readonly(held), rest=readonly(x[held]), k_hand=p["k_hand"],
@@ -62,7 +72,7 @@ def build_chalk_scene(**overrides):
         params=types.MappingProxyType(p), x0=readonly(x), v0=readonly(np.zeros_like(x)),
         e=readonly(np.asfortranarray(e)), l2=readonly(MassSpringEnergy.squared_lengths(x, e)),
         k=readonly(np.full(len(e), p["k"])),
-        m=readonly(np.full(len(x), p["rho"] * p["length"] * p["width"] / len(x))),
+        m=readonly(m),
         contact_area=readonly(np.full(len(x), p["width"] / p["ny"])), g=readonly(p["gravity"]),
         n=readonly([0.0, 1.0]), o=readonly([0.0, 0.0]), mu=p["mu"], dhat=p["dhat"],
         kappa=p["kappa"], epsv=p["epsv"], h=p["h"], tol=p["tol"],

@@ -23,6 +23,7 @@ import numpy as np
 import MassSpringEnergy
 import square_mesh
 import utils
+from scenes import ranges
 from scenes.scene import Fingers, Scene, gap_carrying, readonly
 
 GRASP = types.MappingProxyType({
@@ -60,10 +61,18 @@ def check_params(overrides):
     return p
 
 
+GROWS = types.MappingProxyType({        # what the block's sizes grow with (scenes.ranges)
+    "M": {"mass": 1}, "size": {"width": 1, "height": 1}, "X": {"width": 1, "dhat": 1},
+    "l": {"width": 1, "nx": -1, "height": 1, "ny": -1}, "N": {"nx": 1, "ny": 1}})
+
+
 def resting_gap(p):
-    """d0, the gap at which the barrier carries the squeeze N on a side's ny + 1 nodes."""
-    return gap_carrying(p["squeeze"] / (p["ny"] + 1), p["height"] / p["ny"], p["dhat"],
-                        p["kappa"])
+    """d0, the gap at which the barrier carries the squeeze N on a side's ny + 1 nodes
+    (gap_carrying; refused where it cannot be carried)."""
+    load, w = p["squeeze"] / (p["ny"] + 1), p["height"] / p["ny"]
+    ranges.check_carries(p, GRASP, load, w, {"kappa": -1, "squeeze": 1, "height": -1, "ny": 2,
+                                             "dhat": -1}, "the squeeze")
+    return gap_carrying(load, w, p["dhat"], p["kappa"])
 
 
 def build_grasp_scene(**overrides):
@@ -71,7 +80,15 @@ def build_grasp_scene(**overrides):
     right (normal (-1, 0)), each at the gap d0 where it carries the squeeze, lifted along (0, 1)
     from t_lift. A ValueError names a bad parameter."""
     p = check_params(overrides)
-    w, h, d0 = p["width"], p["height"], resting_gap(p)
+    for name, other in sorted((("nx", "ny"), ("ny", "nx")), key=lambda pair: -p[pair[0]]):
+        ranges.check_memory(name, p[name], lambda n: (n + 1) * (p[other] + 1))
+    w, h = p["width"], p["height"]
+    block, _ = square_mesh.rectangle(w, h, p["nx"], p["ny"], (-w / 2, -h / 2))
+    m_block = np.full(len(block), p["mass"] / len(block))
+    spacing = min(w / p["nx"], h / p["ny"])
+    ranges.check_start(p, GRASP, GROWS, block, m_block, spacing, h / p["ny"], np.array([-w / 2, 0]),
+                       block[:, 0] + w / 2 + p["dhat"])      # as if at dhat from the left finger
+    d0 = resting_gap(p)
     block, e = square_mesh.rectangle(w, h, p["nx"], p["ny"], (-w / 2, -h / 2))
     x = np.vstack([block, [[-w / 2 - d0, 0.0], [w / 2 + d0, 0.0]]])   # the fingers' nodes, last
     fingers = Fingers(n=readonly([[1.0, 0.0], [-1.0, 0.0]]), squeeze=readonly([p["squeeze"]] * 2),

@@ -10,11 +10,11 @@ from dataclasses import dataclass
 import types
 
 import numpy as np
-import scipy.optimize
 
 import BarrierEnergy
 import HandEnergy
 import utils
+from scenes import ranges
 
 
 @dataclass(frozen=True)
@@ -147,6 +147,8 @@ def readonly(a):
 
 def gap_carrying(load, w, dhat, kappa):
     """d0, the gap at which the barrier pushes a node of contact area w with `load` (N):
-    w dhat (-b'(d0)) = load, a root between 0 and dhat (a settled start, not a dropped one)."""
+    w dhat (-b'(d0)) = load, a root between ranges.CLOSEST_GAP dhat and dhat (a settled start,
+    not a dropped one; ranges.check_carries refuses a load the barrier cannot carry)."""
+    import scipy.optimize           # here, not at start-up: only a settled start needs it
     return scipy.optimize.brentq(lambda d: -BarrierEnergy.dP_dd(d, w, dhat, kappa) - load,
-                                 1e-12 * dhat, dhat, xtol=1e-15)
+                                 ranges.CLOSEST_GAP * dhat, dhat, xtol=1e-15)

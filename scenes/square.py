@@ -12,6 +12,7 @@ import MassSpringEnergy
 import square_checks
 import square_mesh
 import utils
+from scenes import ranges
 from scenes.scene import Scene, readonly
 
 DEFAULTS = types.MappingProxyType({
@@ -42,8 +43,9 @@ ALIASES = {"dt": "h"}           # other names a parameter may be passed by
 
 def build_scene(**overrides):
     """The square's scene, built once from DEFAULTS with `overrides`; a ValueError names a bad
-    parameter (square_checks.check_params, square_checks.check_start)."""
+    parameter (square_checks.check_params, scenes.ranges)."""
     p = square_checks.check_params(DEFAULTS, ALIASES, overrides)
+    ranges.check_memory("n_seg", p["n_seg"], lambda n_seg: (n_seg + 1) ** 2)
     x, e = square_mesh.generate(p["side_len"], p["n_seg"])      # the square, centred at the origin
     c, s = math.cos(p["angle"]), math.sin(p["angle"])
     x = x @ np.array([[c, s], [-s, c]]) + np.array(p["center"])
@@ -51,7 +53,12 @@ def build_scene(**overrides):
     if p["slope"] is not None:
         n, o = square_checks.slope_normal(p["slope"]), np.array(p["slope_point"])
         d = BarrierEnergy.distances(x, n, o)
-    square_checks.check_start(p, DEFAULTS, x, n, o, d)
+    m = np.full(len(x), square_checks.total_mass(p) / len(x))      # or rho side_len^2
+    spacing = p["side_len"] / p["n_seg"]
+    defaults = {**DEFAULTS, "mass": square_checks.total_mass(DEFAULTS)}
+    ranges.check_start(p, defaults, square_checks.grows(p), x, m, spacing, spacing, o, d)
+    if d is not None:
+        square_checks.check_touching(p, x, n, d, ranges.roundoff(x, o))
 
     terms = ["inertia", "spring"] + ["gravity"] * any(p["gravity"])
     if n is not None:
@@ -61,8 +68,7 @@ def build_scene(**overrides):
         v0=readonly(np.tile(p["v0"], (len(x), 1))),
         e=readonly(np.asfortranarray(e)),       # column by column: e[:, 0] and e[:, 1] gather fast
         l2=readonly(MassSpringEnergy.squared_lengths(x, e)), k=readonly(np.full(len(e), p["k"])),
-        m=readonly(np.full(len(x), square_checks.total_mass(p) / len(x))),     # or rho side_len^2
-        contact_area=readonly(np.full(len(x), p["side_len"] / p["n_seg"])),
+        m=readonly(m), contact_area=readonly(np.full(len(x), spacing)),
         g=readonly(p["gravity"]),
         n=None if n is None else readonly(n), o=None if o is None else readonly(o),
         mu=p["mu"], dhat=p["dhat"], kappa=p["kappa"], epsv=p["epsv"], h=p["h"], tol=p["tol"],

@@ -17,6 +17,7 @@ import MassSpringEnergy
 import simulator
 import square_checks
 import time_integrator
+from scenes import ranges
 
 from helpers import ROOT
 
@@ -37,7 +38,7 @@ def test_round_off_threshold_on_a_flat_slope(gap, refused):
             simulator.build_scene(**kwargs)
     else:
         assert "barrier" in simulator.build_scene(**kwargs).terms
-    threshold = square_checks.ROUNDOFF_ULPS * EPS * (math.hypot(0.5, 0.5) + 0.5 + gap)
+    threshold = ranges.ROUNDOFF_ULPS * EPS * (math.hypot(0.5, 0.5) + 0.5 + gap)
     assert (gap <= threshold) == refused
 
 
@@ -69,7 +70,7 @@ def test_build_scene_refuses_first_step_overflow(kwargs, culprit, what):
 def test_scale_limit_leaves_finite_sums():
     """FLOAT64_SCALE_LIMIT: a scale squared and summed over the 1e8 nodes that fit at most (16 KiB
     each in 1.6 TB) stays finite."""
-    assert np.isfinite(np.sum(np.full(10, square_checks.FLOAT64_SCALE_LIMIT) ** 2) * 1e7)
+    assert np.isfinite(np.sum(np.full(10, ranges.FLOAT64_SCALE_LIMIT) ** 2) * 1e7)
 
 
 def test_newton_matrix_bound():
@@ -78,7 +79,7 @@ def test_newton_matrix_bound():
     only M resolves, comes out right)."""
     m = simulator.DEFAULTS["rho"] / 25                       # n_seg 4: 25 nodes, 40 kg each
     h = simulator.DEFAULTS["h"]
-    k_limit = square_checks.NEWTON_RATIO_LIMIT * m / h ** 2
+    k_limit = ranges.NEWTON_RATIO_LIMIT * m / h ** 2
     message = (r"^k = .*: float64 cannot resolve the Newton matrix M \+ h\^2 K, "
                r"as h\^2 k / m = 9\.0\de\+14")
     with pytest.raises(ValueError, match=message):
@@ -105,15 +106,16 @@ def test_lectures_scene_and_stability_extremes_are_far_inside_the_limits():
 
 def test_memory_check_refuses_what_does_not_fit(monkeypatch):
     """With 1 GiB of memory, the largest n_seg the message names fits and the next does not."""
-    monkeypatch.setattr(square_checks, "physical_memory", lambda: 2 ** 30)
+    monkeypatch.setattr(ranges, "physical_memory", lambda: 2 ** 30)
     message = (r"^n_seg = 300 makes 9.06e\+4 nodes, about 1.38 GiB .* more than "
                r"this machine's 1 GiB \(largest n_seg that fits: (\d+)\)")
     with pytest.raises(ValueError, match=message) as info:
         simulator.build_scene(n_seg=300)
     largest = int(str(info.value).rsplit(" ", 1)[1].rstrip(")"))
-    square_checks.check_memory(largest)
+    nodes = lambda n_seg: (n_seg + 1) ** 2      # noqa: E731
+    ranges.check_memory("n_seg", largest, nodes)
     with pytest.raises(ValueError):
-        square_checks.check_memory(largest + 1)
+        ranges.check_memory("n_seg", largest + 1, nodes)
 
 
 # The peak as VmHWM, not ru_maxrss: a forked child keeps its parent's ru_maxrss across exec, so a
@@ -138,7 +140,7 @@ def test_memory_per_node_bounds_the_measured_peak():
                          timeout=120, env={**os.environ, "OPENBLAS_NUM_THREADS": "1"})
     one, many = (int(kib) * 1024 for kib in out.stdout.split()[-2:])
     per_node = (many - one) / 129 ** 2
-    assert per_node <= square_checks.MEMORY_PER_NODE <= 4 * per_node
+    assert per_node <= ranges.MEMORY_PER_NODE <= 4 * per_node
 
 
 # ---- the too-large-h warning ---------------------------------------------------------------------
@@ -299,3 +301,11 @@ def test_an_object_array_of_numbers_converts_as_float_does():
                 np.array([[D(0), 1j], [D(1), D(0)]], dtype=object)):
         with pytest.raises(ValueError, match="^x must hold real numbers, got an object array"):
             MassSpringEnergy.val(bad, e, l2, 1e3)
+
+
+@pytest.mark.parametrize("step_index", ["a", None, 1.5, -1, float("nan")])
+def test_a_step_index_that_is_no_whole_number_is_refused_by_name(step_index):
+    """step(..., step_index=n): n numbers the step and sets its time, a whole number >= 0."""
+    scene = simulator.build_scene()
+    with pytest.raises(ValueError, match=r"^step_index must be a whole number >= 0, got "):
+        time_integrator.step(scene, scene.x0, scene.v0, step_index=step_index)

@@ -2,12 +2,14 @@
 parameter of the scenes whose mapping (scene_kinds) has it; one may take a list, one run per value.
 A bad command line is one line naming the flag, exit code 2."""
 import argparse
+import dataclasses
 import math
 import re
 
 import closed_forms
 import simulator
 import utils
+from scenes import ranges
 from viewer.command import run
 
 DURATION = 6.0          # s: long enough to see mu = 0.11 stick (about 5.5 s), and creep
@@ -258,6 +260,14 @@ def default_duration(scenes):
         return CHALK_DURATION if scenes[0].hand else DURATION
     stops = [closed_forms.tablecloth_stop_time(s.surface.pull_speed, s.surface.pull_length, s.mu,
                                                s.surface.t_pull, -s.g[1]) for s in scenes]
+    for scene, stop in zip(scenes, stops):
+        if not stop + STOP_MARGIN <= ranges.MAX_STEPS * scene.h:
+            p, grows = scene.params, {"pull_length": 1, "pull_speed": -1, "t_pull": 1, "h": -1}
+            name = ranges.culprit(p, simulator.TABLECLOTH, grows)
+            raise utils.ParameterError(name, f"{name} = {p[name]:g}: the dish stops at t = "
+                                       f"{stop:.3g} s, more than {ranges.MAX_STEPS:.0e} steps of "
+                                       f"h = {scene.h:g} s, a default run's most (give --duration "
+                                       f"or --steps)")
     return max(stops) + STOP_MARGIN
 
 
@@ -277,6 +287,20 @@ def steps_from_args(args, scene, duration):
         raise utils.ParameterError("duration", f"duration {duration:g} s is more time steps of h = "
                                    f"{h:g} s than float64 can count (use --steps, or a larger h)")
     return int(round(duration / h))
+
+
+def unfinished(scene, steps):
+    """The scene with a warning where a tablecloth run ends before its closed-form dish stops."""
+    if scene.surface is None:
+        return scene
+    s, end = scene.surface, steps * scene.h
+    stop = closed_forms.tablecloth_stop_time(s.pull_speed, s.pull_length, scene.mu, s.t_pull,
+                                             -scene.g[1])
+    if end >= stop:
+        return scene
+    said = (f"the run ends at {end:.3g} s, before the dish stops ({stop:.3g} s in the closed "
+            f"form): its travel is unfinished")
+    return dataclasses.replace(scene, warnings=scene.warnings + (said,))
 
 
 def frame_stride(args, scenes):
@@ -299,9 +323,11 @@ def plan_from_args(runs):
     scenes = [scene_from_args(a) for a in runs]
     labels = [a.label or LABEL[a.scene].format(how="dragged" if a.drag else "pushed", **s.params)
               for a, s in zip(runs, scenes)]
-    duration = default_duration(scenes)
-    return run.Plan(scenes=scenes, labels=labels, tags=[a.tag for a in runs],
-                    steps=[steps_from_args(a, s, duration) for a, s in zip(runs, scenes)],
+    asked = all(a.steps is not None or a.duration is not None for a in runs)
+    duration = None if asked else default_duration(scenes)
+    steps = [steps_from_args(a, s, duration) for a, s in zip(runs, scenes)]
+    scenes = [unfinished(scene, n) for scene, n in zip(scenes, steps)]
+    return run.Plan(scenes=scenes, labels=labels, tags=[a.tag for a in runs], steps=steps,
                     out=args.out, stride=frame_stride(args, scenes), frames=not args.no_frames,
                     forces=not args.no_forces, said=args.said, kind=args.scene)
 

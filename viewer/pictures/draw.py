@@ -22,6 +22,7 @@ RUN_COLORS = [BLUE, (255, 146, 0), (0, 146, 0), (219, 0, 170), (146, 73, 0), (0,
               (109, 109, 85)]      # PALETTE's colours, so that frames show them exactly
 NORMAL_COLOR, FRICTION_COLOR = (219, 0, 0), (0, 0, 0)      # far from every run's colour
 MARK_SPACING = 0.5          # m between marks along the slope
+MAX_MARKS = 400             # marks along the drawn slope at most; beyond, they spread out
 ARROW_PER_WEIGHT = 1.0      # m of arrow for reference_force
 FRICTION_ZOOM = 5.0         # the square's friction arrows drawn this much longer (mu ~ 0.1)
 ARROW_FIT = 0.75            # m: no arrow longer (3/4 of the square); the scale coarsens instead
@@ -108,19 +109,23 @@ def slope_ends(scene, view):
 
 def draw_slope(pygame, surface, scene, view, color=BLUE, font=None, clear=0.0):
     """The slope's line, a tick every MARK_SPACING x view.unit, with `font` a number every whole
-    unit, `clear` x view.unit m under the line at least; returns the lowest row drawn."""
+    unit, `clear` x view.unit m under the line at least; returns the lowest row drawn. A slope
+    drawn over more than MAX_MARKS marks (a body far off it) gets a mark every `nice_number` units
+    instead, and a number every other mark."""
     if scene.n is None:
         return None
     a, b = slope_ends(scene, view)
     pygame.draw.aaline(surface, color, a.tolist(), b.tolist())
     lowest = max(a[1], b[1])
     tangent, s_lo, s_hi = slope_span(scene, view)
-    spacing = MARK_SPACING * view.unit
-    first = np.ceil(s_lo / spacing)
-    units = MARK_SPACING * np.arange(first, first + (s_hi - s_lo) / spacing + 1)    # k x 0.5
+    span = (s_hi - s_lo) / view.unit
+    mark = MARK_SPACING if span <= MAX_MARKS * MARK_SPACING else nice_number(span / MAX_MARKS,
+                                                                            up=True)
+    first = np.ceil(s_lo / (mark * view.unit))
+    units = mark * np.arange(first, first + span / mark + 1)        # k x 0.5, or k x mark
     s = units * view.unit
     feet = scene.o + s[:, None] * tangent
-    whole = np.remainder(units, 1.0) == 0.0             # exact: multiples of 0.5
+    whole = np.remainder(units, 1.0 if mark < 1.0 else 2.0 * mark) == 0.0   # exact multiples
     ends = feet - view.unit * np.where(whole, 0.08, 0.04)[:, None] * scene.n
     under = view(feet - view.unit * max(0.08, clear) * scene.n).tolist()      # the numbers' tops
     for foot, end, metres, w, at in zip(view(feet).tolist(), view(ends).tolist(), s.tolist(),

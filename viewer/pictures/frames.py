@@ -15,19 +15,24 @@ FrameInfo = namedtuple("FrameInfo", "index t runs")
 
 
 def frame_count(scenes, steps, stride):
-    """How many frames runs of `steps` steps get: every `stride` steps of the least h, the last."""
+    """How many frames runs of `steps` steps get: every `stride` steps of the least h, and the last
+    (a stride longer than the runs: frame 0 and the last). The ratio is rounded up but for its
+    last 1e-9 relative, the round-off of n h / (stride h_min)."""
     h_min = min(scene.h for scene in scenes)
     duration = max(n * scene.h for scene, n in zip(scenes, steps))
-    return math.ceil(duration / (stride * h_min) - 1e-9) + 1
+    return math.ceil(duration / (stride * h_min) * (1.0 - 1e-9)) + 1
 
 
 def frame_steps(tracks, stride):
-    """(j, each track's step for frame j): the last step it has reached by frame j's time."""
+    """(j, each track's step for frame j): the last step it has reached by frame j's time; at the
+    last frame at least its last step, so that each run takes every step it counts."""
     h_min = min(tr.scene.h for tr in tracks)
     duration = max(tr.steps * tr.scene.h for tr in tracks)
-    for j in range(frame_count([tr.scene for tr in tracks], [tr.steps for tr in tracks], stride)):
+    last = frame_count([tr.scene for tr in tracks], [tr.steps for tr in tracks], stride) - 1
+    for j in range(last + 1):
         t = min(j * stride * h_min, duration)
-        yield j, [math.floor(t / tr.scene.h + 1e-6) for tr in tracks]
+        targets = [math.floor(t / tr.scene.h + 1e-6) for tr in tracks]
+        yield j, targets if j < last else [max(a, tr.steps) for a, tr in zip(targets, tracks)]
 
 
 class FrameWriter:

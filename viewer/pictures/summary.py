@@ -10,6 +10,7 @@ from viewer.pictures import draw
 SCALE = 100.0       # pixels per metre
 MAX_WIDTH = 2400    # pixels; beyond, the scale shrinks (the same for every panel)
 MIN_WIDTH = 700     # pixels
+MAX_HEIGHT = 1600   # pixels of a panel's motion and slope; beyond, the scale shrinks, as for width
 MARGIN = 0.6        # m of room around the motion
 HEADER = 70         # pixels of text above each panel
 GAP = 4             # pixels between the drawn snapshots (with their labels)
@@ -106,6 +107,10 @@ def plan(pygame, tracks, header):
     scale = SCALE * z
     if width_m * scale + right_room > MAX_WIDTH:
         scale = draw.nice_number((MAX_WIDTH - right_room) / width_m, TWO_DIGITS)
+    tall = max(float(np.ptp(slope_room(tr.scene, lo, hi, 1.0 / z, scale, label_h), axis=0)[1])
+               for tr, (lo, hi) in zip(tracks, boxes))
+    if tall * scale > MAX_HEIGHT:       # a body far above its slope: both in view, smaller
+        scale = draw.nice_number(MAX_HEIGHT / tall, TWO_DIGITS)
     words = [w for w in map(panel_words, tracks) if w]
     texts = [font.size(text)[0] for text in header] + [small.size(w)[0] for w in words]
     across = int(width_m * scale + right_room)          # px: the motion, and the last label

@@ -128,7 +128,7 @@ def test_the_closing_words_name_the_closed_form_s_branch():
     both = [dish("pull-speed = 1", 1.02, pull_speed=1.0),
             dish("pull-speed = 8", 0.0, pull_speed=8.0, mu=0.0)]
     assert closing.closing_words(both) == \
-        "the dish travelled 1.0200, 0.0000 m (closed form +2.0, - %)"
+        "the dish travelled 1.0200, 0.0000 m (closed form +2.0 %, - %)"
     assert closing.closing_note(both).endswith(" (the centre of mass along the pull, end minus "
                                                "start)")
     assert math.isclose(closed_forms.tablecloth_travel(4.0, 1.0, 0.2), exact)

@@ -45,3 +45,14 @@ def test_the_frames_friction_arrows_are_the_steps_own_force():
     run = frames.frame_run(scene, record.x, record.report, "run", (0, 0, 0), forces=True)
     drawn = run["friction"]
     assert drawn is record.report.friction_force and np.abs(drawn).max() > 0.0
+
+
+@pytest.mark.parametrize("runs, stride", [
+    (((1e-12, 3),), 33_333_333_333),        # --h 1e-12 --steps 3: the default stride, 1 / (30 h)
+    (((0.01, 30),), 10 ** 11),              # --frame-stride 1e11 --steps 30
+    (((1e-160, 30),), 3 * 10 ** 157)])      # the tablecloth's --h 1e-160 --steps 30
+def test_a_stride_longer_than_the_run_still_takes_every_step(runs, stride):
+    """A stride far beyond the run: frame 0 and a last frame at the run's last step, so the run
+    takes every step it counts (it took none where frame_count rounded the tiny ratio to 0)."""
+    runs = tracks(*runs)
+    assert list(frames.frame_steps(runs, stride)) == [(0, [0]), (1, [runs[0].steps])]

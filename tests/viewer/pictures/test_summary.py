@@ -120,3 +120,19 @@ def test_the_slope_and_its_numbers_span_the_motion_and_are_whole(recorded, build
             ink.append(pygame.surfarray.array3d(scratch).min(axis=2) < 128)
         rows = np.nonzero((ink[0] & ~ink[1]).any(axis=0))[0]
         assert len(rows) and rows.max() < view.height                           # drawn, and whole
+
+
+def test_a_square_far_above_its_slope_gets_a_summary_of_bounded_size(recorded):
+    """--center 1e8,1e8 --slope-point 1e8,0 --slope-normal 0,1: the slope 1e8 m below asked for a
+    picture 1e10 px tall (pygame.error: Out of memory). Both stay in view, at a smaller scale, in
+    MAX_HEIGHT px of motion and slope, plus the time labels' rows over and under it at most."""
+    pygame = draw.load_pygame()
+    far = {"center": (1e8, 1e8), "slope_point": (1e8, 0.0), "slope": (0.0, 1.0)}
+    tracks = recorded("square", [far], 5)
+    plan = summary.plan(pygame, tracks, ["a header line"])
+    (panel,) = plan.panels
+    assert plan.width <= summary.MAX_WIDTH and plan.scale < summary.SCALE
+    label_h = pygame.font.Font(None, 20).size("t = 0.1 s")[1]          # as summary.plan's
+    assert panel.height - summary.HEADER <= summary.MAX_HEIGHT + 2 * (label_h + 4)
+    surface = summary.draw_summary(pygame, tracks, ["a header line"])
+    assert surface.get_size() == (plan.width, plan.height)
