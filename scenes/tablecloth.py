@@ -7,7 +7,6 @@ rides along (closed_forms.tablecloth_travel).
 import types
 
 import numpy as np
-import scipy.optimize
 
 import BarrierEnergy
 import MassSpringEnergy
@@ -50,6 +49,7 @@ def check_params(overrides):
 def resting_gap(p):
     """d0, the gap at which the barrier carries the dish's weight on its nx + 1 bottom nodes:
     w dhat (-b'(d0)) = m |g_y| / (nx + 1), a root between 0 and dhat."""
+    import scipy.optimize           # here, not at the top: only a tablecloth pays its import
     w, load = p["width"] / p["nx"], -p["mass"] * p["gravity"][1] / (p["nx"] + 1)
     return scipy.optimize.brentq(lambda d: -BarrierEnergy.dP_dd(d, w, p["dhat"], p["kappa"]) - load,
                                  1e-12 * p["dhat"], p["dhat"], xtol=1e-15)
