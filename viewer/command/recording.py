@@ -1,6 +1,5 @@
 """The run driver: scenes stepped side by side (a Track each), a log.csv row as each step ends."""
 import concurrent.futures
-import contextlib
 import types
 
 import square_mesh
@@ -120,18 +119,12 @@ def record(tracks, folder, stride, frames, forces, messages, frame_log):
     progress = Progress(tracks, messages)
     with concurrent.futures.ThreadPoolExecutor(1) as encoder:
         writer = FrameWriter(tracks, folder, forces, frame_log, encoder) if frames else None
-        try:
-            for j, targets in frame_steps(tracks, stride):
-                for track, target in zip(tracks, targets):
-                    while track.step < min(target, track.steps):
-                        track.take(next(track.records), progress)
-                if writer is not None:
-                    writer.write(j)
-        except BaseException:               # a failed step, a signal: the frame drawn still saved
+        for j, targets in frame_steps(tracks, stride):
+            for track, target in zip(tracks, targets):
+                while track.step < min(target, track.steps):
+                    track.take(next(track.records), progress)
             if writer is not None:
-                with contextlib.suppress(OSError):      # (the run reports its first failure)
-                    writer.save()
-            raise
+                writer.write(j)
         if writer is not None:
             writer.save()                   # the last frame
     for track in tracks:
