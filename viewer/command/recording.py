@@ -1,5 +1,4 @@
 """The run driver: scenes stepped side by side (a Track each), a log.csv row as each step ends."""
-import concurrent.futures
 import types
 
 import square_mesh
@@ -114,18 +113,14 @@ class Track:
 
 
 def record(tracks, folder, stride, frames, forces, messages, frame_log):
-    """Run every track to its end, all in a frame every `stride` steps when `frames` (frame_log);
-    each frame's PNG is encoded in a second thread while the next frame's steps run."""
+    """Run every track to its end, all in a frame every `stride` steps when `frames` (frame_log)."""
+    writer = FrameWriter(tracks, folder, forces, frame_log) if frames else None
     progress = Progress(tracks, messages)
-    with concurrent.futures.ThreadPoolExecutor(1) as encoder:
-        writer = FrameWriter(tracks, folder, forces, frame_log, encoder) if frames else None
-        for j, targets in frame_steps(tracks, stride):
-            for track, target in zip(tracks, targets):
-                while track.step < min(target, track.steps):
-                    track.take(next(track.records), progress)
-            if writer is not None:
-                writer.write(j)
+    for j, targets in frame_steps(tracks, stride):
+        for track, target in zip(tracks, targets):
+            while track.step < min(target, track.steps):
+                track.take(next(track.records), progress)
         if writer is not None:
-            writer.save()                   # the last frame
+            writer.write(j)
     for track in tracks:
         track.last_snapshot()

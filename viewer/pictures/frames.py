@@ -32,11 +32,9 @@ def frame_steps(tracks, stride):
 
 class FrameWriter:
     """Frame j of the tracks' current states into `folder`: one PNG with all of them, each one's
-    OBJ, and its FrameInfo appended to `frame_log`; a signal waits until the frame is saved. With an
-    `encoder` (a one-thread concurrent.futures executor) its PNG is encoded there while the next
-    frame's steps run, and the frame saved when the next is drawn (`save` saves the last)."""
+    OBJ, and its FrameInfo appended to `frame_log`; a signal waits until the frame is done."""
 
-    def __init__(self, tracks, folder, forces, frame_log, encoder=None):
+    def __init__(self, tracks, folder, forces, frame_log):
         self.tracks, self.folder, self.frame_log = tracks, folder, frame_log
         self.pygame = draw.load_pygame()
         self.fonts = draw.fonts(self.pygame)
@@ -46,11 +44,9 @@ class FrameWriter:
         # costs glibc an mmap and a page fault per 4 kB (benchmarks/README.md, frames)
         self.surface = self.pygame.Surface((self.view.size, self.view.height))
         self.rows = draw.new_rows(self.view.size, self.view.height)
-        self.encoder, self.drawn = encoder, None     # drawn: the frame not saved yet, if any
 
     def write(self, j):
-        """Frame j drawn, then saved (with an encoder: the frame before saved first)."""
-        self.save()                         # the surface and rows are free again
+        """Frame j, then each track's OBJ (after its log row: the CSV is never behind)."""
         tracks, forces = self.tracks, self.newton_per_metre is not None
         self.view.follow(np.array([tr.samples.last.com for tr in tracks]))
         runs = [dict(frame_run(tr.scene, tr.x, tr.samples.last.report, tr.label, tr.color, forces),
@@ -58,30 +54,13 @@ class FrameWriter:
         t = max(tr.t for tr in tracks)
         surface, _ = draw.draw_frame(self.pygame, runs, t, self.view, self.fonts,
                                      self.newton_per_metre, surface=self.surface)
-        if self.encoder is None:
-            png = draw.png_data(self.pygame, surface, rows=self.rows)
-        else:
-            png = self.encoder.submit(draw.png_data, self.pygame, surface, rows=self.rows)
-        objs = [(files.frame_obj(j, tr.tag), square_mesh.obj_text(tr.x, *tr.scene.cells))
-                for tr in tracks]
-        self.drawn = (files.frame_png(j), png, objs,
-                      FrameInfo(j, t, [page.figures(tr.row) for tr in tracks]))
-        if self.encoder is None:
-            self.save()
-
-    def save(self):
-        """The drawn frame's PNG, then each track's OBJ (after its log row: the CSV is never
-        behind), then its FrameInfo: all or, where a signal stops the run, none of it."""
-        if self.drawn is None:
-            return
-        name, png, objs, info = self.drawn
-        png = png if self.encoder is None else png.result()
-        self.drawn = None
+        png = draw.png_data(self.pygame, surface, rows=self.rows)
         with self.folder.signals.held():
-            self.folder.write(name, png)
-            for obj_name, obj in objs:
-                self.folder.write(obj_name, obj)
-            self.frame_log.append(info)
+            self.folder.write(files.frame_png(j), png)
+            for tr in tracks:
+                obj = square_mesh.obj_text(tr.x, *tr.scene.cells)
+                self.folder.write(files.frame_obj(j, tr.tag), obj)
+            self.frame_log.append(FrameInfo(j, t, [page.figures(tr.row) for tr in tracks]))
 
 
 def frame_run(scene, x, report, label, color, forces):

@@ -73,8 +73,8 @@ def test_sigkill_leaves_the_log_within_a_stride_of_the_frames(tmp_path):
     steps = assert_whole_rows(tmp_path / "log.csv")
     last_frame = max(frame_indices(tmp_path))
     # a row is written before the frame of its step: the log holds every frame's step, and at most
-    # two strides more (a frame is saved as the next is drawn; plus the frame being saved)
-    assert 2 * last_frame <= steps[-1] <= 2 * last_frame + 4
+    # one stride (plus the frame being written) more
+    assert 2 * last_frame <= steps[-1] <= 2 * last_frame + 2
 
 
 def test_a_full_disk_is_one_line_exit_1_and_keeps_what_was_written(tmp_path, monkeypatch):
