@@ -346,9 +346,8 @@ class SPDSolver:
         flat.fill(0.0)
         for nodes, blocks in H:
             i, j = _UPPER_TRIANGLE[blocks.shape[1]]
-            slots = self._slots(nodes, i, j)
-            for k in range(len(i)):             # entry (i[k], j[k]) of every block: views, no copy
-                np.add.at(flat, slots[:, k], blocks[:, i[k], j[k]])
+            for k, slots in enumerate(self._slots(nodes, i, j).T):  # entry (i[k], j[k]) of every
+                np.add.at(flat, slots, blocks[:, i[k], j[k]])           # block: views, no copies
         return self.band
 
     def _slots(self, nodes, i, j):
