@@ -55,10 +55,11 @@ def grad_kernel(x, e, l2, k):
     return utils.add_to_pairs(e, (2.0 * k * (sq / l2 - 1.0))[:, None] * diff, len(x))
 
 
-def hess_kernel(x, e, l2, k, project_psd=True):
+def hess_kernel(x, e, l2, k, project_psd=True, out=None):
     """Per edge [[H, -H], [-H, H]], H = 2k/l2 (2 diff diff^T + (||diff||^2 - l2) I)
     = lam_perp I + (lam_par - lam_perp) diff diff^T / ||diff||^2; its PSD projection (make_PD)
-    clamps lam_par = 2k/l2 (3 ||diff||^2 - l2) and lam_perp = 2k/l2 (||diff||^2 - l2) at zero."""
+    clamps lam_par = 2k/l2 (3 ||diff||^2 - l2) and lam_perp = 2k/l2 (||diff||^2 - l2) at zero.
+    Written into `out` (E, 4, 4) where given: the solver's, kept across Newton iterations."""
     diff, sq = _edges(x, e)
     c = 2.0 * k / l2
     lam_perp = c * (sq - l2)
@@ -69,8 +70,7 @@ def hess_kernel(x, e, l2, k, project_psd=True):
     H = (w[:, None] * diff)[:, :, None] * diff[:, None, :]
     H[:, 0, 0] += lam_perp          # + lam_perp I, in place: faster than adding an (E, 2, 2) eye
     H[:, 1, 1] += lam_perp
-    return e, np.tile(H, (1, 2, 2)) * _PAIR_SIGNS
-
-
-_PAIR_SIGNS = np.kron([[1.0, -1.0], [-1.0, 1.0]], np.ones((2, 2)))     # tile(H) * signs
-_PAIR_SIGNS.setflags(write=False)
+    blocks = np.empty((len(e), 4, 4)) if out is None else out
+    blocks[:, :2, :2] = blocks[:, 2:, 2:] = H
+    blocks[:, :2, 2:] = blocks[:, 2:, :2] = np.negative(H, out=H)
+    return e, blocks

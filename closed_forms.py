@@ -6,7 +6,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.optimize
 
 import BarrierEnergy
 import FrictionEnergy
@@ -79,6 +78,7 @@ def barrier_force(scene, d):
 
 
 def _bracketed_root(f, lo, hi):
+    import scipy.optimize           # here, not at the top: 0.1-0.3 s that only its callers pay
     return scipy.optimize.brentq(f, lo, hi, xtol=1e-15, rtol=4 * np.finfo(float).eps, maxiter=500)
 
 

@@ -185,10 +185,13 @@ def IP_grad(scene, lagged, x, with_lift=False):
 
 def IP_hess(scene, lagged, x):
     """H(x) = M + h^2 sum hess P(x), each term PSD-projected, so H >= M is SPD; as the element
-    blocks (nodes, blocks) of its terms, summed when the matrix is built."""
-    hess_P = [term.hess_kernel(*args) for term, args in potential_terms(scene, lagged, x)]
-    M = InertiaEnergy.hess_kernel(x, lagged.x_tilde, scene.m)
-    return [M] + [(nodes, scene.h ** 2 * blocks) for nodes, blocks in hess_P]
+    blocks (nodes, blocks) of its terms, summed when the matrix is built. Each term's blocks are
+    its own new array, scaled by h^2 in place; the springs' are scene.solver's, kept for the run."""
+    hess_P = [term.hess_kernel(*args, out=scene.solver.edge_blocks) if term is MassSpringEnergy
+              else term.hess_kernel(*args) for term, args in potential_terms(scene, lagged, x)]
+    for _, blocks in hess_P:
+        blocks *= scene.h ** 2
+    return [InertiaEnergy.hess_kernel(x, lagged.x_tilde, scene.m)] + hess_P
 
 
 def search_dir(scene, lagged, x, grad_E):

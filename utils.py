@@ -295,6 +295,10 @@ class SPDSolver:
     node_slots: np.ndarray      # (N, 3) band positions of node i's 2x2 block's upper triangle
     edges: np.ndarray           # (E, 2) the mesh's edges
     edge_slots: np.ndarray      # (E, 10) band positions of edge j's 4x4 block's upper triangle
+    # Kept for the run, refilled each Newton iteration: a new array of a megabyte each time costs
+    # glibc an mmap, a page fault per 4 kB and a munmap (benchmarks/README.md, "Speed against")
+    band: np.ndarray            # (bandwidth + 1, n_dofs), Fortran order: H's upper band (solve)
+    edge_blocks: np.ndarray     # (E, 4, 4): the springs' blocks (MassSpringEnergy.hess_kernel)
 
     @classmethod
     def for_mesh(cls, n_nodes, e, kind=None, elements=()):
@@ -314,7 +318,9 @@ class SPDSolver:
         edge_slots = _band_slots(bandwidth, e, *_UPPER_TRIANGLE[4])
         for a in (node_slots, e, edge_slots):
             a.setflags(write=False)
-        return cls(2 * n_nodes, bandwidth, kind, node_slots, e, edge_slots)
+        band = np.zeros((bandwidth + 1, 2 * n_nodes) if kind == "banded" else 0, order="F")
+        return cls(2 * n_nodes, bandwidth, kind, node_slots, e, edge_slots, band,
+                   np.zeros((len(e), 4, 4)))
 
     def solve(self, H, b):
         """p = H^-1 b, H the sum of a list of (nodes (B, m), blocks (B, 2m, 2m)) (blocks_to_ijv).
@@ -335,15 +341,14 @@ class SPDSolver:
 
     def upper_band(self, H):
         """H's upper band in LAPACK's storage, ab[bandwidth + r - c, c] = H[r, c] for r <= c, from
-        each symmetric block's upper triangle, duplicates summed."""
-        slots, values = [], []
+        each symmetric block's upper triangle, duplicates summed; written into self.band."""
+        flat = self.band.reshape(-1, order="F")         # a view: ab[k, c] at k + (bandwidth + 1) c
+        flat.fill(0.0)
         for nodes, blocks in H:
             i, j = _UPPER_TRIANGLE[blocks.shape[1]]
-            slots.append(self._slots(nodes, i, j))
-            values.append(blocks[:, i, j])
-        band = np.bincount(np.concatenate(slots, axis=None), np.concatenate(values, axis=None),
-                           (self.bandwidth + 1) * self.n_dofs)
-        return band.reshape(self.bandwidth + 1, self.n_dofs, order="F")
+            for k, slots in enumerate(self._slots(nodes, i, j).T):  # entry (i[k], j[k]) of every
+                np.add.at(flat, slots, blocks[:, i[k], j[k]])           # block: views, no copies
+        return self.band
 
     def _slots(self, nodes, i, j):
         """_band_slots, looked up where the elements are nodes or the mesh's edges."""

@@ -29,7 +29,7 @@ CPU, wall: medians over repeats of one window of steps; drop: the default scene 
 slide: the square placed on the slope sliding at 0.43 m/s; solve: share of the window's wall time in
 utils.SPDSolver.solve (band assembly, factorization, triangular solves), rest: everything else"""
 # n_seg: (steps from the start, runs per tree)
-AGAINST = {4: (300, 7), 16: (300, 5), 32: (150, 3)}
+AGAINST = {4: (300, 7), 16: (300, 5), 32: (150, 5)}
 AGAINST_QUICK = {4: (30, 1)}
 AGAINST_TEXT = [
     ("n_seg", "n_seg", ""), ("steps", "steps", ""), ("runs", "runs", ""),
@@ -146,7 +146,7 @@ def parse(argv):
     ap = argparse.ArgumentParser(prog="python -m benchmarks.speed", description=__doc__)
     ap.add_argument("--quick", action="store_true", help="a smoke run (comparison: n_seg 4)")
     ap.add_argument("--against", metavar="REV", help="also compare with this commit (or folder)")
-    ap.add_argument("--sizes", help="comma-separated n_seg values of the table")
+    ap.add_argument("--sizes", help="comma-separated n_seg values of the table (and of --against)")
     ap.add_argument("--out", help="folder for the CSV files (default: see benchmarks/README.md)")
     ap.add_argument("--window", action="store_true", help="only the live window's figures")
     ap.add_argument("--frames", action="store_true", help="only the run with and without frames")
@@ -185,7 +185,8 @@ def main(argv=None):
         return chalk(args)
     table = TABLE_QUICK if args.quick else TABLE
     rows = []
-    for n_seg in [int(s) for s in args.sizes.split(",")] if args.sizes else table:
+    sizes = [int(s) for s in args.sizes.split(",")] if args.sizes else list(table)
+    for n_seg in sizes:
         config = table.get(n_seg, ("drop", 110, 10, 3) if n_seg <= 32 else ("slide", 5, 10, 3))
         rows.append(measure(n_seg, *config))
         print(f"n_seg {n_seg}: {rows[-1]['cpu_ms_per_step']:.3g} ms/step", file=sys.stderr)
@@ -196,7 +197,10 @@ def main(argv=None):
     if args.against:
         with tempfile.TemporaryDirectory(prefix="speed-against-") as folder:
             old_tree = tables.export_tree(args.against, folder)
-            rows = compare(ROOT, old_tree, AGAINST_QUICK if args.quick else AGAINST)
+            configs = AGAINST_QUICK if args.quick else AGAINST
+            if args.sizes:          # --sizes narrows the comparison (others: 300 steps, 5 runs)
+                configs = {n: configs.get(n, (300, 5)) for n in sizes}
+            rows = compare(ROOT, old_tree, configs)
         text = tables.text(AGAINST_TEXT, rows, rev=args.against)
         print("\n".join([""] + text + [AGAINST_NOTE.format(rev=args.against)]))
         tables.write_csv(os.path.join(out, "speed-against.csv"), AGAINST_COLUMNS, rows)

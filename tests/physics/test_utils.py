@@ -57,7 +57,7 @@ def system_setup(n_seg, seed=0):
 def test_upper_band_is_lapack_s_storage_of_the_summed_blocks():
     x, e, H, expected = system_setup(3)
     solver = utils.SPDSolver.for_mesh(len(x), e)
-    band = solver.upper_band(H)
+    band = solver.upper_band(H).copy()         # the solver's own array, refilled by each call
     assert band.shape == (solver.bandwidth + 1, 2 * len(x))
     # LAPACK's upper band storage: ab[u + i - j, j] = A[i, j]
     i, j = np.triu_indices(2 * len(x))
@@ -70,6 +70,24 @@ def test_upper_band_is_lapack_s_storage_of_the_summed_blocks():
     reversed_edges = [(n[:, ::-1], b[:, [2, 3, 0, 1]][:, :, [2, 3, 0, 1]]) for n, b in H[1:2]]
     assert np.allclose(solver.upper_band(H[:1] + reversed_edges + H[2:]), band,
                        rtol=0, atol=1e-12 * np.abs(band).max())
+
+
+def test_the_solver_s_kept_arrays_carry_nothing_over():
+    """The band and the springs' blocks are one array each for the run, refilled in place: a solve
+    after another system's gives what a new solver gives, and the springs' blocks written into
+    edge_blocks (full of NaN before) are those of a new array."""
+    x, e, H, _ = system_setup(4, seed=3)
+    b = np.random.default_rng(4).normal(size=2 * len(x))
+    solver = utils.SPDSolver.for_mesh(len(x), e)
+    solver.solve([(nodes, 2.0 * blocks) for nodes, blocks in H], b)
+    assert np.array_equal(solver.solve(H, b), utils.SPDSolver.for_mesh(len(x), e).solve(H, b))
+    assert np.shares_memory(solver.upper_band(H), solver.band)
+    y = x * 0.9
+    l2, k = MassSpringEnergy.squared_lengths(x, e), np.full(len(e), 1e3)
+    solver.edge_blocks.fill(np.nan)
+    kept = MassSpringEnergy.hess_kernel(y, e, l2, k, out=solver.edge_blocks)[1]
+    assert kept is solver.edge_blocks
+    assert np.array_equal(kept, MassSpringEnergy.hess_kernel(y, e, l2, k)[1])
 
 
 def test_both_solvers_solve_the_spd_system():

@@ -298,10 +298,11 @@ def fonts(pygame, height=RESOLUTION):
     return with_caps(TITLE_SCALE * cap), with_caps(cap)
 
 
-def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None, reserve=(0, 0)):
+def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None, reserve=(0, 0), surface=None):
     """One frame of `runs` (frame_run's dicts, with marks), the chalk's strip clear of `reserve`
-    (rows under the legends, at the bottom; None: no strip); returns it, the row under its text."""
-    surface = pygame.Surface((view.size, view.size))
+    (rows under the legends, at the bottom; None: no strip), drawn over `surface` where given (a
+    writer's, kept from frame to frame); returns it, the row under its text."""
+    surface = pygame.Surface((view.size, view.size)) if surface is None else surface
     surface.fill(WHITE)
     font, small = fonts
     scene = runs[0]["scene"]
@@ -345,22 +346,38 @@ PALETTE = np.array([(round(r * 255 / 7), round(g * 255 / 7), round(b * 255 / 3))
                     for r in range(8) for g in range(8) for b in range(4)], np.uint8)
 
 
-def png_data(pygame, surface, exact=False):
-    """PNG bytes: with `exact` (plots, summary) pygame's 24-bit colour; else (frames, 5 ms, not
-    pygame's 20-25) an 8-bit PNG of PALETTE indices, rows unfiltered, one zlib stream at level 1."""
+def png_data(pygame, surface, exact=False, rows=None):
+    """PNG bytes: with `exact` (plots, summary) pygame's 24-bit colour; else (frames, 4 ms, not
+    pygame's 20-25) an 8-bit PNG of PALETTE indices, rows unfiltered, one zlib stream at level 1,
+    its rows built in `rows` where given (palette_rows' buffers, kept from frame to frame)."""
     if exact:
         buffer = io.BytesIO()
         pygame.image.save(surface, buffer, "png")
         return buffer.getvalue()
-    rgb = pygame.surfarray.pixels3d(surface)            # a view, [x, y, channel]
-    width, height = rgb.shape[:2]
-    rows = np.zeros((height, 1 + width), np.uint8)
-    rows[:, 1:] = ((rgb[:, :, 0] & 0xE0) | ((rgb[:, :, 1] & 0xE0) >> 3) | (rgb[:, :, 2] >> 6)).T
-    del rgb                                             # unlocks the surface
+    width, height = surface.get_size()
+    rows = palette_rows(pygame, surface, *(rows or new_rows(width, height)))
 
     def chunk(kind, body):
         crc = struct.pack(">I", zlib.crc32(kind + body))
         return struct.pack(">I", len(body)) + kind + body + crc
     header = struct.pack(">IIBBBBB", width, height, 8, 3, 0, 0, 0)     # 8 bits, palette
     return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"PLTE", PALETTE.tobytes())
-            + chunk(b"IDAT", zlib.compress(rows.tobytes(), 1)) + chunk(b"IEND", b""))
+            + chunk(b"IDAT", zlib.compress(rows, 1)) + chunk(b"IEND", b""))
+
+
+def new_rows(width, height):
+    """palette_rows' buffers for a picture width x height: the PNG's rows and a scratch array."""
+    return np.zeros((height, 1 + width), np.uint8), np.empty((height, width), np.uint8)
+
+
+def palette_rows(pygame, surface, rows, scratch):
+    """`rows` (height, 1 + width): each row's filter byte 0, then its pixels' PALETTE indices
+    r & 0xE0 | (g & 0xE0) >> 3 | b >> 6, computed in place (no new megabyte array per frame)."""
+    rgb = pygame.surfarray.pixels3d(surface).transpose(1, 0, 2)     # a view, [y, x, channel]
+    index = rows[:, 1:]
+    np.bitwise_and(rgb[:, :, 0], 0xE0, out=index)
+    np.bitwise_and(rgb[:, :, 1], 0xE0, out=scratch)
+    index |= np.right_shift(scratch, 3, out=scratch)
+    index |= np.right_shift(rgb[:, :, 2], 6, out=scratch)
+    del rgb                                             # unlocks the surface
+    return rows

@@ -45,6 +45,10 @@ class FrameWriter:
         self.fonts = draw.fonts(self.pygame)
         self.view = draw.View.of(tracks[0].scene)
         self.newton_per_metre = draw.newton_per_metre(tracks[0].scene) if forces else None
+        # drawn and encoded in the same arrays frame after frame: a new megabyte array each frame
+        # costs glibc an mmap and a page fault per 4 kB (benchmarks/README.md, frames)
+        self.surface = self.pygame.Surface((self.view.size, self.view.height))
+        self.rows = draw.new_rows(self.view.size, self.view.height)
 
     def write(self, j):
         """Frame j, then each track's OBJ (after its log row: the CSV is never behind)."""
@@ -54,9 +58,10 @@ class FrameWriter:
                      marks=tr.marks) for tr in tracks]        # marks: the chalk's, else None
         t = max(tr.t for tr in tracks)
         surface, _ = draw.draw_frame(self.pygame, runs, t, self.view, self.fonts,
-                                     self.newton_per_metre)
+                                     self.newton_per_metre, surface=self.surface)
+        png = draw.png_data(self.pygame, surface, rows=self.rows)
         with self.folder.signals.held():
-            self.folder.write(files.frame_png(j), draw.png_data(self.pygame, surface))
+            self.folder.write(files.frame_png(j), png)
             for tr in tracks:
                 obj = square_mesh.obj_text(diagnostics.body(tr.scene, tr.x), *tr.scene.cells)
                 self.folder.write(files.frame_obj(j, tr.tag), obj)

@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 import simulator
-from viewer.pictures import frames
+from helpers.command import run_main
+from viewer.pictures import draw, frames
 
 
 def tracks(*runs):
@@ -56,3 +57,32 @@ def test_a_stride_longer_than_the_run_still_takes_every_step(runs, stride):
     takes every step it counts (it took none where frame_count rounded the tiny ratio to 0)."""
     runs = tracks(*runs)
     assert list(frames.frame_steps(runs, stride)) == [(0, [0]), (1, [runs[0].steps])]
+
+
+def test_frames_are_the_same_bytes_run_to_run(tmp_path):
+    """Two runs of the same command write the same frames and OBJs, byte for byte."""
+    for out in ("a", "b"):
+        code, _ = run_main("--steps", "30", "--out", str(tmp_path / out))
+        assert code == 0
+    names = sorted(p.name for p in (tmp_path / "a").glob("frame_*"))
+    assert len(names) == 2 * 11        # 30 steps, a frame every 3rd: a PNG and an OBJ each
+    assert names == sorted(p.name for p in (tmp_path / "b").glob("frame_*"))
+    for name in names:
+        assert (tmp_path / "a" / name).read_bytes() == (tmp_path / "b" / name).read_bytes(), name
+
+
+def test_a_kept_surface_and_buffers_carry_nothing_over():
+    """A frame drawn over the writer's surface and encoded in its buffers, both still holding the
+    frame before, is the PNG a new surface and new buffers give."""
+    pygame = draw.load_pygame()
+    scene = simulator.build_scene()
+    view, fonts = draw.View.of(scene), draw.fonts(pygame)
+    states = [record.x for record in simulator.simulate(scene, 60)][::59]
+    pictures = [dict(frames.frame_run(scene, x, None, "run", draw.BLUE, False), marks=None)
+                for x in states]
+    surface, rows = pygame.Surface((view.size, view.size)), draw.new_rows(view.size, view.size)
+    kept = [draw.png_data(pygame, draw.draw_frame(pygame, [p], t, view, fonts, surface=surface)[0],
+                          rows=rows) for p, t in zip(pictures, (0.0, 0.6))]
+    new = [draw.png_data(pygame, draw.draw_frame(pygame, [p], t, view, fonts)[0])
+           for p, t in zip(pictures, (0.0, 0.6))]
+    assert kept == new and kept[0] != kept[1]
