@@ -1,5 +1,8 @@
 """Shared test setup: import the flat modules from the project root and the shared helpers from
-tests/ (whatever folder a test module is in); pygame draws off-screen."""
+tests/ (whatever folder a test module is in); pygame draws off-screen. pytest.ini runs the tests
+on every core (pytest-xdist, -n auto), each test module on one worker (--dist loadfile): a module's
+fixtures and the runs its process keeps (tests/helpers/chalk.py) are made once per module; each
+worker is a process of its own, with its own tmp_path_factory."""
 import os
 import sys
 
