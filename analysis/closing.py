@@ -65,7 +65,8 @@ def blur(track):
 def rest_words(tracks):
     """When each run stuck (every contact below eps_v from then on) and how fast it creeps then,
     beside closed_forms.creep_speed: 'the square sticks at 5.54 s, creeps 0.52 mm/s (closed form
-    0.70, set by --epsv) below --tol 0.01'; 'still slides at 3.00 s', 'is in the air at ...'."""
+    0.70, set by --epsv) below --tol 0.01'; 'still slides at 3.00 s', 'is in the air at ...'; a
+    comparison's runs that stick, labelled 'name = value', together (stuck_together)."""
     one = len(tracks) == 1
 
     def words(track):
@@ -80,9 +81,30 @@ def rest_words(tracks):
         return f"sticks at {track.rest_since:.2f} s, creeps {measured:.{digits}f} mm/s{form}{tol}"
     if one:
         return "the square " + words(tracks[0])
-    blurs = {blur(track) for track in tracks if track.rest_since is not None}
-    tol = next((f", {word} --tol" for word in ("below", "near") if word in blurs), "")
-    return each(tracks, words) + (f"; creep set by --epsv{tol}" if blurs else "")
+    stuck = [track for track in tracks if track.rest_since is not None]
+    blurs = {blur(track) for track in stuck}
+    word = next((word for word in ("below", "near") if word in blurs), "")
+    names = {track.label.partition(" = ")[0] for track in stuck}
+    if len(stuck) < 2 or len(names) > 1 or any(", " in track.label for track in stuck):
+        tol = f", {word} --tol" if word else ""
+        return each(tracks, words) + (f"; creep set by --epsv{tol}" if blurs else "")
+    return "; ".join([f"{track.label}: {words(track)}" for track in tracks
+                      if track.rest_since is None] + [stuck_together(stuck, names.pop(), word)])
+
+
+def stuck_together(stuck, name, word):
+    """A comparison's runs that stick, in one list a figure: 'mu = 0.11, 0.2: stick at 5.54,
+    2.80 s, creep 0.52, 0.22 mm/s, below --tol (closed form 0.70, 0.29)' (`word`: blur's)."""
+    digits = 2 if word else 3
+    figures = [creep_figures(track) for track in stuck]
+
+    def column(values):
+        return ", ".join("-" if v is None else f"{v:.{digits}f}" for v in values)
+    values = ", ".join(track.label.partition(" = ")[2] for track in stuck)
+    since = ", ".join(f"{track.rest_since:.2f}" for track in stuck)
+    tol = f", {word} --tol" if word else ""
+    return (f"{name} = {values}: stick at {since} s, creep {column(f[0] for f in figures)} "
+            f"mm/s{tol} (closed form {column(f[1] for f in figures)})")
 
 
 def travel_words(tracks):

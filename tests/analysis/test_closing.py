@@ -69,6 +69,11 @@ def test_a_square_that_sticks_says_it_creeps_beside_the_closed_form():
         "mu = 0.1: still slides at 2.99 s; mu = 0.3: is in the air at 2.99 s; mu = 0.2: sticks "
         f"at 2.80 s, creeps 0.22 mm/s (closed form {form:.2f}); creep set by --epsv, below --tol")
     assert closing.closing_words(runs) == closing.rest_words(runs)
+    also = track(creeping(0.52e-3, 0.0, rest_step=554), 5.54, "mu = 0.11", mu=0.11)
+    slow = 1e3 * 1e-3 * (1.0 - math.sqrt(1.0 - 0.1 / 0.11))
+    assert closing.rest_words([sliding, also, stuck]) == (      # the stuck together: 3 lines
+        f"mu = 0.1: still slides at 2.99 s; mu = 0.11, 0.2: stick at 5.54, 2.80 s, creep 0.52, "
+        f"0.22 mm/s, below --tol (closed form {slow:.2f}, {form:.2f})")
     assert closing.closing_note(runs).startswith(closing.rest_words(runs) + " (sticks: every ")
 
 

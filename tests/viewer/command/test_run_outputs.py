@@ -394,4 +394,4 @@ def test_the_lectures_comparison_in_one_command(tmp_path):
     assert rest["0.1"] is None and "mu = 0.1: still slides at 6.00 s" in said
     for mu in ("0.11", "0.2"):
         assert rest[mu] == pytest.approx(last_sliding[mu] + 0.01)
-        assert f"mu = {mu}: sticks at {rest[mu]:.2f} s, creeps " in said
+    assert f"mu = 0.11, 0.2: stick at {rest['0.11']:.2f}, {rest['0.2']:.2f} s, creep " in said
