@@ -52,16 +52,12 @@ def total_mass(p):
 
 
 def check_touching(p, x, n, d, roundoff):
-    """ValueError naming center where a node (distances d) is within `roundoff` of the slope."""
+    """ValueError naming center where a node (distances d) is within `roundoff` of the slope, and
+    a centre that puts it dhat above."""
     if d is not None and not d.min() > roundoff:
         i = int(np.argmin(d))
-        moved = ", ".join(f"{a:g}" for a in np.array(p["center"]) + (p["dhat"] - d[i]) * n)
-        center = ", ".join(f"{a:g}" for a in p["center"])
-        message = (f"the square starts touching or below the slope: node {i} at {x[i].tolist()} "
-                   f"has distance {d[i]:.3g} m, not above the round-off of its coordinates "
-                   f"({roundoff:.2g} m); move center (now {center}) away from the slope, e.g. "
-                   f"to {moved.replace(', ', ',')}, which puts that node dhat = {p['dhat']:g} m "
-                   f"above it")
+        moved = ",".join(f"{a:.5g}" for a in np.array(p["center"]) + (p["dhat"] - d[i]) * n)
+        message = f"node {i} touches the slope ({d[i]:.1g} m): try --center {moved}"
         raise ParameterError("center", message)
 
 

@@ -59,10 +59,8 @@ def check_memory(name, value, nodes_of):
         middle = (low + high) // 2
         low, high = (middle, high) if MEMORY_PER_NODE * nodes_of(middle) <= have else (low, middle)
     need = decimal.Decimal(MEMORY_PER_NODE * nodes) / 2**30
-    raise ParameterError(name, f"{name} = {float(value):g} makes {decimal.Decimal(nodes):.3g} "
-                               f"nodes, about {need:.3g} GiB of memory at "
-                               f"{MEMORY_PER_NODE // 1024} KiB each, more than this machine's "
-                               f"{have / 2**30:.3g} GiB (largest {name} that fits: {low})")
+    raise ParameterError(name, f"{name} = {float(value):g}: {decimal.Decimal(nodes):.3g} nodes, "
+                               f"{need:.3g} GiB > {have / 2**30:.3g} GiB ({name} <= {low} fits)")
 
 
 def roundoff(x, o):
@@ -96,20 +94,22 @@ def culprit(p, defaults, grows_with):
 
 
 def _scales(p, grows, x, m, spacing, w, o, d):
-    """The first step's scales (what, value, the parameters it grows with) (docs/limits.md)."""
+    """The first step's scales (what, value, the parameters it grows with), docs/limits.md's: M,
+    1/2 M |v0|^2, 1/2 M (|v0| h + |g| h^2)^2, h^2 M |g| (max |x| + |v0| h + |g| h^2), h^2 k,
+    h^2 k l^2, h^2 kappa w dhat, h^2 kappa w (1/d + dhat/d^2) / 2, h mu M |g| / eps_v."""
     h, k, g = p["h"], p["k"], math.hypot(*p["gravity"])
     v = math.hypot(*p.get("v0", (0.0, 0.0)))
     M, X, l = float(np.sum(m)), float(np.abs(x).max()), spacing
     D, Mp = v * h + g * h * h, grows["M"]
     scales = [
-        ("the total mass M", M, Mp),
-        ("the kinetic energy 1/2 M |v0|^2", 0.5 * M * v * v, powers(Mp, {"v0": 2})),
-        ("the first step's inertia term 1/2 M (|v0| h + |g| h^2)^2", 0.5 * M * D * D,
+        ("the total mass", M, Mp),
+        ("the kinetic energy", 0.5 * M * v * v, powers(Mp, {"v0": 2})),
+        ("the first inertia term", 0.5 * M * D * D,
          powers(Mp, {"v0": 2, "h": 2, "gravity": 2})),
-        ("gravity's term h^2 M |g| (max |x| + |v0| h + |g| h^2)", h * h * M * g * (X + D),
+        ("gravity's term", h * h * M * g * (X + D),
          powers(Mp, {"h": 2, "gravity": 1}, grows["X"], grows["size"])),
-        ("the springs' stiffness h^2 k", h * h * k, {"h": 2, "k": 1}),
-        ("the springs' energy scale h^2 k l^2", h * h * k * l * l,
+        ("the springs' stiffness", h * h * k, {"h": 2, "k": 1}),
+        ("the springs' energy", h * h * k * l * l,
          powers({"h": 2, "k": 1}, powers(grows["l"], scale=2)))]
     if d is None:
         return scales
@@ -117,11 +117,11 @@ def _scales(p, grows, x, m, spacing, w, o, d):
     kappa_w = h * h * p["kappa"] * w
     near = min(max(float(d.min()), roundoff(x, o)), p["dhat"])
     return scales + [
-        ("the barrier's energy scale h^2 kappa w dhat", kappa_w * p["dhat"],
+        ("the barrier's energy", kappa_w * p["dhat"],
          powers(barrier, {"dhat": 1})),
-        ("the barrier's curvature h^2 kappa w (1/d + dhat/d^2) / 2",
+        ("the barrier's curvature",
          kappa_w * (1 / near + p["dhat"] / near / near) / 2, powers(barrier, {"dhat": -1})),
-        ("friction's stiffness h mu M |g| / eps_v", h * p["mu"] * M * g / p["epsv"],
+        ("friction's stiffness", h * p["mu"] * M * g / p["epsv"],
          powers(Mp, {"h": 1, "mu": 1, "gravity": 1, "epsv": -1}))]
 
 
@@ -134,35 +134,31 @@ def check_start(p, defaults, grows, x, m, spacing, w, o=None, d=None):
     for what, value, grows_with in _scales(p, grows, x, m, spacing, w, o, d):
         if not value <= FLOAT64_SCALE_LIMIT:
             name = culprit(p, defaults, grows_with)
-            message = (f"{name} = {shown(p[name])} is beyond float64's range in this scene: "
-                       f"{what} would be {value:.3g}, above the {FLOAT64_SCALE_LIMIT:g} whose "
-                       f"squares still sum to a finite number")
+            message = (f"{name} = {shown(p[name])} is beyond float64's range: {what} "
+                       f"{value:.3g} > {FLOAT64_SCALE_LIMIT:g}")
             raise ParameterError(name, message)
     h, k, m_node = p["h"], p["k"], float(np.min(m))
     ratio = h * h * k / m_node if m_node > 0.0 else math.inf    # an underflowed mass: no M
     if not ratio <= NEWTON_RATIO_LIMIT:
         name = culprit(p, defaults, powers({"k": 1, "h": 2}, grows["N"], powers(grows["M"],
                                                                                 scale=-1)))
-        message = (f"{name} = {shown(p[name])}: float64 cannot resolve the Newton matrix "
-                   f"M + h^2 K, as h^2 k / m = {ratio:.3g} (node mass m = {m_node:.3g} kg) is "
-                   f"above 0.1/eps = {NEWTON_RATIO_LIMIT:.2g}: lower k or h, or raise the mass")
+        message = (f"{name} = {shown(p[name])}: float64 cannot resolve the Newton matrix: "
+                   f"h^2 k / m = {ratio:.3g} > 0.1/eps")
         raise ParameterError(name, message)
     if not h * h >= np.finfo(float).tiny:
-        raise ParameterError("h", f"h = {h:g} s is too small for float64: h^2 = {h * h:.3g} "
-                                  f"underflows (h >= 1.5e-154 s)")
+        raise ParameterError("h", f"h = {h:g} s is too small for float64: h^2 underflows "
+                                  f"(h >= 1.5e-154 s)")
     travel = math.hypot(*p.get("v0", (0.0, 0.0))) * h + math.hypot(*p["gravity"]) * h * h
     scale = float(np.abs(x).max()) + (0.0 if o is None else float(np.abs(o).max())) + travel
     moved = powers({"v0": 1, "gravity": 1, "h": 1}, grows["X"])
-    lengths = (("the mesh spacing", spacing,
+    lengths = (("the spacing", spacing,
                 powers(moved, powers(grows["l"], scale=-1))),
                ("dhat", p["dhat"], {**powers(moved, grows["size"]), "dhat": -1}))
     for what, length, grows_with in lengths:
         if not length > ROUNDOFF_ULPS * EPS * scale:
             name = culprit(p, defaults, grows_with)
             message = (f"{name} = {shown(p[name])} leaves {what} = {length:.3g} m below the "
-                       f"round-off of the first step's coordinates, which reach {scale:.3g} m "
-                       f"(keep every coordinate below {1 / (ROUNDOFF_ULPS * EPS):.2g} times the "
-                       f"spacing and dhat)")
+                       f"round-off at {scale:.3g} m")
             raise ParameterError(name, message)
 
 
@@ -176,6 +172,5 @@ def check_carries(p, defaults, load, w, grows_with, what):
     kappa_min = math.ceil(kappa_min / digit) * digit
     if not p["kappa"] >= kappa_min:
         name = culprit(p, defaults, grows_with)
-        raise ParameterError(name, f"{name} = {shown(p[name])}: the barrier cannot carry {what}: "
-                                   f"even at a gap of {closest:.3g} m it needs kappa >= "
-                                   f"{kappa_min:.3g} here, got {p['kappa']:g}")
+        raise ParameterError(name, f"{name} = {shown(p[name])}: cannot carry {what} (needs kappa "
+                                   f">= {kappa_min:.3g} here)")

@@ -46,7 +46,7 @@ def check_params(overrides):
     for name in ("pull_speed", "pull_length"):
         if not p[name] <= ranges.FLOAT64_SCALE_LIMIT:
             raise utils.ParameterError(name, f"{name} must be <= {ranges.FLOAT64_SCALE_LIMIT:g} "
-                                       f"(float64: the closed form squares it), got {p[name]:g}")
+                                       f"(its square), got {p[name]:g}")
     return p
 
 

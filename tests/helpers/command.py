@@ -39,6 +39,22 @@ def recorded(folder, scenes, steps):
     return tracks
 
 
+def without_given(line, given):
+    """`line` without what the user gave (a path or value may run longer than 100 columns), as
+    given and as printed (%g, lists with ', ')."""
+    forms = set()
+    for value in map(str, given):
+        forms.add(value)
+        try:
+            numbers = [f"{float(part):g}" for part in value.split(",")]
+        except ValueError:
+            continue
+        forms.update((", ".join(numbers), ",".join(numbers)))
+    for form in sorted(forms, key=len, reverse=True):
+        line = line.replace(form, "")
+    return line
+
+
 def refused(args, out):
     """The command line run on `out` holding an earlier run's log.csv: its one error line, after
     checking exit code 2 and that `out` is as it was."""
@@ -48,6 +64,7 @@ def refused(args, out):
     code, lines = run_main(*args, "--out", str(out), *length)
     assert code == 2 and len(lines) == 1, lines
     assert lines[0].startswith("simulator.py: error: ")
+    assert len(without_given(lines[0], [*args, out])) <= 100, lines[0]     # issue 40
     assert os.listdir(out) == ["log.csv"] and (out / "log.csv").read_text() == "an earlier run\n"
     return lines[0]
 

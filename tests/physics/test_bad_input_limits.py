@@ -34,7 +34,7 @@ def test_round_off_threshold_on_a_flat_slope(gap, refused):
     0.5 does not."""
     kwargs = dict(slope=(0.0, 1.0), slope_point=(0.0, -0.5 - gap))
     if refused:
-        with pytest.raises(ValueError, match="starts touching or below the slope"):
+        with pytest.raises(ValueError, match="touches the slope"):
             simulator.build_scene(**kwargs)
     else:
         assert "barrier" in simulator.build_scene(**kwargs).terms
@@ -47,10 +47,10 @@ def test_round_off_threshold_on_a_flat_slope(gap, refused):
 LIBRARY_OVERFLOW = [
     (dict(v0=(1e308, 0.0)), "v0", "the kinetic energy"),
     (dict(v0=(1e76, 0.0)), "v0", "the kinetic energy"),            # 1/2 1000 kg 1e152 = 5e154 J
-    (dict(dhat=1e308), "dhat", "the barrier's energy scale"),
-    (dict(h=1e200), "h", "the first step's inertia term"),
+    (dict(dhat=1e308), "dhat", "the barrier's energy"),
+    (dict(h=1e200), "h", "the first inertia term"),
     (dict(gravity=(0.0, -1e200)), "gravity", ""),
-    (dict(kappa=1e300), "kappa", "the barrier's energy scale"),
+    (dict(kappa=1e300), "kappa", "the barrier's energy"),
     (dict(rho=1e300), "rho", "the total mass"),
     (dict(epsv=1e-149), "epsv", "friction's stiffness"),
     (dict(k=1e300, h=1e-70), "k", "the springs' stiffness"),
@@ -80,8 +80,7 @@ def test_newton_matrix_bound():
     m = simulator.DEFAULTS["rho"] / 25                       # n_seg 4: 25 nodes, 40 kg each
     h = simulator.DEFAULTS["h"]
     k_limit = ranges.NEWTON_RATIO_LIMIT * m / h ** 2
-    message = (r"^k = .*: float64 cannot resolve the Newton matrix M \+ h\^2 K, "
-               r"as h\^2 k / m = 9\.0\de\+14")
+    message = r"^k = .*: float64 cannot resolve the Newton matrix: h\^2 k / m = 9\.0\de\+14 > "
     with pytest.raises(ValueError, match=message):
         simulator.build_scene(k=2 * k_limit)
     scene = simulator.build_scene(k=k_limit / 10, tol=1e-6)
@@ -107,11 +106,10 @@ def test_lectures_scene_and_stability_extremes_are_far_inside_the_limits():
 def test_memory_check_refuses_what_does_not_fit(monkeypatch):
     """With 1 GiB of memory, the largest n_seg the message names fits and the next does not."""
     monkeypatch.setattr(ranges, "physical_memory", lambda: 2 ** 30)
-    message = (r"^n_seg = 300 makes 9.06e\+4 nodes, about 1.38 GiB .* more than "
-               r"this machine's 1 GiB \(largest n_seg that fits: (\d+)\)")
+    message = r"^n_seg = 300: 9.06e\+4 nodes, 1.38 GiB > 1 GiB \(n_seg <= (\d+) fits\)"
     with pytest.raises(ValueError, match=message) as info:
         simulator.build_scene(n_seg=300)
-    largest = int(str(info.value).rsplit(" ", 1)[1].rstrip(")"))
+    largest = int(str(info.value).split("n_seg <= ")[1].split()[0])
     nodes = lambda n_seg: (n_seg + 1) ** 2      # noqa: E731
     ranges.check_memory("n_seg", largest, nodes)
     with pytest.raises(ValueError):

@@ -20,8 +20,8 @@ LIBRARY = [
     (dict(tol=0.0), "tol must be a finite number > 0, got 0.0"),
     (dict(mu=-0.1), "mu must be >= 0, got -0.1"),
     (dict(slope=(0.0, 0.0)), "slope normal must be non-zero, got [0.0, 0.0]"),
-    (dict(slope_point=(0.0, 0.0)), "the square starts touching or below the slope"),
-    (dict(slope_point=(0.0, -0.52)), "the square starts touching or below the slope"),  # corner 0
+    (dict(slope_point=(0.0, 0.0)), "touches the slope"),
+    (dict(slope_point=(0.0, -0.52)), "touches the slope"),  # corner 0
     (dict(friction_updates=-1), "friction_updates must be a whole number >= 0, got -1"),
     (dict(max_newton_iterations=0), "max_newton_iterations must be a whole number >= 1, got 0"),
     (dict(colour="red"), "unknown scene parameter(s): colour"),
@@ -43,7 +43,7 @@ def test_build_scene_refuses(kwargs, message):
 
 
 def test_touching_slope_names_the_node_and_distance():
-    message = r"node 0 at \[-0.5, -0.5\] has distance -0.05 m, not above"
+    message = r"node 0 touches the slope \(-0.05 m\): try --center 0,0.06"
     with pytest.raises(ValueError, match=message):
         simulator.build_scene(slope=(0.0, 1.0), slope_point=(0.0, -0.45))
     scene = simulator.build_scene(slope=(0.0, 1.0), slope_point=(0.0, -0.5 - 1e-9))   # just clear

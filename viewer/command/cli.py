@@ -265,9 +265,8 @@ def default_duration(scenes):
             p, grows = scene.params, {"pull_length": 1, "pull_speed": -1, "t_pull": 1, "h": -1}
             name = ranges.culprit(p, simulator.TABLECLOTH, grows)
             raise utils.ParameterError(name, f"{name} = {p[name]:g}: the dish stops at t = "
-                                       f"{stop:.3g} s, more than {ranges.MAX_STEPS:.0e} steps of "
-                                       f"h = {scene.h:g} s, a default run's most (give --duration "
-                                       f"or --steps)")
+                                       f"{stop:.3g} s, more than {ranges.MAX_STEPS:.0e} steps "
+                                       f"(give --duration or --steps)")
     return max(stops) + STOP_MARGIN
 
 
@@ -285,7 +284,7 @@ def steps_from_args(args, scene, duration):
                                    f"step h = {h:g} s")
     if not math.isfinite(duration / h):
         raise utils.ParameterError("duration", f"duration {duration:g} s is more time steps of h = "
-                                   f"{h:g} s than float64 can count (use --steps, or a larger h)")
+                                   f"{h:g} s than float64 counts")
     return int(round(duration / h))
 
 

@@ -36,7 +36,7 @@ CLI = [
     (["--mu", "-0.5"], "--mu: mu must be >= 0, got -0.5"),
     (["--slope-normal", "0,0"], "--slope-normal: slope normal must be non-zero, got [0.0, 0.0]"),
     (["--slope-angle", "90"], "--slope-angle: slope-angle must be in (-90, 90) degrees, got 90.0"),
-    (["--slope-point", "0,-0.4"], "the square starts touching or below the slope"),
+    (["--slope-point", "0,-0.4"], "touches the slope"),
     (["--frame-stride", "0"], "--frame-stride: frame-stride must be a whole number >= 1, got 0.0"),
     (["--friction-iterations", "-1"], "friction_updates must be a whole number >= 0, got -1.0"),
     (["--mu", "abc"], "argument --mu: invalid float value: 'abc'"),

@@ -8,7 +8,7 @@ from helpers.command import messages, refused, run_main
 TABLECLOTH = [
     (["--gravity", "0,-1e308"], "--gravity: gravity = 0, -1e+308 is beyond float64's range"),
     (["--mass", "1e300"], "--mass: mass = 1e+300 is beyond float64's range"),
-    (["--kappa", "1e-320"], "--kappa: kappa = 9.99989e-321: the barrier cannot carry the dish"),
+    (["--kappa", "1e-320"], "--kappa: kappa = 9.99989e-321: cannot carry the dish"),
     (["--kappa", "1e300"], "--kappa: kappa = 1e+300 is beyond float64's range"),
     (["--dhat", "1e300"], "--dhat: dhat = 1e+300 is beyond float64's range"),
     (["--mu", "1e308"], "--mu: mu = 1e+308 is beyond float64's range"),

@@ -120,7 +120,7 @@ def test_flags_reach_the_scene():
     (["--v0", "1"], "expected two numbers"),
     (["--steps", "0"], "steps must be a whole number >= 1, got 0"),
     (["--duration", "-3"], "duration must be a finite number > 0, got -3.0"),
-    (["--slope-point", "0,0.2"], "the square starts touching or below the slope"),
+    (["--slope-point", "0,0.2"], "touches the slope"),
     (["--bogus"], "unrecognized arguments: --bogus"),
 ])
 def test_bad_command_line_is_one_line_and_exit_2(args, message, tmp_path):
