@@ -138,13 +138,16 @@ def travel_words(tracks):
 
 
 def stick_slip_words(tracks):
-    """Each chalk's stick-slip (stick_slip.words); for a comparison whose runs all stick-slip, in
-    the order of its runs: 'stick-slip: 21, 25 slips; mean slip 1.32, 1.06 mm; tip stuck 84, 86 %;
-    creeping 0.067-0.068 mm/s' (stuck: of the drive; creeping: while stuck, least to most), short
-    enough for the closing's lines (the period is on the page)."""
+    """Each chalk's stick-slip (stick_slip.words; short_words in a comparison whose runs do not all
+    stick-slip); for a comparison whose runs all stick-slip, in the order of its runs:
+    'stick-slip: 21, 25 slips; mean slip 1.32, 1.06 mm; tip stuck 84, 86 %; creeping 0.067-0.068
+    mm/s' (stuck: of the drive; creeping: while stuck, least to most), short enough for the
+    closing's lines (the period is on the page)."""
     counted = [stick_slip.of_track(track) for track in tracks]
-    if len(counted) == 1 or not all(r.driven and len(r.slips) > 1 for r in counted):
-        return each(tracks, lambda track: stick_slip.words(counted[tracks.index(track)]))
+    if len(counted) == 1:
+        return stick_slip.words(counted[0])
+    if not all(r.driven and len(r.slips) > 1 for r in counted):     # short: the closing's lines
+        return each(tracks, lambda track: stick_slip.short_words(counted[tracks.index(track)]))
 
     def column(text):
         return ", ".join(map(text, counted))

@@ -84,6 +84,23 @@ def words(r):
             f"stuck at {r.stuck_after} of its {r.after} states since{creeping}")
 
 
+def short_words(r):
+    """words(r) short enough for a comparison's closing: '25 slips of 1.06 mm, creeping 0.067
+    mm/s', 'slides, no stick' (after its start-up), 'jammed, creeping ...', 'no cycle, creeping
+    ...', 'not driven yet'."""
+    creeping = f"creeping {1e3 * r.creep_speed:.2g} mm/s"
+    if not r.driven:
+        return "not driven yet"
+    if r.slips:
+        n = len(r.slips)
+        return f"{n} slip{'s' * (n > 1)} of {1e3 * r.length:.2f} mm, {creeping}"
+    if r.start_up is None:
+        return f"jammed, {creeping}"
+    if r.stuck_after == 0:
+        return "slides, no stick"
+    return f"no cycle, {creeping}"
+
+
 def definition(scene):
     """What the words count, in two lines: when the tip is stuck, its creep, what a cycle is."""
     return (f"counted once the hand drives, from t = {drive_start(scene):g} s: "

@@ -105,6 +105,22 @@ def test_the_words_say_what_the_tip_did():
         "not driven yet at t = 0.15 s (the hand drives from t = 0.2 s)")
 
 
+def test_the_short_words_of_a_comparison_say_each_case_within_a_line():
+    """stick_slip.short_words: what words says, short enough for a comparison's closing lines."""
+    def short(segments, **kw):
+        t, x, u, _ = history(segments, **kw)
+        return stick_slip.short_words(stick_slip.measure(t, x, u, EPSV, DRIVE, START))
+    creeping = f"creeping {1e3 * STUCK:.2g} mm/s"
+    r = stick_slip.measure(*history(SEGMENTS)[:3], EPSV, DRIVE, START)
+    assert short(SEGMENTS) == f"3 slips of {1e3 * r.length:.2f} mm, {creeping}"
+    assert short([(30, STUCK), (5, FAST), (30, STUCK)]) == (
+        f"1 slip of {5 * H * FAST * 1e3:.2f} mm, {creeping}")
+    assert short([(90, STUCK), (500, 0.01)]) == "slides, no stick"
+    assert short([(300, STUCK)]) == f"jammed, {creeping}"
+    assert short([(5, STUCK), (5, FAST), (3, STUCK), (50, FAST)]) == f"no cycle, {creeping}"
+    assert short([], pressing=0.15) == "not driven yet"
+
+
 def test_the_definition_has_the_scenes_numbers():
     scene = simulator.build_chalk_scene(h=5e-4, epsv=2e-4)
     first, second = stick_slip.definition(scene)

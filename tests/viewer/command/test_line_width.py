@@ -28,6 +28,8 @@ def too_wide(lines, *paths):
     [],                                                             # the lecture's square, 6 s
     ["--scene", "chalk", "--duration", "0.6"],                      # stick-slip from 0.31 s
     ["--scene", "tablecloth", "--pull-speed", "1,2,4,8", "--frame-stride", "40"],
+    ["--scene", "chalk", "--mu-static", "0.35,0.5", "--duration", "0.6", "--frame-stride", "100"],
+    # one slides, one stick-slips: stick_slip.short_words
 ])              # the mu comparison's: test_run_outputs.test_the_lectures_comparison_in_one_command
 def test_every_line_of_a_run_fits_and_it_closes_in_3_lines(args, tmp_path, monkeypatch):
     """Each run into its default folder under output/ (the folder's own name counts)."""
