@@ -137,9 +137,9 @@ def travel_words(tracks):
     return f"the dish travelled {travel:.4f} m, closed form {form} = {exact:.4f} m{off}"
 
 
-def stick_slip_words(tracks):
-    """Each chalk's stick-slip (stick_slip.words; short_words in a comparison whose runs do not all
-    stick-slip); for a comparison whose runs all stick-slip, in the order of its runs:
+def stick_slip_words(tracks, short=True):
+    """Each chalk's stick-slip (stick_slip.words; `short`, short_words in a comparison whose runs do
+    not all stick-slip); for a comparison whose runs all stick-slip, in the order of its runs:
     'stick-slip: 21, 25 slips; mean slip 1.32, 1.06 mm; tip stuck 84, 86 %; creeping 0.067-0.068
     mm/s' (stuck: of the drive; creeping: while stuck, least to most), short enough for the
     closing's lines (the period is on the page)."""
@@ -147,7 +147,8 @@ def stick_slip_words(tracks):
     if len(counted) == 1:
         return stick_slip.words(counted[0])
     if not all(r.driven and len(r.slips) > 1 for r in counted):     # short: the closing's lines
-        return each(tracks, lambda track: stick_slip.short_words(counted[tracks.index(track)]))
+        words = stick_slip.short_words if short else stick_slip.words
+        return each(tracks, lambda track: words(counted[tracks.index(track)]))
 
     def column(text):
         return ", ".join(map(text, counted))
@@ -184,5 +185,7 @@ def counted(scene):
 
 
 def closing_note(tracks):
-    """closing_words with what they count, as the page says them."""
-    return f"{closing_words(tracks)} ({counted(tracks[0].scene)})"
+    """closing_words with what they count, as the page says them (a chalk's in its long words)."""
+    scene = tracks[0].scene
+    said = closing_words(tracks) if scene.hand is None else stick_slip_words(tracks, short=False)
+    return f"{said} ({counted(scene)})"
