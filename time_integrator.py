@@ -38,9 +38,10 @@ class SimulationError(RuntimeError):
 
     def __init__(self, message, step_index, **figures):
         self.step, self.figures = step_index + 1, figures
-        details = ", ".join(f"{k}={v:.6g}" if isinstance(v, float) else f"{k}={v}"
-                            for k, v in figures.items())
-        super().__init__(f"step {self.step}: {message} ({details})")
+        self.what = f"step {self.step}: {message}"
+        self.figures_said = ", ".join(f"{k}={v:.6g}" if isinstance(v, float) else f"{k}={v}"
+                                      for k, v in figures.items())
+        super().__init__(self.what + (f" ({self.figures_said})" if figures else ""))
 
 
 class NewtonNotConverged(SimulationError):

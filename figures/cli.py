@@ -8,7 +8,7 @@ import time
 
 import figures
 import time_integrator
-from viewer.command import run
+from viewer.command import progress, run
 from viewer.command.cli import CommandLineError, Parser
 from viewer.output import files
 
@@ -61,7 +61,7 @@ def main(argv=None):
             print(f"figures: stopped: {stopped.reason}; {said}", file=sys.stderr)
             return stopped.code
         except (OSError, time_integrator.SimulationError) as err:   # a full disk, a failed step
-            print(f"figures: error: {err}", file=sys.stderr)
+            print(progress.wrapped(f"figures: error: {err}"), file=sys.stderr)
             return 1
         finally:
             signals.close()

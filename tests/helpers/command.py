@@ -4,7 +4,7 @@ import os
 import sys
 
 import simulator
-from viewer.command import recording, run
+from viewer.command import progress, recording, run
 from viewer.pictures import draw
 import viewer.main
 
@@ -67,6 +67,17 @@ def refused(args, out):
     assert len(without_given(lines[0], [*args, out])) <= 100, lines[0]     # issue 40
     assert os.listdir(out) == ["log.csv"] and (out / "log.csv").read_text() == "an earlier run\n"
     return lines[0]
+
+
+def ending(lines):
+    """A run's ending line as one line would say it: from its last line that starts with
+    'simulator.py: ' on, joined by '; ', after checking it took at most 3 lines of at most 100
+    columns, paths aside (issue 40: run.say folds it between its parts, progress.columns)."""
+    first = max(i for i, line in enumerate(lines) if line.startswith("simulator.py: "))
+    said = lines[first:]
+    assert len(said) <= 3, said
+    assert all(progress.columns(line) <= 100 for line in said), said
+    return "; ".join(said)
 
 
 def closing_text(lines):

@@ -1,4 +1,5 @@
 """What a run says on stderr as it goes, to files or in the window: progress lines and warnings."""
+import re
 import textwrap
 import time
 
@@ -66,6 +67,24 @@ def warning(log, label, text):
     between words (a path stays whole), the next ones indented."""
     said = f"simulator.py: warning: {label + ': ' if label else ''}{text}"
     print(wrapped(said), file=log, flush=True)
+
+
+def columns(line):
+    """The columns `line` takes, its paths aside (a word with two slashes): a path may run longer
+    than WIDTH."""
+    return len(re.sub(r"\S*[/\\]\S*[/\\]\S*", "", line))
+
+
+def folded(text):
+    """`text`'s parts (separated by '; ') in lines of at most WIDTH columns (paths aside), broken
+    only between two parts."""
+    lines = []
+    for part in text.split("; "):
+        if lines and columns(f"{lines[-1]}; {part}") <= WIDTH:
+            lines[-1] += f"; {part}"
+        else:
+            lines.append(part)
+    return "\n".join(lines)
 
 
 def wrapped(text, indent="  "):

@@ -138,8 +138,9 @@ def failure_of(err, plan, when=""):
     if isinstance(err, OSError):
         where = err.filename or plan.out or "the run's folder"
         return Failure(1, f"error: cannot write {where}: {err.strerror or err}")
-    if isinstance(err, time_integrator.SimulationError):
-        return Failure(1, f"stopped: simulation failed: {err}")
+    if isinstance(err, time_integrator.SimulationError):    # its figures after a '; '
+        figures = f"; {err.figures_said}" if err.figures else ""
+        return Failure(1, f"stopped: simulation failed: {err.what}{figures}")
     return Failure(1, f"stopped: {err}{when}")        # a number the checks did not foresee
 
 
@@ -176,13 +177,14 @@ def say(plan, signals, folder, tracks, failure, messages, done):
     if failure is None:
         print(done, file=messages)
         return 0
-    print(f"simulator.py: {failure.text}; {kept(tracks, folder, plan)}", file=messages)
+    said = f"simulator.py: {failure.text}; {kept(tracks, folder, plan)}"
+    print(progress.folded(said), file=messages)
     return failure.code
 
 
 def kept(tracks, folder, plan):
-    """'N steps kept in out/' (the last step log.csv holds), its page's link where it was written,
-    and the last pictures left out; nothing kept where the folder disappeared."""
+    """'N steps kept in out/' (the last step log.csv holds), the last pictures left out and its
+    page's link where it was written; nothing kept where the folder disappeared."""
     if folder is not None and folder.lost:
         return f"nothing kept: {folder.folder}/ disappeared as the run wrote it"
     if not tracks:
@@ -191,7 +193,7 @@ def kept(tracks, folder, plan):
     left_out = [name for name in run_pictures.names(tracks)
                 if (plan.frames or name != "index.html") and name not in folder.written]
     said = f"; left out: {', '.join(left_out)}" if left_out else ""
-    page = f", the page: {folder.url('index.html')}" if "index.html" in folder.written else ""
+    page = f"; the page: {folder.url('index.html')}" if "index.html" in folder.written else ""
     return f"{steps} steps kept in {folder.folder}/{said}{page}"
 
 
@@ -227,13 +229,9 @@ def closing(plan, folder, tracks, wall):
     3 at most where each run's words fit: what was simulated and the wall time; what it showed
     (closing_words, after it or on lines of their own, broken at their '; '); what was written
     and where."""
-    lines = [f"simulated {simulated(plan)} in {wall:.2f} s wall"]
-    for part in closing_words(tracks).split("; ") if tracks else []:
-        if len(lines[-1]) + 2 + len(part) <= progress.WIDTH:
-            lines[-1] += f"; {part}"
-        else:
-            lines.append(part)
-    return "\n".join(lines + [f"wrote {written(plan, folder, tracks)}{where(plan, folder)}"])
+    words = f"; {closing_words(tracks)}" if tracks else ""
+    return "\n".join([progress.folded(f"simulated {simulated(plan)} in {wall:.2f} s wall{words}"),
+                      f"wrote {written(plan, folder, tracks)}{where(plan, folder)}"])
 
 
 def simulated(plan):

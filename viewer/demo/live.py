@@ -208,7 +208,7 @@ class LiveDemo:
             record = None if self.stopped() else action()
         except time_integrator.SimulationError as err:
             self.failure, self.playing, record = err, False, None
-            print(f"simulator.py: simulation failed: {err}", file=self.log)
+            print(progress.wrapped(f"simulator.py: simulation failed: {err}"), file=self.log)
         if record is None:
             return None
         inverted = diagnostics.inverted_triangles(record.x, self.triangles)

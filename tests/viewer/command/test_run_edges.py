@@ -15,7 +15,7 @@ import pytest
 import simulator
 import time_integrator
 import analysis.log
-from helpers.command import run_main as main
+from helpers.command import ending, run_main as main
 from helpers import ROOT
 from viewer.command import cli
 from viewer.output import whole_files
@@ -78,11 +78,12 @@ def signal_during(monkeypatch, module, name, signum=signal.SIGINT):
 
 
 def test_a_signal_while_pygame_loads_ends_the_run_in_one_line(tmp_path, monkeypatch):
-    """pygame loads whole (no half-initialized module), then the run stops: exit 130, one line."""
+    """pygame loads whole (no half-initialized module), then the run stops: exit 130, its one
+    ending line (folded where the path makes it long)."""
     signal_during(monkeypatch, draw, "load_pygame")
     code, lines = main("--steps", "3", "--out", str(tmp_path))
-    assert code == 130 and len(lines) == 1, lines
-    assert lines[0] == f"simulator.py: stopped: interrupted; nothing written in {tmp_path}/"
+    assert code == 130 and lines[0].startswith("simulator.py: "), lines
+    assert ending(lines) == f"simulator.py: stopped: interrupted; nothing written in {tmp_path}/"
     import pygame
     assert pygame.font.get_init() and hasattr(pygame, "Surface")
 
@@ -99,10 +100,10 @@ def test_a_signal_while_a_frame_is_written_keeps_files_whole(tmp_path, monkeypat
         return real(path, data)
     monkeypatch.setattr(whole_files, "write_temporary", write)
     status, lines = main("--steps", "300", "--frame-stride", "1", "--out", str(tmp_path))
-    assert status == code and lines[-1].startswith("simulator.py: stopped: "), lines
+    assert status == code and ending(lines).startswith("simulator.py: stopped: "), lines
     steps = log_steps(tmp_path / "log.csv")
     page = (tmp_path / "index.html").as_uri()
-    assert lines[-1].endswith(f"; {steps[-1]} steps kept in {tmp_path}/, the page: {page}")
+    assert ending(lines).endswith(f"; {steps[-1]} steps kept in {tmp_path}/; the page: {page}")
     assert steps == list(range(steps[-1] + 1))
     assert (tmp_path / "frame_00003.png").stat().st_size > 0 and not leftovers(tmp_path)
     assert all((tmp_path / name).exists() for name in ("summary.png", "plots.png", "index.html"))
@@ -115,10 +116,10 @@ def test_a_signal_during_the_last_pictures_leaves_out_the_rest(tmp_path, monkeyp
     signal_during(monkeypatch, plots, "draw_plots", signum)
     status, lines = main("--steps", "20", "--out", str(tmp_path))
     said = [line for line in lines if line.startswith("simulator.py:")]    # the others: progress
-    assert status == code and said == lines[-1:], lines
-    assert lines[-1].startswith("simulator.py: stopped: ")
-    assert "while writing the last pictures" in lines[-1]
-    assert lines[-1].endswith(f"20 steps kept in {tmp_path}/; left out: plots.png, index.html")
+    assert status == code and len(said) == 1, lines
+    assert ending(lines).startswith("simulator.py: stopped: ")
+    assert "while writing the last pictures" in ending(lines)
+    assert ending(lines).endswith(f"20 steps kept in {tmp_path}/; left out: plots.png, index.html")
     names = os.listdir(tmp_path)
     assert "summary.png" in names and "plots.png" not in names and "index.html" not in names
     assert log_steps(tmp_path / "log.csv") == list(range(21)) and not leftovers(tmp_path)
@@ -141,7 +142,7 @@ def test_ctrl_c_at_any_moment_of_a_real_run_is_one_line(tmp_path):
         _, err = process.communicate(timeout=60)
         assert process.returncode == 130, err
         assert "Traceback" not in err
-        assert err.strip().splitlines()[-1].startswith("simulator.py: stopped: interrupted")
+        assert ending(err.strip().splitlines()).startswith("simulator.py: stopped: interrupted")
         assert not (tmp_path / str(k)).exists() or not leftovers(tmp_path / str(k))
 
 
@@ -285,8 +286,8 @@ def test_a_disk_filling_mid_run_keeps_a_true_count(small_disk):
     """--no-frames: log.csv fills the disk; 'steps kept' in the line is the last step it holds."""
     code, lines = main("--steps", "100000", "--no-frames", "--out", str(small_disk))
     said = f"cannot write {small_disk / 'log.csv'}: No space left on device"
-    assert code == 1 and said in lines[-1], lines
+    assert code == 1 and said in ending(lines), lines
     steps = log_steps(small_disk / "log.csv")
-    assert f"; {steps[-1]} steps kept in {small_disk}/" in lines[-1]
+    assert f"; {steps[-1]} steps kept in {small_disk}/" in ending(lines)
     assert steps == list(range(steps[-1] + 1))
     assert not leftovers(small_disk)

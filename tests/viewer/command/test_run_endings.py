@@ -9,7 +9,7 @@ import sys
 import pytest
 
 from helpers import ROOT
-from helpers.command import run_main
+from helpers.command import ending, run_main
 from viewer.command import run
 from viewer.pictures import run_pictures
 
@@ -21,18 +21,18 @@ def interrupt(*args):
     raise run.Stopped(signal.SIGINT)
 
 
-def ending(out, said=""):
-    """The closing line of the run RUN into `out` stopped by Ctrl+C after its last step, with
-    its 6 steps in log.csv and its page written."""
+def expected(out, said=""):
+    """The ending of the run RUN into `out` stopped by Ctrl+C after its last step, with its 6
+    steps in log.csv and its page written, as helpers.command.ending joins its lines."""
     page = (out / "index.html").as_uri()
-    return f"simulator.py: stopped: interrupted{said}; 6 steps kept in {out}/, the page: {page}"
+    return f"simulator.py: stopped: interrupted{said}; 6 steps kept in {out}/; the page: {page}"
 
 
 def test_ctrl_c_as_the_closing_words_are_found_keeps_and_links_the_run(tmp_path, monkeypatch):
     """On main the line said 'nothing written' though log.csv held every step."""
     monkeypatch.setattr(run, "closing_words", interrupt)
     code, lines = run_main(*RUN, "--out", str(tmp_path))
-    assert code == 130 and lines[-1] == ending(tmp_path), lines
+    assert code == 130 and ending(lines) == expected(tmp_path), lines
     assert len((tmp_path / "log.csv").read_text().splitlines()) == 1 + 7
 
 
@@ -44,7 +44,7 @@ def test_ctrl_c_once_the_last_pictures_are_written_gives_the_pages_link(tmp_path
         interrupt()
     monkeypatch.setattr(run_pictures, "write", written_then_interrupted)
     code, lines = run_main(*RUN, "--out", str(tmp_path))
-    assert code == 130 and lines[-1] == ending(tmp_path, " while writing the last pictures")
+    assert code == 130 and ending(lines) == expected(tmp_path, " while writing the last pictures")
 
 
 def test_ctrl_c_between_the_pictures_and_the_closing_line(tmp_path, monkeypatch):
@@ -59,15 +59,15 @@ def test_ctrl_c_between_the_pictures_and_the_closing_line(tmp_path, monkeypatch)
         real(self)
     monkeypatch.setattr(run.Signals, "close", close)
     code, lines = run_main(*RUN, "--out", str(tmp_path))
-    assert code == 130 and lines[-1] == ending(tmp_path, " as the run ended"), lines
+    assert code == 130 and ending(lines) == expected(tmp_path, " as the run ended"), lines
 
 
 def test_ctrl_c_as_the_ending_begins_names_the_pictures_left_out(tmp_path, monkeypatch):
     monkeypatch.setattr(run, "end", interrupt)
     code, lines = run_main(*RUN, "--out", str(tmp_path))
     assert code == 130, lines
-    assert lines[-1] == (f"simulator.py: stopped: interrupted as the run ended; 6 steps kept in "
-                         f"{tmp_path}/; left out: summary.png, plots.png, index.html")
+    assert ending(lines) == (f"simulator.py: stopped: interrupted as the run ended; 6 steps kept "
+                             f"in {tmp_path}/; left out: summary.png, plots.png, index.html")
     assert sorted(os.listdir(tmp_path)) == sorted(
         ["log.csv", "frame_00000.png", "frame_00000.obj", "frame_00001.png", "frame_00001.obj",
          "frame_00002.png", "frame_00002.obj"])
@@ -86,7 +86,7 @@ def test_sighup_and_sigquit_stop_a_run_as_sigterm_does(tmp_path, name, code, rea
                              stderr=subprocess.PIPE, text=True)
     assert child.stderr.readline().startswith("step ")
     child.send_signal(getattr(signal, name))
-    last = child.stderr.read().splitlines()[-1]
+    last = ending(child.stderr.read().splitlines())
     assert child.wait(timeout=120) == code
     steps = len((tmp_path / "log.csv").read_text().splitlines()) - 2
     assert last == f"simulator.py: stopped: {reason}; {steps} steps kept in {tmp_path}/", last

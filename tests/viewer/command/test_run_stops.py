@@ -14,7 +14,7 @@ import numpy as np
 
 import analysis.log
 from helpers import ROOT
-from helpers.command import run_main
+from helpers.command import ending, run_main
 from helpers.fakes import fill_disk_after
 from viewer.command import recording
 from viewer.output import whole_files
@@ -58,7 +58,8 @@ def test_sigterm_on_a_very_long_run_prints_progress_then_stops_like_ctrl_c(tmp_p
     proc.send_signal(signal.SIGTERM)
     rest = proc.stderr.read()
     assert proc.wait(timeout=60) == 143
-    assert rest.strip().splitlines()[-1].startswith("simulator.py: stopped: terminated (SIGTERM)")
+    said = ending(rest.strip().splitlines())
+    assert said.startswith("simulator.py: stopped: terminated (SIGTERM)")
     steps = assert_whole_rows(tmp_path / "log.csv")
     assert steps == list(range(len(steps))) and len(steps) > 100
     assert (tmp_path / "summary.png").stat().st_size > 0
@@ -81,8 +82,8 @@ def test_a_full_disk_is_one_line_exit_1_and_keeps_what_was_written(tmp_path, mon
     fill_disk_after(monkeypatch, 12)
     code, lines = run_main("--steps", "100", "--out", str(tmp_path))
     assert code == 1 and len(lines) >= 1
-    assert lines[-1].startswith("simulator.py: error: cannot write")
-    assert "No space left on device" in lines[-1]
+    assert ending(lines).startswith("simulator.py: error: cannot write")
+    assert "No space left on device" in ending(lines)
     assert not any(line.startswith("Traceback") for line in lines)
     steps = assert_whole_rows(tmp_path / "log.csv")
     assert frame_indices(tmp_path) == [0, 1, 2, 3, 4, 5]       # 6 frames + 6 OBJs written

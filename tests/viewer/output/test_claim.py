@@ -12,7 +12,7 @@ import time
 import pytest
 
 from helpers import ROOT
-from helpers.command import run_main as main
+from helpers.command import ending, run_main as main
 from viewer.command import run
 from viewer.output import files, whole_files
 
@@ -183,9 +183,9 @@ def test_a_folder_deleted_and_made_again_mid_run_is_not_claimed_as_written(tmp_p
         return real(path, data)
     monkeypatch.setattr(whole_files, "write_temporary", replaced)
     code, lines = main("--steps", "30", "--frame-stride", "1", "--out", str(out))
-    assert code == 1 and len(lines[-1]) > 0, lines
-    assert lines[-1] == (f"simulator.py: error: the run's folder was deleted or moved; nothing "
-                         f"kept: {out}/ disappeared as the run wrote it")
+    assert code == 1 and ending(lines) == (f"simulator.py: error: the run's folder was deleted "
+                                           f"or moved; nothing kept: {out}/ disappeared as the "
+                                           f"run wrote it")
     assert "log.csv" not in os.listdir(out)
 
 
@@ -204,7 +204,7 @@ def test_a_folder_deleted_after_frame_10_ends_with_exit_1(tmp_path):
         assert time.monotonic() < deadline
         shutil.rmtree(out, ignore_errors=True)
     assert child.wait(timeout=120) == 1
-    last = child.stderr.read().splitlines()[-1]
+    last = ending(child.stderr.read().splitlines())
     assert last.endswith(f"nothing kept: {out}/ disappeared as the run wrote it"), last
 
 

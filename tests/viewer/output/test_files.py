@@ -14,7 +14,7 @@ import pytest
 
 from figures import cli as figures_cli
 from helpers import ROOT
-from helpers.command import run_main as main
+from helpers.command import ending, run_main as main
 from viewer.output import whole_files
 
 SIMULATOR = os.path.join(ROOT, "simulator.py")
@@ -51,8 +51,8 @@ def test_a_name_taken_between_the_check_and_the_write_is_never_overwritten(tmp_p
     monkeypatch.setattr(whole_files, "write_temporary", race)
     code, lines = main("--steps", "5", "--no-frames", "--out", str(tmp_path))
     assert code == 1 and (tmp_path / "summary.png").read_bytes() == b"the user's own"
-    assert "summary.png: a file of that name appeared" in lines[-1], lines
-    assert ".tmp-" not in lines[-1]
+    assert "summary.png: a file of that name appeared" in ending(lines), lines
+    assert ".tmp-" not in ending(lines)
     assert not [n for n in os.listdir(tmp_path) if n.startswith(".tmp-")]
 
 
@@ -68,9 +68,10 @@ def test_a_folder_removed_mid_run_is_named_by_its_output(tmp_path, monkeypatch):
         return real(path, data)
     monkeypatch.setattr(whole_files, "write_temporary", gone)
     code, lines = main("--steps", "30", "--frame-stride", "1", "--out", str(tmp_path / "out"))
-    assert code == 1 and "cannot write " in lines[-1] and ".tmp-" not in lines[-1], lines
-    assert os.path.basename(calls[4])[len(".tmp-12345678-"):] in lines[-1]
-    assert lines[-1].endswith("out/ disappeared as the run wrote it")
+    said = ending(lines)
+    assert code == 1 and "cannot write " in said and ".tmp-" not in said, lines
+    assert os.path.basename(calls[4])[len(".tmp-12345678-"):] in said
+    assert said.endswith("out/ disappeared as the run wrote it")
 
 
 # ---- a new folder for each run
@@ -162,7 +163,7 @@ def test_a_link_planted_under_an_outputs_name_is_never_written_through(tmp_path,
             os.symlink(tmp_path / "thesis.tex", tmp_path / "o" / "plots.png")
     monkeypatch.setattr(whole_files, "write_temporary", plant)
     code, lines = main("--steps", "5", "--no-frames", "--out", str(tmp_path / "o"))
-    assert code == 1 and "plots.png: a file of that name appeared" in lines[-1]
+    assert code == 1 and "plots.png: a file of that name appeared" in ending(lines)
     assert (tmp_path / "thesis.tex").read_text() == "years of work"
 
 
