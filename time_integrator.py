@@ -125,7 +125,8 @@ def friction_update(scene, lagged, x, v=None):
 def slip_weakened_mu(scene, lagged, x, v=None):
     """mu_k = mu + (mu_s - mu) exp(-|t . (v_k - v_s)| / v_c) per node (not in the lecture: its chalk
     remark, static friction above kinetic), v the velocity of the state x: v^n at x^n (the lagged
-    solve), (x - x^n) / h (v None) at an iterate of Algorithm 5; held through the solve."""
+    solve), (x - x^n) / h (v None) at an iterate of Algorithm 5; held through the solve. Here, not
+    in scenes/chalk.py: it reads the step's lagged state, as friction_update (docs/code-tour.md)."""
     v = (x - lagged.x_n) / scene.h if v is None else v
     vbarnorm = np.abs((v - lagged.v_s) @ FrictionEnergy.tangent(scene.n))   # |t . (v_k - v_s)|
     return FrictionEnergy.slip_weakened_mu(vbarnorm, scene.mu, scene.static.mu_s, scene.static.v_c)
@@ -204,7 +205,8 @@ def predicted_start(scene, lagged):
     """Where Newton starts with scene.newton_start "x_tilde" (the chalk's; the lecture's is x^n):
     the prediction x_tilde = x^n + h v^n cut back by CCD (Algorithm 4, line 1, along h v^n), so
     every node stays above the board. Not in the lecture: from x^n a sliding contact starts at
-    v = 0, in the mollifier's stiff static branch, and Newton takes about 4 iterations to leave."""
+    v = 0, in the mollifier's stiff static branch, and Newton takes about 4 iterations to leave.
+    Here, not in scenes/chalk.py: it is Algorithm 4's CCD, and any scene may start there."""
     prediction = lagged.x_tilde - lagged.x_n
     return lagged.x_n + init_step_size(scene, lagged.x_n, prediction) * prediction
 

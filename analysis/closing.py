@@ -2,6 +2,7 @@
 stick-slip, or how far the tablecloth's dish travelled."""
 import closed_forms
 from analysis import diagnostics, grasp, stick_slip
+from scenes import square, tablecloth
 
 
 def each(tracks, words):
@@ -33,7 +34,7 @@ def closed_creep(scene):
     if scene.fingers is not None:
         held = closed_forms.grasp_holds(scene)
         return 1e3 * closed_forms.grasp_creep_speed(scene) if held else None
-    return 1e3 * closed_forms.creep_speed(scene) if closed_forms.holds(scene) else None
+    return 1e3 * closed_forms.creep_speed(scene) if square.holds(scene) else None
 
 
 def creep_figures(track):
@@ -58,7 +59,7 @@ def blur(track):
     creep), whose error it makes about -0.5 tol / u*: 'below' (tol >= u*: the solver cannot tell
     the creep from rest), 'near' (tol > u* / 10), or '' (measured well)."""
     scene = track.scene
-    expected = abs(closed_forms.creep_speed(scene) if closed_forms.holds(scene) else creep(track))
+    expected = abs(closed_forms.creep_speed(scene) if square.holds(scene) else creep(track))
     return "below" if scene.tol >= expected else "near" if scene.tol > 0.1 * expected else ""
 
 
@@ -112,15 +113,15 @@ def travel_words(tracks):
     form: 'the dish travelled 0.1226 m, closed form mu g L^2 / U^2 = 0.1226 m (-0.0 %)'; for a
     comparison, in the order of its runs, 'the dish travelled 1.0000, 0.1226 m (closed form +0.0 %,
     -0.0 %)' ('-' where the closed form is 0); 'unfinished' where the run ended before the closed
-    form's dish stops (closed_forms.tablecloth_stop_time)."""
+    form's dish stops (tablecloth.stop_time)."""
     runs = []
     for track in tracks:
         scene, surface = track.scene, track.scene.surface
         moved = track.samples.last.com - track.samples.items[0].com
         travel, g = float(moved @ surface.tangent), -scene.g[1]
         U, L = surface.pull_speed, surface.pull_length
-        exact = closed_forms.tablecloth_travel(U, L, scene.mu, g)
-        stop = closed_forms.tablecloth_stop_time(U, L, scene.mu, surface.t_pull, g)
+        exact = tablecloth.travel(U, L, scene.mu, g)
+        stop = tablecloth.stop_time(U, L, scene.mu, surface.t_pull, g)
         off = f"{100 * (travel - exact) / exact:+.1f}" if exact else "-"
         off = "unfinished" if track.t < stop else off
         runs.append((travel, exact, "mu g L^2 / U^2" if U * U >= scene.mu * g * L else "L", off,

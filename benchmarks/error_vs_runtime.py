@@ -15,6 +15,7 @@ import closed_forms as cases
 import simulator
 import time_integrator
 from benchmarks import plot, tables
+from scenes import square
 
 HS = (0.04, 0.02, 0.01, 0.005, 0.0025)
 QUICK_HS = (0.04, 0.02)
@@ -39,18 +40,18 @@ Case = namedtuple("Case", "name measure duration friction ordered build error")
 
 CASES = (
     Case("sliding", "relative acceleration error (mu 0.05, tan 0.1)", 0.4, True, False,
-         lambda h, tol, fu: cases.resting_scene(cases.LECTURE_TAN, 0.05, h=h, tol=tol,
+         lambda h, tol, fu: square.resting_scene(square.LECTURE_TAN, 0.05, h=h, tol=tol,
                                                 friction_updates=fu),
          lambda scene, run, reference: abs(cases.acceleration_error(scene, run))),
     Case("sticking", "relative error of the creep over 0.2 s (mu 0.11)", 0.2, True, False,
-         lambda h, tol, fu: cases.resting_scene(cases.LECTURE_TAN, 0.11, h=h, tol=tol,
+         lambda h, tol, fu: square.resting_scene(square.LECTURE_TAN, 0.11, h=h, tol=tol,
                                                 friction_updates=fu),
          lambda scene, run, reference: abs(       # the mean creep speed against the steady one
              run.downhill(scene)[0][-1] / run.t[-1] / cases.creep_speed(scene) - 1)),
     Case("free fall", "COM error at 0.4 s, m", 0.4, False, True,
-         lambda h, tol, fu: cases.free_fall_scene(h=h, tol=tol),
+         lambda h, tol, fu: square.free_fall_scene(h=h, tol=tol),
          lambda scene, run, reference: float(np.linalg.norm(
-             run.com[-1] - cases.free_fall_com(scene, run.t[-1:])[0]))),
+             run.com[-1] - square.free_fall_com(scene, run.t[-1:])[0]))),
     Case("full scene", f"max COM error over 0.6 s vs h = {REFERENCE_H:g}, m", 0.6, True, True,
          lambda h, tol, fu: simulator.build_scene(h=h, tol=tol, friction_updates=fu),
          lambda scene, run, reference: cases.max_com_error(run, reference)),

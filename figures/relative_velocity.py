@@ -1,15 +1,15 @@
 """Slide "Tangential Relative Velocity": friction acts on v_p - v_s, so it pulls the dish toward the
 cloth's velocity. The tablecloth trick: pulled fast, the dish barely moves; slowly, it rides along
-(closed_forms.tablecloth_travel)."""
+(scenes.tablecloth.travel)."""
 import math
 from types import SimpleNamespace
 
 import numpy as np
 
-import closed_forms
 import simulator
 from analysis import diagnostics
 from figures.page import BLACK, GREY, Page
+from scenes import tablecloth
 from viewer.pictures.draw import run_color
 
 SPEEDS = (0.5, 1.0, 1.25, 1.6, 2.0, 2.5, 4.0, 5.0, 8.0)    # U (m/s), across sqrt(mu g L) = 1.4;
@@ -23,7 +23,7 @@ RIDES = 0.05                    # a dish that travels L to within 5 % rode along
 def pull(U):
     """A pull at speed U, run until the dish stops after the cloth has: at each step t, the dish's
     speed v_p (its centre of mass's, along the pull) and the cloth's v_s; the dish's travel, its
-    closed form (closed_forms.tablecloth_travel) and the relative error."""
+    closed form (scenes.tablecloth.travel) and the relative error."""
     scene = simulator.build_tablecloth_scene(pull_speed=U)
     p, tangent = scene.params, scene.surface.tangent
     cloth_stops = p["t_pull"] + p["pull_length"] / U
@@ -35,7 +35,7 @@ def pull(U):
         if record.t > cloth_stops and np.abs(record.v).max() < scene.epsv:
             break
     travel = float(diagnostics.centre_of_mass(scene, record.x - scene.x0) @ tangent)
-    closed = closed_forms.tablecloth_travel(U, p["pull_length"], scene.mu, -scene.g[1])
+    closed = tablecloth.travel(U, p["pull_length"], scene.mu, -scene.g[1])
     return SimpleNamespace(U=U, t=np.array(t), v_p=np.array(v_p), v_s=np.array(v_s),
                            travel=travel, closed=closed, error=travel / closed - 1.0)
 
@@ -62,7 +62,7 @@ def caption(r):
         "outruns it: it travels mu g L^2 / U^2 in all;",
         f"below U = sqrt(mu g L) = {r.crossover:.2f} m/s it catches the cloth and rides along: L. "
         f"Rode along up to {r.bracket[0]:g} m/s, outran from {r.bracket[1]:g} m/s.",
-        f"Simulated travel on the closed form (closed_forms.tablecloth_travel) to within "
+        f"Simulated travel on the closed form (scenes.tablecloth.travel) to within "
         f"{100 * abs(worst.error):.2g} % at every U (the most at U = {worst.U:g} m/s)."]
 
 
@@ -74,7 +74,7 @@ def draw(r):
     ax = page.axes(0, U_max, 1e-2, 2 * r.L, "the dish's travel (m, log) against the pull speed U "
                    "(m/s)", "U (m/s)", "travel (m)", log=True)
     U = np.union1d(np.linspace(0.0, U_max, 400), [r.crossover])
-    closed = np.array([closed_forms.tablecloth_travel(u, r.L, r.mu, r.g) for u in U])
+    closed = np.array([tablecloth.travel(u, r.L, r.mu, r.g) for u in U])
     for k, (branch, name) in enumerate(((U <= r.crossover, "L: it rides along"),
                                         (U >= r.crossover, "mu g L^2 / U^2: outrun"))):
         ax.line(U[branch], closed[branch], run_color(k), 3)

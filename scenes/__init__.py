@@ -1,7 +1,8 @@
-"""The scenes: each one short unit, its numbers (with units), its mesh, its terms, its builder.
+"""The scenes: each one short unit, its numbers (with units), its mesh, its terms, its builder, its
+checks and the closed forms only it uses.
 
-    scene.py        what every scene is (`Scene`); the parts only some have: the hand, static
-                    friction, the moving surface, the fingers
+    scene.py        what every scene is (`Scene`, built by `assemble`); the parts only some have:
+                    the hand, static friction, the moving surface, the fingers
     square.py       the lecture's case study: the mass-spring square dropped on a slope (`DEFAULTS`)
     chalk.py        the lecture's closing remark: Rabinowicz's chalk on a board, in a hand (`CHALK`)
     tablecloth.py   the slide "Tangential Relative Velocity": a dish on a pulled tablecloth

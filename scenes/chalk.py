@@ -1,5 +1,6 @@
 """The lecture's closing remark: Rabinowicz's chalk, pushed or dragged across a board by a hand,
-stick-slips (docs/chalk.md: the scene as data, and where it departs from the lecture).
+stick-slips (docs/chalk.md: the scene as data, and where it departs from the lecture). Its numbers
+(CHALK), its builder, and its checks (each parameter by name: a student can skip them).
 
     chalk = build_chalk_scene(k_hand=4000.0)    # the chalk's numbers (CHALK), one of them changed
 """
@@ -9,12 +10,11 @@ import types
 import numpy as np
 
 import HandEnergy
-import MassSpringEnergy
-import chalk_checks
 import square_mesh
 import utils
 from scenes import ranges
-from scenes.scene import Scene, StaticFriction, readonly
+from scenes.scene import StaticFriction, assemble, readonly
+from utils import ParameterError
 
 CHALK = types.MappingProxyType({
     "length": 0.09, "width": 0.01,  # m: the chalk, along its axis and across
@@ -44,12 +44,32 @@ GROWS = types.MappingProxyType({        # what the chalk's sizes grow with (scen
     "l": {"length": 1, "nx": -1, "width": 1, "ny": -1}, "N": {"nx": 1, "ny": 1}})
 
 
+def check_params(defaults, overrides):
+    """`defaults` (CHALK) updated by `overrides`, every value checked."""
+    checks = {**dict.fromkeys(("length", "width", "rho", "v_c", "k_hand", "t_press", "t_hold"),
+                              utils.check_positive),
+              **dict.fromkeys(("mu", "mu_s", "press", "drive"), utils.check_nonnegative),
+              **dict.fromkeys(("nx", "ny", "held_columns"), utils.check_whole),
+              **utils.SOLVER_CHECKS}
+    p = utils.check_params(checks, defaults, overrides, "chalk")
+    p["tilt"] = utils.as_float("tilt", p["tilt"], "must be a number of degrees in (0, 180)")
+    if not 0.0 < p["tilt"] < 180.0:
+        message = f"tilt must be a number of degrees in (0, 180), got {p['tilt']}"
+        raise ParameterError("tilt", message)
+    if p["held_columns"] > p["nx"]:
+        raise ParameterError("held_columns", f"held_columns must leave the tip free: at most "
+                                             f"nx = {p['nx']}, got {p['held_columns']}")
+    if not isinstance(p["drag"], (bool, np.bool_)):
+        raise ParameterError("drag", f"drag must be True or False, got {p['drag']!r}")
+    return p
+
+
 def build_chalk_scene(**overrides):
     """Rabinowicz's chalk: a mass-spring rectangle at `tilt` to a flat board (normal (0, 1) through
     the origin), its tip corner at dhat, held by the hand at the far end, which moves along +x:
     pushed, the chalk leans back over the tip; dragged, forward. A ValueError names a bad
     parameter."""
-    p = chalk_checks.check_params(CHALK, overrides)
+    p = check_params(CHALK, overrides)
     for name, other in sorted((("nx", "ny"), ("ny", "nx")), key=lambda pair: -p[pair[0]]):
         ranges.check_memory(name, p[name], lambda n: (n + 1) * (p[other] + 1))
     x, e = square_mesh.rectangle(p["length"], p["width"], p["nx"], p["ny"], (0.0, -p["width"] / 2))
@@ -68,17 +88,7 @@ def build_chalk_scene(**overrides):
                                            [p["drive"], down]]))
     terms = ["inertia", "spring"] + ["gravity"] * any(p["gravity"]) + ["hand", "barrier"]
     terms += ["friction"] * (max(p["mu"], p["mu_s"]) > 0.0)
-    return Scene(
-        params=types.MappingProxyType(p), x0=readonly(x), v0=readonly(np.zeros_like(x)),
-        e=readonly(np.asfortranarray(e)), l2=readonly(MassSpringEnergy.squared_lengths(x, e)),
-        k=readonly(np.full(len(e), p["k"])),
-        m=readonly(m),
-        contact_area=readonly(np.full(len(x), p["width"] / p["ny"])), g=readonly(p["gravity"]),
-        n=readonly([0.0, 1.0]), o=readonly([0.0, 0.0]), mu=p["mu"], dhat=p["dhat"],
-        kappa=p["kappa"], epsv=p["epsv"], h=p["h"], tol=p["tol"],
-        friction_updates=p["friction_updates"], newton_start=p["newton_start"],
-        max_newton_iterations=p["max_newton_iterations"], max_halvings=p["max_halvings"],
-        terms=tuple(terms), warnings=(),
-        solver=utils.SPDSolver.for_mesh(len(x), e, elements=[held[:, None]]),   # the hand: nodes
-        cells=(p["nx"], p["ny"]), hand=hand,
-        static=StaticFriction(p["mu_s"], p["v_c"]) if p["mu_s"] != p["mu"] else None)
+    static = StaticFriction(p["mu_s"], p["v_c"]) if p["mu_s"] != p["mu"] else None
+    return assemble(p, x, e, m, w=p["width"] / p["ny"], terms=terms, cells=(p["nx"], p["ny"]),
+                    n=[0.0, 1.0], o=[0.0, 0.0], elements=[held[:, None]],   # the hand: nodes
+                    hand=hand, static=static)

@@ -13,6 +13,7 @@ import numpy as np
 
 import BarrierEnergy
 import HandEnergy
+import MassSpringEnergy
 import utils
 from scenes import ranges
 
@@ -143,6 +144,27 @@ def readonly(a):
     a = np.array(a)
     a.setflags(write=False)
     return a
+
+
+def assemble(p, x, e, m, w, terms, cells, n=None, o=None, v0=None, warnings=(), elements=(),
+             **parts):
+    """The Scene a builder returns, from its checked parameters p (the numbers every scene has: k,
+    gravity, mu, dhat, kappa, epsv, h, tol and the solver's) and what it made: the mesh x (N, 2) at
+    rest, its springs e (E, 2) (rest lengths measured on x), node masses m, contact weight w per
+    node (a number, or (N,)), its terms, its cells (nx, ny); the half-space's n, o (None: none);
+    v0 (N, 2) (None: at rest); the solver's extra `elements`; its optional parts (hand=, ...)."""
+    return Scene(
+        params=types.MappingProxyType(p), x0=readonly(x),
+        v0=readonly(np.zeros_like(x) if v0 is None else v0),
+        e=readonly(np.asfortranarray(e)),       # column by column: e[:, 0] and e[:, 1] gather fast
+        l2=readonly(MassSpringEnergy.squared_lengths(x, e)), k=readonly(np.full(len(e), p["k"])),
+        m=readonly(m), contact_area=readonly(np.full(len(x), w)), g=readonly(p["gravity"]),
+        n=None if n is None else readonly(n), o=None if o is None else readonly(o),
+        mu=p["mu"], dhat=p["dhat"], kappa=p["kappa"], epsv=p["epsv"], h=p["h"], tol=p["tol"],
+        friction_updates=p["friction_updates"], newton_start=p["newton_start"],
+        max_newton_iterations=p["max_newton_iterations"], max_halvings=p["max_halvings"],
+        terms=tuple(terms), warnings=tuple(warnings),
+        solver=utils.SPDSolver.for_mesh(len(x), e, elements=elements), cells=cells, **parts)
 
 
 def gap_carrying(load, w, dhat, kappa):

@@ -1,6 +1,6 @@
 """The tablecloth trick (the slide "Tangential Relative Velocity"): a dish at rest on a cloth
 pulled a length L at speed U across a flat table. Pulled fast, the dish barely moves; slowly, it
-rides along (closed_forms.tablecloth_travel).
+rides along (`travel`, `stop_time`: its closed forms, a rigid dish under Coulomb friction).
 
     scene = build_tablecloth_scene(pull_speed=8.0)  # the numbers (TABLECLOTH), one of them changed
 """
@@ -8,11 +8,10 @@ import types
 
 import numpy as np
 
-import MassSpringEnergy
 import square_mesh
 import utils
 from scenes import ranges
-from scenes.scene import MovingSurface, Scene, gap_carrying, readonly
+from scenes.scene import MovingSurface, assemble, gap_carrying, readonly
 
 TABLECLOTH = types.MappingProxyType({
     "width": 0.2, "height": 0.05,   # m: the dish, a plate
@@ -95,15 +94,23 @@ def build_tablecloth_scene(**overrides):
     x, e = square_mesh.rectangle(p["width"], p["height"], p["nx"], p["ny"],
                                  (-p["width"] / 2, resting_gap(p)))
     terms = ("inertia", "spring", "gravity", "barrier") + ("friction",) * (p["mu"] > 0.0)
-    return Scene(
-        params=types.MappingProxyType(p), x0=readonly(x), v0=readonly(np.zeros_like(x)),
-        e=readonly(np.asfortranarray(e)), l2=readonly(MassSpringEnergy.squared_lengths(x, e)),
-        k=readonly(np.full(len(e), p["k"])), m=readonly(m),
-        contact_area=readonly(np.full(len(x), p["width"] / p["nx"])), g=readonly(p["gravity"]),
-        n=readonly([0.0, 1.0]), o=readonly([0.0, 0.0]), mu=p["mu"], dhat=p["dhat"],
-        kappa=p["kappa"], epsv=p["epsv"], h=p["h"], tol=p["tol"],
-        friction_updates=p["friction_updates"], newton_start=p["newton_start"],
-        max_newton_iterations=p["max_newton_iterations"], max_halvings=p["max_halvings"],
-        terms=terms, warnings=warnings(p), solver=utils.SPDSolver.for_mesh(len(x), e),
-        cells=(p["nx"], p["ny"]),
-        surface=MovingSurface(p["pull_speed"], p["pull_length"], p["t_pull"], readonly([1.0, 0.0])))
+    cloth = MovingSurface(p["pull_speed"], p["pull_length"], p["t_pull"], readonly([1.0, 0.0]))
+    return assemble(p, x, e, m, w=p["width"] / p["nx"], terms=terms, cells=(p["nx"], p["ny"]),
+                    n=[0.0, 1.0], o=[0.0, 0.0], warnings=warnings(p), surface=cloth)
+
+
+# ---- Its closed forms: a rigid dish, Coulomb friction ------------------------------------------
+
+def travel(pull_speed, pull_length, mu, g=9.81):
+    """How far a dish on a cloth pulled a length L at speed U travels, friction driving it at mu g:
+    mu g T^2 = mu g L^2 / U^2 where the cloth outruns it (U^2 >= mu g L: speed mu g T at T = L / U,
+    then as far again to a stop), else L (it rides along, stops as far past the end as it lags)."""
+    U, L = pull_speed, pull_length
+    return mu * g * L * L / (U * U) if U * U >= mu * g * L else L
+
+
+def stop_time(pull_speed, pull_length, mu, t_pull, g=9.81):
+    """When the closed form's dish stops: the cloth leaves at t_pull + T, T = L / U, the dish then
+    moving at min(U, mu g T), which friction takes away in min(U / (mu g), T) more."""
+    T = pull_length / pull_speed
+    return t_pull + T + (T if mu * g * T <= pull_speed else pull_speed / (mu * g))

@@ -38,7 +38,7 @@ def test_importing_every_module_needs_no_display_and_no_pygame():
 # the layers, lowest first: a module imports only from layers below its own, or its own package
 # (FingerEnergy is BarrierEnergy through moving planes: one layer above the energies)
 ENERGIES = {"InertiaEnergy", "MassSpringEnergy", "GravityEnergy", "BarrierEnergy", "FrictionEnergy",
-            "HandEnergy", "square_mesh", "square_checks", "chalk_checks"}
+            "HandEnergy", "square_mesh"}
 LAYERS = [{"utils"}, ENERGIES, {"FingerEnergy"}, {"time_integrator", "scenes"}, {"simulator"},
           {"closed_forms"}, {"analysis"}, {"viewer.output"}, {"viewer.pictures"},
           {"viewer.command"}, {"viewer.demo"}, {"viewer.main"}, {"benchmarks", "figures"}]

@@ -11,6 +11,7 @@ import closed_forms
 import simulator
 from analysis import closing, diagnostics
 from helpers.command import recorded
+from scenes import square
 
 # The lecture's slope and mu, by hand: 1e-3 (1 - sqrt(1 - 0.1 / 0.11)) m/s
 LECTURE_CREEP = 1e-3 * (1.0 - math.sqrt(1.0 - 0.1 / 0.11))
@@ -94,7 +95,7 @@ def test_a_state_where_every_contact_sticks_says_its_creep():
     """The window's line for a state (closing.state_words): the square at rest on the slope, moved
     at 0.45 mm/s downhill, sticks and creeps at that speed beside the closed form; at 2 mm/s (above
     eps_v = 1 mm/s) it slides, and in the air it touches nothing: no line."""
-    scene = closed_forms.resting_scene(0.1, 0.11)
+    scene = square.resting_scene(0.1, 0.11)
     down = diagnostics.tangent(scene)
     words = closing.state_words(scene, scene.x0, np.tile(0.45e-3 * down, (len(scene.x0), 1)), 0.0)
     exact = 1e3 * 1e-3 * (1.0 - math.sqrt(1.0 - 0.1 / 0.11))

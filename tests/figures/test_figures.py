@@ -11,7 +11,6 @@ import numpy as np
 import pytest
 
 import BarrierEnergy
-import closed_forms
 import FrictionEnergy
 import figures.page
 import simulator
@@ -19,6 +18,7 @@ from analysis import wear
 from figures import (cli, dissipation, fixed_point, mollifier, relative_velocity, semi_implicit,
                      stick_slip)
 from helpers import ROOT
+from scenes import tablecloth
 from viewer.output import whole_files
 
 PNG_SIGNATURE, PNG_END = b"\x89PNG\r\n\x1a\n", b"IEND\xaeB`\x82"
@@ -251,13 +251,13 @@ def tablecloth_pulls():
 
 
 def on_the_closed_form(r):
-    """Each pull's travel within 5 % of closed_forms.tablecloth_travel, and the dish at rest at the
+    """Each pull's travel within 5 % of tablecloth.travel, and the dish at rest at the
     end. 5 %: the closed form leaves out the mollifier's creep below eps_v (at most eps_v for the
     ~1 s the dish rides the cloth: 1e-3 m, 0.1 % of L) and the elastic dish's settling; measured,
     every pull is within 0.012 % (L / U a whole number of steps: relative_velocity.SPEEDS)."""
     epsv = simulator.TABLECLOTH["epsv"]
     for run in r.runs:
-        assert run.closed == closed_forms.tablecloth_travel(run.U, r.L, r.mu, r.g)
+        assert run.closed == tablecloth.travel(run.U, r.L, r.mu, r.g)
         assert run.travel == pytest.approx(run.closed, rel=0.05), run.U
         assert abs(run.v_p[-1]) < epsv and run.v_s[-1] == 0.0
     return True
@@ -273,7 +273,7 @@ def test_the_crossover_is_at_sqrt_mu_g_l_between_riding_and_outrun_pulls(tablecl
     r = tablecloth_pulls
     p = simulator.TABLECLOTH
     assert r.crossover == pytest.approx(math.sqrt(p["mu"] * -p["gravity"][1] * p["pull_length"]))
-    below, above = (closed_forms.tablecloth_travel(r.crossover * f, r.L, r.mu, r.g)
+    below, above = (tablecloth.travel(r.crossover * f, r.L, r.mu, r.g)
                     for f in (1 - 1e-9, 1 + 1e-9))
     assert below == r.L and above == pytest.approx(r.L) and above < r.L
     assert r.bracket == (1.0, 1.6)

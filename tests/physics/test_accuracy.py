@@ -13,6 +13,7 @@ import pytest
 
 import closed_forms as cases
 import simulator
+from scenes import square
 
 # Newton tolerance on ||p||_inf / h (m/s). It must sit well below eps_v = 1e-3 m/s and below the
 # velocity change per step (a h = 4.9e-3 m/s when sliding at h = 0.01): Newton starts every step
@@ -36,36 +37,36 @@ def g_along(tan_theta, mu):
     return 9.81 * (math.sin(theta) - mu * math.cos(theta))
 
 
-@pytest.mark.parametrize("tan_theta, mu", [(cases.LECTURE_TAN, 0.5), (cases.STEEP_TAN, 0.2)],
+@pytest.mark.parametrize("tan_theta, mu", [(square.LECTURE_TAN, 0.5), (square.STEEP_TAN, 0.2)],
                          ids=["sticking", "sliding"])
 def test_resting_pose_balances_forces_and_moments(tan_theta, mu):
     """The start the sliding and sticking tests rely on. Only the bottom row is within dhat; its
     barrier forces f_i add up to the normal load m g cos(theta); with the friction forces c f_i (c =
     tan(theta) when sticking: friction takes the whole drive; c = mu when sliding) they exert no
     moment about the centre of mass, where gravity acts, so the square neither sinks nor rocks."""
-    scene = cases.resting_scene(tan_theta, mu)
+    scene = square.resting_scene(tan_theta, mu)
     d = (scene.x0 - scene.o) @ scene.n
     bottom = np.arange(0, len(d), scene.params["n_seg"] + 1)              # nodes with j = 0
     assert np.all(d[bottom] < scene.dhat) and np.all(np.delete(d, bottom) > scene.dhat)
-    f = cases.barrier_force(scene, d[bottom])
+    f = square.barrier_force(scene, d[bottom])
     weight, theta = 1000.0 * 9.81, math.atan(tan_theta)
     assert f.sum() == pytest.approx(weight * math.cos(theta), rel=1e-9)
     c = min(tan_theta, mu)
-    forces = f[:, None] * (scene.n - c * cases.downhill(scene))       # normal + friction (uphill)
-    arms = scene.x0[bottom] - cases.com(scene, scene.x0)
+    forces = f[:, None] * (scene.n - c * square.downhill(scene))       # normal + friction (uphill)
+    arms = scene.x0[bottom] - square.com(scene, scene.x0)
     moment = np.sum(arms[:, 0] * forces[:, 1] - arms[:, 1] * forces[:, 0])
     assert abs(moment) < 1e-9 * weight * scene.params["side_len"]
 
 
-@pytest.mark.parametrize("tan_theta, mu", [(cases.LECTURE_TAN, 0.05), (cases.STEEP_TAN, 0.2)],
+@pytest.mark.parametrize("tan_theta, mu", [(square.LECTURE_TAN, 0.05), (square.STEEP_TAN, 0.2)],
                          ids=["lecture-slope", "20-degrees"])
 def test_sliding_acceleration_within_one_percent(tan_theta, mu):
     """A nearly rigid square released at rest, mu < tan(theta): its centre of mass accelerates down
     the slope at g (sin theta - mu cos theta). Fitted over [0.1 s, 1 s]: the start is computed (no
     settling of the pose), but the first steps are a short transient, which the window leaves out
     (cases.SETTLING). Measured: relative error -1.0e-6 (lecture's slope), -1.4e-6 (20 degrees)."""
-    scene = cases.resting_scene(tan_theta, mu, h=H, tol=TOL)
-    assert cases.sliding_acceleration(scene) == pytest.approx(g_along(tan_theta, mu), rel=1e-12)
+    scene = square.resting_scene(tan_theta, mu, h=H, tol=TOL)
+    assert square.sliding_acceleration(scene) == pytest.approx(g_along(tan_theta, mu), rel=1e-12)
     error = cases.acceleration_error(scene, cases.run(scene, 1.0))
     assert abs(error) < 0.01
 
@@ -86,7 +87,7 @@ def test_sticking_creeps_below_eps_v(mu):
     0.106 eps_v (mu = 0.5). Once steady, implicit Euler satisfies this balance exactly, so the mean
     velocity over the second second matches it (measured to 2e-4 relative; asserted to 1 %, the
     margin for the last of the start's transient)."""
-    scene = cases.resting_scene(cases.LECTURE_TAN, mu, h=H, tol=TOL)
+    scene = square.resting_scene(square.LECTURE_TAN, mu, h=H, tol=TOL)
     duration = 2.0
     run = cases.run(scene, duration)
     s, v = run.downhill(scene)
@@ -105,9 +106,9 @@ def test_free_fall_is_first_order():
     round-off), and each error must be that closed form."""
     hs, duration, errors = (0.02, 0.01, 0.005), 0.5, []
     for h in hs:
-        scene = cases.free_fall_scene(h=h, tol=TOL)
+        scene = square.free_fall_scene(h=h, tol=TOL)
         run = cases.run(scene, duration)
-        exact = cases.free_fall_com(scene, [duration])[0]
+        exact = square.free_fall_com(scene, [duration])[0]
         errors.append(float(np.linalg.norm(run.com[-1] - exact)))
         assert errors[-1] == pytest.approx(9.81 * h * duration / 2, rel=1e-6)
     orders = observed_orders(hs, errors)

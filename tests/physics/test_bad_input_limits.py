@@ -15,9 +15,8 @@ import pytest
 import BarrierEnergy
 import MassSpringEnergy
 import simulator
-import square_checks
 import time_integrator
-from scenes import ranges
+from scenes import ranges, square
 
 from helpers import ROOT
 
@@ -256,8 +255,8 @@ def test_a_slope_normal_of_any_size_is_normalized_exactly(slope):
     unit = 5e-324 if max(map(abs, slope)) < 1e-300 else 2.0 ** 1000      # exact powers of two
     whole = tuple(c / unit for c in slope)
     assert all(float(c).is_integer() for c in whole) or unit > 1.0
-    n = square_checks.slope_normal(slope)
-    assert n.tobytes() == square_checks.slope_normal(whole).tobytes()
+    n = square.slope_normal(slope)
+    assert n.tobytes() == square.slope_normal(whole).tobytes()
     assert abs(np.hypot(*n) - 1.0) <= EPS
     assert np.sign(n).tolist() == np.sign(slope).tolist()
 
@@ -267,7 +266,7 @@ def test_a_slope_normal_of_normal_float64_components_builds_a_unit_normal(scale)
     """At any scale the normal comes out of unit length within 1 eps, in the slope's direction."""
     rng = np.random.default_rng(25)
     for slope in rng.uniform(0.1, 1.0, (50, 2)) * scale * np.array([[1.0, 3.0]]):
-        n = square_checks.slope_normal(tuple(slope))
+        n = square.slope_normal(tuple(slope))
         assert abs(np.hypot(*n) - 1.0) <= EPS
         assert n[0] * slope[1] == pytest.approx(n[1] * slope[0], rel=1e-15)
     scene = simulator.build_scene(slope=(0.1 * scale, scale), center=(0.0, 0.0))

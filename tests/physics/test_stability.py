@@ -20,7 +20,7 @@ import pytest
 
 import BarrierEnergy
 import simulator
-from closed_forms import downhill, resting_scene
+from scenes.square import downhill, resting_scene
 from helpers.scenes import clear_scene
 from analysis import diagnostics
 
@@ -157,7 +157,7 @@ def test_resting_square_stays_put(angle_deg, mu, extra):
     eps_v.
 
     The body is stiff (k = 1e9) and starts in the pose where the barrier carries a rigid square
-    without rocking (closed_forms.py, resting_pose). Being not quite rigid, its lattice first
+    without rocking (scenes/square.py, resting_pose). Being not quite rigid, its lattice first
     settles elastically under the load (the base moves ~1e-7 m in the first step, more than eps_v t
     when eps_v = 1e-6), so drift and speed are measured from SETTLE = 0.1 s on. The lecture's soft
     square (1000 kg on springs of 2e4) shears by about M g sin(theta) / k = 25 cm at 30 degrees and

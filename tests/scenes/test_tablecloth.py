@@ -5,15 +5,15 @@ import math
 import numpy as np
 import pytest
 
-import closed_forms
 import simulator
+from scenes import tablecloth
 
 SPEEDS = (1.0, 2.0, 4.0, 8.0)      # m/s; with L 1 m, mu 0.2: sqrt(mu g L) = 1.4 m/s lies between
 
 
 def stop_time(p):
-    """When the dish of the closed form stops (closed_forms.tablecloth_stop_time)."""
-    return closed_forms.tablecloth_stop_time(p["pull_speed"], p["pull_length"], p["mu"],
+    """When the dish of the closed form stops (tablecloth.stop_time)."""
+    return tablecloth.stop_time(p["pull_speed"], p["pull_length"], p["mu"],
                                              p["t_pull"], -p["gravity"][1])
 
 
@@ -41,7 +41,7 @@ def test_the_dish_travels_as_the_closed_form_says(runs, U):
     settling; measured, every speed is within 0.02 %."""
     scene, records = runs[U]
     p = scene.params
-    expected = closed_forms.tablecloth_travel(U, p["pull_length"], p["mu"], -p["gravity"][1])
+    expected = tablecloth.travel(U, p["pull_length"], p["mu"], -p["gravity"][1])
     assert travel(scene, records) == pytest.approx(expected, rel=0.05)
     assert np.abs(records[-1].v).max() < scene.epsv        # it has stopped
     fast = U * U >= p["mu"] * -p["gravity"][1] * p["pull_length"]
@@ -81,8 +81,8 @@ def test_the_dish_starts_settled_and_the_cloth_moves_its_length(runs):
 def test_the_closed_form_dish_stops_when_friction_has_taken_its_speed(U, expected):
     """Fast (U 4 m/s): the dish reaches mu g T = 0.49 m/s at T = L / U = 0.25 s and needs as long
     again to stop; slow: it rides at U from U / (mu g) on and stops U / (mu g) after the cloth."""
-    assert closed_forms.tablecloth_stop_time(U, 1.0, 0.2, 0.05, 9.81) == pytest.approx(expected)
-    assert closed_forms.tablecloth_stop_time(U, 1.0, 0.0, 0.05) == 0.05 + 2.0 / U   # no friction
+    assert tablecloth.stop_time(U, 1.0, 0.2, 0.05, 9.81) == pytest.approx(expected)
+    assert tablecloth.stop_time(U, 1.0, 0.0, 0.05) == 0.05 + 2.0 / U   # no friction
 
 
 def test_the_scene_is_exported_and_has_a_moving_surface():

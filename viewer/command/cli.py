@@ -6,10 +6,9 @@ import dataclasses
 import math
 import re
 
-import closed_forms
 import simulator
 import utils
-from scenes import ranges
+from scenes import ranges, tablecloth
 from viewer.command import run
 
 DURATION = 6.0          # s: long enough to see mu = 0.11 stick (about 5.5 s), and creep
@@ -258,7 +257,7 @@ def default_duration(scenes):
         return GRASP_DURATION
     if scenes[0].surface is None:
         return CHALK_DURATION if scenes[0].hand else DURATION
-    stops = [closed_forms.tablecloth_stop_time(s.surface.pull_speed, s.surface.pull_length, s.mu,
+    stops = [tablecloth.stop_time(s.surface.pull_speed, s.surface.pull_length, s.mu,
                                                s.surface.t_pull, -s.g[1]) for s in scenes]
     for scene, stop in zip(scenes, stops):
         if not stop + STOP_MARGIN <= ranges.MAX_STEPS * scene.h:
@@ -293,7 +292,7 @@ def unfinished(scene, steps):
     if scene.surface is None:
         return scene
     s, end = scene.surface, steps * scene.h
-    stop = closed_forms.tablecloth_stop_time(s.pull_speed, s.pull_length, scene.mu, s.t_pull,
+    stop = tablecloth.stop_time(s.pull_speed, s.pull_length, scene.mu, s.t_pull,
                                              -scene.g[1])
     if end >= stop:
         return scene

@@ -8,10 +8,10 @@ import types
 import numpy as np
 import pytest
 
-import closed_forms
 import simulator
 from analysis import closing, log
 from helpers.command import closing_text, recorded, run_main
+from scenes import tablecloth
 from viewer.command import cli
 
 SLOW, FAST = 1.0, 4.0       # m/s; sqrt(mu g L) = 1.4 m/s lies between
@@ -82,12 +82,12 @@ def test_a_comparison_says_each_travel_beside_the_closed_form(compared):
     code, last, logs = compared
     assert code == 0, last
     scene = simulator.build_tablecloth_scene(pull_speed=SLOW)
-    stop = closed_forms.tablecloth_stop_time(SLOW, 1.0, 0.2, 0.05, 9.81)
+    stop = tablecloth.stop_time(SLOW, 1.0, 0.2, 0.05, 9.81)
     assert last.startswith(f"simulated {round((stop + cli.STOP_MARGIN) / scene.h)} steps")
     words = re.search(r"; the dish travelled (\S+, \S+) m \(closed form (\S+) %, (\S+) %\);", last)
     travels, offs = words.group(1), words.groups()[1:]
     for U, travel, off in zip((1.0, 4.0), travels.split(", "), offs):
-        exact = closed_forms.tablecloth_travel(U, 1.0, 0.2)
+        exact = tablecloth.travel(U, 1.0, 0.2)
         assert float(travel) == pytest.approx(exact, rel=0.01) and abs(float(off)) < 1
         assert float(off) == pytest.approx(100 * (float(travel) - exact) / exact, abs=0.1)
         assert abs(float(logs[U][-1]["v_tangential"])) < scene.epsv
@@ -131,4 +131,4 @@ def test_the_closing_words_name_the_closed_form_s_branch():
         "the dish travelled 1.0200, 0.0000 m (closed form +2.0 %, - %)"
     assert closing.closing_note(both).endswith(" (the centre of mass along the pull, end minus "
                                                "start)")
-    assert math.isclose(closed_forms.tablecloth_travel(4.0, 1.0, 0.2), exact)
+    assert math.isclose(tablecloth.travel(4.0, 1.0, 0.2), exact)
