@@ -8,8 +8,6 @@ import types
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.sparse
-import scipy.sparse.linalg
 from scipy.linalg import lapack
 
 # ---- Input checks: one line each in the energies, a ValueError that names the argument ----------
@@ -262,6 +260,7 @@ def blocks_to_ijv(nodes, blocks):
 
 def ijv_to_csr(ijv, n_dofs):
     """Sum an IJV triplet (duplicates added) into an (n_dofs, n_dofs) CSR matrix."""
+    import scipy.sparse             # here: the banded solve, every run's, needs no sparse matrix
     rows, cols, vals = ijv
     return scipy.sparse.csr_matrix((vals, (rows, cols)), shape=(n_dofs, n_dofs))
 
@@ -333,6 +332,7 @@ class SPDSolver:
         return lapack.dpbtrs(factor, b, lower=0)[0]
 
     def _superlu_solve(self, H, b):
+        import scipy.sparse.linalg      # here: only a mesh with too wide a band needs SuperLU
         A = sum(ijv_to_csr(blocks_to_ijv(nodes, blocks), self.n_dofs) for nodes, blocks in H)
         try:
             return scipy.sparse.linalg.splu(A.tocsc()).solve(b)

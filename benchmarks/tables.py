@@ -96,12 +96,12 @@ def in_turn(jobs, repeats):
     return results
 
 
-def run_process(command):
-    """Run `command` in the repository's folder (SDL's dummy driver, one BLAS thread): wall s,
+def run_process(command, cwd=ROOT, **env):
+    """Run `command` in `cwd` (SDL's dummy driver, one BLAS thread, the variables `env`): wall s,
     CPU s (nan on Windows, which keeps no children's CPU time), stderr; RuntimeError if it fails."""
-    env = {**os.environ, "SDL_VIDEODRIVER": "dummy", "OPENBLAS_NUM_THREADS": "1"}
+    env = {**os.environ, "SDL_VIDEODRIVER": "dummy", "OPENBLAS_NUM_THREADS": "1", **env}
     before, start = os.times(), time.perf_counter()
-    done = subprocess.run(command, cwd=ROOT, capture_output=True, text=True, env=env)
+    done = subprocess.run(command, cwd=cwd, capture_output=True, text=True, env=env)
     wall, after = time.perf_counter() - start, os.times()
     if done.returncode != 0:
         raise RuntimeError(f"{' '.join(command)} failed:\n{done.stderr}")
