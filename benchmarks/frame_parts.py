@@ -1,6 +1,6 @@
 """Where a frame's time goes: CPU ms per frame of each part of FrameWriter.write within the default
 `python simulator.py` run, each part's function wrapped in a timer (benchmarks/README.md, frames).
-`python -m benchmarks.frame_parts [--against REV] [--rounds N]`."""
+`python -m benchmarks.frame_parts [--against REV] [--rounds N] [--quick]`."""
 import os
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")     # before numpy loads OpenBLAS
@@ -62,7 +62,9 @@ def main(argv=None):
     ap = argparse.ArgumentParser(prog="python -m benchmarks.frame_parts", description=__doc__)
     ap.add_argument("--against", metavar="REV", help="also the tree at this commit, in turn")
     ap.add_argument("--rounds", type=int, default=5, help="runs of each tree (default 5)")
+    ap.add_argument("--quick", action="store_true", help="a smoke run: one run of each tree")
     args = ap.parse_args(argv)
+    args.rounds = 1 if args.quick else args.rounds
     if args.rounds < 1:
         print(f"{ap.prog}: error: --rounds: {args.rounds} runs; give 1 or more", file=sys.stderr)
         return 2
