@@ -77,7 +77,15 @@ def print_frames_overhead(repeats):
           f"{without:.2f} s with --no-frames (whole processes, medians of {repeats}, run "
           f"alternately): {ratio:.2f}x (target <= {FRAMES_TARGET:g}x: {verdict}; "
           f"repeats spread {100 * max(map(tables.spread, walls)):.0f}%); CPU time "
-          f"{cpu_frames:.2f} s against {cpu_without:.2f} s: {cpu_frames / cpu_without:.2f}x")
+          f"{cpu_frames:.2f} s against {cpu_without:.2f} s: {cpu_frames / cpu_without:.2f}x"
+          f"{load_text()}")
+
+
+def load_text():
+    """'; load 6.1 on 2 cores' (the last minute's load average, as the runs end), where known."""
+    if not hasattr(os, "getloadavg"):
+        return ""
+    return f"; load {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores"
 
 
 def python_version(python):

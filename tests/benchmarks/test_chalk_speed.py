@@ -94,9 +94,11 @@ def test_each_python_runs_every_run_in_turn(monkeypatch):
 
 def test_the_frames_cost_is_the_ratio_of_the_medians_of_runs_in_turn(monkeypatch, capsys):
     """--frames: the default run and --no-frames in turn, repeat after repeat; the medians, their
-    ratio against the target of 1.5x, frames per simulated second, and the CPU times' ratio.
-    (The processes are stubbed.)"""
+    ratio against the target of 1.5x, frames per simulated second, the CPU times' ratio and the
+    load. (The processes and the load are stubbed.)"""
     calls = []
+    monkeypatch.setattr(os, "getloadavg", lambda: (4.0, 3.0, 2.0), raising=False)
+    monkeypatch.setattr(os, "cpu_count", lambda: 2)
 
     def run_simulator(flags, python=sys.executable):
         calls.append(flags)
@@ -109,7 +111,9 @@ def test_the_frames_cost_is_the_ratio_of_the_medians_of_runs_in_turn(monkeypatch
     assert capsys.readouterr().out == (
         "python simulator.py: 2.00 s with 201 frames (33.3 per simulated second), 1.00 s with "
         "--no-frames (whole processes, medians of 3, run alternately): 2.00x (target <= 1.5x: NOT "
-        "met; repeats spread 20%); CPU time 1.00 s against 0.50 s: 2.00x\n")
+        "met; repeats spread 20%); CPU time 1.00 s against 0.50 s: 2.00x; load 4.0 on 2 cores\n")
+    monkeypatch.delattr(os, "getloadavg")           # Windows: no load average to say
+    assert waits.load_text() == ""
 
 
 @pytest.mark.parametrize("argv, words", [
