@@ -219,7 +219,7 @@ def tablecloth_stop_time(pull_speed, pull_length, mu, t_pull, g=9.81):
 
 def grasp_grip(scene):
     """2 mu N / m: the largest acceleration the two fingers' friction can give the block, m/s^2."""
-    return scene.mu * float(scene.fingers.squeeze.sum()) / scene.params["mass"]
+    return scene.mu * float(scene.pushed.squeeze.sum()) / scene.params["mass"]
 
 
 def grasp_load_ratio(scene, lift_accel=0.0):
@@ -231,7 +231,7 @@ def grasp_load_ratio(scene, lift_accel=0.0):
 
 def grasp_holds(scene):
     """Whether the grasp holds: 2 mu N >= m (g + a) while the lift accelerates, and m g after."""
-    return max(grasp_load_ratio(scene, scene.fingers.lift_accel), grasp_load_ratio(scene)) <= 1.0
+    return max(grasp_load_ratio(scene, scene.pushed.lift_accel), grasp_load_ratio(scene)) <= 1.0
 
 
 def grasp_creep_speed(scene, lift_accel=0.0):
@@ -250,7 +250,7 @@ def grasp_coulomb_slip(scene, t):
     """How far a rigid block with Coulomb friction has slid down the fingers by time t (m): through
     the lift's phases (still, accelerating at a, steady), its slip speed u grows at
     (g + a) - 2 mu N / m where that is > 0, and falls at that rate to 0 (sticking) where not."""
-    f = scene.fingers
+    f = scene.pushed
     t_a = f.t_lift + f.lift_speed / f.lift_accel
     s = u = 0.0
     for t0, t1, a in [(0.0, f.t_lift, 0.0), (f.t_lift, t_a, f.lift_accel), (t_a, math.inf, 0.0)]:
@@ -263,14 +263,14 @@ def grasp_coulomb_slip(scene, t):
 
 def grasp_block_com(scene, x):
     """The block's centre of mass (the fingers' rows, the last, left out)."""
-    block = len(x) - len(scene.fingers.n)
+    block = len(x) - len(scene.pushed.n)
     return np.average(x[:block], axis=0, weights=scene.m[:block])
 
 
 def grasp_slip(scene, x):
     """How far the block has slid down relative to the fingers since t = 0 (m): the fingers' lift
     minus the rise of the block's centre of mass, along the lift."""
-    f = scene.fingers
+    f = scene.pushed
     lift = float((x[len(x) - len(f.n):] @ f.tangent - f.start).mean())
     return lift - float((grasp_block_com(scene, x) - grasp_block_com(scene, scene.x0)) @ f.tangent)
 
@@ -293,4 +293,4 @@ def fitted_rate(t, s, start, end, order=1):
 
 def grasp_drop_slip(scene):
     """The slip at which the block has slid past the pads (its top below their bottom), m."""
-    return (scene.fingers.pad_length + scene.params["height"]) / 2
+    return (scene.pushed.pad_length + scene.params["height"]) / 2

@@ -30,7 +30,7 @@ def downhill(scene, u):
 def closed_creep(scene):
     """closed_forms.creep_speed (the grasp's grasp_creep_speed) in mm/s, or None where Coulomb
     friction would not hold."""
-    if scene.fingers is not None:
+    if scene.pushed is not None:
         held = closed_forms.grasp_holds(scene)
         return 1e3 * closed_forms.grasp_creep_speed(scene) if held else None
     return 1e3 * closed_forms.creep_speed(scene) if closed_forms.holds(scene) else None
@@ -165,7 +165,7 @@ def closing_words(tracks):
     scene = tracks[0].scene
     if scene.hand is not None:
         return stick_slip_words(tracks)
-    if scene.fingers is not None:
+    if scene.pushed is not None:
         if len(tracks) == 1:
             return "the block " + grasp.of_track(tracks[0])
         return each(tracks, lambda track: grasp.of_track(track, short=True))
@@ -176,7 +176,7 @@ def counted(scene):
     """What closing_words count, in words."""
     if scene.hand is not None:
         return " ".join(stick_slip.definition(scene))
-    if scene.fingers is not None:
+    if scene.pushed is not None:
         return "slip: the fingers' lift minus the block's rise; dropped: slid past the pads"
     if scene.surface is not None:
         return "the centre of mass along the pull, end minus start"

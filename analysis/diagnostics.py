@@ -16,8 +16,8 @@ LECTURE_TERMS = ("gravity", "spring", "barrier")     # always in the budget, 0 w
 
 def energy_terms(scene):
     """The budget's potential terms: the lecture's three, then the scene's others storing energy."""
-    others = tuple(name for name, term in time_integrator.TERMS.items()
-                   if name not in LECTURE_TERMS and name in scene.terms and term.stores_energy)
+    others = tuple(name for name in scene.terms if name not in LECTURE_TERMS + ("inertia",)
+                   and time_integrator.TERMS.get(name, scene.pushed).stores_energy)
     return LECTURE_TERMS + others
 
 
@@ -25,7 +25,7 @@ def term_energy(scene, name, x, targets=None):
     """One term's energy at x (J), with the hand's `targets`; 0 for a term the scene lacks."""
     if name not in scene.terms and not (name == "gravity" and scene.g is not None):
         return 0.0
-    term = time_integrator.TERMS[name]      # the kernel: the scene was checked when it was built
+    term = time_integrator.TERMS.get(name, scene.pushed)    # the kernel: the scene is checked
     lagged = time_integrator.Lagged(x, x, None, targets)
     return term.module.val_kernel(*term.args(scene, lagged, x, None))
 
@@ -49,13 +49,13 @@ def hand_work(scene, x, t1, before):
 
 def body(scene, x):
     """The rows of x (N, 2) that are the body's: all but the grasp's fingers' (the last rows)."""
-    return x if scene.fingers is None else x[:len(x) - len(scene.fingers.n)]
+    return x if scene.pushed is None else x[:len(x) - len(scene.pushed.n)]
 
 
 def centre_of_mass(scene, a):
     """sum_i m_i a_i / sum_i m_i of per-node vectors a (N, 2): the body's (the block's, without the
     grasp's fingers)."""
-    if scene.fingers is not None:
+    if scene.pushed is not None:
         return closed_forms.grasp_block_com(scene, a)
     return scene.m @ a / scene.m.sum()
 
@@ -63,15 +63,15 @@ def centre_of_mass(scene, a):
 def tangent(scene):
     """The slope's unit tangent down to the right, (n_y, -n_x); the grasp's lift; (1, 0) without
     either."""
-    if scene.fingers is not None:
-        return scene.fingers.tangent
+    if scene.pushed is not None:
+        return scene.pushed.tangent
     return np.array([1.0, 0.0]) if scene.n is None else FrictionEnergy.tangent(scene.n)
 
 
 def min_distance(scene, x):
     """min_k n . (x_k - o), or to a finger (inf without either)."""
-    if scene.fingers is not None:
-        return float(FingerEnergy.distances(x, scene.fingers.n).min())
+    if scene.pushed is not None:
+        return float(FingerEnergy.distances(x, scene.pushed.n).min())
     if scene.n is None:
         return math.inf
     return float(BarrierEnergy.distances(x, scene.n, scene.o).min())
@@ -81,9 +81,9 @@ def contact_velocities(scene, x, v, v_s=0.0):
     """t . (v_k - v_s) (m/s) of the nodes with d_k < dhat: the relative tangential velocity along
     `tangent` (v_s 0: a still surface); the grasp's along the lift, each finger's contacts one
     after the other."""
-    if scene.fingers is not None:
-        in_contact = FingerEnergy.distances(x, scene.fingers.n) < scene.dhat     # (F, N_block)
-        along = (v[:in_contact.shape[1]] - v_s) @ scene.fingers.tangent          # (N_block,)
+    if scene.pushed is not None:
+        in_contact = FingerEnergy.distances(x, scene.pushed.n) < scene.dhat     # (F, N_block)
+        along = (v[:in_contact.shape[1]] - v_s) @ scene.pushed.tangent          # (N_block,)
         return np.broadcast_to(along, in_contact.shape)[in_contact]
     if scene.n is None:
         return np.zeros(0)
@@ -109,16 +109,16 @@ def at_rest(sticking, sliding):
 
 def finger_forces(scene, x):
     """Each finger's normal force on the block, sum_i lambda_fi (F,), N."""
-    return FingerEnergy.compute_mu_lambda_kernel(x, scene.fingers.n, scene.contact_area, 1.0,
+    return FingerEnergy.compute_mu_lambda_kernel(x, scene.pushed.n, scene.contact_area, 1.0,
                                                  scene.dhat, scene.kappa).sum(axis=1)
 
 
 def normal_forces(scene, x):
     """lambda_k n at every node (N, 2): BarrierEnergy.compute_mu_lambda's kernel with mu = 1; the
     sum over the fingers of lambda_fk n_f with the grasp's."""
-    if scene.fingers is not None:
-        return FingerEnergy.compute_mu_lambda_kernel(x, scene.fingers.n, scene.contact_area, 1.0,
-                                                     scene.dhat, scene.kappa).T @ scene.fingers.n
+    if scene.pushed is not None:
+        return FingerEnergy.compute_mu_lambda_kernel(x, scene.pushed.n, scene.contact_area, 1.0,
+                                                     scene.dhat, scene.kappa).T @ scene.pushed.n
     if "barrier" not in scene.terms:
         return np.zeros_like(x)
     lam = BarrierEnergy.compute_mu_lambda_kernel(x, scene.n, scene.o, scene.contact_area, 1.0,

@@ -12,7 +12,7 @@ SETTLE = 0.05       # s left out of a fit after a phase of the lift begins (the 
 
 def phases(scene):
     """The lift's phases: (words, start, end, acceleration a), still, accelerating, steady."""
-    f = scene.fingers
+    f = scene.pushed
     t_a = f.t_lift + f.lift_speed / f.lift_accel
     return [("before the lift", 0.0, f.t_lift, 0.0),
             ("while the lift accelerates", f.t_lift, t_a, f.lift_accel),

@@ -18,12 +18,12 @@ def with_hand(scene):
 def with_surface(scene):
     """Whether a scene's surface moves (the tablecloth, the grasp's lifted fingers): its speed, the
     slip and the heat logged."""
-    return scene.surface is not None or scene.fingers is not None
+    return scene.surface is not None or scene.pushed is not None
 
 
 def with_fingers(scene):
     """Whether a scene has fingers (the grasp): the block's slip, their forces, energy and work."""
-    return scene.fingers is not None
+    return scene.pushed is not None
 
 
 def solver(figure, at_start):

@@ -16,15 +16,17 @@ u* / 50, about 1 % off.
 
     scene = build_grasp_scene(squeeze=4.0)  # the numbers (GRASP), one of them changed
 """
+import dataclasses
 import types
 
 import numpy as np
 
+import FingerEnergy
 import MassSpringEnergy
 import square_mesh
 import utils
 from scenes import ranges
-from scenes.scene import Fingers, Scene, gap_carrying, readonly
+from scenes.scene import Scene, gap_carrying, readonly
 
 GRASP = types.MappingProxyType({
     "width": 0.05, "height": 0.05,  # m: the block
@@ -46,6 +48,82 @@ GRASP = types.MappingProxyType({
     "friction_updates": 0, "max_newton_iterations": 1000, "max_halvings": 60,
     "newton_start": "x_n",
 })
+
+
+@dataclasses.dataclass(frozen=True)
+class Fingers:
+    """The grasp's pushed surfaces (time_integrator's `scene.pushed`): finger f is the half-space
+    through row len(x) - F + f of x with normal n[f], pressed by squeeze[f] along it (FingerEnergy:
+    its offset along n[f] an unknown of the step); its motion along `tangent` is prescribed, the
+    lift: from t_lift at lift_accel up to lift_speed, then steady. Friction slips on v - v_s, v_s
+    the lift's velocity over the step, along the one tangent every finger shares."""
+    n: np.ndarray               # (F, 2) unit normals, toward the block
+    squeeze: np.ndarray         # (F,) N: each finger's pressing force
+    start: np.ndarray           # (F,) each finger node's coordinate along `tangent` at t = 0, m
+    tangent: np.ndarray         # (2,) the direction of the lift (along every finger)
+    lift_accel: float           # a, m/s^2
+    lift_speed: float           # V, m/s
+    t_lift: float               # when the lift starts, s
+    pad_length: float           # each finger's pad, centred on its node at t = 0 (drawn), m
+    module, stores_energy = FingerEnergy, True      # its term, as time_integrator.TERMS' entries
+
+    def args(self, s, lagged, x, v):
+        """FingerEnergy's arguments in the lecture's order, as a Term's."""
+        return x, self.n, self.squeeze, s.contact_area, s.dhat, s.kappa
+
+    def offset(self, t):
+        """How far the fingers have lifted by time t (m): a tau^2 / 2 for tau = t - t_lift up to
+        V / a, then V tau - V^2 / (2 a) (0 before t_lift)."""
+        tau, t_a = max(t - self.t_lift, 0.0), self.lift_speed / self.lift_accel
+        return self.lift_accel * tau * tau / 2 if tau < t_a else self.lift_speed * (tau - t_a / 2)
+
+    def velocity(self, t, h):
+        """v_s of the time step of length h ending at t: the lift over the step, over h."""
+        return self.tangent * ((self.offset(t) - self.offset(t - h)) / h)
+
+    def along(self, a):
+        """t . a_f (F,) of the fingers' rows of a (N, 2)."""
+        return FingerEnergy.split(a, self.n)[1] @ self.tangent
+
+    def lifted(self, x, t):
+        """x with each finger's row moved along `tangent` to start + offset(t) (a new array)."""
+        x = x.copy()
+        x[len(x) - len(self.n):] += np.outer(self.start + self.offset(t) - self.along(x),
+                                             self.tangent)
+        return x
+
+    def prescribe(self, lagged, t):
+        """The step's `lagged` (x^n checked in front of every finger) with the fingers' rows of x^n,
+        Newton's start, and x_tilde at the lift of t: no term depends on that coordinate (only
+        d = n . (x_i - x_f), n . tangent = 0), so it is a Dirichlet condition (5_mov_dirichlet)."""
+        FingerEnergy.check_above(lagged.x_n, self.n)
+        return dataclasses.replace(lagged, x_n=self.lifted(lagged.x_n, t),
+                                   x_tilde=self.lifted(lagged.x_tilde, t))
+
+    def eliminate(self, g):
+        """g (N, 2) without its component along `tangent` on the fingers' rows: the prescribed
+        coordinates are no unknowns of the step (5_mov_dirichlet's DBC elimination)."""
+        g = g.copy()
+        g[len(g) - len(self.n):] -= np.outer(self.along(g), self.tangent)
+        return g
+
+    def mu_lambda(self, scene, x, mu):
+        """mu lambda_i (N,), summed over the fingers (FingerEnergy.compute_mu_lambda_kernel): they
+        share one tangent, so friction's T is one."""
+        return FingerEnergy.compute_mu_lambda_kernel(x, self.n, scene.contact_area, mu, scene.dhat,
+                                                     scene.kappa).sum(axis=0)
+
+    def init_step_size(self, x, p):
+        """Algorithm 4, line 1, against the moving fingers (FingerEnergy.init_step_size_kernel)."""
+        return FingerEnergy.init_step_size_kernel(x, self.n, p)
+
+    def min_distance(self, x):
+        """The smallest d_fi = n_f . (x_i - x_f) (FingerEnergy.distances)."""
+        return float(FingerEnergy.distances(x, self.n).min())
+
+    def work(self, force, dx):
+        """sum_f (t . force_f)(t . dx_f) over the fingers' rows of force and dx (N, 2), J."""
+        return float(self.along(force) @ self.along(dx))
 
 
 def check_params(overrides):
@@ -109,4 +187,4 @@ def build_grasp_scene(**overrides):
         newton_start=p["newton_start"], max_newton_iterations=p["max_newton_iterations"],
         max_halvings=p["max_halvings"], terms=terms, warnings=(),
         solver=utils.SPDSolver.for_mesh(len(x), e, elements=[pairs]),
-        cells=(p["nx"], p["ny"]), fingers=fingers)
+        cells=(p["nx"], p["ny"]), pushed=fingers)

@@ -254,7 +254,7 @@ def scene_from_args(args):
 def default_duration(scenes):
     """DURATION, CHALK_DURATION, GRASP_DURATION, or STOP_MARGIN after the runs' last closed-form
     dish stops."""
-    if scenes[0].fingers is not None:
+    if scenes[0].pushed is not None:
         return GRASP_DURATION
     if scenes[0].surface is None:
         return CHALK_DURATION if scenes[0].hand else DURATION

@@ -197,7 +197,7 @@ def reference_force(scene):
 def friction_zoom(scene):
     """How much longer friction arrows are drawn: FRICTION_ZOOM for the square, 1 for the chalk
     and the grasp (friction there is of the normal force's size)."""
-    return FRICTION_ZOOM if scene.hand is None and scene.fingers is None else 1.0
+    return FRICTION_ZOOM if scene.hand is None and scene.pushed is None else 1.0
 
 
 def newton_per_metre(scene):
@@ -245,7 +245,7 @@ def draw_forces(pygame, surface, runs, view, newton_per_metre):
 def draw_fingers(pygame, surface, scene, x, view):
     """The grasp's fingers as pads: pad_length along the lift, centred on each finger's node (its
     row of x), PAD_DEPTH x view.unit deep behind its surface (against its normal)."""
-    f = scene.fingers
+    f = scene.pushed
     along = 0.5 * f.pad_length * np.array([-1.0, 1.0, 1.0, -1.0])[:, None] * f.tangent
     for n_f, x_f in zip(f.n, x[len(x) - len(f.n):]):
         behind = PAD_DEPTH * view.unit * np.array([0.0, 0.0, 1.0, 1.0])[:, None] * n_f
@@ -316,7 +316,7 @@ def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None, reserve=(0, 
         draw_square(pygame, surface, run["scene"], run["x"], view, run["color"])
         if run["scene"].hand is not None:
             draw_hand(pygame, surface, run["scene"], run["x"], t, view)
-        if run["scene"].fingers is not None:
+        if run["scene"].pushed is not None:
             draw_fingers(pygame, surface, run["scene"], run["x"], view)
     if newton_per_metre is not None:
         arrows = draw_forces(pygame, surface, runs, view, newton_per_metre)
@@ -330,7 +330,7 @@ def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None, reserve=(0, 
     if cloths:
         words = "the cloth" if len(cloths) == 1 else "the cloths, top to bottom as the runs"
         top = draw_legend(pygame, surface, small, [(CLOTH_STRIPE, words)], top + 4)
-    if scene.fingers is not None:
+    if scene.pushed is not None:
         top = draw_legend(pygame, surface, small, [(FINGER_COLOR, "the fingers' pads")], top + 4)
     if scene.hand is not None:
         hand = [(HAND_COLOR, "the hand: its targets and springs")] + tip_marks.legend(chalks)

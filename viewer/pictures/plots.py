@@ -149,7 +149,7 @@ def series(track):
     return {"t": column("t"), "E": {k: column(f"E_{k}") for k in terms},
             "W": column("W_friction"), "D": column("D_numerical"),
             "newton": column("newton_iterations"), "W_hand": None,
-            "W_lift": column("W_lift") if track.scene.fingers is not None else None,
+            "W_lift": column("W_lift") if track.scene.pushed is not None else None,
             **{k: column(k) for k in chalk},
             **{k: np.array([getattr(x, k) for x in s]) for k in cloth},
             "along": np.array([(c - com[0]) @ track.tangent for c in com]),
@@ -190,7 +190,7 @@ def square_panels(axes, tracks, data):
     cloth = tracks[0].scene.surface is not None         # speeds relative to it (v_p - v_s)
     speed, along = ("relative speed v_p - v_s", "the table") if cloth else ("tangential speed",
                                                                               "the slope")
-    if tracks[0].scene.fingers is not None:             # relative to the fingers
+    if tracks[0].scene.pushed is not None:             # relative to the fingers
         speed, along = "relative speed v_p - v_s", "the lift"
     if len(tracks) == 1:
         (tr,), (d,) = tracks, data

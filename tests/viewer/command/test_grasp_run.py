@@ -13,8 +13,8 @@ def test_grasp_flags_reach_the_scene_and_a_list_compares_squeezes():
     runs = cli.parse_command_line(["--scene", "grasp", "--squeeze", "1,2,4", "--lift-accel", "1",
                                    "--mu", "0.4", "--mass", "0.3", "--epsv", "2e-3"])
     plan = cli.plan_from_args(runs)
-    assert [float(s.fingers.squeeze[0]) for s in plan.scenes] == [1.0, 2.0, 4.0]
-    assert all(s.fingers.lift_accel == 1.0 and s.mu == 0.4 and s.params["mass"] == 0.3
+    assert [float(s.pushed.squeeze[0]) for s in plan.scenes] == [1.0, 2.0, 4.0]
+    assert all(s.pushed.lift_accel == 1.0 and s.mu == 0.4 and s.params["mass"] == 0.3
                and s.epsv == 2e-3 for s in plan.scenes)
     assert plan.labels == ["squeeze = 1", "squeeze = 2", "squeeze = 4"]
     assert plan.steps == [round(cli.GRASP_DURATION / 0.005)] * 3 and plan.kind == "grasp"
