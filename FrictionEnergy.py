@@ -19,6 +19,8 @@ reduces to T = t t^T (`tangent`).
 `val`, `grad`, `hess` check their input and call the `*_kernel` of the same name, which holds the
 formula and trusts its input (the time integrator calls the kernels on a scene validated once).
 """
+import math
+
 import numpy as np
 
 import utils
@@ -47,6 +49,12 @@ def f_hess_term(vbarnorm, epsv):
     """(f1'(||vbar||) ||vbar|| - f1(||vbar||)) / ||vbar||^2: -1 / eps_v^2 for ||vbar|| < eps_v, else
     -1 / ||vbar||^2."""
     return -1.0 / np.maximum(vbarnorm, epsv) ** 2
+
+
+def f1_inverse(f, epsv):
+    """The speed v where the mollifier reaches f <= 1: f1(v) = 2v/eps_v - v^2/eps_v^2 = f,
+    v = eps_v (1 - sqrt(1 - f)); a held body creeps there, f its load over mu N."""
+    return epsv * (1.0 - math.sqrt(1.0 - f))
 
 
 # --- friction that weakens with slip (not in the lecture: its chalk remark, mu_s > mu_k) ----------

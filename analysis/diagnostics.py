@@ -1,14 +1,12 @@
 """What a state tells beyond the step's report: contacts (d_k = n . (x_k - o) < dhat), sticking
 (||(I - n n^T)(v_k - v_s)|| < eps_v) and sliding, forces, inverted cells, the energy budget, the
-tip; with the grasp's fingers, each over every finger, and the body without the fingers' rows."""
+tip; with pushed surfaces (scene.pushed), over every surface, and the body without their rows."""
 import math
 
 import numpy as np
 
 import BarrierEnergy
-import FingerEnergy
 import FrictionEnergy
-import closed_forms
 import time_integrator
 
 LECTURE_TERMS = ("gravity", "spring", "barrier")     # always in the budget, 0 where absent
@@ -48,20 +46,20 @@ def hand_work(scene, x, t1, before):
 
 
 def body(scene, x):
-    """The rows of x (N, 2) that are the body's: all but the grasp's fingers' (the last rows)."""
-    return x if scene.pushed is None else x[:len(x) - len(scene.pushed.n)]
+    """The rows of x (N, 2) that are the body's: all but pushed surfaces' own."""
+    return x if scene.pushed is None else scene.pushed.body(x)
 
 
 def centre_of_mass(scene, a):
     """sum_i m_i a_i / sum_i m_i of per-node vectors a (N, 2): the body's (the block's, without the
-    grasp's fingers)."""
+    pushed surfaces' rows)."""
     if scene.pushed is not None:
-        return closed_forms.grasp_block_com(scene, a)
+        return np.average(body(scene, a), axis=0, weights=body(scene, scene.m))
     return scene.m @ a / scene.m.sum()
 
 
 def tangent(scene):
-    """The slope's unit tangent down to the right, (n_y, -n_x); the grasp's lift; (1, 0) without
+    """The slope's unit tangent down to the right, (n_y, -n_x); pushed surfaces'; (1, 0) without
     either."""
     if scene.pushed is not None:
         return scene.pushed.tangent
@@ -69,9 +67,9 @@ def tangent(scene):
 
 
 def min_distance(scene, x):
-    """min_k n . (x_k - o), or to a finger (inf without either)."""
+    """min_k n . (x_k - o), or to pushed surfaces (inf without either)."""
     if scene.pushed is not None:
-        return float(FingerEnergy.distances(x, scene.pushed.n).min())
+        return scene.pushed.min_distance(x)
     if scene.n is None:
         return math.inf
     return float(BarrierEnergy.distances(x, scene.n, scene.o).min())
@@ -79,12 +77,9 @@ def min_distance(scene, x):
 
 def contact_velocities(scene, x, v, v_s=0.0):
     """t . (v_k - v_s) (m/s) of the nodes with d_k < dhat: the relative tangential velocity along
-    `tangent` (v_s 0: a still surface); the grasp's along the lift, each finger's contacts one
-    after the other."""
+    `tangent` (v_s 0: a still surface); pushed surfaces' (their contact_velocities)."""
     if scene.pushed is not None:
-        in_contact = FingerEnergy.distances(x, scene.pushed.n) < scene.dhat     # (F, N_block)
-        along = (v[:in_contact.shape[1]] - v_s) @ scene.pushed.tangent          # (N_block,)
-        return np.broadcast_to(along, in_contact.shape)[in_contact]
+        return scene.pushed.contact_velocities(scene, x, v, v_s)
     if scene.n is None:
         return np.zeros(0)
     in_contact = BarrierEnergy.distances(x, scene.n, scene.o) < scene.dhat
@@ -107,18 +102,11 @@ def at_rest(sticking, sliding):
     return sticking > 0 and sliding == 0
 
 
-def finger_forces(scene, x):
-    """Each finger's normal force on the block, sum_i lambda_fi (F,), N."""
-    return FingerEnergy.compute_mu_lambda_kernel(x, scene.pushed.n, scene.contact_area, 1.0,
-                                                 scene.dhat, scene.kappa).sum(axis=1)
-
-
 def normal_forces(scene, x):
     """lambda_k n at every node (N, 2): BarrierEnergy.compute_mu_lambda's kernel with mu = 1; the
-    sum over the fingers of lambda_fk n_f with the grasp's."""
+    sum over pushed surfaces of lambda_fk n_f with theirs."""
     if scene.pushed is not None:
-        return FingerEnergy.compute_mu_lambda_kernel(x, scene.pushed.n, scene.contact_area, 1.0,
-                                                     scene.dhat, scene.kappa).T @ scene.pushed.n
+        return scene.pushed.lambdas(scene, x).T @ scene.pushed.n
     if "barrier" not in scene.terms:
         return np.zeros_like(x)
     lam = BarrierEnergy.compute_mu_lambda_kernel(x, scene.n, scene.o, scene.contact_area, 1.0,

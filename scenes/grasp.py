@@ -2,7 +2,7 @@
 vertical fingers, each pressed against it by a force N, that lift it. It holds iff friction,
 2 mu N, carries m (g + a) while the lift accelerates and m g after; held, it still creeps down at
 u* = eps_v (1 - sqrt(1 - m g / (2 mu N))), IPC's mollified friction having no true static friction
-(closed_forms.grasp_*; docs/grasp.md).
+(the closed forms and the words below; docs/grasp.md).
 
 The block starts settled between the pressed fingers, at the gap where each side's barrier carries
 N (not dropped). The fingers are the last two rows of x (FingerEnergy): their offsets along their
@@ -17,11 +17,13 @@ u* / 50, about 1 % off.
     scene = build_grasp_scene(squeeze=4.0)  # the numbers (GRASP), one of them changed
 """
 import dataclasses
+import math
 import types
 
 import numpy as np
 
 import FingerEnergy
+import FrictionEnergy
 import MassSpringEnergy
 import square_mesh
 import utils
@@ -126,6 +128,34 @@ class Fingers:
         return float(self.along(force) @ self.along(dx))
 
 
+    def body(self, a):
+        """The rows of a (N, ...) that are the block's: all but the fingers' (the last)."""
+        return a[:len(a) - len(self.n)]
+
+    def lambdas(self, scene, x):
+        """lambda_fi (F, N): each finger's normal force on each node."""
+        return FingerEnergy.compute_mu_lambda_kernel(x, self.n, scene.contact_area, 1.0,
+                                                     scene.dhat, scene.kappa)
+
+    def contact_velocities(self, scene, x, v, v_s):
+        """t . (v_i - v_s) of the block nodes within dhat of a finger, finger by finger."""
+        in_contact = FingerEnergy.distances(x, self.n) < scene.dhat         # (F, N_block)
+        return np.broadcast_to(self.body(v - v_s) @ self.tangent, in_contact.shape)[in_contact]
+
+    def figures(self, scene, x):
+        """What log.csv adds for a state x: the slip (m) and each finger's force (N)."""
+        return {"slip": slip(scene, x), "finger_forces": self.lambdas(scene, x).sum(axis=1)}
+
+    def closed_creep(self, scene):
+        """u* in the steady lift (m/s), or None where the grasp does not hold."""
+        return creep_speed(scene) if holds(scene) else None
+
+    def words(self, track, short=False):
+        """The closing words of a run's kept states (of_track)."""
+        return of_track(track, short)
+
+    counted = "slip: the fingers' lift minus the block's rise; dropped: slid past the pads"
+
 def check_params(overrides):
     """GRASP updated by `overrides`, each value checked (a ValueError naming the parameter)."""
     checks = {**dict.fromkeys(("width", "height", "mass", "squeeze", "finger_mass", "lift_accel",
@@ -188,3 +218,126 @@ def build_grasp_scene(**overrides):
         max_halvings=p["max_halvings"], terms=terms, warnings=(),
         solver=utils.SPDSolver.for_mesh(len(x), e, elements=[pairs]),
         cells=(p["nx"], p["ny"]), pushed=fingers)
+
+
+# ---- The closed forms: a block of mass m between two fingers pressed with N each -----------------
+
+def grip(scene):
+    """2 mu N / m: the largest acceleration the two fingers' friction can give the block, m/s^2."""
+    return scene.mu * float(scene.pushed.squeeze.sum()) / scene.params["mass"]
+
+
+def load_ratio(scene, lift_accel=0.0):
+    """m (g + a) / (2 mu N): the load on friction while the fingers lift at acceleration a (inf
+    without friction)."""
+    return (-scene.g[1] + lift_accel) / grip(scene) if grip(scene) > 0.0 else math.inf
+
+
+def holds(scene):
+    """Whether the grasp holds: 2 mu N >= m (g + a) while the lift accelerates, and m g after."""
+    return max(load_ratio(scene, scene.pushed.lift_accel), load_ratio(scene)) <= 1.0
+
+
+def creep_speed(scene, lift_accel=0.0):
+    """u* = eps_v (1 - sqrt(1 - m (g + a) / (2 mu N))) (FrictionEnergy.f1_inverse): held, its
+    creep down the fingers, steady lift (a = 0) or while it accelerates; nan where it slips."""
+    ratio = load_ratio(scene, lift_accel)
+    return FrictionEnergy.f1_inverse(ratio, scene.epsv) if ratio <= 1.0 else math.nan
+
+
+def slip_acceleration(scene, lift_accel=0.0):
+    """(g + a) - 2 mu N / m: the block's acceleration down the fingers while it slips."""
+    return -scene.g[1] + lift_accel - grip(scene)
+
+
+def phases(scene):
+    """The lift's phases: (words, start, end, acceleration a), still, accelerating, steady."""
+    f = scene.pushed
+    t_a = f.t_lift + f.lift_speed / f.lift_accel
+    return [("before the lift", 0.0, f.t_lift, 0.0),
+            ("while the lift accelerates", f.t_lift, t_a, f.lift_accel),
+            ("in the steady lift", t_a, math.inf, 0.0)]
+
+
+def coulomb_slip(scene, t):
+    """How far a rigid block with Coulomb friction has slid down the fingers by time t (m): through
+    the lift's phases, its slip speed u grows at (g + a) - 2 mu N / m where that is > 0, and falls
+    at that rate to 0 (sticking) where not."""
+    s = u = 0.0
+    for _, t0, t1, a in phases(scene):
+        du = slip_acceleration(scene, a)
+        T = max(min(t1, t) - t0, 0.0)
+        T = T if du >= 0.0 else min(T, u / -du)                 # until it sticks again
+        s, u = s + u * T + du * T * T / 2, u + du * T
+    return s
+
+
+def slip(scene, x):
+    """How far the block has slid down relative to the fingers since t = 0 (m): the fingers' lift
+    minus the rise of the block's centre of mass, along the lift."""
+    f, m = scene.pushed, scene.pushed.body(scene.m)
+    rise = (np.average(f.body(x), axis=0, weights=m)
+            - np.average(f.body(scene.x0), axis=0, weights=m)) @ f.tangent
+    return float((f.along(x) - f.start).mean()) - float(rise)
+
+
+def drop_slip(scene):
+    """The slip at which the block has slid past the pads (its top below their bottom), m."""
+    return (scene.pushed.pad_length + scene.params["height"]) / 2
+
+
+# ---- In words: held (its creep beside u*), dropped (its slip acceleration beside the closed form)
+
+SETTLE = 0.05       # s left out of a fit after a phase of the lift begins (the springs take it up)
+
+
+def fitted_rate(t, s, start, end, order=1):
+    """The slip's speed (order 1: a line's slope) or acceleration (order 2: twice a parabola's
+    leading coefficient) fitted to s over start <= t <= end."""
+    window = (t >= start - 1e-9) & (t <= end + 1e-9)
+    return float(np.polyfit(t[window], s[window], order)[0]) * order
+
+
+def outcome(scene, t, s):
+    """(held, t_drop, phase words, measured, closed form) from the slip s at times t: a block on
+    the pads at the end, its slip speed (m/s) in the phase the run ends in beside the creep u* (held
+    where it is below eps_v, else still slipping); a dropped one's slip acceleration (m/s^2) in the
+    phase it slid past the pads in; t_drop None where not dropped; measured nan where too few
+    states. The fit leaves out SETTLE after the phase begins, or takes its last half where that
+    holds fewer than 4 states."""
+    dropped = np.flatnonzero(s >= drop_slip(scene))
+    end = float(t[dropped[0]]) if dropped.size else float(t[-1])
+    words, start, _, a = next(p for p in phases(scene) if p[1] <= max(end - 1e-9, 0.0) < p[2])
+    window = (t >= start + SETTLE - 1e-9) & (t <= end + 1e-9)
+    window = window if window.sum() >= 4 else (t >= (start + end) / 2 - 1e-9) & (t <= end + 1e-9)
+    order = 2 if dropped.size else 1
+    measured = (fitted_rate(t[window], s[window], start, end, order)
+                if window.sum() > order + 1 else math.nan)
+    exact = slip_acceleration(scene, a) if dropped.size else creep_speed(scene, a)
+    return not dropped.size, end if dropped.size else None, words, measured, exact
+
+
+def words(scene, t, s, short=False):
+    """'held (slid 0.66 mm, Coulomb 0), creeps 0.498 mm/s in the steady lift (u* 0.500)',
+    'dropped at 0.62 s, slips 2.462 m/s^2 while the lift accelerates (closed form 2.462)', or
+    'slips on the pads at 0.60 s: ...'; `short`, for a comparison's closing: 'held, creeps 0.498
+    mm/s (u* 0.500)', 'dropped at 0.62 s'."""
+    on_pads, t_drop, phase, measured, exact = outcome(scene, t, s)
+    if not on_pads:
+        return f"dropped at {t_drop:.2f} s" + ("" if short else (
+            f", slips {measured:.3f} m/s^2 {phase} (closed form {exact:.3f})"))
+    slid = f"slid {1e3 * s[-1]:.2f} mm, Coulomb {1e3 * coulomb_slip(scene, float(t[-1])):.3g}"
+    if not measured < scene.epsv:
+        return f"slips on the pads at {t[-1]:.2f} s" + ("" if short else (
+            f": {1e3 * measured:.1f} mm/s {phase} ({slid})"))
+    creeps = f"creeps {1e3 * measured:.3f} mm/s"
+    if short:
+        return f"held, {creeps} (u* {1e3 * exact:.3f})"
+    return f"held ({slid}), {creeps} {phase} (u* {1e3 * exact:.3f})"
+
+
+def of_track(track, short=False):
+    """words() of a run's kept states (a recording.Track: each with its t and slip)."""
+    samples = track.samples.all()
+    t, s = np.array([x.t for x in samples]), np.array([x.slip for x in samples])
+    return words(track.scene, t, s, short)
