@@ -155,6 +155,22 @@ class Fingers:
         return of_track(track, short)
 
     counted = "slip: the fingers' lift minus the block's rise; dropped: slid past the pads"
+    pads_words = "the fingers' pads"
+
+    def pads(self, x, depth):
+        """Each finger's pad, (4, 2) corners: pad_length along the lift, centred on its node's row
+        of x, `depth` deep behind its surface (against its normal)."""
+        along = 0.5 * self.pad_length * np.array([-1.0, 1.0, 1.0, -1.0])[:, None] * self.tangent
+        behind = depth * np.array([0.0, 0.0, 1.0, 1.0])[:, None]
+        fingers = FingerEnergy.split(x, self.n)[1]
+        return [x_f + along - behind * n_f for n_f, x_f in zip(self.n, fingers)]
+
+    def header(self, scene):
+        """The summary's line of the grasp's numbers."""
+        p = scene.params
+        return (f"block {p['width'] * 100:g} x {p['height'] * 100:g} cm, {p['mass']:g} kg   "
+                f"squeeze N = {p['squeeze']:g} N a finger   lift at a = {self.lift_accel:g} m/s^2 "
+                f"to {self.lift_speed:g} m/s from t = {self.t_lift:g} s   mu = {scene.mu:g}")
 
 def check_params(overrides):
     """GRASP updated by `overrides`, each value checked (a ValueError naming the parameter)."""

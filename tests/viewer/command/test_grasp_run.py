@@ -43,4 +43,4 @@ def test_a_grasp_run_says_held_or_dropped_logs_the_slip_and_draws_the_pads(tmp_p
     assert np.allclose(forces[-2:], 4.0, rtol=1e-4)     # settled
     pygame = draw.load_pygame()
     frame = pygame.surfarray.array3d(pygame.image.load(str(tmp_path / "frame_00000.png")))
-    assert np.all(frame == draw.FINGER_COLOR, axis=2).sum() > 500      # the pads, and the legend
+    assert np.all(frame == draw.PUSHED_COLOR, axis=2).sum() > 500      # the pads, and the legend

@@ -13,7 +13,7 @@ def test_the_window_draws_the_grasp_s_pads_and_its_newton_iterations():
     def script():
         yield from frames_until(lambda: w.run.index >= 20)
         pixels = pygame().surfarray.array3d(w.screen)
-        seen["pads"] = int(np.all(pixels == draw.FINGER_COLOR, axis=2).sum())
+        seen["pads"] = int(np.all(pixels == draw.PUSHED_COLOR, axis=2).sum())
         press("K_SPACE")
         yield
         press("K_n")
