@@ -12,3 +12,7 @@
 `simulator.py` gathers them (`simulator.build_scene`, `build_chalk_scene`,
 `build_tablecloth_scene`, `build_grasp_scene`) and steps them.
 """
+from scenes import grasp
+
+UNITS = {"grasp": grasp}    # the scenes that declare their command line and log columns as data:
+#   FLAGS, LABEL, HELP, DURATION, PARAMS, BUILD (viewer/command/cli.py); LOG_COLUMNS (analysis/log)

@@ -357,3 +357,24 @@ def of_track(track, short=False):
     samples = track.samples.all()
     t, s = np.array([x.t for x in samples]), np.array([x.slip for x in samples])
     return words(track.scene, t, s, short)
+
+
+# ---- What the command line and log.csv read (scenes.UNITS) ---------------------------------------
+
+PARAMS, BUILD = GRASP, build_grasp_scene
+FLAGS = [(("--squeeze",), "squeeze", "NEWTONS",
+          "--scene grasp: each finger's pressing force N in N"),
+         (("--lift-accel",), "lift_accel", "M_PER_S2",
+          "--scene grasp: the fingers' lift acceleration a in m/s^2")]
+LABEL = "squeeze = {squeeze:g} N, mu = {mu:g}"      # a single run's label
+HELP = "a block lifted between two pressed fingers"
+DURATION = 1.5      # s: the lift's acceleration (0.1 s to 0.5 s), then 1 s of steady lift
+LOG_COLUMNS = [     # (name, unit, label, meaning, format, value(sample)): analysis/log.py's Column
+    ("E_fingers", "J", "fingers' energy", "the barrier against the fingers plus their squeeze's "
+     "potential -N n_f . x_f (the grasp)", ".9g", lambda s: s.energies["fingers"]),
+    ("slip", "m", "slip", "how far the block has slid down relative to the fingers since t = 0: "
+     "their lift minus the rise of its centre of mass (the grasp)", ".9f", lambda s: s.slip),
+    ("normal_force_left", "N", "left finger's force", "the left finger's normal force on the "
+     "block, the sum of its lambda_i (the grasp)", ".9g", lambda s: float(s.finger_forces[0])),
+    ("normal_force_right", "N", "right finger's force", "the right finger's normal force on the "
+     "block, the sum of its lambda_i (the grasp)", ".9g", lambda s: float(s.finger_forces[1]))]

@@ -5,6 +5,7 @@ import csv
 import numpy as np
 
 from helpers.command import closing_text, run_main
+from scenes import grasp
 from viewer.command import cli, run
 from viewer.pictures import draw
 
@@ -17,7 +18,7 @@ def test_grasp_flags_reach_the_scene_and_a_list_compares_squeezes():
     assert all(s.pushed.lift_accel == 1.0 and s.mu == 0.4 and s.params["mass"] == 0.3
                and s.epsv == 2e-3 for s in plan.scenes)
     assert plan.labels == ["squeeze = 1", "squeeze = 2", "squeeze = 4"]
-    assert plan.steps == [round(cli.GRASP_DURATION / 0.005)] * 3 and plan.kind == "grasp"
+    assert plan.steps == [round(grasp.DURATION / 0.005)] * 3 and plan.kind == "grasp"
     assert run.summary_header(plan)[1] == (
         "block 5 x 5 cm, 0.3 kg   squeeze N = 1 N a finger   lift at a = 1 m/s^2 to 0.2 m/s from "
         "t = 0.1 s   mu = 0.4")

@@ -1,13 +1,13 @@
 """The live window on the grasp: it steps, draws the fingers' pads, and shows a Newton iteration."""
 import numpy as np
 
-import simulator
 from helpers.window import frames_until, live_window, press, pygame
+from scenes import grasp
 from viewer.pictures import draw
 
 
 def test_the_window_draws_the_grasp_s_pads_and_its_newton_iterations():
-    scene = simulator.build_grasp_scene()
+    scene = grasp.build_grasp_scene()
     seen = {}
 
     def script():
