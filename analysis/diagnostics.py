@@ -54,7 +54,7 @@ def centre_of_mass(scene, a):
     """sum_i m_i a_i / sum_i m_i of per-node vectors a (N, 2): the body's (the block's, without the
     pushed surfaces' rows)."""
     if scene.pushed is not None:
-        return np.average(body(scene, a), axis=0, weights=body(scene, scene.m))
+        return scene.pushed.centre_of_mass(scene, a)
     return scene.m @ a / scene.m.sum()
 
 

@@ -23,6 +23,7 @@ DURATION = 1.0      # s: the lift accelerates from 0.1 s to 0.5 s, then half a s
 EPSVS = (1e-3, 2e-3)                        # m/s, the creep panel's two eps_v
 RATIOS = (0.3, 0.5, 0.7, 0.85, 0.95)        # m g / (2 mu N) of its simulated points
 CREEP_TOL = 1e-6    # m/s: the creep read to about 0.5 tol / u* (under 1 % at u* >= 0.1 mm/s)
+A = grasp.GRASP["lift_accel"]   # m/s^2, the grid's lift
 CREEP_WINDOW = (0.2, 0.4)   # s: the creep fitted here, the fingers still (no lift: t_lift beyond)
 
 
@@ -47,20 +48,13 @@ def coulomb_boundary(mu):
         scene = grasp.build_grasp_scene(mu=mu, squeeze=N)
         drop = grasp.drop_slip(scene)
         return grasp.coulomb_slip(scene, DURATION) - drop
-    line = line_squeeze(mu)
+    line = grasp.squeeze_for(1.0, mu, A)
     return scipy.optimize.brentq(excess, 0.5 * line, line, xtol=1e-9)
-
-
-def line_squeeze(mu, lift_accel=grasp.GRASP["lift_accel"]):
-    """N on the line 2 mu N = m (g + a)."""
-    p = grasp.GRASP
-    return p["mass"] * (-p["gravity"][1] + lift_accel) / (2 * mu)
 
 
 def creep(epsv, ratio):
     """A held block's creep speed with the fingers still, fitted over CREEP_WINDOW, beside u*."""
-    p = grasp.GRASP
-    N = p["mass"] * -p["gravity"][1] / (2 * p["mu"] * ratio)
+    N = grasp.squeeze_for(ratio, grasp.GRASP["mu"])
     scene = grasp.build_grasp_scene(squeeze=N, epsv=epsv, tol=CREEP_TOL, t_lift=10.0)
     t, slip = closed_forms.measured(scene, CREEP_WINDOW[1], grasp.slip)
     return grasp.fitted_rate(t, slip, *CREEP_WINDOW), grasp.creep_speed(scene)
@@ -107,11 +101,10 @@ def draw(r):
     ax = page.axes(0, mu_hi, N_lo, N_hi, "each finger's squeeze N (N) against "
                    "mu: filled held, hollow dropped (simulated)", "mu", "N (N)", x_lo=mu_lo)
     mu = np.linspace(mu_lo, mu_hi, 200)
-    inside = (line_squeeze(mu) <= N_hi) & (line_squeeze(mu, 0.0) >= N_lo)     # in the panel
-    mu = mu[inside]
-    ax.line(mu, line_squeeze(mu), run_color(0), 2)
+    mu = mu[(grasp.squeeze_for(1.0, mu, A) <= N_hi) & (grasp.squeeze_for(1.0, mu) >= N_lo)]
+    ax.line(mu, grasp.squeeze_for(1.0, mu, A), run_color(0), 2)
     ax.legend(run_color(0), "2 mu N = m (g + a)")
-    ax.line(mu, line_squeeze(mu, 0.0), GREY, 1)
+    ax.line(mu, grasp.squeeze_for(1.0, mu), GREY, 1)
     ax.legend(GREY, "2 mu N = m g")
     ax.line(mu, [coulomb_boundary(m) for m in mu], run_color(1), 2)
     ax.legend(run_color(1), "rigid Coulomb: pads' end")

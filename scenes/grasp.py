@@ -28,7 +28,7 @@ import MassSpringEnergy
 import square_mesh
 import utils
 from scenes import ranges
-from scenes.scene import Scene, gap_carrying, readonly
+from scenes.scene import MovingSurface, Scene, gap_carrying, readonly
 
 GRASP = types.MappingProxyType({
     "width": 0.05, "height": 0.05,  # m: the block
@@ -54,11 +54,10 @@ GRASP = types.MappingProxyType({
 
 @dataclasses.dataclass(frozen=True)
 class Fingers:
-    """The grasp's pushed surfaces (time_integrator's `scene.pushed`): finger f is the half-space
-    through row len(x) - F + f of x with normal n[f], pressed by squeeze[f] along it (FingerEnergy:
-    its offset along n[f] an unknown of the step); its motion along `tangent` is prescribed, the
-    lift: from t_lift at lift_accel up to lift_speed, then steady. Friction slips on v - v_s, v_s
-    the lift's velocity over the step, along the one tangent every finger shares."""
+    """The grasp's pushed surfaces, time_integrator's `scene.pushed`: finger f is the half-space
+    through row len(x) - F + f of x with normal n[f], pressed by squeeze[f] (FingerEnergy); its
+    motion along the `tangent` all share is prescribed (the lift: from t_lift at lift_accel up to
+    lift_speed, then steady), a Dirichlet condition (5_mov_dirichlet); friction slips on v - v_s."""
     n: np.ndarray               # (F, 2) unit normals, toward the block
     squeeze: np.ndarray         # (F,) N: each finger's pressing force
     start: np.ndarray           # (F,) each finger node's coordinate along `tangent` at t = 0, m
@@ -68,6 +67,9 @@ class Fingers:
     t_lift: float               # when the lift starts, s
     pad_length: float           # each finger's pad, centred on its node at t = 0 (drawn), m
     module, stores_energy = FingerEnergy, True      # its term, as time_integrator.TERMS' entries
+    velocity = MovingSurface.velocity               # v_s over a step: the offset's difference / h
+    counted = "slip: the fingers' lift minus the block's rise; dropped: slid past the pads"
+    pads_words = "the fingers' pads"
 
     def args(self, s, lagged, x, v):
         """FingerEnergy's arguments in the lecture's order, as a Term's."""
@@ -79,63 +81,56 @@ class Fingers:
         tau, t_a = max(t - self.t_lift, 0.0), self.lift_speed / self.lift_accel
         return self.lift_accel * tau * tau / 2 if tau < t_a else self.lift_speed * (tau - t_a / 2)
 
-    def velocity(self, t, h):
-        """v_s of the time step of length h ending at t: the lift over the step, over h."""
-        return self.tangent * ((self.offset(t) - self.offset(t - h)) / h)
+    def body(self, a):
+        """The rows of a (N, ...) that are the block's: all but the fingers' (the last)."""
+        return a[:len(a) - len(self.n)]
+
+    def centre_of_mass(self, scene, a):
+        """sum_i m_i a_i / sum_i m_i over the block's rows of a (N, 2)."""
+        return np.average(self.body(a), axis=0, weights=self.body(scene.m))
 
     def along(self, a):
         """t . a_f (F,) of the fingers' rows of a (N, 2)."""
-        return FingerEnergy.split(a, self.n)[1] @ self.tangent
+        return a[len(a) - len(self.n):] @ self.tangent
 
-    def lifted(self, x, t):
-        """x with each finger's row moved along `tangent` to start + offset(t) (a new array)."""
-        x = x.copy()
-        x[len(x) - len(self.n):] += np.outer(self.start + self.offset(t) - self.along(x),
-                                             self.tangent)
-        return x
+    def moved(self, a, along):
+        """a (N, 2) with `along` (F,) added along `tangent` to the fingers' rows (a new array)."""
+        a = a.copy()
+        a[len(a) - len(self.n):] += np.outer(along, self.tangent)
+        return a
 
     def prescribe(self, lagged, t):
-        """The step's `lagged` (x^n checked in front of every finger) with the fingers' rows of x^n,
-        Newton's start, and x_tilde at the lift of t: no term depends on that coordinate (only
-        d = n . (x_i - x_f), n . tangent = 0), so it is a Dirichlet condition (5_mov_dirichlet)."""
+        """The step's `lagged`, x^n checked, its fingers' rows of x^n (Newton's start) and x_tilde
+        at the lift of t: no term depends on that coordinate (n . tangent = 0)."""
         FingerEnergy.check_above(lagged.x_n, self.n)
-        return dataclasses.replace(lagged, x_n=self.lifted(lagged.x_n, t),
-                                   x_tilde=self.lifted(lagged.x_tilde, t))
+        lift = self.start + self.offset(t)
+        x_n, x_tilde = (self.moved(a, lift - self.along(a)) for a in (lagged.x_n, lagged.x_tilde))
+        return dataclasses.replace(lagged, x_n=x_n, x_tilde=x_tilde)
 
     def eliminate(self, g):
-        """g (N, 2) without its component along `tangent` on the fingers' rows: the prescribed
-        coordinates are no unknowns of the step (5_mov_dirichlet's DBC elimination)."""
-        g = g.copy()
-        g[len(g) - len(self.n):] -= np.outer(self.along(g), self.tangent)
-        return g
+        """g (N, 2) without its component along `tangent` on the fingers' rows: no unknowns."""
+        return self.moved(g, -self.along(g))
+
+    def lambdas(self, scene, x, mu=1.0):
+        """mu lambda_fi (F, N): each finger's normal force on each node, times mu."""
+        return FingerEnergy.compute_mu_lambda_kernel(x, self.n, scene.contact_area, mu, scene.dhat,
+                                                     scene.kappa)
 
     def mu_lambda(self, scene, x, mu):
-        """mu lambda_i (N,), summed over the fingers (FingerEnergy.compute_mu_lambda_kernel): they
-        share one tangent, so friction's T is one."""
-        return FingerEnergy.compute_mu_lambda_kernel(x, self.n, scene.contact_area, mu, scene.dhat,
-                                                     scene.kappa).sum(axis=0)
+        """mu lambda_i (N,) summed over the fingers: they share one tangent, so friction's T."""
+        return self.lambdas(scene, x, mu).sum(axis=0)
 
     def init_step_size(self, x, p):
-        """Algorithm 4, line 1, against the moving fingers (FingerEnergy.init_step_size_kernel)."""
+        """Algorithm 4, line 1, against the moving fingers."""
         return FingerEnergy.init_step_size_kernel(x, self.n, p)
 
     def min_distance(self, x):
-        """The smallest d_fi = n_f . (x_i - x_f) (FingerEnergy.distances)."""
+        """The smallest d_fi = n_f . (x_i - x_f)."""
         return float(FingerEnergy.distances(x, self.n).min())
 
     def work(self, force, dx):
         """sum_f (t . force_f)(t . dx_f) over the fingers' rows of force and dx (N, 2), J."""
         return float(self.along(force) @ self.along(dx))
-
-
-    def body(self, a):
-        """The rows of a (N, ...) that are the block's: all but the fingers' (the last)."""
-        return a[:len(a) - len(self.n)]
-
-    def lambdas(self, scene, x):
-        """lambda_fi (F, N): each finger's normal force on each node."""
-        return FingerEnergy.compute_mu_lambda_kernel(x, self.n, scene.contact_area, 1.0,
-                                                     scene.dhat, scene.kappa)
 
     def contact_velocities(self, scene, x, v, v_s):
         """t . (v_i - v_s) of the block nodes within dhat of a finger, finger by finger."""
@@ -154,16 +149,12 @@ class Fingers:
         """The closing words of a run's kept states (of_track)."""
         return of_track(track, short)
 
-    counted = "slip: the fingers' lift minus the block's rise; dropped: slid past the pads"
-    pads_words = "the fingers' pads"
-
     def pads(self, x, depth):
-        """Each finger's pad, (4, 2) corners: pad_length along the lift, centred on its node's row
-        of x, `depth` deep behind its surface (against its normal)."""
+        """Each finger's pad, (4, 2) corners: pad_length along the lift, centred on its row of x,
+        `depth` deep behind its surface."""
         along = 0.5 * self.pad_length * np.array([-1.0, 1.0, 1.0, -1.0])[:, None] * self.tangent
         behind = depth * np.array([0.0, 0.0, 1.0, 1.0])[:, None]
-        fingers = FingerEnergy.split(x, self.n)[1]
-        return [x_f + along - behind * n_f for n_f, x_f in zip(self.n, fingers)]
+        return [x_f + along - behind * n_f for n_f, x_f in zip(self.n, x[len(x) - len(self.n):])]
 
     def header(self, scene):
         """The summary's line of the grasp's numbers."""
@@ -171,6 +162,7 @@ class Fingers:
         return (f"block {p['width'] * 100:g} x {p['height'] * 100:g} cm, {p['mass']:g} kg   "
                 f"squeeze N = {p['squeeze']:g} N a finger   lift at a = {self.lift_accel:g} m/s^2 "
                 f"to {self.lift_speed:g} m/s from t = {self.t_lift:g} s   mu = {scene.mu:g}")
+
 
 def check_params(overrides):
     """GRASP updated by `overrides`, each value checked (a ValueError naming the parameter)."""
@@ -249,6 +241,11 @@ def load_ratio(scene, lift_accel=0.0):
     return (-scene.g[1] + lift_accel) / grip(scene) if grip(scene) > 0.0 else math.inf
 
 
+def squeeze_for(ratio, mu, lift_accel=0.0, p=GRASP):
+    """N with m (g + a) / (2 mu N) = ratio for the block of `p` (ratio 1: on the line)."""
+    return p["mass"] * (-p["gravity"][1] + lift_accel) / (2 * mu * ratio)
+
+
 def holds(scene):
     """Whether the grasp holds: 2 mu N >= m (g + a) while the lift accelerates, and m g after."""
     return max(load_ratio(scene, scene.pushed.lift_accel), load_ratio(scene)) <= 1.0
@@ -291,9 +288,8 @@ def coulomb_slip(scene, t):
 def slip(scene, x):
     """How far the block has slid down relative to the fingers since t = 0 (m): the fingers' lift
     minus the rise of the block's centre of mass, along the lift."""
-    f, m = scene.pushed, scene.pushed.body(scene.m)
-    rise = (np.average(f.body(x), axis=0, weights=m)
-            - np.average(f.body(scene.x0), axis=0, weights=m)) @ f.tangent
+    f = scene.pushed
+    rise = (f.centre_of_mass(scene, x) - f.centre_of_mass(scene, scene.x0)) @ f.tangent
     return float((f.along(x) - f.start).mean()) - float(rise)
 
 
