@@ -8,11 +8,8 @@ The block starts settled between the pressed fingers, at the gap where each side
 N (not dropped). The fingers are the last two rows of x (FingerEnergy): their offsets along their
 normals are unknowns of the step, their lift along (0, 1) is prescribed: still until t_lift, then at
 lift_accel up to lift_speed, then steady. The pads, pad_length long, are drawn; the block is
-dropped once it has slid past them (the half-spaces themselves go on).
-
-Why tol 1e-5 m/s: a Newton tolerance reads the creep right only well below u* (about -0.5 tol / u*
-off; the issue's prototype: +61 % at tol 1e-2, -95 % at 1e-3); u* = 0.50 mm/s here, so 1e-5 is
-u* / 50, about 1 % off.
+dropped once it has slid past them (the half-spaces themselves go on). Why tol 1e-5 m/s (u* / 50):
+docs/grasp.md.
 
     scene = build_grasp_scene(squeeze=4.0)  # the numbers (GRASP), one of them changed
 """
@@ -46,7 +43,7 @@ GRASP = types.MappingProxyType({
     "pad_length": 0.05,         # m, each pad, centred on the block at t = 0
     "dhat": 1e-3, "kappa": 100.0,   # barrier activation distance (m) and stiffness: gap 0.7 dhat
     "epsv": 1e-3,               # friction's eps_v, m/s
-    "tol": 1e-5,                # Newton tolerance on ||p||_inf / h, m/s: u* / 50 (see above)
+    "tol": 1e-5,                # Newton tolerance on ||p||_inf / h, m/s: u* / 50 (docs/grasp.md)
     "friction_updates": 0, "max_newton_iterations": 1000, "max_halvings": 60,
     "newton_start": "x_n",
 })
@@ -199,13 +196,12 @@ def build_grasp_scene(**overrides):
     for name, other in sorted((("nx", "ny"), ("ny", "nx")), key=lambda pair: -p[pair[0]]):
         ranges.check_memory(name, p[name], lambda n: (n + 1) * (p[other] + 1))
     w, h = p["width"], p["height"]
-    block, _ = square_mesh.rectangle(w, h, p["nx"], p["ny"], (-w / 2, -h / 2))
+    block, e = square_mesh.rectangle(w, h, p["nx"], p["ny"], (-w / 2, -h / 2))
     m_block = np.full(len(block), p["mass"] / len(block))
     spacing = min(w / p["nx"], h / p["ny"])
     ranges.check_start(p, GRASP, GROWS, block, m_block, spacing, h / p["ny"], np.array([-w / 2, 0]),
                        block[:, 0] + w / 2 + p["dhat"])      # as if at dhat from the left finger
     d0 = resting_gap(p)
-    block, e = square_mesh.rectangle(w, h, p["nx"], p["ny"], (-w / 2, -h / 2))
     x = np.vstack([block, [[-w / 2 - d0, 0.0], [w / 2 + d0, 0.0]]])   # the fingers' nodes, last
     fingers = Fingers(n=readonly([[1.0, 0.0], [-1.0, 0.0]]), squeeze=readonly([p["squeeze"]] * 2),
                       start=readonly([0.0, 0.0]), tangent=readonly([0.0, 1.0]),
@@ -214,7 +210,7 @@ def build_grasp_scene(**overrides):
     nb = len(block)
     pairs = np.column_stack([np.tile(np.arange(nb), 2), np.repeat([nb, nb + 1], nb)])  # (i, f)
     terms = ("inertia", "spring", "gravity", "fingers") + ("friction",) * (p["mu"] > 0.0)
-    m = np.append(np.full(len(block), p["mass"] / len(block)), [p["finger_mass"]] * 2)
+    m = np.append(m_block, [p["finger_mass"]] * 2)
     return Scene(
         params=types.MappingProxyType(p), x0=readonly(x), v0=readonly(np.zeros_like(x)),
         e=readonly(np.asfortranarray(e)), l2=readonly(MassSpringEnergy.squared_lengths(x, e)),
