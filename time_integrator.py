@@ -312,18 +312,18 @@ def newton_iterates(scene, x, v, *, step_index=0):
         report.surface_work = float(np.vdot(F_f.sum(axis=0), lagged.v_s)) * scene.h
     if "barrier" in scene.terms:
         report.min_distance = float(BarrierEnergy.distances(x, scene.n, scene.o).min())
-    if scene.pushed is not None:
-        report.min_distance = min(report.min_distance, scene.pushed.min_distance(x))
-        report.pushed_work = pushed_work(scene, lagged, x, x_n, v_n)
+    if scene.pushed is not None:        # its distances, the work holding it on its path
+        pushed_report(scene, report, lagged, x, x_n, v_n)
     return x, (x - x_n) / scene.h, report      # x^{n+1}, v^{n+1}
 
 
-def pushed_work(scene, lagged, x, x_n, v_n):
-    """The work that held pushed surfaces on their prescribed path over the step (J): the force F
-    with grad E - h^2 F = 0 along the path, grad E with x_tilde = x^n + h v^n (not prescribed),
-    times the motion x - x^n."""
+def pushed_report(scene, report, lagged, x, x_n, v_n):
+    """The step's report of pushed surfaces: min_distance, and pushed_work, the work that held
+    them on their prescribed path (J): the force F with grad E - h^2 F = 0 along it, grad E with
+    x_tilde = x^n + h v^n (not prescribed), times the motion x - x^n."""
+    report.min_distance = min(report.min_distance, scene.pushed.min_distance(x))
     free = dataclasses.replace(lagged, x_tilde=x_n + scene.h * v_n)
-    return scene.pushed.work(IP_grad(scene, free, x) / scene.h ** 2, x - x_n)
+    report.pushed_work = scene.pushed.work(IP_grad(scene, free, x) / scene.h ** 2, x - x_n)
 
 
 def run_out(iterates):
