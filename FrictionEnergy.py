@@ -16,12 +16,11 @@ The slide's T_k = [I - n n^T; n n^T - I] acts on [v_p; v_s]; a surface's v_s is 
 for a still one), so the caller passes v = v_p - v_s (time_integrator.potential_terms) and T_k
 reduces to T = t t^T (`tangent`).
 
-Several surfaces (the grasp's fingers): n of shape (S, 2) and mu_lambda (S, N), a row each; P_f is
-the sum of each surface's, all with the same v (the fingers lift together, at one v_s).
-
 `val`, `grad`, `hess` check their input and call the `*_kernel` of the same name, which holds the
 formula and trusts its input (the time integrator calls the kernels on a scene validated once).
 """
+import math
+
 import numpy as np
 
 import utils
@@ -52,6 +51,12 @@ def f_hess_term(vbarnorm, epsv):
     return -1.0 / np.maximum(vbarnorm, epsv) ** 2
 
 
+def f1_inverse(f, epsv):
+    """The speed v where the mollifier reaches f <= 1: f1(v) = 2v/eps_v - v^2/eps_v^2 = f,
+    v = eps_v (1 - sqrt(1 - f)); a held body creeps there, f its load over mu N."""
+    return epsv * (1.0 - math.sqrt(1.0 - f))
+
+
 # --- friction that weakens with slip (not in the lecture: its chalk remark, mu_s > mu_k) ----------
 
 def slip_weakened_mu(vbarnorm, mu, mu_s, v_c):
@@ -66,31 +71,9 @@ def slip_weakened_mu(vbarnorm, mu, mu_s, v_c):
 
 def _check(v, mu_lambda, hhat, n, epsv):
     v = utils.check_points("v", v)
-    if _several(n):
-        return _check_surfaces(v, mu_lambda, hhat, n, epsv)
     return (v, utils.check_per_item("mu_lambda", mu_lambda, len(v), must_be=">= 0"),
             utils.check_positive("hhat", hhat), utils.check_unit_normal("n", n),
             utils.check_epsv(epsv))
-
-
-def _several(n):
-    """Whether n is a normal per surface, (S, 2) (a ragged n is checked as one normal)."""
-    try:
-        return np.ndim(n) == 2
-    except ValueError:
-        return False
-
-
-def _check_surfaces(v, mu_lambda, hhat, n, epsv):
-    """_check for several surfaces: n (S, 2) and mu_lambda (S, N), a row each."""
-    if np.shape(mu_lambda)[:1] != (len(n),):
-        raise utils.ParameterError("mu_lambda", f"mu_lambda must have a row per surface of n "
-                                                f"({len(n)}), got shape {np.shape(mu_lambda)}")
-    mu_lambda = np.array([utils.check_per_item(f"mu_lambda[{s}]", row, len(v), must_be=">= 0")
-                          for s, row in enumerate(mu_lambda)])
-    hhat = utils.check_positive("hhat", hhat)
-    n = np.array([utils.check_unit_normal(f"n[{s}]", row) for s, row in enumerate(n)])
-    return v, mu_lambda, hhat, n, utils.check_epsv(epsv)
 
 
 def val(v, mu_lambda, hhat, n, epsv=EPSV):
@@ -125,19 +108,14 @@ def _contacts(v, mu_lambda, n):
 
 
 def val_kernel(v, mu_lambda, hhat, n, epsv):
-    """P_f = sum_k mu lambda_k f0(||vbar_k|| hhat) (summed over the surfaces, n (S, 2))."""
-    if n.ndim == 2:
-        return sum(val_kernel(v, row, hhat, n_s, epsv) for row, n_s in zip(mu_lambda, n))
+    """P_f = sum_k mu lambda_k f0(||vbar_k|| hhat)."""
     k, mu_lambda, t, u = _contacts(v, mu_lambda, n)
     return float(mu_lambda @ f0(np.abs(u), epsv, hhat))
 
 
 def grad_kernel(v, mu_lambda, hhat, n, epsv):
     """grad_k P_f = mu lambda_k T (f1(||vbar_k||) / ||vbar_k||) vbar_k
-    = mu lambda_k f1/||vbar|| u_k t (T vbar = vbar = u t); zero at vbar = 0 and out of contact.
-    Summed over the surfaces where n is (S, 2)."""
-    if n.ndim == 2:
-        return sum(grad_kernel(v, row, hhat, n_s, epsv) for row, n_s in zip(mu_lambda, n))
+    = mu lambda_k f1/||vbar|| u_k t (T vbar = vbar = u t); zero at vbar = 0 and out of contact."""
     k, mu_lambda, t, u = _contacts(v, mu_lambda, n)
     g = np.zeros(v.shape)
     g[k] = (mu_lambda * f1_div_vbarnorm(np.abs(u), epsv) * u)[:, None] * t
@@ -149,12 +127,7 @@ def hess_kernel(v, mu_lambda, hhat, n, epsv, project_psd=True):
 
     With T = t t^T and vbar = u t the bracket between T and T^T acts on t alone:
     T [...] T^T = (f_hess_term ||vbar|| + f1 / ||vbar||) t t^T  (at vbar = 0 only f1 / ||vbar||
-    remains, as in the lecture). PSD projection (the lecture's make_PD) clamps it at zero.
-    Each surface's blocks, one after the other, where n is (S, 2)."""
-    if n.ndim == 2:
-        parts = [hess_kernel(v, row, hhat, n_s, epsv, project_psd)
-                 for row, n_s in zip(mu_lambda, n)]
-        return tuple(np.concatenate(a) for a in zip(*parts))
+    remains, as in the lecture). PSD projection (the lecture's make_PD) clamps it at zero."""
     k, mu_lambda, t, u = _contacts(v, mu_lambda, n)
     vbarnorm = np.abs(u)
     along_t = f_hess_term(vbarnorm, epsv) * vbarnorm + f1_div_vbarnorm(vbarnorm, epsv)

@@ -1,15 +1,13 @@
 """The lecture's case study, an elastic mass-spring square dropped onto a slope with friction
 (scenes/square.py), and its closing remark, Rabinowicz's chalk pushed or dragged across a board by a
 hand (scenes/chalk.py), and the tablecloth trick, friction against a moving surface
-(scenes/tablecloth.py), and a grasp, a block lifted between two pressed fingers (scenes/grasp.py),
-stepped by implicit Euler:
+(scenes/tablecloth.py), and the scenes under scenes/ (scenes.UNITS), stepped by implicit Euler:
 
     scene = build_scene(mu=0.2)                 # the lecture's numbers (DEFAULTS), one changed
     for record in simulate(scene, steps=300):   # one time_integrator.step at a time
         print(record.t, record.x.mean(axis=0))
     chalk = build_chalk_scene(k_hand=4000.0)    # the chalk's numbers (CHALK), one changed
     cloth = build_tablecloth_scene(pull_speed=8.0)  # the tablecloth's numbers (TABLECLOTH)
-    grasp = build_grasp_scene(squeeze=4.0)      # the grasp's numbers (GRASP)
 
 `python simulator.py` runs the scene and writes what it shows (frames, a page, plots, a log): the
 command line lives in viewer/command/cli.py (`python simulator.py --help`), the drawing in viewer/.
@@ -26,7 +24,6 @@ import numpy as np
 import time_integrator
 import utils
 from scenes.chalk import CHALK, build_chalk_scene  # noqa: F401 (the chalk's scene, here by name)
-from scenes.grasp import GRASP, build_grasp_scene  # noqa: F401 (pushed fingers)
 from scenes.scene import Scene  # noqa: F401 (what a scene is)
 from scenes.square import ALIASES, DEFAULTS, build_scene  # noqa: F401 (the lecture's scene)
 from scenes.tablecloth import TABLECLOTH, build_tablecloth_scene  # noqa: F401 (moving surface)

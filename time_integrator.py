@@ -8,9 +8,9 @@ x^n (semi-implicit), and `scene.friction_updates` > 0 adds the fixed-point itera
 for fully implicit friction. What a scene prescribes is taken at the end of the step, as implicit
 Euler takes every force there: the hand's targets at t^{n+1} (the chalk's grip), and a moving
 surface's velocity v_s = (s(t^{n+1}) - s(t^n)) / h, the backward difference of its position as
-v = (x - x^n) / h is of x (the tablecloth, the grasp's lift); friction slips on v - v_s. The grasp's
-fingers are rows of x (FingerEnergy): their offsets along their normals are unknowns, their lift a
-Dirichlet condition (scene.fingers.prescribe, .eliminate); barrier, friction and CCD sum over them.
+v = (x - x^n) / h is of x (the tablecloth); friction slips on v - v_s. Pushed surfaces
+(`scene.pushed`, None for one-surface scenes) are rows of x with their own term, CCD and mu*lambda,
+moved along themselves by a Dirichlet condition (5_mov_dirichlet): prescribed, then eliminated.
 
 `step(scene, x, v, step_index=n)` maps (x^n, v^n) at t^n = n h to (x^{n+1}, v^{n+1}) at t^{n+1} =
 (n + 1) h, and a StepReport; it prints nothing and changes none of its inputs. `newton_iterates` is
@@ -23,7 +23,6 @@ import math
 import numpy as np
 
 import BarrierEnergy
-import FingerEnergy
 import FrictionEnergy
 import GravityEnergy
 import HandEnergy
@@ -69,7 +68,7 @@ class StepReport:
     surface_work: float = 0.0       # F_f . v_s h: the moving surface's work (J, 0 if still); heat
     #                                 surface_work - friction_work >= 0 (friction's, surface frame)
     friction_force: np.ndarray = None   # (N, 2) with the step's last mu*lambda; None without
-    lift_work: float = 0.0          # the work holding the fingers on their lift did (J, 0 if none)
+    pushed_work: float = 0.0        # the work holding pushed surfaces on their path did (J)
 
     @property
     def newton_iterations(self):
@@ -93,9 +92,9 @@ class NewtonIterate:
 @dataclass(frozen=True)
 class Lagged:
     """What the Incremental Potential holds fixed during one Newton solve: x^n, x_tilde = x^n +
-    h v^n, mu*lambda per node (None when the scene has no friction), the hand's targets at
-    t^{n+1} (None without a hand) and the surface's velocity v_s over the step (zero if still).
-    T^n = I - n n^T is the slope's."""
+    h v^n (pushed surfaces' rows in both at t^{n+1}), mu*lambda per node (None when the scene has no
+    friction), the hand's targets at t^{n+1} (None without a hand) and the surface's velocity v_s
+    over the step (zero if still). T^n = I - n n^T is the slope's."""
     x_n: np.ndarray
     x_tilde: np.ndarray
     mu_lambda: np.ndarray
@@ -115,9 +114,8 @@ def friction_update(scene, lagged, x, v=None):
     if "friction" not in scene.terms:
         return lagged
     mu = scene.mu if scene.static is None else slip_weakened_mu(scene, lagged, x, v)
-    if scene.fingers is not None:           # (F, N): a row per finger
-        return dataclasses.replace(lagged, mu_lambda=FingerEnergy.compute_mu_lambda_kernel(
-            x, scene.fingers.n, scene.contact_area, mu, scene.dhat, scene.kappa))
+    if scene.pushed is not None:
+        return dataclasses.replace(lagged, mu_lambda=scene.pushed.mu_lambda(scene, x, mu))
     return dataclasses.replace(lagged, mu_lambda=BarrierEnergy.compute_mu_lambda_kernel(
         x, scene.n, scene.o, scene.contact_area, mu, scene.dhat, scene.kappa))
 
@@ -154,16 +152,14 @@ TERMS = {
                      False),
     "hand": Term(HandEnergy,
                  lambda s, lagged, x, v: (x, s.hand.nodes, lagged.targets, s.hand.k_hand), True),
-    "fingers": Term(FingerEnergy, lambda s, lagged, x, v: (x, s.fingers.n, s.fingers.squeeze,
-                                                           s.contact_area, s.dhat, s.kappa), True),
 }
 
 
 def potential_terms(scene, lagged, x):
     """The scene's potential terms at x: (energy module, its arguments in the lecture's order), as
-    TERMS declares them, for the terms the scene has (`scene.terms`)."""
+    TERMS declares them (a pushed surface declares its own), for the terms the scene has."""
     v = (x - lagged.x_n) / scene.h - lagged.v_s     # v_p - v_s: friction's slip against the surface
-    terms = [TERMS[t] for t in scene.terms if t != "inertia"]
+    terms = [TERMS.get(t, scene.pushed) for t in scene.terms if t != "inertia"]
     return [(term.module, term.args(scene, lagged, x, v)) for term in terms]
 
 
@@ -177,12 +173,10 @@ def IP_val(scene, lagged, x):
     return InertiaEnergy.val_kernel(x, lagged.x_tilde, scene.m) + scene.h ** 2 * P
 
 
-def IP_grad(scene, lagged, x, with_lift=False):
-    """grad E(x) = M (x - x_tilde) + h^2 sum grad P(x), (N, 2); the fingers' components along
-    their prescribed lift removed (no unknowns), unless `with_lift`."""
+def IP_grad(scene, lagged, x):
+    """grad E(x) = M (x - x_tilde) + h^2 sum grad P(x), (N, 2)."""
     grad_P = sum(term.grad_kernel(*args) for term, args in potential_terms(scene, lagged, x))
-    grad_E = InertiaEnergy.grad_kernel(x, lagged.x_tilde, scene.m) + scene.h ** 2 * grad_P
-    return grad_E if scene.fingers is None or with_lift else scene.fingers.eliminate(grad_E)
+    return InertiaEnergy.grad_kernel(x, lagged.x_tilde, scene.m) + scene.h ** 2 * grad_P
 
 
 def IP_hess(scene, lagged, x):
@@ -212,12 +206,10 @@ def predicted_start(scene, lagged):
 
 
 def init_step_size(scene, x, p):
-    """Algorithm 4, line 1: CCD against the slope and the fingers; without either the full step is
-    safe."""
+    """Algorithm 4, line 1: CCD against the slope and pushed surfaces; without either the full
+    step is safe."""
     alpha = 1.0 if scene.n is None else BarrierEnergy.init_step_size_kernel(x, scene.n, scene.o, p)
-    if scene.fingers is None:
-        return alpha
-    return min(alpha, FingerEnergy.init_step_size_kernel(x, scene.fingers.n, p))
+    return alpha if scene.pushed is None else min(alpha, scene.pushed.init_step_size(x, p))
 
 
 # --- the time step --------------------------------------------------------------------------------
@@ -262,6 +254,8 @@ def _direction(scene, lagged, x, step_index, bound_shows_convergence=True):
     ||p||_inf <= ||H^-1 grad E||_2 <= ||grad E||_2 / min m: where that bound is already <= tol, p is
     not needed and (None, bound) is returned."""
     g = IP_grad(scene, lagged, x)
+    if scene.pushed is not None:    # its prescribed coordinates are no unknowns (5_mov_dirichlet)
+        g = scene.pushed.eliminate(g)
     bound = math.sqrt(np.vdot(g, g)) / scene.m.min() / scene.h
     if bound_shows_convergence and bound <= scene.tol:
         return None, bound
@@ -293,21 +287,16 @@ def newton_iterates(scene, x, v, *, step_index=0):
     step_index = utils.check_whole("step_index", step_index, minimum=0)
     if "barrier" in scene.terms:
         BarrierEnergy.check_above(x_n, scene.n, scene.o)
-    if "fingers" in scene.terms:
-        FingerEnergy.check_above(x_n, scene.fingers.n)
+    t = step_time(scene, step_index)        # t^{n+1}: what the scene prescribes
+    targets = scene.hand.targets(t) if "hand" in scene.terms else None
+    lagged = Lagged(x_n, x_n + scene.h * v_n, None, targets, scene.surface_velocity(t))
+    if scene.pushed is not None:            # checked; its rows of x^n and x_tilde at t^{n+1}
+        lagged = scene.pushed.prescribe(lagged, t)
     report = StepReport()
     try:
-        t = step_time(scene, step_index)        # t^{n+1}: what the scene prescribes
-        targets = scene.hand.targets(t) if "hand" in scene.terms else None
-        x_tilde = x_n + scene.h * v_n
-        if scene.fingers is not None:           # the lift: the fingers' rows at t^{n+1}
-            x_tilde = scene.fingers.prescribe(x_tilde, t)
-        lagged = Lagged(x_n, x_tilde, None, targets, scene.surface_velocity(t))
         lagged = friction_update(scene, lagged, x_n, v_n)                 # mu*lambda^n
         # Newton from x^n, as the lecture (or the chalk's predicted start)
         x = lagged.x_n if scene.newton_start == "x_n" else predicted_start(scene, lagged)
-        if scene.fingers is not None:
-            x = scene.fingers.prescribe(x, t)
         x = yield from newton(scene, lagged, x, report, step_index)
         if "friction" in scene.terms and scene.friction_updates > 0:               # Algorithm 5
             for j in range(1, scene.friction_updates + 2):
@@ -326,15 +315,18 @@ def newton_iterates(scene, x, v, *, step_index=0):
         report.surface_work = float(np.vdot(F_f.sum(axis=0), lagged.v_s)) * scene.h
     if "barrier" in scene.terms:
         report.min_distance = float(BarrierEnergy.distances(x, scene.n, scene.o).min())
-    if "fingers" in scene.terms:
-        report.min_distance = min(report.min_distance,
-                                  float(FingerEnergy.distances(x, scene.fingers.n).min()))
-        # what holds the fingers on their lift: the force F with grad E - h^2 F = 0 along it,
-        # grad E with the true x_tilde = x^n + h v^n (the prescribed one takes the lift as given)
-        free = dataclasses.replace(lagged, x_tilde=x_n + scene.h * v_n)
-        hold = IP_grad(scene, free, x, with_lift=True) / scene.h ** 2
-        report.lift_work = scene.fingers.work_along_lift(hold, x - x_n)
+    if scene.pushed is not None:        # its distances, the work holding it on its path
+        pushed_report(scene, report, lagged, x, x_n, v_n)
     return x, (x - x_n) / scene.h, report      # x^{n+1}, v^{n+1}
+
+
+def pushed_report(scene, report, lagged, x, x_n, v_n):
+    """The step's report of pushed surfaces: min_distance, and pushed_work, the work that held
+    them on their prescribed path (J): the force F with grad E - h^2 F = 0 along it, grad E with
+    x_tilde = x^n + h v^n (not prescribed), times the motion x - x^n."""
+    report.min_distance = min(report.min_distance, scene.pushed.min_distance(x))
+    free = dataclasses.replace(lagged, x_tilde=x_n + scene.h * v_n)
+    report.pushed_work = scene.pushed.work(IP_grad(scene, free, x) / scene.h ** 2, x - x_n)
 
 
 def run_out(iterates):

@@ -1,7 +1,7 @@
 """What a run showed, in words: when the square stuck and how fast it still creeps, the chalk's
 stick-slip, or how far the tablecloth's dish travelled."""
 import closed_forms
-from analysis import diagnostics, grasp, stick_slip
+from analysis import diagnostics, stick_slip
 from scenes import square, tablecloth
 
 
@@ -29,11 +29,11 @@ def downhill(scene, u):
 
 
 def closed_creep(scene):
-    """closed_forms.creep_speed (the grasp's grasp_creep_speed) in mm/s, or None where Coulomb
-    friction would not hold."""
-    if scene.fingers is not None:
-        held = closed_forms.grasp_holds(scene)
-        return 1e3 * closed_forms.grasp_creep_speed(scene) if held else None
+    """closed_forms.creep_speed (pushed surfaces': their closed_creep) in mm/s, or None where
+    Coulomb friction would not hold."""
+    if scene.pushed is not None:
+        exact = scene.pushed.closed_creep(scene)
+        return None if exact is None else 1e3 * exact
     return 1e3 * closed_forms.creep_speed(scene) if square.holds(scene) else None
 
 
@@ -166,10 +166,10 @@ def closing_words(tracks):
     scene = tracks[0].scene
     if scene.hand is not None:
         return stick_slip_words(tracks)
-    if scene.fingers is not None:
+    if scene.pushed is not None:          # the words its scene gives
         if len(tracks) == 1:
-            return "the block " + grasp.of_track(tracks[0])
-        return each(tracks, lambda track: grasp.of_track(track, short=True))
+            return "the block " + scene.pushed.words(tracks[0])
+        return each(tracks, lambda track: scene.pushed.words(track, short=True))
     return travel_words(tracks) if scene.surface is not None else rest_words(tracks)
 
 
@@ -177,8 +177,8 @@ def counted(scene):
     """What closing_words count, in words."""
     if scene.hand is not None:
         return " ".join(stick_slip.definition(scene))
-    if scene.fingers is not None:
-        return "slip: the fingers' lift minus the block's rise; dropped: slid past the pads"
+    if scene.pushed is not None:
+        return scene.pushed.counted
     if scene.surface is not None:
         return "the centre of mass along the pull, end minus start"
     return ("sticks: every contact below eps_v from then on; creeps: the contact nodes' mean "

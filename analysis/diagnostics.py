@@ -1,14 +1,12 @@
 """What a state tells beyond the step's report: contacts (d_k = n . (x_k - o) < dhat), sticking
 (||(I - n n^T)(v_k - v_s)|| < eps_v) and sliding, forces, inverted cells, the energy budget, the
-tip; with the grasp's fingers, each over every finger, and the body without the fingers' rows."""
+tip; with pushed surfaces (scene.pushed), over every surface, and the body without their rows."""
 import math
 
 import numpy as np
 
 import BarrierEnergy
-import FingerEnergy
 import FrictionEnergy
-import closed_forms
 import time_integrator
 
 LECTURE_TERMS = ("gravity", "spring", "barrier")     # always in the budget, 0 where absent
@@ -16,8 +14,8 @@ LECTURE_TERMS = ("gravity", "spring", "barrier")     # always in the budget, 0 w
 
 def energy_terms(scene):
     """The budget's potential terms: the lecture's three, then the scene's others storing energy."""
-    others = tuple(name for name, term in time_integrator.TERMS.items()
-                   if name not in LECTURE_TERMS and name in scene.terms and term.stores_energy)
+    others = tuple(name for name in scene.terms if name not in LECTURE_TERMS + ("inertia",)
+                   and time_integrator.TERMS.get(name, scene.pushed).stores_energy)
     return LECTURE_TERMS + others
 
 
@@ -25,7 +23,7 @@ def term_energy(scene, name, x, targets=None):
     """One term's energy at x (J), with the hand's `targets`; 0 for a term the scene lacks."""
     if name not in scene.terms and not (name == "gravity" and scene.g is not None):
         return 0.0
-    term = time_integrator.TERMS[name]      # the kernel: the scene was checked when it was built
+    term = time_integrator.TERMS.get(name, scene.pushed)    # the kernel: the scene is checked
     lagged = time_integrator.Lagged(x, x, None, targets)
     return term.module.val_kernel(*term.args(scene, lagged, x, None))
 
@@ -48,30 +46,30 @@ def hand_work(scene, x, t1, before):
 
 
 def body(scene, x):
-    """The rows of x (N, 2) that are the body's: all but the grasp's fingers' (the last rows)."""
-    return x if scene.fingers is None else x[:len(x) - len(scene.fingers.n)]
+    """The rows of x (N, 2) that are the body's: all but pushed surfaces' own."""
+    return x if scene.pushed is None else scene.pushed.body(x)
 
 
 def centre_of_mass(scene, a):
     """sum_i m_i a_i / sum_i m_i of per-node vectors a (N, 2): the body's (the block's, without the
-    grasp's fingers)."""
-    if scene.fingers is not None:
-        return closed_forms.grasp_block_com(scene, a)
+    pushed surfaces' rows)."""
+    if scene.pushed is not None:
+        return scene.pushed.centre_of_mass(scene, a)
     return scene.m @ a / scene.m.sum()
 
 
 def tangent(scene):
-    """The slope's unit tangent down to the right, (n_y, -n_x); the grasp's lift; (1, 0) without
+    """The slope's unit tangent down to the right, (n_y, -n_x); pushed surfaces'; (1, 0) without
     either."""
-    if scene.fingers is not None:
-        return scene.fingers.tangent
+    if scene.pushed is not None:
+        return scene.pushed.tangent
     return np.array([1.0, 0.0]) if scene.n is None else FrictionEnergy.tangent(scene.n)
 
 
 def min_distance(scene, x):
-    """min_k n . (x_k - o), or to a finger (inf without either)."""
-    if scene.fingers is not None:
-        return float(FingerEnergy.distances(x, scene.fingers.n).min())
+    """min_k n . (x_k - o), or to pushed surfaces (inf without either)."""
+    if scene.pushed is not None:
+        return scene.pushed.min_distance(x)
     if scene.n is None:
         return math.inf
     return float(BarrierEnergy.distances(x, scene.n, scene.o).min())
@@ -79,12 +77,9 @@ def min_distance(scene, x):
 
 def contact_velocities(scene, x, v, v_s=0.0):
     """t . (v_k - v_s) (m/s) of the nodes with d_k < dhat: the relative tangential velocity along
-    `tangent` (v_s 0: a still surface); the grasp's along the lift, each finger's contacts one
-    after the other."""
-    if scene.fingers is not None:
-        in_contact = FingerEnergy.distances(x, scene.fingers.n) < scene.dhat     # (F, N_block)
-        along = (v[:in_contact.shape[1]] - v_s) @ scene.fingers.tangent          # (N_block,)
-        return np.broadcast_to(along, in_contact.shape)[in_contact]
+    `tangent` (v_s 0: a still surface); pushed surfaces' (their contact_velocities)."""
+    if scene.pushed is not None:
+        return scene.pushed.contact_velocities(scene, x, v, v_s)
     if scene.n is None:
         return np.zeros(0)
     in_contact = BarrierEnergy.distances(x, scene.n, scene.o) < scene.dhat
@@ -107,18 +102,11 @@ def at_rest(sticking, sliding):
     return sticking > 0 and sliding == 0
 
 
-def finger_forces(scene, x):
-    """Each finger's normal force on the block, sum_i lambda_fi (F,), N."""
-    return FingerEnergy.compute_mu_lambda_kernel(x, scene.fingers.n, scene.contact_area, 1.0,
-                                                 scene.dhat, scene.kappa).sum(axis=1)
-
-
 def normal_forces(scene, x):
     """lambda_k n at every node (N, 2): BarrierEnergy.compute_mu_lambda's kernel with mu = 1; the
-    sum over the fingers of lambda_fk n_f with the grasp's."""
-    if scene.fingers is not None:
-        return FingerEnergy.compute_mu_lambda_kernel(x, scene.fingers.n, scene.contact_area, 1.0,
-                                                     scene.dhat, scene.kappa).T @ scene.fingers.n
+    sum over pushed surfaces of lambda_fk n_f with theirs."""
+    if scene.pushed is not None:
+        return scene.pushed.lambdas(scene, x).T @ scene.pushed.n
     if "barrier" not in scene.terms:
         return np.zeros_like(x)
     lam = BarrierEnergy.compute_mu_lambda_kernel(x, scene.n, scene.o, scene.contact_area, 1.0,

@@ -7,6 +7,8 @@ read the same named rows (`values`); docs/output.md's table is COLUMN as written
 """
 from collections import namedtuple
 
+from scenes import UNITS
+
 Column = namedtuple("Column", "name unit label meaning fmt value applies", defaults=[None])
 
 
@@ -16,14 +18,14 @@ def with_hand(scene):
 
 
 def with_surface(scene):
-    """Whether a scene's surface moves (the tablecloth, the grasp's lifted fingers): its speed, the
-    slip and the heat logged."""
-    return scene.surface is not None or scene.fingers is not None
+    """Whether a scene's surface moves (the tablecloth, pushed surfaces on their path): its speed,
+    the slip and the heat logged."""
+    return scene.surface is not None or scene.pushed is not None
 
 
-def with_fingers(scene):
-    """Whether a scene has fingers (the grasp): the block's slip, their forces, energy and work."""
-    return scene.fingers is not None
+def with_pushed(scene):
+    """Whether a scene has pushed surfaces: their work, and the columns its unit declares."""
+    return scene.pushed is not None
 
 
 def solver(figure, at_start):
@@ -85,9 +87,6 @@ COLUMN = {c.name: c for c in [
     Column("E_hand", "J", "hand energy",
            "the hand's springs' energy, at the targets of the state's time (the chalk)", ".9g",
            energy("hand"), with_hand),
-    Column("E_fingers", "J", "fingers' energy",
-           "the barrier against the fingers plus their squeeze's potential -N n_f . x_f (the "
-           "grasp)", ".9g", energy("fingers"), with_fingers),
     Column("E_total", "J", "total energy", "their sum, E", ".9g", energy("total")),
     Column("W_friction", "J", "friction work",
            "the work friction has done since t = 0 (<= 0 on a still surface), summed over steps as "
@@ -97,11 +96,11 @@ COLUMN = {c.name: c for c in [
            "steps as P_hand(x^n, targets(t^{n+1})) - P_hand(x^n, targets(t^n)) (the chalk)", ".9g",
            lambda s: s.hand_work, with_hand),
     Column("W_lift", "J", "lift work",
-           "the work that has held the fingers on their prescribed lift since t = 0, summed over "
-           "steps as the force along the lift, (grad E) . t / h^2 on their rows, times their rise "
-           "(the grasp)", ".9g", lambda s: s.lift_work, with_fingers),
+           "the work that has held pushed surfaces on their prescribed path since t = 0, summed "
+           "over steps as the force along it, (grad E) . t / h^2 on their rows, times their motion",
+           ".9g", lambda s: s.lift_work, with_pushed),
     Column("D_numerical", "J", "numerical dissipation",
-           "E(0) + W_friction - E (+ W_hand with a hand, + W_lift with fingers), = E(0) + "
+           "E(0) + W_friction - E (+ W_hand with a hand, + W_lift with pushed surfaces), = E(0) + "
            "W_surface - heat - E on the tablecloth: what implicit Euler's numerical dissipation "
            "has taken out", ".9g",
            lambda s: s.numerical_dissipation),
@@ -116,8 +115,8 @@ COLUMN = {c.name: c for c in [
            "the board's normal force on the chalk, the sum of lambda_k", ".6e",
            lambda s: s.normal_force, with_hand),
     Column("surface_speed", "m/s", "surface speed",
-           "the moving surface's velocity v_s along the table (the tablecloth) or the lift (the "
-           "grasp's fingers) over the last step", ".9f", lambda s: s.surface_speed, with_surface),
+           "the moving surface's velocity v_s along the table (the tablecloth) or pushed surfaces' "
+           "path over the last step", ".9f", lambda s: s.surface_speed, with_surface),
     Column("slip_speed", "m/s", "slip speed",
            "the largest tangential speed of a contact node relative to the surface, |t . (v_k - "
            "v_s)|", ".6e", lambda s: float(s.speeds.max(initial=0.0)), with_surface),
@@ -128,16 +127,7 @@ COLUMN = {c.name: c for c in [
            "friction's heat since t = 0 (>= 0), W_surface - W_friction: minus friction's work in "
            "the surface's frame, -F_f . (x^{n+1} - x^n - v_s h) summed over steps", ".9g",
            lambda s: s.heat, with_surface),
-    Column("slip", "m", "slip",
-           "how far the block has slid down relative to the fingers since t = 0: their lift minus "
-           "the rise of its centre of mass (the grasp)", ".9f", lambda s: s.slip, with_fingers),
-    Column("normal_force_left", "N", "left finger's force",
-           "the left finger's normal force on the block, the sum of its lambda_i (the grasp)",
-           ".9g", lambda s: float(s.finger_forces[0]), with_fingers),
-    Column("normal_force_right", "N", "right finger's force",
-           "the right finger's normal force on the block, the sum of its lambda_i (the grasp)",
-           ".9g", lambda s: float(s.finger_forces[1]), with_fingers),
-]}
+] + [Column(*c, applies=with_pushed) for unit in UNITS.values() for c in unit.LOG_COLUMNS]}
 
 
 def columns(scene):

@@ -8,8 +8,10 @@ from types import SimpleNamespace
 import numpy as np
 import scipy.optimize
 
+import FrictionEnergy
 import closed_forms
 import simulator
+from scenes import grasp
 from figures.page import BLACK, GREY, Page
 from viewer.pictures.draw import run_color
 
@@ -21,14 +23,15 @@ DURATION = 1.0      # s: the lift accelerates from 0.1 s to 0.5 s, then half a s
 EPSVS = (1e-3, 2e-3)                        # m/s, the creep panel's two eps_v
 RATIOS = (0.3, 0.5, 0.7, 0.85, 0.95)        # m g / (2 mu N) of its simulated points
 CREEP_TOL = 1e-6    # m/s: the creep read to about 0.5 tol / u* (under 1 % at u* >= 0.1 mm/s)
+A = grasp.GRASP["lift_accel"]   # m/s^2, the grid's lift
 CREEP_WINDOW = (0.2, 0.4)   # s: the creep fitted here, the fingers still (no lift: t_lift beyond)
 
 
 def held(scene):
     """Whether the simulated block stays on the pads through DURATION (stops once it has left)."""
-    drop = closed_forms.grasp_drop_slip(scene)
+    drop = grasp.drop_slip(scene)
     for record in simulator.simulate(scene, round(DURATION / scene.h)):
-        if closed_forms.grasp_slip(scene, record.x) >= drop:
+        if grasp.slip(scene, record.x) >= drop:
             return False
     return True
 
@@ -36,32 +39,25 @@ def held(scene):
 def coulomb_held(scene):
     """Whether the rigid Coulomb block stays on the pads through DURATION: its slip only grows, so
     its slip at DURATION decides."""
-    return closed_forms.grasp_coulomb_slip(scene, DURATION) < closed_forms.grasp_drop_slip(scene)
+    return grasp.coulomb_slip(scene, DURATION) < grasp.drop_slip(scene)
 
 
 def coulomb_boundary(mu):
     """The squeeze N at which the Coulomb block just reaches the pads' end by DURATION."""
     def excess(N):
-        scene = simulator.build_grasp_scene(mu=mu, squeeze=N)
-        drop = closed_forms.grasp_drop_slip(scene)
-        return closed_forms.grasp_coulomb_slip(scene, DURATION) - drop
-    line = line_squeeze(mu)
+        scene = grasp.build_grasp_scene(mu=mu, squeeze=N)
+        drop = grasp.drop_slip(scene)
+        return grasp.coulomb_slip(scene, DURATION) - drop
+    line = grasp.squeeze_for(1.0, mu, A)
     return scipy.optimize.brentq(excess, 0.5 * line, line, xtol=1e-9)
-
-
-def line_squeeze(mu, lift_accel=simulator.GRASP["lift_accel"]):
-    """N on the line 2 mu N = m (g + a)."""
-    p = simulator.GRASP
-    return p["mass"] * (-p["gravity"][1] + lift_accel) / (2 * mu)
 
 
 def creep(epsv, ratio):
     """A held block's creep speed with the fingers still, fitted over CREEP_WINDOW, beside u*."""
-    p = simulator.GRASP
-    N = p["mass"] * -p["gravity"][1] / (2 * p["mu"] * ratio)
-    scene = simulator.build_grasp_scene(squeeze=N, epsv=epsv, tol=CREEP_TOL, t_lift=10.0)
-    t, slip = closed_forms.grasp_run(scene, CREEP_WINDOW[1])
-    return closed_forms.fitted_rate(t, slip, *CREEP_WINDOW), closed_forms.grasp_creep_speed(scene)
+    N = grasp.squeeze_for(ratio, grasp.GRASP["mu"])
+    scene = grasp.build_grasp_scene(squeeze=N, epsv=epsv, tol=CREEP_TOL, t_lift=10.0)
+    t, slip = closed_forms.measured(scene, CREEP_WINDOW[1], grasp.slip)
+    return grasp.fitted_rate(t, slip, *CREEP_WINDOW), grasp.creep_speed(scene)
 
 
 def compute(mus=MUS, squeezes=SQUEEZES, epsvs=EPSVS, ratios=RATIOS):
@@ -70,9 +66,9 @@ def compute(mus=MUS, squeezes=SQUEEZES, epsvs=EPSVS, ratios=RATIOS):
     cells = []
     for mu in mus:
         for N in squeezes:
-            scene = simulator.build_grasp_scene(mu=mu, squeeze=N)
+            scene = grasp.build_grasp_scene(mu=mu, squeeze=N)
             cells.append(SimpleNamespace(mu=mu, N=N, held=held(scene), coulomb=coulomb_held(scene),
-                                         line=closed_forms.grasp_holds(scene)))
+                                         line=grasp.holds(scene)))
     points = [SimpleNamespace(epsv=e, ratio=r, u=u, exact=exact)
               for e in epsvs for r in ratios for u, exact in [creep(e, r)]]
     return SimpleNamespace(cells=cells, points=points, mus=mus, squeezes=squeezes, epsvs=epsvs)
@@ -84,7 +80,7 @@ def caption(r):
     coulomb = sum(c.held == c.coulomb for c in r.cells)
     line = sum(c.held == c.line for c in r.cells)
     worst = max(r.points, key=lambda p: abs(p.u / p.exact - 1))
-    p = simulator.GRASP
+    p = grasp.GRASP
     return [
         f"A {p['mass']:g} kg block between two fingers pressed with N each, lifted at a = "
         f"{p['lift_accel']:g} m/s^2 to {p['lift_speed']:g} m/s; held: still on the pads at "
@@ -105,11 +101,10 @@ def draw(r):
     ax = page.axes(0, mu_hi, N_lo, N_hi, "each finger's squeeze N (N) against "
                    "mu: filled held, hollow dropped (simulated)", "mu", "N (N)", x_lo=mu_lo)
     mu = np.linspace(mu_lo, mu_hi, 200)
-    inside = (line_squeeze(mu) <= N_hi) & (line_squeeze(mu, 0.0) >= N_lo)     # in the panel
-    mu = mu[inside]
-    ax.line(mu, line_squeeze(mu), run_color(0), 2)
+    mu = mu[(grasp.squeeze_for(1.0, mu, A) <= N_hi) & (grasp.squeeze_for(1.0, mu) >= N_lo)]
+    ax.line(mu, grasp.squeeze_for(1.0, mu, A), run_color(0), 2)
     ax.legend(run_color(0), "2 mu N = m (g + a)")
-    ax.line(mu, line_squeeze(mu, 0.0), GREY, 1)
+    ax.line(mu, grasp.squeeze_for(1.0, mu), GREY, 1)
     ax.legend(GREY, "2 mu N = m g")
     ax.line(mu, [coulomb_boundary(m) for m in mu], run_color(1), 2)
     ax.legend(run_color(1), "rigid Coulomb: pads' end")
@@ -126,7 +121,7 @@ def draw(r):
                    "m g / (2 mu N)", "m g / (2 mu N)", "u (mm/s)")
     ratio = np.linspace(0.0, 1.0, 200)
     for k, epsv in enumerate(r.epsvs):
-        ax.line(ratio, [1e3 * closed_forms.mollified_creep(epsv, x) for x in ratio],
+        ax.line(ratio, [1e3 * FrictionEnergy.f1_inverse(x, epsv) for x in ratio],
                 run_color(2 + 3 * k), 2)
         ax.legend(run_color(2 + 3 * k), f"u*, eps_v = {epsv:g} m/s")
         shown = [p for p in r.points if p.epsv == epsv]

@@ -2,29 +2,29 @@
 vertical fingers, each pressed against it by a force N, that lift it. It holds iff friction,
 2 mu N, carries m (g + a) while the lift accelerates and m g after; held, it still creeps down at
 u* = eps_v (1 - sqrt(1 - m g / (2 mu N))), IPC's mollified friction having no true static friction
-(closed_forms.grasp_*; docs/grasp.md).
+(the closed forms and the words below; docs/grasp.md).
 
 The block starts settled between the pressed fingers, at the gap where each side's barrier carries
 N (not dropped). The fingers are the last two rows of x (FingerEnergy): their offsets along their
 normals are unknowns of the step, their lift along (0, 1) is prescribed: still until t_lift, then at
 lift_accel up to lift_speed, then steady. The pads, pad_length long, are drawn; the block is
-dropped once it has slid past them (the half-spaces themselves go on).
-
-Why tol 1e-5 m/s: a Newton tolerance reads the creep right only well below u* (about -0.5 tol / u*
-off; the issue's prototype: +61 % at tol 1e-2, -95 % at 1e-3); u* = 0.50 mm/s here, so 1e-5 is
-u* / 50, about 1 % off.
+dropped once it has slid past them (the half-spaces themselves go on). Why tol 1e-5 m/s (u* / 50):
+docs/grasp.md.
 
     scene = build_grasp_scene(squeeze=4.0)  # the numbers (GRASP), one of them changed
 """
+import dataclasses
+import math
 import types
 
 import numpy as np
 
-import MassSpringEnergy
+import FingerEnergy
+import FrictionEnergy
 import square_mesh
 import utils
 from scenes import ranges
-from scenes.scene import Fingers, Scene, gap_carrying, readonly
+from scenes.scene import MovingSurface, assemble, gap_carrying, readonly
 
 GRASP = types.MappingProxyType({
     "width": 0.05, "height": 0.05,  # m: the block
@@ -42,10 +42,122 @@ GRASP = types.MappingProxyType({
     "pad_length": 0.05,         # m, each pad, centred on the block at t = 0
     "dhat": 1e-3, "kappa": 100.0,   # barrier activation distance (m) and stiffness: gap 0.7 dhat
     "epsv": 1e-3,               # friction's eps_v, m/s
-    "tol": 1e-5,                # Newton tolerance on ||p||_inf / h, m/s: u* / 50 (see above)
+    "tol": 1e-5,                # Newton tolerance on ||p||_inf / h, m/s: u* / 50 (docs/grasp.md)
     "friction_updates": 0, "max_newton_iterations": 1000, "max_halvings": 60,
     "newton_start": "x_n",
 })
+
+
+@dataclasses.dataclass(frozen=True)
+class Fingers:
+    """The grasp's pushed surfaces, time_integrator's `scene.pushed`: finger f is the half-space
+    through row len(x) - F + f of x with normal n[f], pressed by squeeze[f] (FingerEnergy); its
+    motion along the `tangent` all share is prescribed (the lift: from t_lift at lift_accel up to
+    lift_speed, then steady), a Dirichlet condition (5_mov_dirichlet); friction slips on v - v_s."""
+    n: np.ndarray               # (F, 2) unit normals, toward the block
+    squeeze: np.ndarray         # (F,) N: each finger's pressing force
+    start: np.ndarray           # (F,) each finger node's coordinate along `tangent` at t = 0, m
+    tangent: np.ndarray         # (2,) the direction of the lift (along every finger)
+    lift_accel: float           # a, m/s^2
+    lift_speed: float           # V, m/s
+    t_lift: float               # when the lift starts, s
+    pad_length: float           # each finger's pad, centred on its node at t = 0 (drawn), m
+    module, stores_energy = FingerEnergy, True      # its term, as time_integrator.TERMS' entries
+    velocity = MovingSurface.velocity               # v_s over a step: the offset's difference / h
+    counted = "slip: the fingers' lift minus the block's rise; dropped: slid past the pads"
+    pads_words = "the fingers' pads"
+
+    def args(self, s, lagged, x, v):
+        """FingerEnergy's arguments in the lecture's order, as a Term's."""
+        return x, self.n, self.squeeze, s.contact_area, s.dhat, s.kappa
+
+    def offset(self, t):
+        """How far the fingers have lifted by time t (m): a tau^2 / 2 for tau = t - t_lift up to
+        V / a, then V tau - V^2 / (2 a) (0 before t_lift)."""
+        tau, t_a = max(t - self.t_lift, 0.0), self.lift_speed / self.lift_accel
+        return self.lift_accel * tau * tau / 2 if tau < t_a else self.lift_speed * (tau - t_a / 2)
+
+    def body(self, a):
+        """The rows of a (N, ...) that are the block's: all but the fingers' (the last)."""
+        return a[:len(a) - len(self.n)]
+
+    def centre_of_mass(self, scene, a):
+        """sum_i m_i a_i / sum_i m_i over the block's rows of a (N, 2)."""
+        return np.average(self.body(a), axis=0, weights=self.body(scene.m))
+
+    def along(self, a):
+        """t . a_f (F,) of the fingers' rows of a (N, 2)."""
+        return a[len(a) - len(self.n):] @ self.tangent
+
+    def moved(self, a, along):
+        """a (N, 2) with `along` (F,) added along `tangent` to the fingers' rows (a new array)."""
+        a = a.copy()
+        a[len(a) - len(self.n):] += np.outer(along, self.tangent)
+        return a
+
+    def prescribe(self, lagged, t):
+        """The step's `lagged`, x^n checked, its fingers' rows of x^n (Newton's start) and x_tilde
+        at the lift of t: no term depends on that coordinate (n . tangent = 0)."""
+        FingerEnergy.check_above(lagged.x_n, self.n)
+        lift = self.start + self.offset(t)
+        x_n, x_tilde = (self.moved(a, lift - self.along(a)) for a in (lagged.x_n, lagged.x_tilde))
+        return dataclasses.replace(lagged, x_n=x_n, x_tilde=x_tilde)
+
+    def eliminate(self, g):
+        """g (N, 2) without its component along `tangent` on the fingers' rows: no unknowns."""
+        return self.moved(g, -self.along(g))
+
+    def lambdas(self, scene, x, mu=1.0):
+        """mu lambda_fi (F, N): each finger's normal force on each node, times mu."""
+        return FingerEnergy.compute_mu_lambda_kernel(x, self.n, scene.contact_area, mu, scene.dhat,
+                                                     scene.kappa)
+
+    def mu_lambda(self, scene, x, mu):
+        """mu lambda_i (N,) summed over the fingers: they share one tangent, so friction's T."""
+        return self.lambdas(scene, x, mu).sum(axis=0)
+
+    def init_step_size(self, x, p):
+        """Algorithm 4, line 1, against the moving fingers."""
+        return FingerEnergy.init_step_size_kernel(x, self.n, p)
+
+    def min_distance(self, x):
+        """The smallest d_fi = n_f . (x_i - x_f)."""
+        return float(FingerEnergy.distances(x, self.n).min())
+
+    def work(self, force, dx):
+        """sum_f (t . force_f)(t . dx_f) over the fingers' rows of force and dx (N, 2), J."""
+        return float(self.along(force) @ self.along(dx))
+
+    def contact_velocities(self, scene, x, v, v_s):
+        """t . (v_i - v_s) of the block nodes within dhat of a finger, finger by finger."""
+        in_contact = FingerEnergy.distances(x, self.n) < scene.dhat         # (F, N_block)
+        return np.broadcast_to(self.body(v - v_s) @ self.tangent, in_contact.shape)[in_contact]
+
+    def figures(self, scene, x):
+        """What log.csv adds for a state x: the slip (m) and each finger's force (N)."""
+        return {"slip": slip(scene, x), "finger_forces": self.lambdas(scene, x).sum(axis=1)}
+
+    def closed_creep(self, scene):
+        """u* in the steady lift (m/s), or None where the grasp does not hold."""
+        return creep_speed(scene) if holds(scene) else None
+
+    def words(self, track, short=False):
+        """The closing words of a run's kept states (of_track)."""
+        return of_track(track, short)
+
+    def pads(self, x, depth):
+        """Each finger's pad, (4, 2) corners: pad_length along the lift, centred on its row of x,
+        `depth` deep behind its surface."""
+        along = 0.5 * self.pad_length * np.array([-1.0, 1.0, 1.0, -1.0])[:, None] * self.tangent
+        behind = depth * np.array([0.0, 0.0, 1.0, 1.0])[:, None]
+        return [x_f + along - behind * n_f for n_f, x_f in zip(self.n, x[len(x) - len(self.n):])]
+
+    def header(self, scene):
+        """The summary's line of the grasp's numbers."""
+        p = scene.params
+        return (f"block {p['width'] * 100:g} x {p['height'] * 100:g} cm, {p['mass']:g} kg   "
+                f"squeeze N = {p['squeeze']:g} N a finger   lift at a = {self.lift_accel:g} m/s^2 "
+                f"to {self.lift_speed:g} m/s from t = {self.t_lift:g} s   mu = {scene.mu:g}")
 
 
 def check_params(overrides):
@@ -83,13 +195,12 @@ def build_grasp_scene(**overrides):
     for name, other in sorted((("nx", "ny"), ("ny", "nx")), key=lambda pair: -p[pair[0]]):
         ranges.check_memory(name, p[name], lambda n: (n + 1) * (p[other] + 1))
     w, h = p["width"], p["height"]
-    block, _ = square_mesh.rectangle(w, h, p["nx"], p["ny"], (-w / 2, -h / 2))
+    block, e = square_mesh.rectangle(w, h, p["nx"], p["ny"], (-w / 2, -h / 2))
     m_block = np.full(len(block), p["mass"] / len(block))
     spacing = min(w / p["nx"], h / p["ny"])
     ranges.check_start(p, GRASP, GROWS, block, m_block, spacing, h / p["ny"], np.array([-w / 2, 0]),
                        block[:, 0] + w / 2 + p["dhat"])      # as if at dhat from the left finger
     d0 = resting_gap(p)
-    block, e = square_mesh.rectangle(w, h, p["nx"], p["ny"], (-w / 2, -h / 2))
     x = np.vstack([block, [[-w / 2 - d0, 0.0], [w / 2 + d0, 0.0]]])   # the fingers' nodes, last
     fingers = Fingers(n=readonly([[1.0, 0.0], [-1.0, 0.0]]), squeeze=readonly([p["squeeze"]] * 2),
                       start=readonly([0.0, 0.0]), tangent=readonly([0.0, 1.0]),
@@ -98,15 +209,155 @@ def build_grasp_scene(**overrides):
     nb = len(block)
     pairs = np.column_stack([np.tile(np.arange(nb), 2), np.repeat([nb, nb + 1], nb)])  # (i, f)
     terms = ("inertia", "spring", "gravity", "fingers") + ("friction",) * (p["mu"] > 0.0)
-    m = np.append(np.full(len(block), p["mass"] / len(block)), [p["finger_mass"]] * 2)
-    return Scene(
-        params=types.MappingProxyType(p), x0=readonly(x), v0=readonly(np.zeros_like(x)),
-        e=readonly(np.asfortranarray(e)), l2=readonly(MassSpringEnergy.squared_lengths(x, e)),
-        k=readonly(np.full(len(e), p["k"])), m=readonly(m),
-        contact_area=readonly(np.append(np.full(len(block), h / p["ny"]), [0.0, 0.0])),
-        g=readonly(p["gravity"]), n=None, o=None, mu=p["mu"], dhat=p["dhat"], kappa=p["kappa"],
-        epsv=p["epsv"], h=p["h"], tol=p["tol"], friction_updates=p["friction_updates"],
-        newton_start=p["newton_start"], max_newton_iterations=p["max_newton_iterations"],
-        max_halvings=p["max_halvings"], terms=terms, warnings=(),
-        solver=utils.SPDSolver.for_mesh(len(x), e, elements=[pairs]),
-        cells=(p["nx"], p["ny"]), fingers=fingers)
+    m = np.append(m_block, [p["finger_mass"]] * 2)
+    w_contact = np.append(np.full(nb, h / p["ny"]), [0.0, 0.0])     # the fingers' nodes: none
+    return assemble(p, x, e, m, w_contact, terms, (p["nx"], p["ny"]), elements=[pairs],
+                    pushed=fingers)
+
+
+# ---- The closed forms: a block of mass m between two fingers pressed with N each -----------------
+
+def grip(scene):
+    """2 mu N / m: the largest acceleration the two fingers' friction can give the block, m/s^2."""
+    return scene.mu * float(scene.pushed.squeeze.sum()) / scene.params["mass"]
+
+
+def load_ratio(scene, lift_accel=0.0):
+    """m (g + a) / (2 mu N): the load on friction while the fingers lift at acceleration a (inf
+    without friction)."""
+    return (-scene.g[1] + lift_accel) / grip(scene) if grip(scene) > 0.0 else math.inf
+
+
+def squeeze_for(ratio, mu, lift_accel=0.0, p=GRASP):
+    """N with m (g + a) / (2 mu N) = ratio for the block of `p` (ratio 1: on the line)."""
+    return p["mass"] * (-p["gravity"][1] + lift_accel) / (2 * mu * ratio)
+
+
+def holds(scene):
+    """Whether the grasp holds: 2 mu N >= m (g + a) while the lift accelerates, and m g after."""
+    return max(load_ratio(scene, scene.pushed.lift_accel), load_ratio(scene)) <= 1.0
+
+
+def creep_speed(scene, lift_accel=0.0):
+    """u* = eps_v (1 - sqrt(1 - m (g + a) / (2 mu N))) (FrictionEnergy.f1_inverse): held, its
+    creep down the fingers, steady lift (a = 0) or while it accelerates; nan where it slips."""
+    ratio = load_ratio(scene, lift_accel)
+    return FrictionEnergy.f1_inverse(ratio, scene.epsv) if ratio <= 1.0 else math.nan
+
+
+def slip_acceleration(scene, lift_accel=0.0):
+    """(g + a) - 2 mu N / m: the block's acceleration down the fingers while it slips."""
+    return -scene.g[1] + lift_accel - grip(scene)
+
+
+def phases(scene):
+    """The lift's phases: (words, start, end, acceleration a), still, accelerating, steady."""
+    f = scene.pushed
+    t_a = f.t_lift + f.lift_speed / f.lift_accel
+    return [("before the lift", 0.0, f.t_lift, 0.0),
+            ("while the lift accelerates", f.t_lift, t_a, f.lift_accel),
+            ("in the steady lift", t_a, math.inf, 0.0)]
+
+
+def coulomb_slip(scene, t):
+    """How far a rigid block with Coulomb friction has slid down the fingers by time t (m): through
+    the lift's phases, its slip speed u grows at (g + a) - 2 mu N / m where that is > 0, and falls
+    at that rate to 0 (sticking) where not."""
+    s = u = 0.0
+    for _, t0, t1, a in phases(scene):
+        du = slip_acceleration(scene, a)
+        T = max(min(t1, t) - t0, 0.0)
+        T = T if du >= 0.0 else min(T, u / -du)                 # until it sticks again
+        s, u = s + u * T + du * T * T / 2, u + du * T
+    return s
+
+
+def slip(scene, x):
+    """How far the block has slid down relative to the fingers since t = 0 (m): the fingers' lift
+    minus the rise of the block's centre of mass, along the lift."""
+    f = scene.pushed
+    rise = (f.centre_of_mass(scene, x) - f.centre_of_mass(scene, scene.x0)) @ f.tangent
+    return float((f.along(x) - f.start).mean()) - float(rise)
+
+
+def drop_slip(scene):
+    """The slip at which the block has slid past the pads (its top below their bottom), m."""
+    return (scene.pushed.pad_length + scene.params["height"]) / 2
+
+
+# ---- In words: held (its creep beside u*), dropped (its slip acceleration beside the closed form)
+
+SETTLE = 0.05       # s left out of a fit after a phase of the lift begins (the springs take it up)
+
+
+def fitted_rate(t, s, start, end, order=1):
+    """The slip's speed (order 1: a line's slope) or acceleration (order 2: twice a parabola's
+    leading coefficient) fitted to s over start <= t <= end."""
+    window = (t >= start - 1e-9) & (t <= end + 1e-9)
+    return float(np.polyfit(t[window], s[window], order)[0]) * order
+
+
+def outcome(scene, t, s):
+    """(held, t_drop, phase words, measured, closed form) from the slip s at times t: a block on
+    the pads at the end, its slip speed (m/s) in the phase the run ends in beside the creep u* (held
+    where it is below eps_v, else still slipping); a dropped one's slip acceleration (m/s^2) in the
+    phase it slid past the pads in; t_drop None where not dropped; measured nan where too few
+    states. The fit leaves out SETTLE after the phase begins, or takes its last half where that
+    holds fewer than 4 states."""
+    dropped = np.flatnonzero(s >= drop_slip(scene))
+    end = float(t[dropped[0]]) if dropped.size else float(t[-1])
+    words, start, _, a = next(p for p in phases(scene) if p[1] <= max(end - 1e-9, 0.0) < p[2])
+    window = (t >= start + SETTLE - 1e-9) & (t <= end + 1e-9)
+    window = window if window.sum() >= 4 else (t >= (start + end) / 2 - 1e-9) & (t <= end + 1e-9)
+    order = 2 if dropped.size else 1
+    measured = (fitted_rate(t[window], s[window], start, end, order)
+                if window.sum() > order + 1 else math.nan)
+    exact = slip_acceleration(scene, a) if dropped.size else creep_speed(scene, a)
+    return not dropped.size, end if dropped.size else None, words, measured, exact
+
+
+def words(scene, t, s, short=False):
+    """'held (slid 0.66 mm, Coulomb 0), creeps 0.498 mm/s in the steady lift (u* 0.500)',
+    'dropped at 0.62 s, slips 2.462 m/s^2 while the lift accelerates (closed form 2.462)', or
+    'slips on the pads at 0.60 s: ...'; `short`, for a comparison's closing: 'held, creeps 0.498
+    mm/s (u* 0.500)', 'dropped at 0.62 s'."""
+    on_pads, t_drop, phase, measured, exact = outcome(scene, t, s)
+    if not on_pads:
+        return f"dropped at {t_drop:.2f} s" + ("" if short else (
+            f", slips {measured:.3f} m/s^2 {phase} (closed form {exact:.3f})"))
+    slid = f"slid {1e3 * s[-1]:.2f} mm, Coulomb {1e3 * coulomb_slip(scene, float(t[-1])):.3g}"
+    if not measured < scene.epsv:
+        return f"slips on the pads at {t[-1]:.2f} s" + ("" if short else (
+            f": {1e3 * measured:.1f} mm/s {phase} ({slid})"))
+    creeps = f"creeps {1e3 * measured:.3f} mm/s"
+    if short:
+        return f"held, {creeps} (u* {1e3 * exact:.3f})"
+    return f"held ({slid}), {creeps} {phase} (u* {1e3 * exact:.3f})"
+
+
+def of_track(track, short=False):
+    """words() of a run's kept states (a recording.Track: each with its t and slip)."""
+    samples = track.samples.all()
+    t, s = np.array([x.t for x in samples]), np.array([x.slip for x in samples])
+    return words(track.scene, t, s, short)
+
+
+# ---- What the command line and log.csv read (scenes.UNITS) ---------------------------------------
+
+PARAMS, BUILD = GRASP, build_grasp_scene
+FLAGS = [(("--squeeze",), "squeeze", "NEWTONS",
+          "--scene grasp: each finger's pressing force N in N"),
+         (("--lift-accel",), "lift_accel", "M_PER_S2",
+          "--scene grasp: the fingers' lift acceleration a in m/s^2")]
+LABEL = "squeeze = {squeeze:g} N, mu = {mu:g}"      # a single run's label
+HELP = "a block lifted between two pressed fingers"
+DURATION = 1.5      # s: the lift's acceleration (0.1 s to 0.5 s), then 1 s of steady lift
+LOG_COLUMNS = [     # (name, unit, label, meaning, format, value(sample)): analysis/log.py's Column
+    ("E_fingers", "J", "fingers' energy", "the barrier against the fingers plus their squeeze's "
+     "potential -N n_f . x_f (the grasp)", ".9g", lambda s: s.energies["fingers"]),
+    ("slip", "m", "slip", "how far the block has slid down relative to the fingers since t = 0: "
+     "their lift minus the rise of its centre of mass (the grasp)", ".9f", lambda s: s.slip),
+    ("normal_force_left", "N", "left finger's force", "the left finger's normal force on the "
+     "block, the sum of its lambda_i (the grasp)", ".9g", lambda s: float(s.finger_forces[0])),
+    ("normal_force_right", "N", "right finger's force", "the right finger's normal force on the "
+     "block, the sum of its lambda_i (the grasp)", ".9g", lambda s: float(s.finger_forces[1]))]

@@ -3,8 +3,8 @@
 `Scene` holds what every scene has. What only some scenes have is one optional part each, None when
 the scene has none: the hand (`HandEnergy.Hand`, the chalk's grip), static friction
 (`StaticFriction`: a static coefficient above the kinetic one, the chalk's), a moving surface
-(`MovingSurface`: the half-space sliding along itself, the tablecloth) and pushed fingers
-(`Fingers`: half-spaces through the last rows of x, pressed by a force and lifted, the grasp).
+(`MovingSurface`: the half-space sliding along itself, the tablecloth) and pushed surfaces
+(half-spaces through rows of x that the step moves: their protocol in time_integrator's docs).
 """
 from dataclasses import dataclass
 import types
@@ -47,54 +47,6 @@ class MovingSurface:
 
 
 @dataclass(frozen=True)
-class Fingers:
-    """The grasp's fingers (FingerEnergy): finger f is the half-space through row len(x) - F + f of
-    x with normal n[f], pressed by squeeze[f] along it (its offset along n[f] an unknown of the
-    step); its motion along `tangent` is prescribed, the lift: from t_lift at lift_accel up to
-    lift_speed, then steady. Friction slips on v - v_s, v_s the lift's velocity over the step."""
-    n: np.ndarray               # (F, 2) unit normals, toward the block
-    squeeze: np.ndarray         # (F,) N: each finger's pressing force
-    start: np.ndarray           # (F,) each finger node's coordinate along `tangent` at t = 0, m
-    tangent: np.ndarray         # (2,) the direction of the lift (along every finger)
-    lift_accel: float           # a, m/s^2
-    lift_speed: float           # V, m/s
-    t_lift: float               # when the lift starts, s
-    pad_length: float           # each finger's pad, centred on its node at t = 0 (drawn), m
-
-    def offset(self, t):
-        """How far the fingers have lifted by time t (m): a tau^2 / 2 for tau = t - t_lift up to
-        V / a, then V tau - V^2 / (2 a) (0 before t_lift)."""
-        tau, t_a = max(t - self.t_lift, 0.0), self.lift_speed / self.lift_accel
-        return self.lift_accel * tau * tau / 2 if tau < t_a else self.lift_speed * (tau - t_a / 2)
-
-    def velocity(self, t, h):
-        """v_s of the time step of length h ending at t: the lift over the step, over h."""
-        return self.tangent * ((self.offset(t) - self.offset(t - h)) / h)
-
-    def prescribe(self, x, t):
-        """x with each finger's row moved along `tangent` to start + offset(t) (a new array): no
-        term depends on that coordinate (only d = n . (x_i - x_f), n . tangent = 0), so it is a
-        Dirichlet condition, as 5_mov_dirichlet's."""
-        x = x.copy()
-        fingers = x[len(x) - len(self.n):]
-        fingers += np.outer(self.start + self.offset(t) - fingers @ self.tangent, self.tangent)
-        return x
-
-    def work_along_lift(self, force, dx):
-        """sum_f (t . force_f)(t . dx_f) over the fingers' rows of force and dx (N, 2), J."""
-        rows = slice(len(dx) - len(self.n), None)
-        return float((force[rows] @ self.tangent) @ (dx[rows] @ self.tangent))
-
-    def eliminate(self, g):
-        """g (N, 2) with its component along `tangent` on the fingers' rows removed: the prescribed
-        coordinates are no unknowns of the step (5_mov_dirichlet's DBC elimination)."""
-        g = g.copy()
-        fingers = g[len(g) - len(self.n):]
-        fingers -= np.outer(fingers @ self.tangent, self.tangent)
-        return g
-
-
-@dataclass(frozen=True)
 class Scene:
     """What a scene is: its mesh, masses, contact half-space and the solver's numbers."""
     params: types.MappingProxyType  # the checked parameters it was built from
@@ -125,18 +77,19 @@ class Scene:
     hand: HandEnergy.Hand = None            # the grip's held nodes and moving targets, or None
     static: StaticFriction = None           # static friction above kinetic, or None
     surface: MovingSurface = None           # the half-space's own tangential motion, or None
-    fingers: Fingers = None                 # the grasp's pushed, lifted fingers, or None
+    pushed: object = None                   # pushed surfaces (time_integrator), or None
 
     def surface_velocity(self, t):
-        """v_s (2,) of the step ending at t (MovingSurface.velocity, the fingers' lift); zero for a
-        still surface."""
-        moving = self.surface if self.fingers is None else self.fingers
+        """v_s (2,) of the step ending at t (MovingSurface.velocity, or pushed surfaces'); zero for
+        a still surface."""
+        moving = self.surface if self.pushed is None else self.pushed
         return np.zeros(2) if moving is None else moving.velocity(t, self.h)
 
     @property
     def friction_n(self):
-        """The normals friction sums over: the slope's n (2,), or the fingers' (F, 2)."""
-        return self.n if self.fingers is None else self.fingers.n
+        """The normal friction's tangent comes from: the slope's, or pushed surfaces' (which share
+        one tangent)."""
+        return self.n if self.pushed is None else self.pushed.n[0]
 
 
 def readonly(a):

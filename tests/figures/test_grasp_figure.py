@@ -3,6 +3,7 @@ one just below the line 2 mu N = m (g + a) holds all the same, and the creep sit
 import pytest
 
 import figures.page
+import scenes.grasp
 from figures import grasp
 
 
@@ -27,6 +28,6 @@ def test_the_coulomb_boundary_lies_just_below_the_line():
     """At mu 0.5 the line is N = 2.062 N. By hand, 2 mu N / m = g + a - delta: the block slips
     0.08 delta in the 0.4 s the lift accelerates, then (0.4 delta)^2 / (2 (a - delta)) more as it
     slows; that is the pads' 5 cm at delta = 0.28 m/s^2, 2.7 % below the line."""
-    line = grasp.line_squeeze(0.5)
+    line = scenes.grasp.squeeze_for(1.0, 0.5, grasp.A)
     assert line == pytest.approx(0.2 * 10.31 / 1.0)
     assert 0.95 * line < grasp.coulomb_boundary(0.5) < line

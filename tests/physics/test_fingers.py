@@ -1,13 +1,11 @@
-"""The grasp's energies: FingerEnergy (the barrier against half-spaces through nodes of x, and the
-squeeze) and FrictionEnergy over several surfaces, against finite differences on both sides of
-d = dhat and ||v|| = eps_v; and the step's contract for pushed fingers."""
+"""The grasp's energy: FingerEnergy (the barrier against half-spaces through nodes of x, and the
+squeeze), against finite differences on both sides of d = dhat; its CCD and mu*lambda."""
 import numpy as np
 import pytest
 
 import BarrierEnergy
 import FingerEnergy
-import FrictionEnergy
-from helpers.fd import assert_close, check_derivatives, check_energy
+from helpers.fd import assert_close, check_energy
 
 SEEDS = range(4)
 NORMALS = np.array([[1.0, 0.0], [-0.6, 0.8]])       # two fingers, one tilted
@@ -79,40 +77,6 @@ def test_finger_mu_lambda_is_mu_times_each_finger_s_force():
     assert not mu_lambda[:, 4:].any()           # the fingers' own rows
 
 
-@pytest.mark.parametrize("seed", SEEDS)
-@pytest.mark.parametrize("where", ["static", "just_below_epsv", "just_above_epsv", "sliding"])
-def test_friction_over_several_surfaces(seed, where):
-    """P_f over two surfaces, n (2, 2) and mu_lambda (2, N): FD on both sides of eps_v (the
-    tangential speed along each surface's tangent), and the sum of each surface's P_f."""
-    rng = np.random.default_rng(seed)
-    epsv, hhat = 1e-3, 0.01
-    speeds = {"static": rng.uniform(0.05, 0.9, 6) * epsv,
-              "just_below_epsv": epsv * (1 - rng.uniform(1e-3, 1e-2, 6)),
-              "just_above_epsv": epsv * (1 + rng.uniform(1e-3, 1e-2, 6)),
-              "sliding": rng.uniform(2, 500, 6) * epsv}[where]
-    tangents = NORMALS @ np.array([[0.0, -1.0], [1.0, 0.0]])
-    on = np.repeat([0, 1], 3)                   # nodes 0-2 slide along surface 0, 3-5 along 1
-    v = speeds[:, None] * tangents[on] * rng.choice([-1.0, 1.0], (6, 1))
-    mu_lambda = np.zeros((2, 6))
-    mu_lambda[on, np.arange(6)] = rng.uniform(10, 100, 6)
-    x_n = 1e-6 * rng.normal(size=v.shape)
-    args = (mu_lambda, hhat, NORMALS, epsv)
-    gap = min(np.abs(speeds - epsv).min(), speeds.min())
-
-    def vel(y):
-        return (y - x_n) / hhat
-    check_derivatives(lambda y: FrictionEnergy.val(vel(y), *args),
-                      lambda y: FrictionEnergy.grad(vel(y), *args),
-                      lambda y: FrictionEnergy.hess(vel(y), *args, project_psd=False),
-                      x_n + hhat * v, 1e-4 * hhat * gap)
-    each = sum(FrictionEnergy.val(v, row, hhat, n, epsv) for row, n in zip(mu_lambda, NORMALS))
-    assert FrictionEnergy.val(v, *args) == pytest.approx(each, rel=1e-12)
-
-
-def test_several_surfaces_need_a_row_of_mu_lambda_each():
-    with pytest.raises(ValueError, match="^mu_lambda must have a row per surface"):
-        FrictionEnergy.val(np.zeros((3, 2)), np.zeros(3), 0.01, NORMALS)
-    with pytest.raises(ValueError, match=r"^n\[1\] must be a unit vector"):
-        FrictionEnergy.val(np.zeros((3, 2)), np.zeros((2, 3)), 0.01, [[1.0, 0.0], [1.0, 1.0]])
+def test_fingers_need_a_normal_each_and_fewer_than_the_nodes():
     with pytest.raises(ValueError, match="^n must hold one normal per finger"):
         FingerEnergy.val(np.zeros((2, 2)), [[1.0, 0.0], [-1.0, 0.0]], 1.0, [1.0, 1.0])

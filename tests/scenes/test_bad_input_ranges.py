@@ -7,10 +7,10 @@ import pytest
 
 import simulator
 import utils
-from scenes import ranges
+from scenes import grasp, ranges
 
 BUILDERS = {"square": simulator.build_scene, "chalk": simulator.build_chalk_scene,
-            "tablecloth": simulator.build_tablecloth_scene, "grasp": simulator.build_grasp_scene}
+            "tablecloth": simulator.build_tablecloth_scene, "grasp": grasp.build_grasp_scene}
 
 TABLECLOTH = [      # each ended in brentq's "f(a) and f(b) must have different signs" before
     (dict(gravity=(0.0, -1e308)), "gravity"), (dict(mass=1e300), "mass"),
@@ -53,7 +53,7 @@ def test_the_chalk_refuses_what_float64_cannot_hold_by_name(kwargs, name, monkey
 @pytest.mark.parametrize("kwargs, name", GRASP, ids=[str(k) for k, _ in GRASP])
 def test_the_grasp_refuses_what_float64_cannot_hold_by_name(kwargs, name, monkeypatch):
     """The grasp's squeeze is carried as the dish's weight is (ranges.check_carries)."""
-    err = refused(simulator.build_grasp_scene, kwargs, monkeypatch)
+    err = refused(grasp.build_grasp_scene, kwargs, monkeypatch)
     assert err.parameter == name and str(err).startswith(f"{name} "), str(err)
 
 

@@ -7,28 +7,30 @@ import numpy as np
 import pytest
 
 import FingerEnergy
+import FrictionEnergy
 import closed_forms
 import simulator
+from scenes import grasp
 
 G = 9.81
 
 
-def squeeze_for(ratio, p=simulator.GRASP):
+def squeeze_for(ratio, p=grasp.GRASP):
     """N with m g / (2 mu N) = ratio."""
     return p["mass"] * G / (2 * p["mu"] * ratio)
 
 
 def finger_forces(scene, x):
     """Each finger's normal force on the block (N), the sum of its lambda_i."""
-    return FingerEnergy.compute_mu_lambda_kernel(x, scene.fingers.n, scene.contact_area, 1.0,
+    return FingerEnergy.compute_mu_lambda_kernel(x, scene.pushed.n, scene.contact_area, 1.0,
                                                  scene.dhat, scene.kappa).sum(axis=1)
 
 
 def test_the_block_starts_settled_at_the_gap_where_each_finger_carries_n():
     """Round-off: brentq to xtol 1e-15 m on a force of slope ~1e4 N/m per node: 1e-10 N."""
-    scene = simulator.build_grasp_scene()
+    scene = grasp.build_grasp_scene()
     assert finger_forces(scene, scene.x0) == pytest.approx([2.616, 2.616], abs=1e-9)
-    gap = FingerEnergy.distances(scene.x0, scene.fingers.n).min()
+    gap = FingerEnergy.distances(scene.x0, scene.pushed.n).min()
     assert 0.6 * scene.dhat < gap < 0.8 * scene.dhat    # kappa 100: about 0.7 dhat (the issue)
 
 
@@ -37,9 +39,9 @@ def test_the_lift_is_prescribed_and_the_fingers_press_with_n():
     moves them along the lift), and each finger's force stays N; a held block at rest in the lift's
     frame (up to its creep) sees N to 1e-5 relative (the fingers' own inertia, m_f a, is normal to
     the lift, so nothing else enters)."""
-    scene = simulator.build_grasp_scene(squeeze=4.0)
+    scene = grasp.build_grasp_scene(squeeze=4.0)
     for rec in simulator.simulate(scene, 60):           # 0.3 s: still, then accelerating
-        assert (rec.x[-2:, 1] == scene.fingers.offset(rec.t)).all()
+        assert (rec.x[-2:, 1] == scene.pushed.offset(rec.t)).all()
     assert finger_forces(scene, rec.x) == pytest.approx([4.0, 4.0], rel=1e-5)
 
 
@@ -47,55 +49,55 @@ def test_a_held_grasp_creeps_at_u_star_in_the_steady_lift():
     """m g / (2 mu N) = 0.75: u* = eps_v (1 - sqrt(0.25)) = 0.50 mm/s, measured over the steady
     lift (from 0.5 s) at the scene's tol 1e-5 = u* / 50, which reads it about 0.5 tol / u* = 1 %
     low (measured: 0.497 mm/s); 10 % as the issue asks."""
-    scene = simulator.build_grasp_scene(squeeze=squeeze_for(0.75))
-    u_star = closed_forms.grasp_creep_speed(scene)
-    assert u_star == pytest.approx(5e-4, rel=1e-9) and closed_forms.grasp_holds(scene)
-    t, slip = closed_forms.grasp_run(scene, 0.9)
-    assert closed_forms.fitted_rate(t, slip, 0.6, 0.9) == pytest.approx(u_star, rel=0.1)
+    scene = grasp.build_grasp_scene(squeeze=squeeze_for(0.75))
+    u_star = grasp.creep_speed(scene)
+    assert u_star == pytest.approx(5e-4, rel=1e-9) and grasp.holds(scene)
+    t, slip = closed_forms.measured(scene, 0.9, grasp.slip)
+    assert grasp.fitted_rate(t, slip, 0.6, 0.9) == pytest.approx(u_star, rel=0.1)
     assert slip.max() < 1e-3                            # held: under a mm in all
 
 
 def test_a_dropped_grasp_slips_at_the_closed_form_s_acceleration():
     """m g / (2 mu N) = 1.25: (g + a) - 2 mu N / m = 2.462 m/s^2 while the lift accelerates, then
     g - 2 mu N / m = 1.962 (measured to 1e-8: friction is mu N exactly above eps_v); 5 %."""
-    scene = simulator.build_grasp_scene(squeeze=squeeze_for(1.25))
-    a = scene.fingers.lift_accel
-    assert not closed_forms.grasp_holds(scene)
-    t, slip = closed_forms.grasp_run(scene, 0.7)
-    during = closed_forms.fitted_rate(t, slip, 0.15, 0.45, order=2)
-    after = closed_forms.fitted_rate(t, slip, 0.55, 0.7, order=2)
-    assert during == pytest.approx(closed_forms.grasp_slip_acceleration(scene, a), rel=0.05)
-    assert after == pytest.approx(closed_forms.grasp_slip_acceleration(scene), rel=0.05)
-    assert closed_forms.grasp_slip_acceleration(scene, a) == pytest.approx(2.462, abs=1e-9)
+    scene = grasp.build_grasp_scene(squeeze=squeeze_for(1.25))
+    a = scene.pushed.lift_accel
+    assert not grasp.holds(scene)
+    t, slip = closed_forms.measured(scene, 0.7, grasp.slip)
+    during = grasp.fitted_rate(t, slip, 0.15, 0.45, order=2)
+    after = grasp.fitted_rate(t, slip, 0.55, 0.7, order=2)
+    assert during == pytest.approx(grasp.slip_acceleration(scene, a), rel=0.05)
+    assert after == pytest.approx(grasp.slip_acceleration(scene), rel=0.05)
+    assert grasp.slip_acceleration(scene, a) == pytest.approx(2.462, abs=1e-9)
 
 
 def test_a_grasp_that_holds_at_rest_slips_while_the_lift_accelerates():
     """2 mu N = 2.0 N between m g = 1.962 and m (g + a) = 2.062: held before the lift (creeping
     at u* = 0.86 mm/s), slipping at (g + a) - 2 mu N / m = 0.31 m/s^2 while it accelerates (5 %),
     as far as the rigid block's Coulomb slip says by then (the creep before it: 0.09 mm; 5 %)."""
-    scene = simulator.build_grasp_scene(squeeze=2.0)
-    a = scene.fingers.lift_accel
-    assert closed_forms.grasp_load_ratio(scene) < 1.0 < closed_forms.grasp_load_ratio(scene, a)
-    t, slip = closed_forms.grasp_run(scene, 0.5)
-    before = closed_forms.fitted_rate(t, slip, 0.05, 0.1)
-    assert before == pytest.approx(closed_forms.grasp_creep_speed(scene), rel=0.1)
-    during = closed_forms.fitted_rate(t, slip, 0.2, 0.5, order=2)
-    assert during == pytest.approx(closed_forms.grasp_slip_acceleration(scene, a), rel=0.05)
-    assert slip[-1] == pytest.approx(closed_forms.grasp_coulomb_slip(scene, 0.5), rel=0.05)
+    scene = grasp.build_grasp_scene(squeeze=2.0)
+    a = scene.pushed.lift_accel
+    assert grasp.load_ratio(scene) < 1.0 < grasp.load_ratio(scene, a)
+    t, slip = closed_forms.measured(scene, 0.5, grasp.slip)
+    before = grasp.fitted_rate(t, slip, 0.05, 0.1)
+    assert before == pytest.approx(grasp.creep_speed(scene), rel=0.1)
+    during = grasp.fitted_rate(t, slip, 0.2, 0.5, order=2)
+    assert during == pytest.approx(grasp.slip_acceleration(scene, a), rel=0.05)
+    assert slip[-1] == pytest.approx(grasp.coulomb_slip(scene, 0.5), rel=0.05)
 
 
 def test_the_coulomb_slip_through_the_lift_s_phases():
     """By hand, a 0.5, V 0.2 (accelerating 0.1 s to 0.5 s): 2 mu N / m = 10 m/s^2 grips until the
     lift, slips at 0.31 m/s^2 for 0.4 s (0.0248 m, at 0.124 m/s), then sticks again at -0.19 m/s^2
     after 0.124 / 0.19 s more (0.124^2 / 0.38 m further)."""
-    scene = simulator.build_grasp_scene(squeeze=2.0)
-    assert closed_forms.grasp_coulomb_slip(scene, 0.1) == 0.0
-    assert closed_forms.grasp_coulomb_slip(scene, 0.5) == pytest.approx(0.31 * 0.4 ** 2 / 2)
+    scene = grasp.build_grasp_scene(squeeze=2.0)
+    assert grasp.coulomb_slip(scene, 0.1) == 0.0
+    assert grasp.coulomb_slip(scene, 0.5) == pytest.approx(0.31 * 0.4 ** 2 / 2)
     total = 0.31 * 0.4 ** 2 / 2 + 0.124 ** 2 / 0.38
-    assert closed_forms.grasp_coulomb_slip(scene, 10.0) == pytest.approx(total)
-    assert closed_forms.grasp_coulomb_slip(scene, math.inf) == pytest.approx(total)
-    held = simulator.build_grasp_scene(squeeze=4.0)
-    assert closed_forms.grasp_coulomb_slip(held, 10.0) == 0.0
+    assert grasp.coulomb_slip(scene, 10.0) == pytest.approx(total)
+    assert grasp.coulomb_slip(scene, math.inf) == pytest.approx(total)
+    held = grasp.build_grasp_scene(squeeze=4.0)
+    assert grasp.coulomb_slip(held, 10.0) == 0.0
 
 
 @pytest.mark.parametrize("name, value, words", [
@@ -106,9 +108,27 @@ def test_the_coulomb_slip_through_the_lift_s_phases():
 ])
 def test_a_bad_parameter_is_refused_by_name(name, value, words):
     with pytest.raises(ValueError, match=f"^{words}"):
-        simulator.build_grasp_scene(**{name: value})
+        grasp.build_grasp_scene(**{name: value})
 
 
 def test_friction_off_leaves_no_friction_term():
-    scene = simulator.build_grasp_scene(mu=0.0)
-    assert "friction" not in scene.terms and np.isnan(closed_forms.grasp_creep_speed(scene))
+    scene = grasp.build_grasp_scene(mu=0.0)
+    assert "friction" not in scene.terms and np.isnan(grasp.creep_speed(scene))
+
+
+def test_friction_against_the_fingers_is_the_sum_of_each_finger_s():
+    """The fingers share one tangent (the lift's), so friction against them is P_f with mu*lambda
+    summed over them (Fingers.mu_lambda) and either's normal: the sum of each finger's own P_f,
+    value and gradient, to round-off (one addition of a zero per node)."""
+    scene = grasp.build_grasp_scene()
+    rng = np.random.default_rng(5)
+    v = rng.uniform(-2e-3, 2e-3, scene.x0.shape)        # both sides of eps_v = 1e-3
+    each = FingerEnergy.compute_mu_lambda_kernel(scene.x0, scene.pushed.n, scene.contact_area,
+                                                 scene.mu, scene.dhat, scene.kappa)
+    assert (np.count_nonzero(each, axis=0) <= 1).all() and each.any()   # one finger a node
+    summed = scene.pushed.mu_lambda(scene, scene.x0, scene.mu)
+    for energy in (FrictionEnergy.val, FrictionEnergy.grad):
+        together = energy(v, summed, scene.h, scene.friction_n, scene.epsv)
+        apart = sum(energy(v, row, scene.h, n_f, scene.epsv)
+                    for row, n_f in zip(each, scene.pushed.n))
+        assert np.allclose(together, apart, rtol=1e-12, atol=0.0)

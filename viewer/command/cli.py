@@ -8,19 +8,19 @@ import re
 
 import simulator
 import utils
-from scenes import ranges, tablecloth
+from scenes import UNITS, ranges, tablecloth
 from viewer.command import run
 
 DURATION = 6.0          # s: long enough to see mu = 0.11 stick (about 5.5 s), and creep
 CHALK_DURATION = 3.0    # s: about 17 stick-slip cycles of the pushed chalk
 STOP_MARGIN = 0.05      # s a tablecloth run goes on after its slowest closed-form dish has stopped
-GRASP_DURATION = 1.5    # s: the lift's acceleration (0.1 s to 0.5 s), then 1 s of steady lift
 FRAMES_PER_SECOND = 30      # at least this many frames per simulated second by default
 LABEL = {"square": "mu = {mu:g}", "chalk": "{how}, mu_s = {mu_s:g}, mu = {mu:g}",
          "tablecloth": "pull-speed = {pull_speed:g}, mu = {mu:g}",
-         "grasp": "squeeze = {squeeze:g} N, mu = {mu:g}"}       # a single run's label
+         **{kind: unit.LABEL for kind, unit in UNITS.items()}}      # a single run's label
 
-# (flags, parameter, metavar, what it is): the square's scene flags, the chalk's, the tablecloth's
+# (flags, parameter, metavar, what it is): the square's scene flags, the chalk's, the tablecloth's,
+# then those the scene units declare (scenes.UNITS)
 FLAGS = [
     (("--mu",), "mu", "MU", "friction coefficient, no unit"),
     (("--h", "--dt"), "h", "SECONDS", "time step in s"),
@@ -49,10 +49,7 @@ FLAGS = [
      "--scene chalk: static friction coefficient (equal to --mu: one coefficient)"),
     (("--pull-speed",), "pull_speed", "M_PER_S", "--scene tablecloth: the cloth's speed U in m/s"),
     (("--pull-length",), "pull_length", "METRES", "--scene tablecloth: the pull's length L in m"),
-    (("--squeeze",), "squeeze", "NEWTONS", "--scene grasp: each finger's pressing force N in N"),
-    (("--lift-accel",), "lift_accel", "M_PER_S2",
-     "--scene grasp: the fingers' lift acceleration a in m/s^2"),
-]
+]  + [flag for unit in UNITS.values() for flag in unit.FLAGS]
 FLAG_OF = {param: flags[0] for flags, param, _, _ in FLAGS}     # a ValueError's parameter -> flag
 FLAG_OF.update({name: "--" + name.replace("_", "-") for name in
                 ("slope_angle", "steps", "duration", "frame-stride", "out", "size", "speed")})
@@ -107,17 +104,17 @@ def default_words(param):
 
 def make_parser():
     ap = Parser(prog="simulator.py", allow_abbrev=False, description=(
-        "Simulate the lecture's elastic square on a slope (or --scene chalk, tablecloth, grasp) "
-        "into a folder: frames, OBJs, log.csv, plots.png, summary.png and index.html, a page that "
-        "plays "
-        "the run. One scene flag may take a list, e.g. --mu 0.1,0.11,0.2: one run per value, "
-        "compared (docs/command-line.md)."))
+        "Simulate the lecture's elastic square on a slope (or --scene chalk, tablecloth"
+        + "".join(f", {kind}" for kind in UNITS) + ") into a folder: frames, OBJs, log.csv, "
+        "plots.png, summary.png and index.html, a page that plays the run. One scene flag may "
+        "take a list, e.g. --mu 0.1,0.11,0.2: one run per value, compared (docs/command-line.md)."))
     g = ap.add_argument_group("scene (the lecture's numbers by default)")
-    g.add_argument("--scene", choices=("square", "chalk", "tablecloth", "grasp"), default="square",
+    g.add_argument("--scene", choices=("square", "chalk", "tablecloth", *UNITS), default="square",
                    help="square: the lecture's square on a slope (default); chalk: Rabinowicz's "
                         f"chalk pushed across a board ({CHALK_DURATION:g} s); tablecloth: a dish "
-                        "on a cloth pulled from under it (until the dish stops); grasp: a block "
-                        f"lifted between two pressed fingers ({GRASP_DURATION:g} s)")
+                        "on a cloth pulled from under it (until the dish stops)" + "".join(
+                            f"; {kind}: {unit.HELP} ({unit.DURATION:g} s)"
+                            for kind, unit in UNITS.items()))
     for flags, param, metavar, what in FLAGS:
         default = default_words(param)
         kind = ({"choices": utils.NEWTON_STARTS} if param == "newton_start" else
@@ -132,8 +129,9 @@ def make_parser():
     r = ap.add_argument_group("run and output")
     r.add_argument("--duration", type=float, metavar="SECONDS",
                    help=f"simulated seconds (default: the square {DURATION:g}, the chalk "
-                        f"{CHALK_DURATION:g}, the grasp {GRASP_DURATION:g}, the tablecloth until "
-                        f"its closed-form dish stops, +{STOP_MARGIN:g})")
+                        f"{CHALK_DURATION:g}" + "".join(f", the {kind} {unit.DURATION:g}"
+                                                         for kind, unit in UNITS.items())
+                        + f", the tablecloth until its closed-form dish stops, +{STOP_MARGIN:g})")
     r.add_argument("--steps", type=whole, metavar="N", help="time steps, instead of --duration")
     r.add_argument("--out", metavar="FOLDER", help="a new or empty folder to write into (default: "
                    "a new one, output/<scene>-<date>-<time>; with --window, files only when given)")
@@ -218,7 +216,7 @@ def scene_kinds():
     return {"square": (simulator.DEFAULTS, simulator.build_scene),
             "chalk": (simulator.CHALK, simulator.build_chalk_scene),
             "tablecloth": (simulator.TABLECLOTH, simulator.build_tablecloth_scene),
-            "grasp": (simulator.GRASP, simulator.build_grasp_scene)}
+            **{kind: (unit.PARAMS, unit.BUILD) for kind, unit in UNITS.items()}}
 
 
 def scene_from_args(args):
@@ -250,11 +248,11 @@ def scene_from_args(args):
     return build(**overrides)
 
 
-def default_duration(scenes):
-    """DURATION, CHALK_DURATION, GRASP_DURATION, or STOP_MARGIN after the runs' last closed-form
-    dish stops."""
-    if scenes[0].fingers is not None:
-        return GRASP_DURATION
+def default_duration(scenes, kind=None):
+    """DURATION, CHALK_DURATION, a scene unit's DURATION (--scene `kind`), or STOP_MARGIN after the
+    runs' last closed-form dish stops."""
+    if kind in UNITS:
+        return UNITS[kind].DURATION
     if scenes[0].surface is None:
         return CHALK_DURATION if scenes[0].hand else DURATION
     stops = [tablecloth.stop_time(s.surface.pull_speed, s.surface.pull_length, s.mu,
@@ -322,7 +320,7 @@ def plan_from_args(runs):
     labels = [a.label or LABEL[a.scene].format(how="dragged" if a.drag else "pushed", **s.params)
               for a, s in zip(runs, scenes)]
     asked = all(a.steps is not None or a.duration is not None for a in runs)
-    duration = None if asked else default_duration(scenes)
+    duration = None if asked else default_duration(scenes, runs[0].scene)
     steps = [steps_from_args(a, s, duration) for a, s in zip(runs, scenes)]
     scenes = [unfinished(scene, n) for scene, n in zip(scenes, steps)]
     return run.Plan(scenes=scenes, labels=labels, tags=[a.tag for a in runs], steps=steps,

@@ -3,7 +3,6 @@ import types
 
 import numpy as np
 
-import closed_forms
 import square_mesh
 
 from analysis import diagnostics, log, wear
@@ -47,7 +46,7 @@ class Track:
         self.tangent = diagnostics.tangent(scene)
         self.x, self.v = scene.x0, scene.v0
         self.step, self.friction_work, self.hand_work, self.surface_work = 0, 0.0, 0.0, 0.0
-        self.lift_work = 0.0        # the grasp's (time_integrator.StepReport.lift_work)
+        self.lift_work = 0.0        # pushed surfaces' (time_integrator.StepReport.pushed_work)
         self.columns = log.columns(scene)
         self.marks = wear.Deposit() if scene.hand is not None else None   # the chalk's mark
         self.warned = set()         # the kinds of warning said so far
@@ -67,9 +66,7 @@ class Track:
         E = diagnostics.energies(scene, x, v, t)
         E0 = self.samples.items[0].energies["total"] if self.samples.items else E["total"]
         tip = diagnostics.tip_figures(scene, x, v, t) if scene.hand is not None else {}
-        grasp = {} if scene.fingers is None else {
-            "slip": closed_forms.grasp_slip(scene, x),
-            "finger_forces": diagnostics.finger_forces(scene, x)}
+        pushed = {} if scene.pushed is None else scene.pushed.figures(scene, x)
         v_s = scene.surface_velocity(t)
         velocities = diagnostics.contact_velocities(scene, x, v, v_s)      # along self.tangent
         speeds = np.abs(velocities)
@@ -86,7 +83,7 @@ class Track:
             + self.hand_work + self.lift_work - E["total"],
             speeds=speeds, sticking=sticking, sliding=sliding,
             contact_velocity=float(velocities.mean()) if len(velocities) else 0.0,
-            inverted=diagnostics.inverted_triangles(x, self.triangles), **tip, **grasp)
+            inverted=diagnostics.inverted_triangles(x, self.triangles), **tip, **pushed)
         if not diagnostics.at_rest(sticking, sliding):
             self.rest_since = None
         elif self.rest_since is None:
@@ -109,7 +106,7 @@ class Track:
         self.x, self.v, self.step = record.x, record.v, record.index + 1
         self.friction_work += record.report.friction_work
         self.surface_work += record.report.surface_work
-        self.lift_work += record.report.lift_work
+        self.lift_work += record.report.pushed_work
         sample = self._add(record.report, record.t, record.wall)
         said = step_warnings(self.scene, sample.step, sample.t, record.report, sample.inverted)
         for kind in [kind for kind in said if kind not in self.warned]:   # each kind said once

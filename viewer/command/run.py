@@ -107,11 +107,8 @@ def summary_header(plan):
         lines = [f"chalk {p['length'] * 100:g} x {p['width'] * 100:g} cm, {how} at tilt = "
                  f"{p['tilt']:g} deg   grip k_hand = {p['k_hand']:g} N/m   drive = {p['drive']:g} "
                  f"m/s   mu_s = {p['mu_s']:g}   mu = {scene.mu:g}   v_c = {p['v_c']:g} m/s", solver]
-    elif scene.fingers is not None:
-        f = scene.fingers
-        lines = [f"block {p['width'] * 100:g} x {p['height'] * 100:g} cm, {p['mass']:g} kg   "
-                 f"squeeze N = {p['squeeze']:g} N a finger   lift at a = {f.lift_accel:g} m/s^2 to "
-                 f"{f.lift_speed:g} m/s from t = {f.t_lift:g} s   mu = {scene.mu:g}", solver]
+    elif scene.pushed is not None:
+        lines = [scene.pushed.header(scene), solver]
     elif scene.surface is not None:
         lines = [f"dish {p['width'] * 100:g} x {p['height'] * 100:g} cm, {p['mass']:g} kg   cloth "
                  f"pulled L = {p['pull_length']:g} m at U = {p['pull_speed']:g} m/s from t = "

@@ -32,7 +32,7 @@ TITLE_SCALE = 1.2           # the title's capitals this much taller
 CLOTH_COLOR, CLOTH_STRIPE = (255, 219, 170), (219, 146, 85)     # the tablecloth and its stripes
 CLOTH_DEPTH = 0.08          # m (x view.unit): each run's cloth, a band this deep under the table
 CLOTH_STRIPES = 2.0         # m (x view.unit): the stripes' period along the cloth
-FINGER_COLOR = (109, 109, 170)  # the grasp's finger pads
+PUSHED_COLOR = (109, 109, 170)  # pushed surfaces (scene.pushed): their pads
 PAD_DEPTH = 0.1             # m (x view.unit): each pad drawn this thick, behind its surface
 
 
@@ -189,15 +189,15 @@ def reference_force(scene):
     without gravity), or with a hand one held node's press, k_hand x press depth."""
     if scene.hand is not None:
         return scene.hand.k_hand * scene.params["press"], "one held node's press"
-    mass = float(diagnostics.body(scene, scene.m).sum())       # the grasp's block alone
+    mass = float(diagnostics.body(scene, scene.m).sum())       # the body alone
     weight = mass * float(np.hypot(*scene.g)) or mass * 9.81
     return weight, "the weight M|g|"
 
 
 def friction_zoom(scene):
     """How much longer friction arrows are drawn: FRICTION_ZOOM for the square, 1 for the chalk
-    and the grasp (friction there is of the normal force's size)."""
-    return FRICTION_ZOOM if scene.hand is None and scene.fingers is None else 1.0
+    and pushed surfaces (friction there is of the normal force's size)."""
+    return FRICTION_ZOOM if scene.hand is None and scene.pushed is None else 1.0
 
 
 def newton_per_metre(scene):
@@ -242,15 +242,10 @@ def draw_forces(pygame, surface, runs, view, newton_per_metre):
             (WHITE, f"{metres:g} m of arrow = {newton_per_metre * metres:.5g} N ({words})")]
 
 
-def draw_fingers(pygame, surface, scene, x, view):
-    """The grasp's fingers as pads: pad_length along the lift, centred on each finger's node (its
-    row of x), PAD_DEPTH x view.unit deep behind its surface (against its normal)."""
-    f = scene.fingers
-    along = 0.5 * f.pad_length * np.array([-1.0, 1.0, 1.0, -1.0])[:, None] * f.tangent
-    for n_f, x_f in zip(f.n, x[len(x) - len(f.n):]):
-        behind = PAD_DEPTH * view.unit * np.array([0.0, 0.0, 1.0, 1.0])[:, None] * n_f
-        corners = x_f + along - behind
-        pygame.draw.polygon(surface, FINGER_COLOR, view(corners).tolist())
+def draw_pushed(pygame, surface, scene, x, view):
+    """Pushed surfaces as their pads (scene.pushed.pads), PAD_DEPTH x view.unit deep."""
+    for corners in scene.pushed.pads(x, PAD_DEPTH * view.unit):
+        pygame.draw.polygon(surface, PUSHED_COLOR, view(corners).tolist())
 
 
 def draw_hand(pygame, surface, scene, x, t, view):
@@ -316,8 +311,8 @@ def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None, reserve=(0, 
         draw_square(pygame, surface, run["scene"], run["x"], view, run["color"])
         if run["scene"].hand is not None:
             draw_hand(pygame, surface, run["scene"], run["x"], t, view)
-        if run["scene"].fingers is not None:
-            draw_fingers(pygame, surface, run["scene"], run["x"], view)
+        if run["scene"].pushed is not None:
+            draw_pushed(pygame, surface, run["scene"], run["x"], view)
     if newton_per_metre is not None:
         arrows = draw_forces(pygame, surface, runs, view, newton_per_metre)
     title = f"t = {t:.2f} s" + (f"   {runs[0]['label']}" if len(runs) == 1 else "")
@@ -330,8 +325,9 @@ def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None, reserve=(0, 
     if cloths:
         words = "the cloth" if len(cloths) == 1 else "the cloths, top to bottom as the runs"
         top = draw_legend(pygame, surface, small, [(CLOTH_STRIPE, words)], top + 4)
-    if scene.fingers is not None:
-        top = draw_legend(pygame, surface, small, [(FINGER_COLOR, "the fingers' pads")], top + 4)
+    if scene.pushed is not None:
+        pads = [(PUSHED_COLOR, scene.pushed.pads_words)]
+        top = draw_legend(pygame, surface, small, pads, top + 4)
     if scene.hand is not None:
         hand = [(HAND_COLOR, "the hand: its targets and springs")] + tip_marks.legend(chalks)
         top = draw_legend(pygame, surface, small, hand, top + 4)

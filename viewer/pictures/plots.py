@@ -13,8 +13,8 @@ LEGEND_TEXT = RIGHT + 34        # the column where a legend's text starts
 ENERGY_COLORS = {"kinetic": (230, 120, 0), "gravity": (120, 80, 40), "spring": (0, 150, 60),
                  "barrier": (200, 0, 160), "hand": (0, 150, 200), "total": (0, 0, 0),
                  "W_friction": (0, 0, 255), "W_hand": (120, 0, 200), "-D_numerical": (200, 0, 0),
-                 "W_surface": (0, 170, 170), "-heat": (128, 128, 0), "fingers": (109, 109, 170),
-                 "W_lift": (146, 73, 0)}
+                 "W_surface": (0, 170, 170), "-heat": (128, 128, 0), "W_lift": (146, 73, 0)}
+PUSHED_COLOR = (109, 109, 170)      # draw.PUSHED_COLOR: a pushed surfaces' term (scene.pushed)
 ENERGY_LABELS = {"total": "total E", "W_friction": "friction work W", "W_hand": "hand work W_hand",
                  "-D_numerical": "-D, numerical dissip.", "W_surface": "surface work W_surface",
                  "-heat": "-heat, cloth's frame", "W_lift": "lift work W_lift"}
@@ -149,7 +149,7 @@ def series(track):
     return {"t": column("t"), "E": {k: column(f"E_{k}") for k in terms},
             "W": column("W_friction"), "D": column("D_numerical"),
             "newton": column("newton_iterations"), "W_hand": None,
-            "W_lift": column("W_lift") if track.scene.fingers is not None else None,
+            "W_lift": column("W_lift") if track.scene.pushed is not None else None,
             **{k: column(k) for k in chalk},
             **{k: np.array([getattr(x, k) for x in s]) for k in cloth},
             "along": np.array([(c - com[0]) @ track.tangent for c in com]),
@@ -190,7 +190,7 @@ def square_panels(axes, tracks, data):
     cloth = tracks[0].scene.surface is not None         # speeds relative to it (v_p - v_s)
     speed, along = ("relative speed v_p - v_s", "the table") if cloth else ("tangential speed",
                                                                               "the slope")
-    if tracks[0].scene.fingers is not None:             # relative to the fingers
+    if tracks[0].scene.pushed is not None:             # relative to pushed surfaces
         speed, along = "relative speed v_p - v_s", "the lift"
     if len(tracks) == 1:
         (tr,), (d,) = tracks, data
@@ -314,7 +314,7 @@ def energy_panel(axes, d):
     its work and the heat (W_friction = W_surface - heat), and -D."""
     hand, cloth = d["W_hand"] is not None, "heat" in d
     curves = dict(d["E"], W_friction=d["W"], **({"W_hand": d["W_hand"]} if hand else {}))
-    lift = d["W_lift"] is not None                      # the grasp's fingers
+    lift = d["W_lift"] is not None                      # pushed surfaces' path
     if lift:
         curves["W_lift"] = d["W_lift"]
     if cloth:
@@ -327,5 +327,6 @@ def energy_panel(axes, d):
               + (" + W_lift" if lift else "")
               + " - D, D = implicit Euler's numerical dissipation", "E (J)")
     for key, values in curves.items():
-        ax.line(d["t"], values, ENERGY_COLORS[key], 3 if key == "total" else 2)
-        ax.legend(ENERGY_COLORS[key], ENERGY_LABELS.get(key, key))
+        color = ENERGY_COLORS.get(key, PUSHED_COLOR)
+        ax.line(d["t"], values, color, 3 if key == "total" else 2)
+        ax.legend(color, ENERGY_LABELS.get(key, key))

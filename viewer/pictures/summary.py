@@ -85,7 +85,7 @@ def header_lines(tracks, header):
 
 
 def panel_words(track):
-    """Under a panel's label: the chalk's stick-slip, the dish's travel, the grasp's hold or drop,
+    """Under a panel's label: the chalk's stick-slip, the dish's travel, a pushed scene's words,
     the square's sticking and creep (analysis/closing.py)."""
     return closing.closing_words([track])
 

@@ -10,6 +10,7 @@ import pytest
 import analysis.log
 import simulator
 import utils
+from scenes import grasp
 from helpers import ROOT
 from helpers.command import closing_text, run_main
 from viewer.command import cli, run
@@ -146,7 +147,7 @@ def test_help_gives_each_scenes_own_defaults():
     helps = {action.dest: " ".join(action.help.split()) for action in cli.make_parser()._actions}
     assert helps["duration"] == (f"simulated seconds (default: the square {cli.DURATION:g}, the "
                                  f"chalk {cli.CHALK_DURATION:g}, the grasp "
-                                 f"{cli.GRASP_DURATION:g}, the tablecloth until its "
+                                 f"{grasp.DURATION:g}, the tablecloth until its "
                                  f"closed-form dish stops, +{cli.STOP_MARGIN:g})")
     tables = {kind: table for kind, (table, _) in cli.scene_kinds().items()}
     for _, param, _, _ in cli.FLAGS:

@@ -5,6 +5,7 @@ import csv
 import numpy as np
 
 from helpers.command import closing_text, run_main
+from scenes import grasp
 from viewer.command import cli, run
 from viewer.pictures import draw
 
@@ -13,11 +14,11 @@ def test_grasp_flags_reach_the_scene_and_a_list_compares_squeezes():
     runs = cli.parse_command_line(["--scene", "grasp", "--squeeze", "1,2,4", "--lift-accel", "1",
                                    "--mu", "0.4", "--mass", "0.3", "--epsv", "2e-3"])
     plan = cli.plan_from_args(runs)
-    assert [float(s.fingers.squeeze[0]) for s in plan.scenes] == [1.0, 2.0, 4.0]
-    assert all(s.fingers.lift_accel == 1.0 and s.mu == 0.4 and s.params["mass"] == 0.3
+    assert [float(s.pushed.squeeze[0]) for s in plan.scenes] == [1.0, 2.0, 4.0]
+    assert all(s.pushed.lift_accel == 1.0 and s.mu == 0.4 and s.params["mass"] == 0.3
                and s.epsv == 2e-3 for s in plan.scenes)
     assert plan.labels == ["squeeze = 1", "squeeze = 2", "squeeze = 4"]
-    assert plan.steps == [round(cli.GRASP_DURATION / 0.005)] * 3 and plan.kind == "grasp"
+    assert plan.steps == [round(grasp.DURATION / 0.005)] * 3 and plan.kind == "grasp"
     assert run.summary_header(plan)[1] == (
         "block 5 x 5 cm, 0.3 kg   squeeze N = 1 N a finger   lift at a = 1 m/s^2 to 0.2 m/s from "
         "t = 0.1 s   mu = 0.4")
@@ -43,4 +44,4 @@ def test_a_grasp_run_says_held_or_dropped_logs_the_slip_and_draws_the_pads(tmp_p
     assert np.allclose(forces[-2:], 4.0, rtol=1e-4)     # settled
     pygame = draw.load_pygame()
     frame = pygame.surfarray.array3d(pygame.image.load(str(tmp_path / "frame_00000.png")))
-    assert np.all(frame == draw.FINGER_COLOR, axis=2).sum() > 500      # the pads, and the legend
+    assert np.all(frame == draw.PUSHED_COLOR, axis=2).sum() > 500      # the pads, and the legend

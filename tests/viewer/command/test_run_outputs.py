@@ -234,7 +234,7 @@ def test_plots_show_the_energy_budget_contact_speeds_and_eps_v(default_run):
     top, height = plots.TOP, plots.PANEL_HEIGHT
     energy = image[plots.LEFT + 2:plots.RIGHT - 1, top + 25:top + height - 31]
     for name, color in plots.ENERGY_COLORS.items():
-        if name not in ("hand", "W_hand", "W_surface", "-heat", "fingers", "W_lift"):  # others'
+        if name not in ("hand", "W_hand", "W_surface", "-heat", "W_lift"):  # others'
             assert np.all(energy == color, axis=2).sum() > 100, name      # every curve drawn
     speed_panel = image[plots.LEFT + 1:plots.RIGHT, top + height:top + 2 * height]
     red_rows = np.all(speed_panel == (200, 0, 0), axis=2).sum(axis=0)

@@ -1,19 +1,19 @@
 """The live window on the grasp: it steps, draws the fingers' pads, and shows a Newton iteration."""
 import numpy as np
 
-import simulator
 from helpers.window import frames_until, live_window, press, pygame
+from scenes import grasp
 from viewer.pictures import draw
 
 
 def test_the_window_draws_the_grasp_s_pads_and_its_newton_iterations():
-    scene = simulator.build_grasp_scene()
+    scene = grasp.build_grasp_scene()
     seen = {}
 
     def script():
         yield from frames_until(lambda: w.run.index >= 20)
         pixels = pygame().surfarray.array3d(w.screen)
-        seen["pads"] = int(np.all(pixels == draw.FINGER_COLOR, axis=2).sum())
+        seen["pads"] = int(np.all(pixels == draw.PUSHED_COLOR, axis=2).sum())
         press("K_SPACE")
         yield
         press("K_n")

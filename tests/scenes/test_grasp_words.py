@@ -1,20 +1,18 @@
-"""analysis/grasp.py: a grasp's outcome from its slip, on slips of known speed and acceleration."""
+"""scenes/grasp.py: a grasp's outcome from its slip, on slips of known speed and acceleration."""
 import numpy as np
 import pytest
 
-import closed_forms
-import simulator
-from analysis import grasp
+from scenes import grasp
 
 
 def test_a_creeping_slip_is_held_and_its_speed_is_measured_in_the_phase_it_ends_in():
-    scene = simulator.build_grasp_scene()
+    scene = grasp.build_grasp_scene()
     t = np.arange(0, 301) * scene.h
     slip = 4.97e-4 * t                                  # 0.497 mm/s throughout
     held, t_drop, phase, measured, exact = grasp.outcome(scene, t, slip)
     assert held and t_drop is None and phase == "in the steady lift"
     assert measured == pytest.approx(4.97e-4, rel=1e-9)
-    assert exact == closed_forms.grasp_creep_speed(scene)
+    assert exact == grasp.creep_speed(scene)
     words = grasp.words(scene, t, slip)
     assert words == ("held (slid 0.75 mm, Coulomb 0), creeps 0.497 mm/s in the steady lift "
                      "(u* 0.500)")
@@ -24,7 +22,7 @@ def test_a_creeping_slip_is_held_and_its_speed_is_measured_in_the_phase_it_ends_
 def test_a_slip_past_the_pads_is_dropped_at_that_time_with_its_acceleration():
     """A slip of 2.462 (t - 0.1)^2 / 2 from t = 0.1 s reaches the pads' 0.05 m at 0.1 + 0.2015 s,
     in the lift's acceleration (to 0.5 s)."""
-    scene = simulator.build_grasp_scene(squeeze=1.5696)
+    scene = grasp.build_grasp_scene(squeeze=1.5696)
     t = np.arange(0, 121) * scene.h
     slip = 2.462 * np.maximum(t - 0.1, 0.0) ** 2 / 2
     held, t_drop, phase, measured, _ = grasp.outcome(scene, t, slip)
@@ -38,7 +36,7 @@ def test_a_slip_past_the_pads_is_dropped_at_that_time_with_its_acceleration():
 def test_a_run_that_ends_while_the_block_still_slides_says_so():
     """Slipping at 50 mm/s, far above eps_v, when the run ends, 3 cm down, not yet past the pads:
     neither held nor dropped."""
-    scene = simulator.build_grasp_scene(squeeze=2.0)
+    scene = grasp.build_grasp_scene(squeeze=2.0)
     t = np.arange(0, 121) * scene.h
     assert grasp.words(scene, t, 0.05 * t).startswith(
         "slips on the pads at 0.60 s: 50.0 mm/s in the steady lift (slid 30.00 mm, Coulomb ")
