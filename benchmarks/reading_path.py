@@ -147,17 +147,18 @@ def hook_lines(source):
 
 
 def grasp_lines(root=tables.ROOT):
-    """{file: lines} the grasp adds outside tests/: every line of GRASP_FILES, and hook_lines of
-    every other .py file but NOT_SHARED's."""
+    """{file: (lines, code lines)} the grasp adds outside tests/: every line of GRASP_FILES, and
+    hook_lines of every other .py file but NOT_SHARED's; code lines as code_lines counts them."""
     counts = {}
     for path in sorted(pathlib.Path(root).rglob("*.py")):
         name = path.relative_to(root).as_posix()
         if name.startswith(NOT_SHARED) or name.startswith("."):
             continue
         source = path.read_text()
-        n = len(source.splitlines()) if name in GRASP_FILES else len(hook_lines(source))
-        if n:
-            counts[name] = n
+        lines = (set(range(1, len(source.splitlines()) + 1)) if name in GRASP_FILES
+                 else hook_lines(source))
+        if lines:
+            counts[name] = (len(lines), len(lines & code_lines(source)))
     return counts
 
 
@@ -171,9 +172,12 @@ def main(argv=None):
     args = ap.parse_args(argv)
     if args.grasp:
         counts = grasp_lines()
-        for name, n in counts.items():
-            print(f"  {name:<30} {n:>4}{'  (the whole file)' if name in GRASP_FILES else ''}")
-        print(f"the grasp adds {sum(counts.values())} lines of Python outside tests/")
+        total = tuple(map(sum, zip(*counts.values())))
+        print(f"  {'file':<28} {'lines':>5} {'code':>5}  (code: no blanks, comments, docstrings)")
+        for name, (lines, code) in list(counts.items()) + [("total", total)]:
+            whole = "  (the whole file)" if name in GRASP_FILES else ""
+            print(f"  {name:<28} {lines:>5} {code:>5}{whole}")
+        print(f"the grasp adds {total[0]} lines of Python outside tests/, {total[1]} of them code")
         return 0
     print(f"functions that run while simulator.simulate steps the default scene ({LAGGED_STEPS} "
           f"lagged steps, then {IMPLICIT_STEPS} from the start with friction_updates="

@@ -29,9 +29,7 @@ GRASP = types.MappingProxyType({
     "mu": 0.5,                  # friction coefficient of the pads
     "squeeze": 2.616,           # N, each finger's force: m g / (2 mu N) = 0.75, held
     "finger_mass": 0.05,        # kg, each finger
-    "lift_accel": 0.5,          # a, m/s^2
-    "lift_speed": 0.2,          # V, m/s
-    "t_lift": 0.1,              # the lift starts, s
+    "lift_accel": 0.5, "lift_speed": 0.2, "t_lift": 0.1,  # lift: a (m/s^2), V (m/s), start (s)
     "pad_length": 0.05,         # m, each pad, centred on the block at t = 0
     "dhat": 1e-3, "kappa": 100.0,   # barrier activation distance (m) and stiffness: gap 0.7 dhat
     "epsv": 1e-3,               # friction's eps_v, m/s
@@ -45,10 +43,9 @@ GRASP = types.MappingProxyType({
 class Fingers:
     """The grasp's pushed surfaces (time_integrator's `scene.pushed`): finger f is the half-space
     through row len(x) - F + f of x with normal n[f], pressed by squeeze[f] (FingerEnergy); its
-    motion along `tangent` is prescribed (the lift), a Dirichlet condition (5_mov_dirichlet)."""
+    coordinate along `tangent`, 0 at t = 0, is prescribed: the lift (5_mov_dirichlet)."""
     n: np.ndarray               # (F, 2) unit normals, toward the block
     squeeze: np.ndarray         # (F,) N: each finger's pressing force
-    start: np.ndarray           # (F,) each finger node's coordinate along `tangent` at t = 0, m
     tangent: np.ndarray         # (2,) the direction of the lift (along every finger)
     lift_accel: float           # a, m/s^2
     lift_speed: float           # V, m/s
@@ -89,7 +86,7 @@ class Fingers:
     def prescribe(self, lagged, t):
         """`lagged` (x^n checked) with the fingers' rows of x^n and x_tilde lifted to time t."""
         FingerEnergy.check_above(lagged.x_n, self.n)
-        lift = self.start + self.offset(t)
+        lift = self.offset(t)
         x_n, x_tilde = (self.moved(a, lift - self.along(a)) for a in (lagged.x_n, lagged.x_tilde))
         return dataclasses.replace(lagged, x_n=x_n, x_tilde=x_tilde)
 
@@ -187,9 +184,8 @@ def build_grasp_scene(**overrides):
     d0 = gap_carrying(load, h / p["ny"], p["dhat"], p["kappa"])
     x = np.vstack([block, [[-w / 2 - d0, 0.0], [w / 2 + d0, 0.0]]])   # the fingers' nodes, last
     fingers = Fingers(n=readonly([[1.0, 0.0], [-1.0, 0.0]]), squeeze=readonly([p["squeeze"]] * 2),
-                      start=readonly([0.0, 0.0]), tangent=readonly([0.0, 1.0]),
-                      lift_accel=p["lift_accel"], lift_speed=p["lift_speed"], t_lift=p["t_lift"],
-                      pad_length=p["pad_length"])
+                      tangent=readonly([0.0, 1.0]), lift_accel=p["lift_accel"],
+                      lift_speed=p["lift_speed"], t_lift=p["t_lift"], pad_length=p["pad_length"])
     pairs = np.column_stack([np.tile(np.arange(nb), 2), np.repeat([nb, nb + 1], nb)])  # (i, f)
     terms = ("inertia", "spring", "gravity", "fingers") + ("friction",) * (p["mu"] > 0.0)
     m = np.append(np.full(nb, p["mass"] / nb), [p["finger_mass"]] * 2)
@@ -258,7 +254,7 @@ def slip(scene, x):
     minus the rise of the block's centre of mass."""
     f = scene.pushed
     rise = (f.centre_of_mass(scene, x) - f.centre_of_mass(scene, scene.x0)) @ f.tangent
-    return float((f.along(x) - f.start).mean()) - float(rise)
+    return float(f.along(x).mean()) - float(rise)
 
 
 def drop_slip(scene):
