@@ -55,8 +55,9 @@ def compute(mus=MUS, squeezes=SQUEEZES, epsvs=EPSVS, ratios=RATIOS):
     for mu in mus:          # Coulomb held: its slip only grows, so its slip at DURATION decides
         for N in squeezes:
             scene = grasp.build_grasp_scene(mu=mu, squeeze=N)
-            cells.append(SimpleNamespace(mu=mu, N=N, held=held(scene), line=grasp.holds(scene),
-                         coulomb=grasp.coulomb_slip(scene, DURATION) < grasp.drop_slip(scene)))
+            coulomb = grasp.coulomb_slip(scene, DURATION) < grasp.drop_slip(scene)
+            cells.append(SimpleNamespace(mu=mu, N=N, held=held(scene), coulomb=coulomb,
+                                         line=grasp.holds(scene)))
     points = [SimpleNamespace(epsv=e, ratio=r, u=u, exact=exact)
               for e in epsvs for r in ratios for u, exact in [creep(e, r)]]
     return SimpleNamespace(cells=cells, points=points, mus=mus, squeezes=squeezes, epsvs=epsvs)
@@ -97,7 +98,7 @@ def draw(r):
                                     "rigid Coulomb: pads' end")]:
         ax.line(mu, N, color, width)
         ax.legend(color, words)
-    for c in r.cells:       # filled: held; hollow: dropped; a red dot: not the Coulomb block's
+    for c in r.cells:       # filled: held; hollow: dropped; a small dot: not as Coulomb
         ax.markers([c.mu], [c.N], BLACK, 6)
         if not c.held:
             ax.markers([c.mu], [c.N], (255, 255, 255), 4)

@@ -289,8 +289,8 @@ def outcome(scene, t, s):
     words, start, _, a = next(p for p in phases(scene) if p[1] <= max(end - 1e-9, 0.0) < p[2])
     fit = start + SETTLE if within(t, start + SETTLE, end).sum() >= 4 else (start + end) / 2
     order = 2 if dropped.size else 1
-    measured = fitted_rate(t, s, fit, end, order) if within(t, fit, end).sum() > order + 1 else (
-        math.nan)
+    measured = (fitted_rate(t, s, fit, end, order)
+                if within(t, fit, end).sum() > order + 1 else math.nan)
     exact = slip_acceleration(scene, a) if dropped.size else creep_speed(scene, a)
     return not dropped.size, end if dropped.size else None, words, measured, exact
 
@@ -298,7 +298,8 @@ def outcome(scene, t, s):
 def words(scene, t, s, short=False):
     """'held (slid 0.66 mm, Coulomb 0), creeps 0.498 mm/s in the steady lift (u* 0.500)',
     'dropped at 0.62 s, slips 2.462 m/s^2 while the lift accelerates (closed form 2.462)', or
-    'slips on the pads at 0.60 s: ...'; `short` (a comparison's): the words before the comma."""
+    'slips on the pads at 0.60 s: ...'; `short`, for a comparison's closing: 'held, creeps 0.498
+    mm/s (u* 0.500)', 'dropped at 0.62 s'."""
     on_pads, t_drop, phase, measured, exact = outcome(scene, t, s)
     if not on_pads:
         return f"dropped at {t_drop:.2f} s" + ("" if short else (
