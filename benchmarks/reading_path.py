@@ -134,9 +134,10 @@ def hook_lines(source):
             parts.append((node.lineno, node.body[-1].end_lineno, node.test))
         elif isinstance(node, ast.stmt):
             parts.append((node.lineno, node.end_lineno, node))
-        elements = getattr(node, "elts", []) + getattr(node, "keys", []) + (
-            getattr(node, "values", []) + (node.args + node.keywords if isinstance(node, ast.Call)
-                                           else []))
+        elements = [*getattr(node, "elts", []), *getattr(node, "keys", []),
+                    *getattr(node, "values", [])]           # a list's, a tuple's, a dict's
+        if isinstance(node, ast.Call):
+            elements += node.args + node.keywords
         parts += [(e.lineno, e.end_lineno, e) for e in elements if e is not None]
     for start in names:         # the smallest part whose head (an if's test) holds the name
         _, first, last = min((last - first, first, last) for first, last, head in parts
