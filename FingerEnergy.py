@@ -1,18 +1,10 @@
-"""The fingers of a grasp: half-spaces through nodes of x, each pressed toward the block by a force.
+"""The fingers of a grasp: half-spaces through the last F rows of x (5_mov_dirichlet's ceiling),
+each pressed toward the block by a force N_f along its normal n_f, a potential like gravity's:
 
-Finger f is the half-space through the node x_f with unit normal n_f (pointing to the block). As the
-tutorial's 5_mov_dirichlet makes its ceiling an extra node with the plane through it, the fingers
-are the last F rows of x, and a block node i is at distance d_fi = n_f . (x_i - x_f): grad d_fi is
-n_f at x_i and -n_f at x_f. A finger is pressed by a set force N_f along n_f, a potential like
-gravity's. With P_b the barrier of BarrierEnergy (block nodes only, o = x_f):
+    P(x) = sum_f [ P_b(x_block; n_f, o = x_f) - N_f n_f . x_f ]     (P_b: BarrierEnergy's)
 
-    P(x) = sum_f [ P_b(x_block; n_f, x_f) - N_f n_f . x_f ]
-
-so the barrier's derivative in x_f is minus the sum of its derivatives in the block's nodes, and its
-Hessian couples x_i and x_f by the 4x4 block [[A, -A], [-A, A]], A = w_i dhat b''(d_fi) n_f n_f^T
-(PSD as A is). At rest a finger's barrier force on the block is N_f. The sums run over the fingers
-(a few surfaces, never over contacts); each surface's is BarrierEnergy's kernel. val/grad/hess check
-their input and call the *_kernel of the same name.
+d_fi = n_f . (x_i - x_f), so the chain rule to x_f gives it minus finger f's terms at the block's
+nodes (docs/grasp.md). val/grad/hess check their input and call the *_kernel of the same name.
 """
 import numpy as np
 
@@ -34,7 +26,7 @@ def _check(x, n, squeeze, contact_area, dhat, kappa):
 
 
 def val(x, n, squeeze, contact_area, dhat=BarrierEnergy.DHAT, kappa=BarrierEnergy.KAPPA):
-    """P = sum_f P_b(x_block; n_f, x_f) - N_f n_f . x_f (checked; see val_kernel)."""
+    """P (checked; see val_kernel)."""
     checked = _check(x, n, squeeze, contact_area, dhat, kappa)
     return utils.finite_result("FingerEnergy.val", val_kernel(*checked), ARGUMENTS)
 
@@ -72,53 +64,48 @@ def check_above(x, n):
 def val_kernel(x, n, squeeze, contact_area, dhat, kappa):
     """P = sum_f [P_b(x_block; n_f, x_f) - N_f n_f . x_f]."""
     block, fingers = split(x, n)
-    w = contact_area[:len(block)]
-    barrier = sum(BarrierEnergy.val_kernel(block, n_f, x_f, w, dhat, kappa)
+    barrier = sum(BarrierEnergy.val_kernel(block, n_f, x_f, contact_area, dhat, kappa)
                   for n_f, x_f in zip(n, fingers))
     return barrier - float(squeeze @ np.einsum("fj,fj->f", n, fingers))
 
 
 def grad_kernel(x, n, squeeze, contact_area, dhat, kappa):
-    """grad_i P = sum_f w_i dhat b'(d_fi) n_f at a block node; grad_f P = -(sum_i of finger f's
-    terms) - N_f n_f at a finger's node."""
+    """grad_i P = sum_f grad_i P_b(n_f, x_f) at a block node; grad_f P = -sum_i grad_i P_b(n_f,
+    x_f) - N_f n_f at finger f's node."""
     block, fingers = split(x, n)
-    w = contact_area[:len(block)]
     g = np.zeros(x.shape)
     for f, (n_f, x_f) in enumerate(zip(n, fingers)):
-        g_f = BarrierEnergy.grad_kernel(block, n_f, x_f, w, dhat, kappa)
+        g_f = BarrierEnergy.grad_kernel(block, n_f, x_f, contact_area, dhat, kappa)
         g[:len(block)] += g_f
         g[len(block) + f] = -g_f.sum(axis=0) - squeeze[f] * n_f
     return g
 
 
 def hess_kernel(x, n, squeeze, contact_area, dhat, kappa):
-    """The blocks [[A, -A], [-A, A]] on the pairs (i, f) with d_fi < dhat, A = w_i dhat b''(d_fi)
-    n_f n_f^T (the squeeze is linear: no Hessian)."""
+    """The blocks [[A, -A], [-A, A]] on the pairs (i, f), A = hess_i P_b(n_f, x_f) (PSD as A is;
+    the squeeze is linear)."""
     block, fingers = split(x, n)
-    w = contact_area[:len(block)]
     nodes, blocks = [np.zeros((0, 2), dtype=np.int64)], [np.zeros((0, 4, 4))]
     for f, (n_f, x_f) in enumerate(zip(n, fingers)):
-        i, A = BarrierEnergy.hess_kernel(block, n_f, x_f, w, dhat, kappa)
+        i, A = BarrierEnergy.hess_kernel(block, n_f, x_f, contact_area, dhat, kappa)
         nodes.append(np.hstack([i, np.full_like(i, len(block) + f)]))
         blocks.append(np.block([[A, -A], [-A, A]]))
     return np.concatenate(nodes), np.concatenate(blocks)
 
 
 def compute_mu_lambda_kernel(x, n, contact_area, mu, dhat, kappa):
-    """mu * lambda_fi (F, N): finger f's normal force on node i times mu (BarrierEnergy's
-    compute_mu_lambda_kernel with o = x_f), zero on the fingers' own rows."""
+    """mu * lambda_fi (F, N): BarrierEnergy's with o = x_f, zero on the fingers' own rows."""
     block, fingers = split(x, n)
-    w = contact_area[:len(block)]
     mu_lambda = np.zeros((len(n), len(x)))
     for f, (n_f, x_f) in enumerate(zip(n, fingers)):
-        mu_lambda[f, :len(block)] = BarrierEnergy.compute_mu_lambda_kernel(block, n_f, x_f, w, mu,
-                                                                           dhat, kappa)
+        mu_lambda[f, :len(block)] = BarrierEnergy.compute_mu_lambda_kernel(
+            block, n_f, x_f, contact_area, mu, dhat, kappa)
     return mu_lambda
 
 
 def init_step_size_kernel(x, n, p):
-    """Algorithm 4, line 1, against moving half-spaces: along p, d_fi changes at n_f . (p_i - p_f),
-    so alpha = 0.9 / max(max_fi -n_f . (p_i - p_f) / d_fi, 0.9) (BarrierEnergy.approach_rates)."""
+    """Algorithm 4, line 1, against moving half-spaces: d_fi changes at n_f . (p_i - p_f) along p
+    (BarrierEnergy.approach_rates with p_i - p_f)."""
     (block, fingers), (p_block, p_fingers) = split(x, n), split(p, n)
     rates = [BarrierEnergy.approach_rates(block, n_f, x_f, p_block - p_f).max(initial=0.0)
              for n_f, x_f, p_f in zip(n, fingers, p_fingers)]

@@ -1,11 +1,14 @@
 """The reading path: the project functions (in the top-level .py files) that run while
 simulator.simulate steps the default scene, 300 lagged steps, then 100 from the start with
 friction_updates=3, and their lines without blanks, comments and docstrings: benchmarks/README.md.
+`--grasp`: the lines of Python outside tests/ that the grasp adds (issue 41): `grasp_lines`.
 """
 import argparse
 import ast
 import io
 import os
+import pathlib
+import re
 import sys
 import tempfile
 import tokenize
@@ -102,12 +105,81 @@ def format_functions(functions):
                      for path, name, first, lines in functions)
 
 
+GRASP_FILES = ("scenes/grasp.py", "FingerEnergy.py", "figures/grasp.py")     # the grasp's own
+NOT_SHARED = ("tests", "benchmarks", "figures/stick_slip.py")     # (its "pushed" is the chalk)
+GRASP_NAME = re.compile(r"(?i)pushed|grasp|finger|lift")    # a name: scene.pushed, lift_work, ...
+GRASP_KEY = re.compile(r"W_lift|grasp")                     # a string that is a key of the grasp's
+GRASP_DOC = re.compile(r"(?i)pushed surface|scene\.pushed|grasp|finger")   # a docstring's words
+
+
+def hook_lines(source):
+    """The lines of `source` that exist only for the grasp: each smallest statement (an `if`: its
+    test and body; a def: all of it) or list, dict or call element that names it in code
+    (GRASP_NAME, or a GRASP_KEY string), and the docstring and comment lines that speak of it
+    (GRASP_DOC)."""
+    tree, names, lines, parts = ast.parse(source), [], set(), []
+    docstrings = {line for node in ast.walk(tree)
+                  if isinstance(node, DOCUMENTED) and ast.get_docstring(node) is not None
+                  for line in range(node.body[0].lineno, node.body[0].end_lineno + 1)}
+    for token in tokenize.generate_tokens(io.StringIO(source).readline):
+        if token.type in (tokenize.STRING, tokenize.COMMENT):
+            lines.update(token.start[0] + k for k, text in enumerate(token.string.splitlines())
+                         if GRASP_DOC.search(text))
+        if token.start[0] not in docstrings and (
+                GRASP_NAME.search(token.string) if token.type == tokenize.NAME else
+                token.type == tokenize.STRING and GRASP_KEY.search(token.string)):
+            names.append(token.start)
+    for node in ast.walk(tree):
+        if isinstance(node, ast.If):                # not the elif or else after it
+            parts.append((node.lineno, node.body[-1].end_lineno, node.test))
+        elif isinstance(node, ast.stmt):
+            parts.append((node.lineno, node.end_lineno, node))
+        elements = [*getattr(node, "elts", []), *getattr(node, "keys", []),
+                    *getattr(node, "values", [])]           # a list's, a tuple's, a dict's
+        if isinstance(node, ast.Call):
+            elements += node.args + node.keywords
+        parts += [(e.lineno, e.end_lineno, e) for e in elements if e is not None]
+    for start in names:         # the smallest part whose head (an if's test) holds the name
+        _, first, last = min((last - first, first, last) for first, last, head in parts
+                             if (head.lineno, head.col_offset) <= start
+                             < (head.end_lineno, head.end_col_offset))
+        lines.update(range(first, last + 1))
+    return lines
+
+
+def grasp_lines(root=tables.ROOT):
+    """{file: (lines, code lines)} the grasp adds outside tests/: every line of GRASP_FILES, and
+    hook_lines of every other .py file but NOT_SHARED's; code lines as code_lines counts them."""
+    counts = {}
+    for path in sorted(pathlib.Path(root).rglob("*.py")):
+        name = path.relative_to(root).as_posix()
+        if name.startswith(NOT_SHARED) or name.startswith("."):
+            continue
+        source = path.read_text()
+        lines = (set(range(1, len(source.splitlines()) + 1)) if name in GRASP_FILES
+                 else hook_lines(source))
+        if lines:
+            counts[name] = (len(lines), len(lines & code_lines(source)))
+    return counts
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="python -m benchmarks.reading_path", description=__doc__)
     ap.add_argument("--against", metavar="REV", help="also count this commit (or a folder)")
     ap.add_argument("--functions", action="store_true",
                     help="also list every function that ran with its lines")
+    ap.add_argument("--grasp", action="store_true",
+                    help="instead, the lines of Python the grasp adds outside tests/, per file")
     args = ap.parse_args(argv)
+    if args.grasp:
+        counts = grasp_lines()
+        total = tuple(map(sum, zip(*counts.values())))
+        print(f"  {'file':<28} {'lines':>5} {'code':>5}  (code: no blanks, comments, docstrings)")
+        for name, (lines, code) in list(counts.items()) + [("total", total)]:
+            whole = "  (the whole file)" if name in GRASP_FILES else ""
+            print(f"  {name:<28} {lines:>5} {code:>5}{whole}")
+        print(f"the grasp adds {total[0]} lines of Python outside tests/, {total[1]} of them code")
+        return 0
     print(f"functions that run while simulator.simulate steps the default scene ({LAGGED_STEPS} "
           f"lagged steps, then {IMPLICIT_STEPS} from the start with friction_updates="
           f"{FRICTION_UPDATES}); lines without blank lines, comment-only lines and docstrings")

@@ -1,8 +1,6 @@
 """Slide "Remarks - Applications: Robotics" (IPC-GraspSim's table of grasp successes), redrawn for
-the project's grasp (scenes/grasp.py): held or dropped over a grid of mu x N for one lift, each cell
-simulated, beside the line 2 mu N = m (g + a) and a rigid block's Coulomb slip through the lift's
-phases; and the creep a held block cannot avoid, u* = eps_v (1 - sqrt(1 - m g / (2 mu N))),
-simulated for two eps_v on the closed form's curve."""
+scenes/grasp.py: held or dropped over mu x N for one lift, each cell simulated, beside the line
+2 mu N = m (g + a) and the rigid Coulomb block; and a held block's creep on u* for two eps_v."""
 from types import SimpleNamespace
 
 import numpy as np
@@ -29,25 +27,15 @@ CREEP_WINDOW = (0.2, 0.4)   # s: the creep fitted here, the fingers still (no li
 
 def held(scene):
     """Whether the simulated block stays on the pads through DURATION (stops once it has left)."""
-    drop = grasp.drop_slip(scene)
-    for record in simulator.simulate(scene, round(DURATION / scene.h)):
-        if grasp.slip(scene, record.x) >= drop:
-            return False
-    return True
-
-
-def coulomb_held(scene):
-    """Whether the rigid Coulomb block stays on the pads through DURATION: its slip only grows, so
-    its slip at DURATION decides."""
-    return grasp.coulomb_slip(scene, DURATION) < grasp.drop_slip(scene)
+    steps = simulator.simulate(scene, round(DURATION / scene.h))
+    return all(grasp.slip(scene, record.x) < grasp.drop_slip(scene) for record in steps)
 
 
 def coulomb_boundary(mu):
-    """The squeeze N at which the Coulomb block just reaches the pads' end by DURATION."""
+    """The squeeze N at which the rigid Coulomb block just reaches the pads' end by DURATION."""
     def excess(N):
         scene = grasp.build_grasp_scene(mu=mu, squeeze=N)
-        drop = grasp.drop_slip(scene)
-        return grasp.coulomb_slip(scene, DURATION) - drop
+        return grasp.coulomb_slip(scene, DURATION) - grasp.drop_slip(scene)
     line = grasp.squeeze_for(1.0, mu, A)
     return scipy.optimize.brentq(excess, 0.5 * line, line, xtol=1e-9)
 
@@ -64,10 +52,11 @@ def compute(mus=MUS, squeezes=SQUEEZES, epsvs=EPSVS, ratios=RATIOS):
     """The grid's cells (mu, N, simulated held, Coulomb held, above the line) and the creep
     points (eps_v, ratio, simulated u, closed-form u*)."""
     cells = []
-    for mu in mus:
+    for mu in mus:          # Coulomb held: its slip only grows, so its slip at DURATION decides
         for N in squeezes:
             scene = grasp.build_grasp_scene(mu=mu, squeeze=N)
-            cells.append(SimpleNamespace(mu=mu, N=N, held=held(scene), coulomb=coulomb_held(scene),
+            coulomb = grasp.coulomb_slip(scene, DURATION) < grasp.drop_slip(scene)
+            cells.append(SimpleNamespace(mu=mu, N=N, held=held(scene), coulomb=coulomb,
                                          line=grasp.holds(scene)))
     points = [SimpleNamespace(epsv=e, ratio=r, u=u, exact=exact)
               for e in epsvs for r in ratios for u, exact in [creep(e, r)]]
@@ -102,13 +91,14 @@ def draw(r):
                    "mu: filled held, hollow dropped (simulated)", "mu", "N (N)", x_lo=mu_lo)
     mu = np.linspace(mu_lo, mu_hi, 200)
     mu = mu[(grasp.squeeze_for(1.0, mu, A) <= N_hi) & (grasp.squeeze_for(1.0, mu) >= N_lo)]
-    ax.line(mu, grasp.squeeze_for(1.0, mu, A), run_color(0), 2)
-    ax.legend(run_color(0), "2 mu N = m (g + a)")
-    ax.line(mu, grasp.squeeze_for(1.0, mu), GREY, 1)
-    ax.legend(GREY, "2 mu N = m g")
-    ax.line(mu, [coulomb_boundary(m) for m in mu], run_color(1), 2)
-    ax.legend(run_color(1), "rigid Coulomb: pads' end")
-    for c in r.cells:
+    for N, color, width, words in [(grasp.squeeze_for(1.0, mu, A), run_color(0), 2,
+                                    "2 mu N = m (g + a)"),
+                                   (grasp.squeeze_for(1.0, mu), GREY, 1, "2 mu N = m g"),
+                                   ([coulomb_boundary(m) for m in mu], run_color(1), 2,
+                                    "rigid Coulomb: pads' end")]:
+        ax.line(mu, N, color, width)
+        ax.legend(color, words)
+    for c in r.cells:       # filled: held; hollow: dropped; a small dot: not as Coulomb
         ax.markers([c.mu], [c.N], BLACK, 6)
         if not c.held:
             ax.markers([c.mu], [c.N], (255, 255, 255), 4)
@@ -116,9 +106,8 @@ def draw(r):
             ax.markers([c.mu], [c.N], run_color(3), 2)
     ax.legend(BLACK, "simulated cell")
     ax.legend(run_color(3), "differs from Coulomb")
-    u_max = 1e3 * max(r.epsvs)
-    ax = page.axes(1, 1.0, 0.0, u_max, "creep speed of a held block (mm/s) against the load "
-                   "m g / (2 mu N)", "m g / (2 mu N)", "u (mm/s)")
+    ax = page.axes(1, 1.0, 0.0, 1e3 * max(r.epsvs), "creep speed of a held block (mm/s) against "
+                   "the load m g / (2 mu N)", "m g / (2 mu N)", "u (mm/s)")
     ratio = np.linspace(0.0, 1.0, 200)
     for k, epsv in enumerate(r.epsvs):
         ax.line(ratio, [1e3 * FrictionEnergy.f1_inverse(x, epsv) for x in ratio],

@@ -1,15 +1,8 @@
-"""A grasp (the slide "Remarks - Applications: Robotics", IPC-GraspSim): a block held between two
-vertical fingers, each pressed against it by a force N, that lift it. It holds iff friction,
-2 mu N, carries m (g + a) while the lift accelerates and m g after; held, it still creeps down at
-u* = eps_v (1 - sqrt(1 - m g / (2 mu N))), IPC's mollified friction having no true static friction
-(the closed forms and the words below; docs/grasp.md).
-
-The block starts settled between the pressed fingers, at the gap where each side's barrier carries
-N (not dropped). The fingers are the last two rows of x (FingerEnergy): their offsets along their
-normals are unknowns of the step, their lift along (0, 1) is prescribed: still until t_lift, then at
-lift_accel up to lift_speed, then steady. The pads, pad_length long, are drawn; the block is
-dropped once it has slid past them (the half-spaces themselves go on). Why tol 1e-5 m/s (u* / 50):
-docs/grasp.md.
+"""A grasp (the slide "Remarks - Applications: Robotics", IPC-GraspSim): a block between two
+vertical fingers, each pressed against it by a force N, that lift it: still until t_lift, then at
+lift_accel up to lift_speed. It starts settled, at the gap where each side's barrier carries N. It
+holds iff 2 mu N >= m (g + a) while the lift accelerates and >= m g after; held, it still creeps
+down at u* = eps_v (1 - sqrt(1 - m g / (2 mu N))). Its page, numbers and reasons: docs/grasp.md.
 
     scene = build_grasp_scene(squeeze=4.0)  # the numbers (GRASP), one of them changed
 """
@@ -36,9 +29,7 @@ GRASP = types.MappingProxyType({
     "mu": 0.5,                  # friction coefficient of the pads
     "squeeze": 2.616,           # N, each finger's force: m g / (2 mu N) = 0.75, held
     "finger_mass": 0.05,        # kg, each finger
-    "lift_accel": 0.5,          # a, m/s^2
-    "lift_speed": 0.2,          # V, m/s
-    "t_lift": 0.1,              # the lift starts, s
+    "lift_accel": 0.5, "lift_speed": 0.2, "t_lift": 0.1,  # lift: a (m/s^2), V (m/s), start (s)
     "pad_length": 0.05,         # m, each pad, centred on the block at t = 0
     "dhat": 1e-3, "kappa": 100.0,   # barrier activation distance (m) and stiffness: gap 0.7 dhat
     "epsv": 1e-3,               # friction's eps_v, m/s
@@ -50,13 +41,11 @@ GRASP = types.MappingProxyType({
 
 @dataclasses.dataclass(frozen=True)
 class Fingers:
-    """The grasp's pushed surfaces, time_integrator's `scene.pushed`: finger f is the half-space
+    """The grasp's pushed surfaces (time_integrator's `scene.pushed`): finger f is the half-space
     through row len(x) - F + f of x with normal n[f], pressed by squeeze[f] (FingerEnergy); its
-    motion along the `tangent` all share is prescribed (the lift: from t_lift at lift_accel up to
-    lift_speed, then steady), a Dirichlet condition (5_mov_dirichlet); friction slips on v - v_s."""
+    coordinate along `tangent`, 0 at t = 0, is prescribed: the lift (5_mov_dirichlet)."""
     n: np.ndarray               # (F, 2) unit normals, toward the block
     squeeze: np.ndarray         # (F,) N: each finger's pressing force
-    start: np.ndarray           # (F,) each finger node's coordinate along `tangent` at t = 0, m
     tangent: np.ndarray         # (2,) the direction of the lift (along every finger)
     lift_accel: float           # a, m/s^2
     lift_speed: float           # V, m/s
@@ -72,8 +61,7 @@ class Fingers:
         return x, self.n, self.squeeze, s.contact_area, s.dhat, s.kappa
 
     def offset(self, t):
-        """How far the fingers have lifted by time t (m): a tau^2 / 2 for tau = t - t_lift up to
-        V / a, then V tau - V^2 / (2 a) (0 before t_lift)."""
+        """The lift by time t (m): a tau^2 / 2 (tau = t - t_lift) up to V / a, then steady at V."""
         tau, t_a = max(t - self.t_lift, 0.0), self.lift_speed / self.lift_accel
         return self.lift_accel * tau * tau / 2 if tau < t_a else self.lift_speed * (tau - t_a / 2)
 
@@ -96,10 +84,9 @@ class Fingers:
         return a
 
     def prescribe(self, lagged, t):
-        """The step's `lagged`, x^n checked, its fingers' rows of x^n (Newton's start) and x_tilde
-        at the lift of t: no term depends on that coordinate (n . tangent = 0)."""
+        """`lagged` (x^n checked) with the fingers' rows of x^n and x_tilde lifted to time t."""
         FingerEnergy.check_above(lagged.x_n, self.n)
-        lift = self.start + self.offset(t)
+        lift = self.offset(t)
         x_n, x_tilde = (self.moved(a, lift - self.along(a)) for a in (lagged.x_n, lagged.x_tilde))
         return dataclasses.replace(lagged, x_n=x_n, x_tilde=x_tilde)
 
@@ -142,12 +129,13 @@ class Fingers:
         return creep_speed(scene) if holds(scene) else None
 
     def words(self, track, short=False):
-        """The closing words of a run's kept states (of_track)."""
-        return of_track(track, short)
+        """The closing words (`words`) of a run's kept states (a recording.Track)."""
+        samples = track.samples.all()
+        t, s = np.array([x.t for x in samples]), np.array([x.slip for x in samples])
+        return words(track.scene, t, s, short)
 
     def pads(self, x, depth):
-        """Each finger's pad, (4, 2) corners: pad_length along the lift, centred on its row of x,
-        `depth` deep behind its surface."""
+        """Each finger's pad, (4, 2) corners: pad_length along the lift, `depth` behind it."""
         along = 0.5 * self.pad_length * np.array([-1.0, 1.0, 1.0, -1.0])[:, None] * self.tangent
         behind = depth * np.array([0.0, 0.0, 1.0, 1.0])[:, None]
         return [x_f + along - behind * n_f for n_f, x_f in zip(self.n, x[len(x) - len(self.n):])]
@@ -178,38 +166,29 @@ GROWS = types.MappingProxyType({        # what the block's sizes grow with (scen
     "l": {"width": 1, "nx": -1, "height": 1, "ny": -1}, "N": {"nx": 1, "ny": 1}})
 
 
-def resting_gap(p):
-    """d0, the gap at which the barrier carries the squeeze N on a side's ny + 1 nodes
-    (gap_carrying; refused where it cannot be carried)."""
-    load, w = p["squeeze"] / (p["ny"] + 1), p["height"] / p["ny"]
-    ranges.check_carries(p, GRASP, load, w, {"kappa": -1, "squeeze": 1, "height": -1, "ny": 2,
-                                             "dhat": -1}, "the squeeze")
-    return gap_carrying(load, w, p["dhat"], p["kappa"])
-
-
 def build_grasp_scene(**overrides):
     """The block centred at the origin between a finger at its left (normal (1, 0)) and one at its
-    right (normal (-1, 0)), each at the gap d0 where it carries the squeeze, lifted along (0, 1)
-    from t_lift. A ValueError names a bad parameter."""
+    right (normal (-1, 0)), each at the gap d0 where the barrier carries the squeeze on a side's
+    ny + 1 nodes, lifted along (0, 1) from t_lift. A ValueError names a bad parameter."""
     p = check_params(overrides)
     for name, other in sorted((("nx", "ny"), ("ny", "nx")), key=lambda pair: -p[pair[0]]):
         ranges.check_memory(name, p[name], lambda n: (n + 1) * (p[other] + 1))
-    w, h = p["width"], p["height"]
+    w, h, nb = p["width"], p["height"], (p["nx"] + 1) * (p["ny"] + 1)
     block, e = square_mesh.rectangle(w, h, p["nx"], p["ny"], (-w / 2, -h / 2))
-    m_block = np.full(len(block), p["mass"] / len(block))
     spacing = min(w / p["nx"], h / p["ny"])
-    ranges.check_start(p, GRASP, GROWS, block, m_block, spacing, h / p["ny"], np.array([-w / 2, 0]),
-                       block[:, 0] + w / 2 + p["dhat"])      # as if at dhat from the left finger
-    d0 = resting_gap(p)
+    ranges.check_start(p, GRASP, GROWS, block, np.full(nb, p["mass"] / nb), spacing, h / p["ny"],
+                       np.array([-w / 2, 0]), block[:, 0] + w / 2 + p["dhat"])  # d = dhat at left
+    load = p["squeeze"] / (p["ny"] + 1)
+    ranges.check_carries(p, GRASP, load, h / p["ny"], {"kappa": -1, "squeeze": 1, "height": -1,
+                                                      "ny": 2, "dhat": -1}, "the squeeze")
+    d0 = gap_carrying(load, h / p["ny"], p["dhat"], p["kappa"])
     x = np.vstack([block, [[-w / 2 - d0, 0.0], [w / 2 + d0, 0.0]]])   # the fingers' nodes, last
     fingers = Fingers(n=readonly([[1.0, 0.0], [-1.0, 0.0]]), squeeze=readonly([p["squeeze"]] * 2),
-                      start=readonly([0.0, 0.0]), tangent=readonly([0.0, 1.0]),
-                      lift_accel=p["lift_accel"], lift_speed=p["lift_speed"], t_lift=p["t_lift"],
-                      pad_length=p["pad_length"])
-    nb = len(block)
+                      tangent=readonly([0.0, 1.0]), lift_accel=p["lift_accel"],
+                      lift_speed=p["lift_speed"], t_lift=p["t_lift"], pad_length=p["pad_length"])
     pairs = np.column_stack([np.tile(np.arange(nb), 2), np.repeat([nb, nb + 1], nb)])  # (i, f)
     terms = ("inertia", "spring", "gravity", "fingers") + ("friction",) * (p["mu"] > 0.0)
-    m = np.append(m_block, [p["finger_mass"]] * 2)
+    m = np.append(np.full(nb, p["mass"] / nb), [p["finger_mass"]] * 2)
     w_contact = np.append(np.full(nb, h / p["ny"]), [0.0, 0.0])     # the fingers' nodes: none
     return assemble(p, x, e, m, w_contact, terms, (p["nx"], p["ny"]), elements=[pairs],
                     pushed=fingers)
@@ -223,8 +202,7 @@ def grip(scene):
 
 
 def load_ratio(scene, lift_accel=0.0):
-    """m (g + a) / (2 mu N): the load on friction while the fingers lift at acceleration a (inf
-    without friction)."""
+    """m (g + a) / (2 mu N): the load on friction while the lift accelerates at a (inf: mu 0)."""
     return (-scene.g[1] + lift_accel) / grip(scene) if grip(scene) > 0.0 else math.inf
 
 
@@ -239,8 +217,8 @@ def holds(scene):
 
 
 def creep_speed(scene, lift_accel=0.0):
-    """u* = eps_v (1 - sqrt(1 - m (g + a) / (2 mu N))) (FrictionEnergy.f1_inverse): held, its
-    creep down the fingers, steady lift (a = 0) or while it accelerates; nan where it slips."""
+    """Held, u* = eps_v (1 - sqrt(1 - m (g + a) / (2 mu N))) (FrictionEnergy.f1_inverse); nan
+    where it slips."""
     ratio = load_ratio(scene, lift_accel)
     return FrictionEnergy.f1_inverse(ratio, scene.epsv) if ratio <= 1.0 else math.nan
 
@@ -260,9 +238,8 @@ def phases(scene):
 
 
 def coulomb_slip(scene, t):
-    """How far a rigid block with Coulomb friction has slid down the fingers by time t (m): through
-    the lift's phases, its slip speed u grows at (g + a) - 2 mu N / m where that is > 0, and falls
-    at that rate to 0 (sticking) where not."""
+    """How far a rigid Coulomb block has slid down the fingers by time t (m): through the phases,
+    its slip speed u grows at slip_acceleration where > 0, else falls at it to 0 (sticks)."""
     s = u = 0.0
     for _, t0, t1, a in phases(scene):
         du = slip_acceleration(scene, a)
@@ -274,10 +251,10 @@ def coulomb_slip(scene, t):
 
 def slip(scene, x):
     """How far the block has slid down relative to the fingers since t = 0 (m): the fingers' lift
-    minus the rise of the block's centre of mass, along the lift."""
+    minus the rise of the block's centre of mass."""
     f = scene.pushed
     rise = (f.centre_of_mass(scene, x) - f.centre_of_mass(scene, scene.x0)) @ f.tangent
-    return float((f.along(x) - f.start).mean()) - float(rise)
+    return float(f.along(x).mean()) - float(rise)
 
 
 def drop_slip(scene):
@@ -290,28 +267,30 @@ def drop_slip(scene):
 SETTLE = 0.05       # s left out of a fit after a phase of the lift begins (the springs take it up)
 
 
+def within(t, start, end):
+    """The states at times t with start <= t <= end (to round-off)."""
+    return (t >= start - 1e-9) & (t <= end + 1e-9)
+
+
 def fitted_rate(t, s, start, end, order=1):
     """The slip's speed (order 1: a line's slope) or acceleration (order 2: twice a parabola's
     leading coefficient) fitted to s over start <= t <= end."""
-    window = (t >= start - 1e-9) & (t <= end + 1e-9)
+    window = within(t, start, end)
     return float(np.polyfit(t[window], s[window], order)[0]) * order
 
 
 def outcome(scene, t, s):
-    """(held, t_drop, phase words, measured, closed form) from the slip s at times t: a block on
-    the pads at the end, its slip speed (m/s) in the phase the run ends in beside the creep u* (held
-    where it is below eps_v, else still slipping); a dropped one's slip acceleration (m/s^2) in the
-    phase it slid past the pads in; t_drop None where not dropped; measured nan where too few
-    states. The fit leaves out SETTLE after the phase begins, or takes its last half where that
-    holds fewer than 4 states."""
+    """(held, t_drop, phase words, measured, closed form) from the slip s at times t: on the pads,
+    its slip speed in the phase the run ends in beside u*; dropped (at t_drop, else None), its slip
+    acceleration in the phase it slid past the pads in. The fit leaves out SETTLE after the phase
+    begins (its last half where that leaves under 4 states); measured nan with too few."""
     dropped = np.flatnonzero(s >= drop_slip(scene))
     end = float(t[dropped[0]]) if dropped.size else float(t[-1])
     words, start, _, a = next(p for p in phases(scene) if p[1] <= max(end - 1e-9, 0.0) < p[2])
-    window = (t >= start + SETTLE - 1e-9) & (t <= end + 1e-9)
-    window = window if window.sum() >= 4 else (t >= (start + end) / 2 - 1e-9) & (t <= end + 1e-9)
+    fit = start + SETTLE if within(t, start + SETTLE, end).sum() >= 4 else (start + end) / 2
     order = 2 if dropped.size else 1
-    measured = (fitted_rate(t[window], s[window], start, end, order)
-                if window.sum() > order + 1 else math.nan)
+    measured = (fitted_rate(t, s, fit, end, order)
+                if within(t, fit, end).sum() > order + 1 else math.nan)
     exact = slip_acceleration(scene, a) if dropped.size else creep_speed(scene, a)
     return not dropped.size, end if dropped.size else None, words, measured, exact
 
@@ -333,13 +312,6 @@ def words(scene, t, s, short=False):
     if short:
         return f"held, {creeps} (u* {1e3 * exact:.3f})"
     return f"held ({slid}), {creeps} {phase} (u* {1e3 * exact:.3f})"
-
-
-def of_track(track, short=False):
-    """words() of a run's kept states (a recording.Track: each with its t and slip)."""
-    samples = track.samples.all()
-    t, s = np.array([x.t for x in samples]), np.array([x.slip for x in samples])
-    return words(track.scene, t, s, short)
 
 
 # ---- What the command line and log.csv read (scenes.UNITS) ---------------------------------------

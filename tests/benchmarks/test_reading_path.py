@@ -85,3 +85,32 @@ def test_reading_path_of_this_tree_against_itself(capsys):
     functions, lines = map(sum, zip(*per_file.values()))
     counted = f"{lines} lines in {functions} functions"
     assert out[-1] == f"working tree {counted}; {ROOT} {counted}"
+
+
+# the grasp's line counter (issue 41), on a source whose hook lines are read off its text
+HOOKED = '''"""A module: its pushed surfaces' hook."""
+
+
+def f(scene, x):
+    """Its other lines are the body's."""
+    if scene.pushed is not None:
+        x = scene.pushed.body(x)
+        return x
+    elif scene.n is None:
+        return None
+    y = [1, 2,
+         scene.pushed]
+    return {"a": 1,
+            "W_lift": 2}, y       # the grasp's pads
+
+
+def pushed_report(report):
+    return report
+'''
+
+
+def test_hook_lines_count_what_names_the_grasp():
+    """The docstring line that speaks of it (1), the if's test and body (not its elif: 6-8), the
+    list's element (12), the dict's key (14) with its comment, the def named for it (17-18)."""
+    from benchmarks import reading_path
+    assert reading_path.hook_lines(HOOKED) == {1, 6, 7, 8, 12, 14, 17, 18}

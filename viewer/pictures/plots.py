@@ -312,11 +312,9 @@ def mark_rest(ax, track, color):
 def energy_panel(axes, d):
     """The energy budget: each term, E, the work W (friction's, the hand's), with a moving surface
     its work and the heat (W_friction = W_surface - heat), and -D."""
-    hand, cloth = d["W_hand"] is not None, "heat" in d
-    curves = dict(d["E"], W_friction=d["W"], **({"W_hand": d["W_hand"]} if hand else {}))
-    lift = d["W_lift"] is not None                      # pushed surfaces' path
-    if lift:
-        curves["W_lift"] = d["W_lift"]
+    hand, cloth, lift = d["W_hand"] is not None, "heat" in d, d["W_lift"] is not None
+    curves = dict(d["E"], W_friction=d["W"], **({"W_hand": d["W_hand"]} if hand else {}),
+                  **({"W_lift": d["W_lift"]} if lift else {}))     # lift: pushed surfaces' path
     if cloth:
         curves.update({"W_surface": d["surface_work"], "-heat": -d["heat"]})
     curves["-D_numerical"] = -d["D"]
