@@ -14,3 +14,11 @@ os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
 os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))                     # helpers
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))    # the project
+
+
+def pytest_collection_modifyitems(items):
+    """The modules with long physics runs (a test marked slow) first, the rest as collected:
+    --dist loadfile hands each worker whole modules in this order (pytest.ini keeps it with
+    --no-loadscope-reorder), so the longest start early and the short ones even out the end."""
+    slow = {item.path for item in items if item.get_closest_marker("slow")}
+    items.sort(key=lambda item: item.path not in slow)

@@ -19,6 +19,7 @@ import simulator
 from analysis import stick_slip, wear
 
 from helpers import ROOT
+from helpers.command import run_main
 W = wear.BIN
 
 
@@ -134,11 +135,9 @@ def test_dragged_a_uniform_line_without_a_dash():
 
 
 def simulate(*args):
-    """`python simulator.py --scene chalk --no-frames ARGS`, in a process of its own."""
-    env = {**os.environ, "SDL_VIDEODRIVER": "dummy"}
-    return subprocess.run([sys.executable, os.path.join(ROOT, "simulator.py"), "--scene", "chalk",
-                           "--no-frames", *args], cwd=ROOT, env=env, capture_output=True, text=True,
-                          timeout=300, check=False)
+    """`python simulator.py --scene chalk --no-frames ARGS`, in this process: (exit code, the
+    lines it printed)."""
+    return run_main("--scene", "chalk", "--no-frames", *args)
 
 
 def test_a_chalk_run_writes_its_mark_as_marks_csv(tmp_path):
@@ -146,9 +145,9 @@ def test_a_chalk_run_writes_its_mark_as_marks_csv(tmp_path):
     the bin in N m, as the header says; the rows are the run's mark (the same steps as
     simulator.simulate's), 0.1 mm apart; a comparison writes one per run, named by its tag."""
     out = tmp_path / "rün 1"
-    result = simulate("--steps", "300", "--out", str(out))
-    assert result.returncode == 0, result.stderr
-    assert result.stderr.splitlines()[-1] == f"wrote 4 files in {out}/"    # log, marks, 2 PNGs
+    code, lines = simulate("--steps", "300", "--out", str(out))
+    assert code == 0, lines
+    assert lines[-1] == f"wrote 4 files in {out}/"                        # log, marks, 2 PNGs
     assert sorted(os.listdir(out)) == ["log.csv", "marks.csv", "plots.png", "summary.png"]
     with open(out / "marks.csv", newline="") as f:
         rows = list(csv.reader(f))
@@ -158,8 +157,8 @@ def test_a_chalk_run_writes_its_mark_as_marks_csv(tmp_path):
     assert x == pytest.approx(1e3 * mark.centres(), abs=5e-3)
     assert np.diff(x) == pytest.approx(0.1, abs=1e-9)
     assert d == pytest.approx(mark.values, rel=1e-12, abs=0)
-    result = simulate("--steps", "30", "--grip", "1000,2000", "--out", str(tmp_path / "two"))
-    assert result.returncode == 0, result.stderr
+    code, lines = simulate("--steps", "30", "--grip", "1000,2000", "--out", str(tmp_path / "two"))
+    assert code == 0, lines
     assert {"marks_grip1000.csv", "marks_grip2000.csv"} <= set(os.listdir(tmp_path / "two"))
 
 

@@ -80,11 +80,26 @@ def ending(lines):
     return "; ".join(said)
 
 
+def closing_lines(lines):
+    """A finished run's closing: from its last 'simulated ...' line on."""
+    first = max(i for i, line in enumerate(lines) if line.startswith("simulated "))
+    return lines[first:]
+
+
+def too_wide(lines, *paths, width=100):
+    """The lines wider than `width` columns (issue 40) once the paths given are taken out: only a
+    path may run longer, the folder the run was given or its working folder."""
+    def columns(line):
+        for path in paths:
+            line = line.replace(str(path), "")
+        return len(line)
+    return [line for line in lines if columns(line) > width]
+
+
 def closing_text(lines):
     """A finished run's closing lines (from its 'simulated ...' line on) joined by '; ', as one
     line would say them."""
-    first = max(i for i, line in enumerate(lines) if line.startswith("simulated "))
-    return "; ".join(lines[first:])
+    return "; ".join(closing_lines(lines))
 
 
 def messages(lines):

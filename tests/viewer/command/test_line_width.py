@@ -3,34 +3,19 @@ most 3 lines and a refusal in one. Only a path may run longer: the folder the ru
 its working folder, as the closing's file:// link repeats it."""
 import pytest
 
-from helpers.command import run_main
+from helpers.command import closing_lines, run_main, too_wide
 from viewer.command import progress
 
 WIDTH = 100
-
-
-def closing_lines(lines):
-    """The closing: from the last 'simulated ...' line on."""
-    first = max(i for i, line in enumerate(lines) if line.startswith("simulated "))
-    return lines[first:]
-
-
-def too_wide(lines, *paths):
-    """The lines wider than WIDTH once the paths given are taken out."""
-    def width(line):
-        for path in paths:
-            line = line.replace(str(path), "")
-        return len(line)
-    return [line for line in lines if width(line) > WIDTH]
 
 
 @pytest.mark.parametrize("args", [
     [],                                                             # the lecture's square, 6 s
     ["--scene", "chalk", "--duration", "0.6"],                      # stick-slip from 0.31 s
     ["--scene", "tablecloth", "--pull-speed", "1,2,4,8", "--frame-stride", "40"],
-    ["--scene", "chalk", "--mu-static", "0.35,0.5", "--duration", "0.6", "--frame-stride", "100"],
-    # one slides, one stick-slips: stick_slip.short_words
-])              # the mu comparison's: test_run_outputs.test_the_lectures_comparison_in_one_command
+])              # the mu comparison's: test_run_outputs.test_the_lectures_comparison_in_one_command;
+# a chalk comparison where one slides and one stick-slips (stick_slip.short_words):
+# test_chalk_view.test_a_mixed_chalk_comparison_fits_and_closes_in_3_lines, on the run it shares
 def test_every_line_of_a_run_fits_and_it_closes_in_3_lines(args, tmp_path, monkeypatch):
     """Each run into its default folder under output/ (the folder's own name counts)."""
     monkeypatch.chdir(tmp_path)

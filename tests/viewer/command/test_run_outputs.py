@@ -37,6 +37,14 @@ def default_run(tmp_path_factory):
     return out, lines
 
 
+@pytest.fixture(scope="module")
+def default_steps():
+    """The lecture's scene and its first 150 steps by simulator.simulate, as default_run took
+    them: the log's columns recomputed from the states and the step reports."""
+    scene = simulator.build_scene()
+    return scene, list(simulator.simulate(scene, 150))
+
+
 # ---- log.csv
 
 def test_log_has_a_t0_row_and_the_energy_budget_adds_up(default_run):
@@ -62,20 +70,19 @@ def test_log_has_a_t0_row_and_the_energy_budget_adds_up(default_run):
     assert E["D_numerical"][1] == pytest.approx(0.5 * m * (g * h) ** 2, rel=1e-6)
 
 
-def test_friction_work_column_sums_the_step_reports(default_run):
+def test_friction_work_column_sums_the_step_reports(default_run, default_steps):
     out, _ = default_run
     rows = read_csv(out / "log.csv")
-    scene = simulator.build_scene()
-    work = np.cumsum([rec.report.friction_work for rec in simulator.simulate(scene, 150)])
+    work = np.cumsum([rec.report.friction_work for rec in default_steps[1]])
     assert np.allclose([float(r["W_friction"]) for r in rows[1:]], work, rtol=1e-8, atol=1e-9)
 
 
-def test_sticking_count_agrees_with_contact_speeds_and_eps_v(default_run):
+def test_sticking_count_agrees_with_contact_speeds_and_eps_v(default_run, default_steps):
     """Recomputed here from the states: contact = d < dhat, tangential speed |v - (v.n) n|."""
     out, _ = default_run
     rows = read_csv(out / "log.csv")
-    scene = simulator.build_scene()
-    states = [(scene.x0, scene.v0)] + [(r.x, r.v) for r in simulator.simulate(scene, 150)]
+    scene, records = default_steps
+    states = [(scene.x0, scene.v0)] + [(r.x, r.v) for r in records]
     expected = []
     for x, v in states:
         contact = (x - scene.o) @ scene.n < scene.dhat

@@ -6,11 +6,8 @@ rolls over; so the example turns the scene instead: flat ground, gravity tilted 
 (9.81 (sin 30, -cos 30)), the square resting on it 5 mm up, the 30 degree slope in its own frame."""
 import csv
 import math
-import os
-import subprocess
-import sys
 
-from helpers import ROOT
+from helpers.command import run_main
 
 EXAMPLE = "--slope-normal 0,1 --gravity 4.905,-8.496 --center 0,-0.495 --mu 0.7 --k 1e6"
 
@@ -21,11 +18,9 @@ def test_the_steep_slope_example_sticks(tmp_path):
     tilt the load downhill), and the centre of mass creeps by less than 2 eps_v over the next
     0.7 s, where sliding without friction would take it 1.2 m."""
     assert math.isclose(math.degrees(math.atan2(4.905, 8.496)), 30.0, abs_tol=1e-3)
-    command = [sys.executable, os.path.join(ROOT, "simulator.py"), *EXAMPLE.split(),
-               "--duration", "1", "--no-frames", "--out", str(tmp_path)]
-    done = subprocess.run(command, capture_output=True, text=True, timeout=300,
-                          env={**os.environ, "SDL_VIDEODRIVER": "dummy"})
-    assert done.returncode == 0, done.stderr
+    code, lines = run_main(*EXAMPLE.split(), "--duration", "1", "--no-frames",
+                           "--out", str(tmp_path))
+    assert code == 0, lines
     with open(tmp_path / "log.csv") as f:
         settled = [r for r in csv.DictReader(f) if float(r["t"]) >= 0.3 - 1e-9]
     assert len(settled) == 71

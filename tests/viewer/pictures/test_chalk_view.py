@@ -6,25 +6,15 @@ import html
 import json
 import os
 import re
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 
 import simulator
 from helpers import legibility
-from helpers.command import closing_text, run_main
+from helpers.command import closing_lines, closing_text, run_main, too_wide
 from viewer.command import cli
 from analysis import diagnostics, log, stick_slip
-
-from helpers import ROOT
-
-
-def run_cli(*args):
-    env = {**os.environ, "SDL_VIDEODRIVER": "dummy"}
-    return subprocess.run([sys.executable, os.path.join(ROOT, "simulator.py"), *args], cwd=ROOT,
-                          env=env, capture_output=True, text=True, timeout=300)
 
 
 @pytest.mark.parametrize("argv, flag", [
@@ -58,8 +48,8 @@ def test_a_grip_list_is_a_comparison_labelled_and_tagged_like_the_squares():
 
 def test_the_chalk_runs_3_s_and_its_log_has_the_hand_and_a_closed_budget(tmp_path):
     out = tmp_path / "run"
-    result = run_cli("--scene", "chalk", "--steps", "300", "--out", str(out))
-    assert result.returncode == 0, result.stderr
+    code, lines = run_main("--scene", "chalk", "--steps", "300", "--out", str(out))
+    assert code == 0, lines
     files = os.listdir(out)
     written = {"log.csv", "plots.png", "summary.png", "index.html", "frame_00000.png",
                "frame_00000.obj"}
@@ -106,17 +96,27 @@ def test_the_tip_is_stuck_below_eps_v_slipping_above_and_neither_off_the_board()
 
 @pytest.fixture(scope="module")
 def compared(tmp_path_factory):
-    """`--scene chalk --mu-static 0.35,0.5 --duration 0.6`, in this process: one coefficient (it
-    slides with the hand) against the default's mu_s 0.5 (stick-slip: 3 cycles of 107 ms after the
-    drive starts at 0.2 s, measured: slips at 0.313, 0.420, 0.527 s); its closing line, its folder
-    and every text its pictures rendered."""
-    out = tmp_path_factory.mktemp("compared")
+    """`--scene chalk --mu-static 0.35,0.5 --duration 0.6`, in this process, into its default
+    folder under output/: one coefficient (it slides with the hand) against the default's mu_s 0.5
+    (stick-slip: 3 cycles of 107 ms after the drive starts at 0.2 s, measured: slips at 0.313,
+    0.420, 0.527 s); its stderr lines, its working folder, its folder and every text its pictures
+    rendered."""
+    here = tmp_path_factory.mktemp("compared")
     with pytest.MonkeyPatch.context() as monkeypatch:
+        monkeypatch.chdir(here)
         texts = legibility.record_text(monkeypatch)
-        code, lines = run_main("--scene", "chalk", "--mu-static", "0.35,0.5", "--duration", "0.6",
-                               "--out", str(out))
+        code, lines = run_main("--scene", "chalk", "--mu-static", "0.35,0.5", "--duration", "0.6")
     assert code == 0, lines
-    return closing_text(lines), out, [text for text, _, _ in texts]
+    (name,) = os.listdir(here / "output")
+    return lines, here, here / "output" / name, [text for text, _, _ in texts]
+
+
+def test_a_mixed_chalk_comparison_fits_and_closes_in_3_lines(compared):
+    """One run slides, one stick-slips (stick_slip.short_words): every line fits in 100 columns,
+    the default folder's name counted (tests/viewer/command/test_line_width.py, the other runs)."""
+    lines, here, _, _ = compared
+    assert len(lines) > 3 and not too_wide(lines, here)
+    assert len(closing_lines(lines)) <= 3, lines
 
 
 def counted_from_log(path):
@@ -138,7 +138,8 @@ def test_a_chalk_comparison_closes_with_each_runs_stick_slip(compared):
     """Not when the tip was last stuck: each run's stick-slip, counted on the whole of its log. The
     default chalk stick-slips, each slip about catching up with the hand (slip = drive x period);
     with one coefficient the tip slides with the hand from the drive's start."""
-    line, out, _ = compared
+    lines, _, out, _ = compared
+    line = closing_text(lines)
     counted = {label: counted_from_log(out / name) for label, name in RUNS.items()}
     said = "; ".join(f"{label}: {stick_slip.short_words(r)}" for label, r in counted.items())
     assert line.startswith("simulated 600 steps (0.60 s) x 2 runs in ")
@@ -152,7 +153,7 @@ def test_a_chalk_comparison_closes_with_each_runs_stick_slip(compared):
 
 
 def test_the_page_and_summary_say_each_runs_stick_slip_and_no_rest(compared):
-    _, out, texts = compared
+    _, _, out, texts = compared
     page = (out / "index.html").read_text()
     data = json.loads(re.search(r"const run = (\{.*\});", page).group(1))
     counted = [counted_from_log(out / name) for name in RUNS.values()]
