@@ -171,7 +171,7 @@ def IP_hess(scene, lagged, x):
     the solver; the springs' blocks are scene.solver's, kept for the run."""
     hess_P = [term.hess_kernel(*args, out=scene.solver.edge_blocks) if term is MassSpringEnergy
               else term.hess_kernel(*args) for term, args in potential_terms(scene, lagged, x)]
-    for _, blocks in hess_P:
+    for _, blocks in hess_P:        # in place: each term's blocks are its own (springs': solver's)
         blocks *= scene.h ** 2
     return [InertiaEnergy.hess_kernel(x, lagged.x_tilde, scene.m)] + hess_P
 
