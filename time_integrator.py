@@ -1,20 +1,13 @@
-"""One implicit Euler time step, written as minimizing the Incremental Potential (IP):
+"""One implicit Euler time step as minimizing the Incremental Potential (IP)
 
-    E(x) = 1/2 ||x - x_tilde||_M^2 + h^2 (P_e + P_g + P_hand + P_b + P_f)(x),  x_tilde = x^n + h v^n
+    E(x) = 1/2 ||x - x_tilde||_M^2 + h^2 sum P(x),  x_tilde = x^n + h v^n,  P over `scene.terms`,
 
-summing only the potential terms the scene has (`scene.terms`). Projected Newton with the filtered
-backtracking line search of Algorithm 4 minimizes it; friction uses mu*lambda^n and T^n lagged from
-x^n (semi-implicit), and `scene.friction_updates` > 0 adds the fixed-point iterations of Algorithm 5
-for fully implicit friction. What a scene prescribes is taken at the end of the step, as implicit
-Euler takes every force there: the hand's targets at t^{n+1} (the chalk's grip), and a moving
-surface's velocity v_s = (s(t^{n+1}) - s(t^n)) / h, the backward difference of its position as
-v = (x - x^n) / h is of x (the tablecloth); friction slips on v - v_s. Pushed surfaces
-(`scene.pushed`, None for one-surface scenes) are rows of x with their own term, CCD and mu*lambda,
-moved along themselves by a Dirichlet condition (5_mov_dirichlet): prescribed, then eliminated.
+by projected Newton with Algorithm 4's line search; friction lagged from x^n, or Algorithm 5's
+fixed point (`scene.friction_updates` > 0). What a scene prescribes is taken at t^{n+1}, pushed
+surfaces (`scene.pushed`, else None) as a Dirichlet condition: docs/code-tour.md, "The time step".
 
-`step(scene, x, v, step_index=n)` maps (x^n, v^n) at t^n = n h to (x^{n+1}, v^{n+1}) at t^{n+1} =
-(n + 1) h, and a StepReport; it prints nothing and changes none of its inputs. `newton_iterates` is
-the same step one Newton iteration at a time, for a window to show.
+`step(scene, x, v, step_index=n)` maps (x^n, v^n) at t^n = n h to (x^{n+1}, v^{n+1}) and a
+StepReport, printing nothing, changing no input; `newton_iterates`: one Newton iteration at a time.
 """
 import dataclasses
 from dataclasses import dataclass, field
@@ -91,15 +84,13 @@ class NewtonIterate:
 
 @dataclass(frozen=True)
 class Lagged:
-    """What the Incremental Potential holds fixed during one Newton solve: x^n, x_tilde = x^n +
-    h v^n (pushed surfaces' rows in both at t^{n+1}), mu*lambda per node (None when the scene has no
-    friction), the hand's targets at t^{n+1} (None without a hand) and the surface's velocity v_s
-    over the step (zero if still). T^n = I - n n^T is the slope's."""
-    x_n: np.ndarray
-    x_tilde: np.ndarray
-    mu_lambda: np.ndarray
-    targets: np.ndarray = None
-    v_s: np.ndarray = field(default_factory=lambda: np.zeros(2))
+    """What E holds fixed during one Newton solve (T^n = I - n n^T is the slope's); None: the scene
+    has no such part."""
+    x_n: np.ndarray             # (N, 2) x^n; pushed surfaces' rows at t^{n+1}
+    x_tilde: np.ndarray         # (N, 2) x^n + h v^n; pushed surfaces' rows at t^{n+1}
+    mu_lambda: np.ndarray       # (N,) mu*lambda, or None without friction
+    targets: np.ndarray = None  # the hand's targets at t^{n+1}, or None without a hand
+    v_s: np.ndarray = field(default_factory=lambda: np.zeros(2))    # the surface's, over the step
 
 
 def step_time(scene, step_index):
@@ -108,9 +99,8 @@ def step_time(scene, step_index):
 
 
 def friction_update(scene, lagged, x, v=None):
-    """FrictionUpdate(x) of Algorithm 5: mu*lambda from the barrier at x (`lagged` unchanged without
-    friction); mu is scene.mu, or one per node with static friction (`slip_weakened_mu`, from v, the
-    velocity of the state x)."""
+    """FrictionUpdate(x) of Algorithm 5: mu*lambda at x (`lagged` as it is without friction), mu
+    scene.mu or, with static friction, slip_weakened_mu at the state (x, v)."""
     if "friction" not in scene.terms:
         return lagged
     mu = scene.mu if scene.static is None else slip_weakened_mu(scene, lagged, x, v)
@@ -123,8 +113,7 @@ def friction_update(scene, lagged, x, v=None):
 def slip_weakened_mu(scene, lagged, x, v=None):
     """mu_k = mu + (mu_s - mu) exp(-|t . (v_k - v_s)| / v_c) per node (not in the lecture: its chalk
     remark, static friction above kinetic), v the velocity of the state x: v^n at x^n (the lagged
-    solve), (x - x^n) / h (v None) at an iterate of Algorithm 5; held through the solve. Here, not
-    in scenes/chalk.py: it reads the step's lagged state, as friction_update (docs/code-tour.md)."""
+    solve), (x - x^n) / h (v None) at an iterate of Algorithm 5; held through the solve."""
     v = (x - lagged.x_n) / scene.h if v is None else v
     vbarnorm = np.abs((v - lagged.v_s) @ FrictionEnergy.tangent(scene.n))   # |t . (v_k - v_s)|
     return FrictionEnergy.slip_weakened_mu(vbarnorm, scene.mu, scene.static.mu_s, scene.static.v_c)
@@ -134,9 +123,8 @@ def slip_weakened_mu(scene, lagged, x, v=None):
 
 @dataclass(frozen=True)
 class Term:
-    """One potential energy term, declared once: its module; `args(scene, lagged, x, v)`, the
-    arguments of its val/grad/hess in the lecture's order, from the scene's arrays and the step's x,
-    v = (x - x^n) / h - v_s, mu*lambda, targets; whether it stores energy (friction dissipates)."""
+    """A potential term: its module, `args(scene, lagged, x, v)` of its val/grad/hess in the
+    lecture's order (v = (x - x^n) / h - v_s), whether it stores energy (friction dissipates)."""
     module: object
     args: object
     stores_energy: bool
@@ -156,16 +144,15 @@ TERMS = {
 
 
 def potential_terms(scene, lagged, x):
-    """The scene's potential terms at x: (energy module, its arguments in the lecture's order), as
-    TERMS declares them (a pushed surface declares its own), for the terms the scene has."""
+    """[(energy module, its arguments)] at x of the scene's terms: TERMS', or scene.pushed's."""
     v = (x - lagged.x_n) / scene.h - lagged.v_s     # v_p - v_s: friction's slip against the surface
     terms = [TERMS.get(t, scene.pushed) for t in scene.terms if t != "inertia"]
     return [(term.module, term.args(scene, lagged, x, v)) for term in terms]
 
 
 def IP_val(scene, lagged, x):
-    """E(x) = 1/2 ||x - x_tilde||_M^2 + h^2 sum P(x); +inf where a node is on or below the slope
-    (the barrier refuses it), so the line search halves away from it (the filter of Algorithm 4)."""
+    """E(x) = 1/2 ||x - x_tilde||_M^2 + h^2 sum P(x); +inf where a node is on or below a surface,
+    so Algorithm 4's line search halves away from it."""
     try:
         P = sum(term.val_kernel(*args) for term, args in potential_terms(scene, lagged, x))
     except BarrierEnergy.NotAboveHalfSpace:
@@ -180,12 +167,11 @@ def IP_grad(scene, lagged, x):
 
 
 def IP_hess(scene, lagged, x):
-    """H(x) = M + h^2 sum hess P(x), each term PSD-projected, so H >= M is SPD; as the element
-    blocks (nodes, blocks) of its terms, summed when the matrix is built. Each term's blocks are
-    its own new array, scaled by h^2 in place; the springs' are scene.solver's, kept for the run."""
+    """H(x) = M + h^2 sum hess P(x), terms PSD-projected (H >= M), as [(nodes, blocks)], summed by
+    the solver; the springs' blocks are scene.solver's, kept for the run."""
     hess_P = [term.hess_kernel(*args, out=scene.solver.edge_blocks) if term is MassSpringEnergy
               else term.hess_kernel(*args) for term, args in potential_terms(scene, lagged, x)]
-    for _, blocks in hess_P:
+    for _, blocks in hess_P:        # in place: each term's blocks are its own (springs': solver's)
         blocks *= scene.h ** 2
     return [InertiaEnergy.hess_kernel(x, lagged.x_tilde, scene.m)] + hess_P
 
@@ -196,18 +182,14 @@ def search_dir(scene, lagged, x, grad_E):
 
 
 def predicted_start(scene, lagged):
-    """Where Newton starts with scene.newton_start "x_tilde" (the chalk's; the lecture's is x^n):
-    the prediction x_tilde = x^n + h v^n cut back by CCD (Algorithm 4, line 1, along h v^n), so
-    every node stays above the board. Not in the lecture: from x^n a sliding contact starts at
-    v = 0, in the mollifier's stiff static branch, and Newton takes about 4 iterations to leave.
-    Here, not in scenes/chalk.py: it is Algorithm 4's CCD, and any scene may start there."""
+    """Newton's start with scene.newton_start "x_tilde" (the lecture's is x^n): x^n + alpha h v^n,
+    alpha Algorithm 4's CCD along h v^n (why: docs/chalk.md, "Where Newton starts")."""
     prediction = lagged.x_tilde - lagged.x_n
     return lagged.x_n + init_step_size(scene, lagged.x_n, prediction) * prediction
 
 
 def init_step_size(scene, x, p):
-    """Algorithm 4, line 1: CCD against the slope and pushed surfaces; without either the full
-    step is safe."""
+    """Algorithm 4, line 1: CCD against the slope and pushed surfaces (1 without either)."""
     alpha = 1.0 if scene.n is None else BarrierEnergy.init_step_size_kernel(x, scene.n, scene.o, p)
     return alpha if scene.pushed is None else min(alpha, scene.pushed.init_step_size(x, p))
 
@@ -215,12 +197,9 @@ def init_step_size(scene, x, p):
 # --- the time step --------------------------------------------------------------------------------
 
 def newton(scene, lagged, x, report, step_index, update=0, start=None):
-    """Minimize E from x by projected Newton with Algorithm 4's filtered backtracking line search,
-    yielding a NewtonIterate per iteration; returns the minimizer. Stops when ||p||_inf / h <= tol
-    after at least one iteration (a body at rest under h |grad E| < tol would otherwise never start
-    to move), or when E can no longer resolve the decrease p promises (float64's floor:
-    report.stalled). `update`: which solve of Algorithm 5 this is (0: the lagged one); `start`:
-    (p, residual) at x, when the caller has them."""
+    """Minimize E from x by projected Newton and Algorithm 4, yielding a NewtonIterate each
+    iteration; returns the minimizer once ||p||_inf / h <= tol after one iteration at least, or at
+    E's round-off floor (report.stalled). `update`: Algorithm 5's solve; `start`: (p, residual)."""
     E = IP_val(scene, lagged, x)
     p, residual = start or _direction(scene, lagged, x, step_index, False)
     for _ in range(scene.max_newton_iterations):
@@ -250,9 +229,8 @@ def newton(scene, lagged, x, report, step_index, update=0, start=None):
 
 
 def _direction(scene, lagged, x, step_index, bound_shows_convergence=True):
-    """(p, ||p||_inf / h) at x, the lecture's convergence measure (a velocity, m/s). H >= M, so
-    ||p||_inf <= ||H^-1 grad E||_2 <= ||grad E||_2 / min m: where that bound is already <= tol, p is
-    not needed and (None, bound) is returned."""
+    """(p, ||p||_inf / h) at x (m/s); (None, bound) where ||grad E||_2 / (min m h), a bound on it
+    as H >= M, is already <= tol."""
     g = IP_grad(scene, lagged, x)
     if scene.pushed is not None:    # its prescribed coordinates are no unknowns (5_mov_dirichlet)
         g = scene.pushed.eliminate(g)
@@ -267,10 +245,8 @@ def _direction(scene, lagged, x, step_index, bound_shows_convergence=True):
 
 
 def _check_round_off_floor(scene, lagged, x, p, E, E_next, residual, step_index):
-    """A line search that ends with E(x + alpha p) = E(x) along a descent direction (grad E . p < 0)
-    has met the round-off of E: in exact arithmetic a small enough alpha always decreases E. Any
-    other ending without a decrease (an ascent direction, E still above E(x), a NaN) is a
-    LineSearchFailed."""
+    """LineSearchFailed unless E(x + alpha p) = E(x) along a descent direction (grad E . p < 0):
+    E's round-off floor (docs/limits.md)."""
     slope = float(np.vdot(IP_grad(scene, lagged, x), p))
     if not (slope < 0.0 and E_next == E):
         raise LineSearchFailed("line search could not decrease the Incremental Potential",
@@ -279,9 +255,8 @@ def _check_round_off_floor(scene, lagged, x, p, E, E_next, residual, step_index)
 
 
 def newton_iterates(scene, x, v, *, step_index=0):
-    """The time step of `step`, one Newton iteration at a time: yields a NewtonIterate after each
-    line search, returns (x^{n+1}, v^{n+1}, StepReport). The hand's targets are those of t^{n+1},
-    a moving surface's v_s that of the step."""
+    """The time step of `step`, yielding a NewtonIterate after each line search; returns
+    (x^{n+1}, v^{n+1}, StepReport)."""
     x_n = utils.check_points("x", x, scene.x0.shape)
     v_n = utils.check_points("v", v, scene.x0.shape)
     step_index = utils.check_whole("step_index", step_index, minimum=0)
@@ -321,17 +296,15 @@ def newton_iterates(scene, x, v, *, step_index=0):
 
 
 def pushed_report(scene, report, lagged, x, x_n, v_n):
-    """The step's report of pushed surfaces: min_distance, and pushed_work, the work that held
-    them on their prescribed path (J): the force F with grad E - h^2 F = 0 along it, grad E with
-    x_tilde = x^n + h v^n (not prescribed), times the motion x - x^n."""
+    """Pushed surfaces' min_distance, and pushed_work = F . (x - x^n) along their path, F = grad E
+    / h^2 with x_tilde = x^n + h v^n (not prescribed): the force that held them there (J)."""
     report.min_distance = min(report.min_distance, scene.pushed.min_distance(x))
     free = dataclasses.replace(lagged, x_tilde=x_n + scene.h * v_n)
     report.pushed_work = scene.pushed.work(IP_grad(scene, free, x) / scene.h ** 2, x - x_n)
 
 
 def run_out(iterates):
-    """Run a step's Newton iterates (newton_iterates, perhaps part-taken) to the end of the step:
-    returns what the generator returns, (x^{n+1}, v^{n+1}, StepReport)."""
+    """What newton_iterates (perhaps part-taken) returns, (x^{n+1}, v^{n+1}, StepReport)."""
     while True:
         try:
             next(iterates)
@@ -340,7 +313,5 @@ def run_out(iterates):
 
 
 def step(scene, x, v, *, step_index=0):
-    """Advance (x^n, v^n) at t^n = step_index h by one implicit Euler step of scene.h: returns
-    (x^{n+1}, v^{n+1}, StepReport). step_index also numbers the step in errors; a hand's targets
-    move with it."""
+    """(x^{n+1}, v^{n+1}, StepReport) from (x^n, v^n) at t^n = step_index h, which errors name."""
     return run_out(newton_iterates(scene, x, v, step_index=step_index))
