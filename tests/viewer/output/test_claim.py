@@ -143,9 +143,14 @@ def at_once(tmp_path, count, *args):
 
 @pytest.mark.parametrize("count", RACERS)
 def test_runs_started_at_once_each_get_a_folder_of_their_own(tmp_path, count):
+    """Without --out each run makes output/<scene>-<date>-<time>/ (a suffix where that is taken),
+    so runs started together never share a folder; a file the user left in output/ is untouched."""
+    (tmp_path / "output").mkdir()
+    (tmp_path / "output" / "notes.txt").write_text("mine")
     ended = at_once(tmp_path, count, "--steps", "3", "--no-frames")
     assert all(code == 0 for code, _ in ended), ended
-    runs = sorted(os.listdir(tmp_path / "output"))
+    assert (tmp_path / "output" / "notes.txt").read_text() == "mine"
+    runs = sorted(set(os.listdir(tmp_path / "output")) - {"notes.txt"})
     assert len(runs) == count and all(re.fullmatch(r"square-\d{8}-\d{6}(-\d+)?", r) for r in runs)
     said = sorted(lines[-1].rsplit(" in ", 1)[1] for _, lines in ended)
     assert said == sorted(f"output/{r}/" for r in runs)
