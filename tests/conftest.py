@@ -6,6 +6,8 @@ worker is a process of its own, with its own tmp_path_factory."""
 import os
 import sys
 
+import pytest
+
 # One BLAS thread, set before numpy loads: the Newton systems are small banded matrices, and a
 # second OpenBLAS thread contending for 2 cores with other work made whole runs 10-25x slower.
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
@@ -16,9 +18,18 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))                  
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))    # the project
 
 
-def pytest_collection_modifyitems(items):
-    """The modules with long physics runs (a test marked slow) first, the rest as collected:
-    --dist loadfile hands each worker whole modules in this order (pytest.ini keeps it with
-    --no-loadscope-reorder), so the longest start early and the short ones even out the end."""
-    slow = {item.path for item in items if item.get_closest_marker("slow")}
-    items.sort(key=lambda item: item.path not in slow)
+@pytest.hookimpl(trylast=True)          # after -m and -k have deselected
+def pytest_collection_modifyitems(config, items):
+    """A quick twin (a parameter marked quick_twin, the short form of a test's slow parameter)
+    is left out where its slow form runs: the slow form checks the same, harder. Then the modules
+    with long physics runs (a test marked slow) first, the rest as collected: --dist loadfile hands
+    each worker whole modules in this order (pytest.ini keeps it with --no-loadscope-reorder), so
+    the longest start early and the short ones even out the end."""
+    slow = {(item.path, item.originalname) for item in items if item.get_closest_marker("slow")}
+    twins = [item for item in items if item.get_closest_marker("quick_twin")
+             and (item.path, item.originalname) in slow]
+    if twins:
+        config.hook.pytest_deselected(items=twins)
+        items[:] = [item for item in items if item not in twins]
+    slow_paths = {path for path, _ in slow}
+    items.sort(key=lambda item: item.path not in slow_paths)

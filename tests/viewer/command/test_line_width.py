@@ -9,20 +9,26 @@ from viewer.command import progress
 WIDTH = 100
 
 
-@pytest.mark.parametrize("args", [
-    [],                                                             # the lecture's square, 6 s
-    ["--scene", "chalk", "--duration", "0.6"],                      # stick-slip from 0.31 s
-    ["--scene", "tablecloth", "--pull-speed", "1,2,4,8", "--frame-stride", "40"],
+# Each run long enough to reach the event its closing words say (measured on each): the lecture's
+# square with mu = 0.2 sticks at 2.80 s, so 3.2 s close with its stick and creep in the very words
+# and widths of the default run's (stuck at 5.54 s of 6 s), at half the steps; the chalk's first
+# slip ends at 0.31 s (3 slips by 0.6 s); the tablecloth's pulls run until the dishes stop.
+@pytest.mark.parametrize("args, event", [
+    (["--mu", "0.2", "--duration", "3.2"], "the square sticks at "),
+    (["--scene", "chalk", "--duration", "0.6"], "stick-slip: 3 slips, "),
+    (["--scene", "tablecloth", "--pull-speed", "1,2,4,8", "--frame-stride", "40"],
+     "the dish travelled "),
 ])              # the mu comparison's: test_run_outputs.test_the_lectures_comparison_in_one_command;
 # a chalk comparison where one slides and one stick-slips (stick_slip.short_words):
 # test_chalk_view.test_a_mixed_chalk_comparison_fits_and_closes_in_3_lines, on the run it shares
-def test_every_line_of_a_run_fits_and_it_closes_in_3_lines(args, tmp_path, monkeypatch):
+def test_every_line_of_a_run_fits_and_it_closes_in_3_lines(args, event, tmp_path, monkeypatch):
     """Each run into its default folder under output/ (the folder's own name counts)."""
     monkeypatch.chdir(tmp_path)
     code, lines = run_main(*args)
     assert code == 0, lines
     assert len(lines) > 3 and not too_wide(lines, tmp_path)
     assert len(closing_lines(lines)) <= 3, lines
+    assert closing_lines(lines)[1].startswith(event), lines
     assert WIDTH == progress.WIDTH
 
 

@@ -5,6 +5,7 @@ import os
 import signal
 import subprocess
 import sys
+import time
 
 import pytest
 
@@ -84,7 +85,12 @@ def test_sighup_and_sigquit_stop_a_run_as_sigterm_does(tmp_path, name, code, rea
     child = subprocess.Popen([sys.executable, os.path.join(ROOT, "simulator.py"), "--steps",
                               "1e308", "--no-frames", "--out", str(tmp_path)], env=env,
                              stderr=subprocess.PIPE, text=True)
-    assert child.stderr.readline().startswith("step ")
+    # Mid-run once log.csv holds a step's row: the run opens it under its own signal handlers (a
+    # progress line, test_run_stops' sync, comes only after 2 s of wall time: PROGRESS_EVERY).
+    log, deadline = tmp_path / "log.csv", time.monotonic() + 120
+    while not (log.exists() and log.read_text().count("\n") >= 3):       # header, t = 0, step 1
+        assert child.poll() is None and time.monotonic() < deadline, "the run ended or stalled"
+        time.sleep(0.01)
     child.send_signal(getattr(signal, name))
     last = ending(child.stderr.read().splitlines())
     assert child.wait(timeout=120) == code

@@ -118,6 +118,11 @@ runpy.run_path(sys.argv[0], run_name="__main__")
 """
 
 
+# 8 runs at once (slow); the quick suite races 2, which the full suite leaves out: the 8 check the
+# same, with more claimants on the same names (tests/conftest.py, quick_twin).
+RACERS = [pytest.param(2, marks=pytest.mark.quick_twin), pytest.param(8, marks=pytest.mark.slow)]
+
+
 def at_once(tmp_path, count, *args):
     """`count` runs of `python simulator.py ARGS` in `tmp_path`, each let go the same moment once
     all have loaded; their (exit code, stderr lines). 8 runs load numpy, scipy and pygame 8 times
@@ -136,11 +141,16 @@ def at_once(tmp_path, count, *args):
     return [(c.wait(timeout=300), c.stderr.read().splitlines()) for c in children]
 
 
-@pytest.mark.parametrize("count", [2, pytest.param(8, marks=pytest.mark.slow)])
+@pytest.mark.parametrize("count", RACERS)
 def test_runs_started_at_once_each_get_a_folder_of_their_own(tmp_path, count):
+    """Without --out each run makes output/<scene>-<date>-<time>/ (a suffix where that is taken),
+    so runs started together never share a folder; a file the user left in output/ is untouched."""
+    (tmp_path / "output").mkdir()
+    (tmp_path / "output" / "notes.txt").write_text("mine")
     ended = at_once(tmp_path, count, "--steps", "3", "--no-frames")
     assert all(code == 0 for code, _ in ended), ended
-    runs = sorted(os.listdir(tmp_path / "output"))
+    assert (tmp_path / "output" / "notes.txt").read_text() == "mine"
+    runs = sorted(set(os.listdir(tmp_path / "output")) - {"notes.txt"})
     assert len(runs) == count and all(re.fullmatch(r"square-\d{8}-\d{6}(-\d+)?", r) for r in runs)
     said = sorted(lines[-1].rsplit(" in ", 1)[1] for _, lines in ended)
     assert said == sorted(f"output/{r}/" for r in runs)
@@ -150,7 +160,7 @@ def test_runs_started_at_once_each_get_a_folder_of_their_own(tmp_path, count):
         assert len((folder / "log.csv").read_text().splitlines()) == 5
 
 
-@pytest.mark.parametrize("count", [2, pytest.param(8, marks=pytest.mark.slow)])
+@pytest.mark.parametrize("count", RACERS)
 def test_runs_started_at_once_into_one_empty_out_one_wins(tmp_path, count):
     """Exactly one run writes the folder; every other is refused in one line naming it, exit 2,
     and nothing of theirs is in it."""

@@ -1,10 +1,9 @@
 """viewer/output/files.py: a run writes only into a new folder it made (or an empty one --out
-names), tried as an attacker would: a name taken between the check and the write, two runs at once,
-a folder that holds files or is another user's, a folder removed mid-run, names too long, and a
-platform without POSIX-only names (os.O_NOFOLLOW, file owners)."""
+names), tried as an attacker would: a name taken between the check and the write (runs at once:
+test_claim.py), a folder that holds files or is another user's, a folder removed mid-run, names
+too long, and a platform without POSIX-only names (os.O_NOFOLLOW, file owners)."""
 import errno
 import os
-import re
 import shutil
 import subprocess
 import sys
@@ -74,25 +73,7 @@ def test_a_folder_removed_mid_run_is_named_by_its_output(tmp_path, monkeypatch):
     assert said.endswith("out/ disappeared as the run wrote it")
 
 
-# ---- a new folder for each run
-
-def test_two_runs_at_once_write_two_folders_and_leave_the_users_files(tmp_path):
-    """Without --out each run makes output/<scene>-<date>-<time>/ (a suffix where that is taken),
-    so two runs started together never share a folder; a file the user left in output/ is
-    untouched."""
-    (tmp_path / "output").mkdir()
-    (tmp_path / "output" / "notes.txt").write_text("mine")
-    first = start("--steps", "20", "--no-frames", cwd=tmp_path)
-    second = start("--steps", "20", "--no-frames", cwd=tmp_path)
-    for child in (first, second):
-        assert child.wait(timeout=300) == 0, child.stderr.read()
-    runs = sorted(p for p in (tmp_path / "output").iterdir() if p.is_dir())
-    assert len(runs) == 2
-    assert all(re.fullmatch(r"square-\d{8}-\d{6}(-\d+)?", p.name) for p in runs)
-    for folder in runs:
-        assert len((folder / "log.csv").read_text().splitlines()) == 22
-    assert (tmp_path / "output" / "notes.txt").read_text() == "mine"
-
+# ---- a new folder for each run (runs started at once, each into its own: test_claim.py)
 
 def test_the_closing_line_counts_the_files_and_names_the_page(tmp_path, monkeypatch):
     """Its last line: how many files the folder holds, and its page (the folder is the page's)."""
