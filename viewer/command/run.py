@@ -1,6 +1,6 @@
-"""A run of the command line, to files or in the window: its folder, its signals, its ending in one
-line and an exit code, 0, 1, or 128 + a stopping signal's number: 130, 143, 129, 131
-(docs/output.md, "How a run ends")."""
+"""A run of the command line, to files or in the window: its folder, its signals, its ending (at
+most 3 lines, progress.folded) and an exit code, 0, 1, or 128 + a stopping signal's number: 130,
+143, 129, 131 (docs/output.md, "How a run ends")."""
 import collections
 import contextlib
 import signal
@@ -20,7 +20,7 @@ from viewer.pictures.frames import frame_count
 
 class Stopped(BaseException):
     """SIGINT (Ctrl+C), SIGTERM, SIGHUP or SIGQUIT (startup.EXIT_CODES): the run stops, says so
-    in one line and keeps what it wrote."""
+    in its ending and keeps what it wrote."""
 
     def __init__(self, signum):
         super().__init__(signum)
@@ -160,7 +160,7 @@ def end(plan, signals, folder, tracks, frame_log, failure, messages, done):
 
 
 def say(plan, signals, folder, tracks, failure, messages, done):
-    """The logs closed, the folder's claim released, one line (`done` if all went well and the
+    """The logs closed, the folder's claim released, the ending (`done` if all went well and the
     folder is still there); returns the exit code. Signals only wait from here on."""
     signals.close()
     for track in tracks:
