@@ -41,9 +41,9 @@ GRASP = types.MappingProxyType({
 
 @dataclasses.dataclass(frozen=True)
 class Fingers:
-    """The grasp's pushed surfaces (time_integrator's `scene.pushed`): finger f is the half-space
-    through row len(x) - F + f of x with normal n[f], pressed by squeeze[f] (FingerEnergy); its
-    coordinate along `tangent`, 0 at t = 0, is prescribed: the lift (5_mov_dirichlet)."""
+    """The grasp's contact (scene.HalfSpace's methods): finger f is the half-space through row
+    len(x) - F + f of x with normal n[f], pressed by squeeze[f] (FingerEnergy); its coordinate
+    along `tangent` is prescribed: offset(t), the lift."""
     n: np.ndarray               # (F, 2) unit normals, toward the block
     squeeze: np.ndarray         # (F,) N: each finger's pressing force
     tangent: np.ndarray         # (2,) the direction of the lift (along every finger)
@@ -55,6 +55,9 @@ class Fingers:
     velocity = MovingSurface.velocity               # v_s over a step: the offset's difference / h
     counted = "slip: the fingers' lift minus the block's rise; dropped: slid past the pads"
     pads_words = "the fingers' pads"
+    normals = property(lambda self: self.n)
+    friction_n = property(lambda self: self.n[0])   # they share one tangent
+    rows = property(lambda self: slice(0, -len(self.n)))    # the block's: all but the last F
 
     def args(self, s, lagged, x, v):
         """FingerEnergy's arguments in the lecture's order, as a Term's."""
@@ -64,14 +67,6 @@ class Fingers:
         """The lift by time t (m): a tau^2 / 2 (tau = t - t_lift) up to V / a, then steady at V."""
         tau, t_a = max(t - self.t_lift, 0.0), self.lift_speed / self.lift_accel
         return self.lift_accel * tau * tau / 2 if tau < t_a else self.lift_speed * (tau - t_a / 2)
-
-    def body(self, a):
-        """The rows of a (N, ...) that are the block's: all but the fingers' (the last)."""
-        return a[:len(a) - len(self.n)]
-
-    def centre_of_mass(self, scene, a):
-        """sum_i m_i a_i / sum_i m_i over the block's rows of a (N, 2)."""
-        return np.average(self.body(a), axis=0, weights=self.body(scene.m))
 
     def along(self, a):
         """t . a_f (F,) of the fingers' rows of a (N, 2)."""
@@ -90,9 +85,13 @@ class Fingers:
         x_n, x_tilde = (self.moved(a, lift - self.along(a)) for a in (lagged.x_n, lagged.x_tilde))
         return dataclasses.replace(lagged, x_n=x_n, x_tilde=x_tilde)
 
-    def eliminate(self, g):
+    def free(self, g):
         """g (N, 2) without its component along `tangent` on the fingers' rows: no unknowns."""
         return self.moved(g, -self.along(g))
+
+    def distances(self, x):
+        """d_fi (F, N_block), FingerEnergy's."""
+        return FingerEnergy.distances(x, self.n)
 
     def lambdas(self, scene, x, mu=1.0):
         """mu lambda_fi (F, N): each finger's normal force on each node, times mu."""
@@ -107,18 +106,12 @@ class Fingers:
         """Algorithm 4, line 1, against the moving fingers."""
         return FingerEnergy.init_step_size_kernel(x, self.n, p)
 
-    def min_distance(self, x):
-        """The smallest d_fi = n_f . (x_i - x_f)."""
-        return float(FingerEnergy.distances(x, self.n).min())
-
-    def work(self, force, dx):
-        """sum_f (t . force_f)(t . dx_f) over the fingers' rows of force and dx (N, 2), J."""
-        return float(self.along(force) @ self.along(dx))
-
-    def contact_velocities(self, scene, x, v, v_s):
-        """t . (v_i - v_s) of the block nodes within dhat of a finger, finger by finger."""
-        in_contact = FingerEnergy.distances(x, self.n) < scene.dhat         # (F, N_block)
-        return np.broadcast_to(self.body(v - v_s) @ self.tangent, in_contact.shape)[in_contact]
+    def work(self, scene, x_n, v_n, x):
+        """sum_f (t . F_f)(t . (x_f - x_f^n)), J: the lift's work over a step, F = M (x - x^n -
+        h v^n) / h^2 - M g + grad P_fingers (gravity's and the fingers' terms reach their rows)."""
+        inertia = scene.m[:, None] * ((x - x_n - scene.h * v_n) / scene.h ** 2 - scene.g)
+        force = inertia + FingerEnergy.grad_kernel(*self.args(scene, None, x, None))
+        return float(self.along(force) @ self.along(x - x_n))
 
     def figures(self, scene, x):
         """What log.csv adds for a state x: the slip (m) and each finger's force (N)."""
@@ -191,14 +184,14 @@ def build_grasp_scene(**overrides):
     m = np.append(np.full(nb, p["mass"] / nb), [p["finger_mass"]] * 2)
     w_contact = np.append(np.full(nb, h / p["ny"]), [0.0, 0.0])     # the fingers' nodes: none
     return assemble(p, x, e, m, w_contact, terms, (p["nx"], p["ny"]), elements=[pairs],
-                    pushed=fingers)
+                    contact=fingers, pushed=fingers)
 
 
 # ---- The closed forms: a block of mass m between two fingers pressed with N each -----------------
 
 def grip(scene):
     """2 mu N / m: the largest acceleration the two fingers' friction can give the block, m/s^2."""
-    return scene.mu * float(scene.pushed.squeeze.sum()) / scene.params["mass"]
+    return scene.mu * float(scene.contact.squeeze.sum()) / scene.params["mass"]
 
 
 def load_ratio(scene, lift_accel=0.0):
@@ -213,7 +206,7 @@ def squeeze_for(ratio, mu, lift_accel=0.0, p=GRASP):
 
 def holds(scene):
     """Whether the grasp holds: 2 mu N >= m (g + a) while the lift accelerates, and m g after."""
-    return max(load_ratio(scene, scene.pushed.lift_accel), load_ratio(scene)) <= 1.0
+    return max(load_ratio(scene, scene.contact.lift_accel), load_ratio(scene)) <= 1.0
 
 
 def creep_speed(scene, lift_accel=0.0):
@@ -230,7 +223,7 @@ def slip_acceleration(scene, lift_accel=0.0):
 
 def phases(scene):
     """The lift's phases: (words, start, end, acceleration a), still, accelerating, steady."""
-    f = scene.pushed
+    f = scene.contact
     t_a = f.t_lift + f.lift_speed / f.lift_accel
     return [("before the lift", 0.0, f.t_lift, 0.0),
             ("while the lift accelerates", f.t_lift, t_a, f.lift_accel),
@@ -252,14 +245,14 @@ def coulomb_slip(scene, t):
 def slip(scene, x):
     """How far the block has slid down relative to the fingers since t = 0 (m): the fingers' lift
     minus the rise of the block's centre of mass."""
-    f = scene.pushed
-    rise = (f.centre_of_mass(scene, x) - f.centre_of_mass(scene, scene.x0)) @ f.tangent
+    f = scene.contact
+    rise = np.average(x[f.rows] - scene.x0[f.rows], axis=0, weights=scene.m[f.rows]) @ f.tangent
     return float(f.along(x).mean()) - float(rise)
 
 
 def drop_slip(scene):
     """The slip at which the block has slid past the pads (its top below their bottom), m."""
-    return (scene.pushed.pad_length + scene.params["height"]) / 2
+    return (scene.contact.pad_length + scene.params["height"]) / 2
 
 
 # ---- In words: held (its creep beside u*), dropped (its slip acceleration beside the closed form)

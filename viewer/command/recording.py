@@ -46,7 +46,7 @@ class Track:
         self.tangent = diagnostics.tangent(scene)
         self.x, self.v = scene.x0, scene.v0
         self.step, self.friction_work, self.hand_work, self.surface_work = 0, 0.0, 0.0, 0.0
-        self.lift_work = 0.0        # pushed surfaces' (time_integrator.StepReport.pushed_work)
+        self.lift_work = 0.0        # the grasp's fingers' (scenes.grasp.Fingers.work)
         self.columns = log.columns(scene)
         self.marks = wear.Deposit() if scene.hand is not None else None   # the chalk's mark
         self.warned = set()         # the kinds of warning said so far
@@ -101,12 +101,13 @@ class Track:
         """Log the StepRecord of the step from the current state (the window hands them in)."""
         E_hand = self.samples.last.energies.get("hand")      # at x^n, known
         self.hand_work += diagnostics.hand_work(self.scene, self.x, record.t, E_hand)
+        if self.scene.pushed is not None:
+            self.lift_work += self.scene.pushed.work(self.scene, self.x, self.v, record.x)
         if self.marks is not None:
             self.marks.step(self.scene, self.x, record.x)       # what the tip left over the step
         self.x, self.v, self.step = record.x, record.v, record.index + 1
         self.friction_work += record.report.friction_work
         self.surface_work += record.report.surface_work
-        self.lift_work += record.report.pushed_work
         sample = self._add(record.report, record.t, record.wall)
         said = step_warnings(self.scene, sample.step, sample.t, record.report, sample.inverted)
         for kind in [kind for kind in said if kind not in self.warned]:   # each kind said once
