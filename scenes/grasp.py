@@ -1,8 +1,6 @@
-"""A grasp (the slide "Remarks - Applications: Robotics", IPC-GraspSim): a block between two
-vertical fingers, each pressed against it by a force N, that lift it: still until t_lift, then at
-lift_accel up to lift_speed. It starts settled, at the gap where each side's barrier carries N. It
-holds iff 2 mu N >= m (g + a) while the lift accelerates and >= m g after; held, it still creeps
-down at u* = eps_v (1 - sqrt(1 - m g / (2 mu N))). Its page, numbers and reasons: docs/grasp.md.
+"""A grasp (the slide "Remarks - Applications: Robotics"): a block between two vertical fingers,
+each pressed against it by a force N, that lift it: still until t_lift, then at lift_accel up to
+lift_speed. It starts settled. Its page, numbers, closed forms and reasons: docs/grasp.md.
 
     scene = build_grasp_scene(squeeze=4.0)  # the numbers (GRASP), one of them changed
 """
@@ -41,9 +39,9 @@ GRASP = types.MappingProxyType({
 
 @dataclasses.dataclass(frozen=True)
 class Fingers:
-    """The grasp's contact (scene.HalfSpace's methods): finger f is the half-space through row
-    len(x) - F + f of x with normal n[f], pressed by squeeze[f] (FingerEnergy); its coordinate
-    along `tangent` is prescribed: offset(t), the lift."""
+    """The grasp's contact (scenes.scene.HalfSpace's methods): finger f is the half-space through
+    row len(x) - F + f of x, normal n[f], pressed by squeeze[f] (FingerEnergy), lifted: its
+    coordinate along `tangent` is prescribed, offset(t)."""
     n: np.ndarray               # (F, 2) unit normals, toward the block
     squeeze: np.ndarray         # (F,) N: each finger's pressing force
     tangent: np.ndarray         # (2,) the direction of the lift (along every finger)
@@ -73,7 +71,7 @@ class Fingers:
         return a[len(a) - len(self.n):] @ self.tangent
 
     def moved(self, a, along):
-        """a (N, 2) with `along` (F,) added along `tangent` to the fingers' rows (a new array)."""
+        """A copy of a (N, 2) with `along` (F,) added along `tangent` to the fingers' rows."""
         a = a.copy()
         a[len(a) - len(self.n):] += np.outer(along, self.tangent)
         return a
@@ -81,8 +79,8 @@ class Fingers:
     def prescribe(self, lagged, t):
         """`lagged` (x^n checked) with the fingers' rows of x^n and x_tilde lifted to time t."""
         FingerEnergy.check_above(lagged.x_n, self.n)
-        lift = self.offset(t)
-        x_n, x_tilde = (self.moved(a, lift - self.along(a)) for a in (lagged.x_n, lagged.x_tilde))
+        x_n, x_tilde = (self.moved(a, self.offset(t) - self.along(a))
+                        for a in (lagged.x_n, lagged.x_tilde))
         return dataclasses.replace(lagged, x_n=x_n, x_tilde=x_tilde)
 
     def free(self, g):
@@ -90,7 +88,7 @@ class Fingers:
         return self.moved(g, -self.along(g))
 
     def distances(self, x):
-        """d_fi (F, N_block), FingerEnergy's."""
+        """d_fi (F, N_block)."""
         return FingerEnergy.distances(x, self.n)
 
     def lambdas(self, scene, x, mu=1.0):
@@ -99,7 +97,7 @@ class Fingers:
                                                      scene.kappa)
 
     def mu_lambda(self, scene, x, mu):
-        """mu lambda_i (N,) summed over the fingers: they share one tangent, so friction's T."""
+        """mu lambda_i (N,), summed over the fingers (they share friction's T)."""
         return self.lambdas(scene, x, mu).sum(axis=0)
 
     def init_step_size(self, x, p):
@@ -107,8 +105,8 @@ class Fingers:
         return FingerEnergy.init_step_size_kernel(x, self.n, p)
 
     def work(self, scene, x_n, v_n, x):
-        """sum_f (t . F_f)(t . (x_f - x_f^n)), J: the lift's work over a step, F = M (x - x^n -
-        h v^n) / h^2 - M g + grad P_fingers (gravity's and the fingers' terms reach their rows)."""
+        """The lift's work over a step, sum_f (t . F_f)(t . (x_f - x_f^n)) (J), F = M (x - x^n -
+        h v^n) / h^2 - M g + grad P_fingers: the force that held the fingers on their path."""
         inertia = scene.m[:, None] * ((x - x_n - scene.h * v_n) / scene.h ** 2 - scene.g)
         force = inertia + FingerEnergy.grad_kernel(*self.args(scene, None, x, None))
         return float(self.along(force) @ self.along(x - x_n))
@@ -122,9 +120,8 @@ class Fingers:
         return creep_speed(scene) if holds(scene) else None
 
     def words(self, track, short=False):
-        """The closing words (`words`) of a run's kept states (a recording.Track)."""
-        samples = track.samples.all()
-        t, s = np.array([x.t for x in samples]), np.array([x.slip for x in samples])
+        """`words` of a run's kept states (a recording.Track)."""
+        t, s = np.array([(x.t, x.slip) for x in track.samples.all()]).T
         return words(track.scene, t, s, short)
 
     def pads(self, x, depth):
@@ -161,8 +158,7 @@ GROWS = types.MappingProxyType({        # what the block's sizes grow with (scen
 
 def build_grasp_scene(**overrides):
     """The block centred at the origin between a finger at its left (normal (1, 0)) and one at its
-    right (normal (-1, 0)), each at the gap d0 where the barrier carries the squeeze on a side's
-    ny + 1 nodes, lifted along (0, 1) from t_lift. A ValueError names a bad parameter."""
+    right, each at the gap where the barrier carries the squeeze on a side's ny + 1 nodes."""
     p = check_params(overrides)
     for name, other in sorted((("nx", "ny"), ("ny", "nx")), key=lambda pair: -p[pair[0]]):
         ranges.check_memory(name, p[name], lambda n: (n + 1) * (p[other] + 1))
@@ -205,13 +201,12 @@ def squeeze_for(ratio, mu, lift_accel=0.0, p=GRASP):
 
 
 def holds(scene):
-    """Whether the grasp holds: 2 mu N >= m (g + a) while the lift accelerates, and m g after."""
+    """2 mu N >= m (g + a) while the lift accelerates, and >= m g after."""
     return max(load_ratio(scene, scene.contact.lift_accel), load_ratio(scene)) <= 1.0
 
 
 def creep_speed(scene, lift_accel=0.0):
-    """Held, u* = eps_v (1 - sqrt(1 - m (g + a) / (2 mu N))) (FrictionEnergy.f1_inverse); nan
-    where it slips."""
+    """Held, u* = eps_v (1 - sqrt(1 - m (g + a) / (2 mu N))) (f1_inverse); nan where it slips."""
     ratio = load_ratio(scene, lift_accel)
     return FrictionEnergy.f1_inverse(ratio, scene.epsv) if ratio <= 1.0 else math.nan
 
@@ -231,8 +226,8 @@ def phases(scene):
 
 
 def coulomb_slip(scene, t):
-    """How far a rigid Coulomb block has slid down the fingers by time t (m): through the phases,
-    its slip speed u grows at slip_acceleration where > 0, else falls at it to 0 (sticks)."""
+    """A rigid Coulomb block's slip by time t (m): through the phases its slip speed u grows at
+    slip_acceleration where > 0, else falls at it to 0 (it sticks)."""
     s = u = 0.0
     for _, t0, t1, a in phases(scene):
         du = slip_acceleration(scene, a)
@@ -243,8 +238,7 @@ def coulomb_slip(scene, t):
 
 
 def slip(scene, x):
-    """How far the block has slid down relative to the fingers since t = 0 (m): the fingers' lift
-    minus the rise of the block's centre of mass."""
+    """The block's slide down the fingers since t = 0 (m): their lift minus its centre's rise."""
     f = scene.contact
     rise = np.average(x[f.rows] - scene.x0[f.rows], axis=0, weights=scene.m[f.rows]) @ f.tangent
     return float(f.along(x).mean()) - float(rise)
@@ -266,17 +260,15 @@ def within(t, start, end):
 
 
 def fitted_rate(t, s, start, end, order=1):
-    """The slip's speed (order 1: a line's slope) or acceleration (order 2: twice a parabola's
-    leading coefficient) fitted to s over start <= t <= end."""
+    """The slip's speed (order 1) or acceleration (order 2) fitted to s over [start, end]."""
     window = within(t, start, end)
     return float(np.polyfit(t[window], s[window], order)[0]) * order
 
 
 def outcome(scene, t, s):
-    """(held, t_drop, phase words, measured, closed form) from the slip s at times t: on the pads,
-    its slip speed in the phase the run ends in beside u*; dropped (at t_drop, else None), its slip
-    acceleration in the phase it slid past the pads in. The fit leaves out SETTLE after the phase
-    begins (its last half where that leaves under 4 states); measured nan with too few."""
+    """(held, t_drop or None, phase words, measured, closed form) from the slip s at times t: on
+    the pads, its speed beside u* in the phase the run ends in; dropped, its acceleration in the
+    phase it slid past the pads in (fitted from SETTLE into the phase; nan: too few states)."""
     dropped = np.flatnonzero(s >= drop_slip(scene))
     end = float(t[dropped[0]]) if dropped.size else float(t[-1])
     words, start, _, a = next(p for p in phases(scene) if p[1] <= max(end - 1e-9, 0.0) < p[2])
@@ -289,10 +281,9 @@ def outcome(scene, t, s):
 
 
 def words(scene, t, s, short=False):
-    """'held (slid 0.66 mm, Coulomb 0), creeps 0.498 mm/s in the steady lift (u* 0.500)',
-    'dropped at 0.62 s, slips 2.462 m/s^2 while the lift accelerates (closed form 2.462)', or
-    'slips on the pads at 0.60 s: ...'; `short`, for a comparison's closing: 'held, creeps 0.498
-    mm/s (u* 0.500)', 'dropped at 0.62 s'."""
+    """'held (slid 0.66 mm, Coulomb 0), creeps 0.498 mm/s in the steady lift (u* 0.500)', 'dropped
+    at 0.62 s, slips 2.462 m/s^2 while the lift accelerates (closed form 2.462)' or 'slips on the
+    pads at 0.60 s: ...'; `short` (a comparison's): 'held, creeps 0.498 mm/s (u* 0.500)', ..."""
     on_pads, t_drop, phase, measured, exact = outcome(scene, t, s)
     if not on_pads:
         return f"dropped at {t_drop:.2f} s" + ("" if short else (
