@@ -18,9 +18,9 @@ def with_hand(scene):
 
 
 def with_surface(scene):
-    """Whether a scene's surface moves (the tablecloth, pushed surfaces on their path): its speed,
-    the slip and the heat logged."""
-    return scene.surface is not None or scene.pushed is not None
+    """Whether a scene's contact moves along itself (its `moves`): its speed, the slip and the heat
+    logged."""
+    return scene.contact is not None and scene.contact.moves
 
 
 def with_pushed(scene):
@@ -98,7 +98,7 @@ COLUMN = {c.name: c for c in [
     Column("W_lift", "J", "lift work",
            "the work that has held pushed surfaces on their prescribed path since t = 0, summed "
            "over steps as the force along it, (grad E) . t / h^2 on their rows, times their motion",
-           ".9g", lambda s: s.lift_work, with_pushed),
+           ".9g", lambda s: s.contact_work, with_pushed),
     Column("D_numerical", "J", "numerical dissipation",
            "E(0) + W_friction - E (+ W_hand with a hand, + W_lift with pushed surfaces), = E(0) + "
            "W_surface - heat - E on the tablecloth: what implicit Euler's numerical dissipation "

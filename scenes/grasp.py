@@ -53,6 +53,7 @@ class Fingers:
     velocity = MovingSurface.velocity               # v_s over a step: the offset's difference / h
     counted = "slip: the fingers' lift minus the block's rise; dropped: slid past the pads"
     pads_words = "the fingers' pads"
+    moves = True                # along the lift
     normals = property(lambda self: self.n)
     friction_n = property(lambda self: self.n[0])   # they share one tangent
     rows = property(lambda self: slice(0, -len(self.n)))    # the block's: all but the last F

@@ -57,6 +57,7 @@ class HalfSpace:
     o: np.ndarray               # (2,) a point on it
     moving: MovingSurface = None
     rows = slice(None)          # the body's rows of x: all
+    moves = property(lambda self: self.moving is not None)      # along itself
 
     @property
     def tangent(self):
@@ -103,6 +104,10 @@ class HalfSpace:
     def work(self, scene, x_n, v_n, x):
         """The work that held prescribed rows on their path over a step: none (J)."""
         return 0.0
+
+    def figures(self, scene, x):
+        """What log.csv adds for a state x: nothing."""
+        return {}
 
 
 @dataclass(frozen=True)
