@@ -45,19 +45,6 @@ def split(x, n):
     return x[:len(x) - len(n)], x[len(x) - len(n):]
 
 
-def distances(x, n):
-    """d_fi = n_f . (x_i - x_f), (F, N_block)."""
-    block, fingers = split(x, n)
-    return n @ block.T - np.einsum("fj,fj->f", n, fingers)[:, None]
-
-
-def check_above(x, n):
-    """NotAboveHalfSpace (a ValueError) if a block node is on or behind a finger."""
-    block, fingers = split(x, n)
-    for n_f, x_f in zip(n, fingers):
-        BarrierEnergy.check_above(block, n_f, x_f)
-
-
 def val_kernel(x, n, squeeze, contact_area, dhat, kappa):
     """P = sum_f [P_b(x_block; n_f, x_f) - N_f n_f . x_f]."""
     block, fingers = split(x, n)
@@ -86,21 +73,3 @@ def hess_kernel(x, n, squeeze, contact_area, dhat, kappa):
         nodes.append(np.hstack([i, np.full_like(i, len(block) + f)]))
         blocks.append(np.block([[A, -A], [-A, A]]))
     return np.concatenate(nodes), np.concatenate(blocks)
-
-
-def compute_mu_lambda_kernel(x, n, contact_area, mu, dhat, kappa):
-    """mu * lambda_fi (F, N): BarrierEnergy's with o = x_f, zero on the fingers' own rows."""
-    block, fingers = split(x, n)
-    mu_lambda = np.zeros((len(n), len(x)))
-    for f, (n_f, x_f) in enumerate(zip(n, fingers)):
-        mu_lambda[f, :len(block)] = BarrierEnergy.compute_mu_lambda_kernel(
-            block, n_f, x_f, contact_area, mu, dhat, kappa)
-    return mu_lambda
-
-
-def init_step_size_kernel(x, n, p):
-    """Algorithm 4, line 1, against moving half-spaces: d_fi changes at n_f . (p_i - p_f)."""
-    (block, fingers), (p_block, p_fingers) = split(x, n), split(p, n)
-    rates = [BarrierEnergy.approach_rates(block, n_f, x_f, p_block - p_f).max(initial=0.0)
-             for n_f, x_f, p_f in zip(n, fingers, p_fingers)]
-    return 0.9 / max(float(max(rates)), 0.9)

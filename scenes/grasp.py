@@ -10,6 +10,7 @@ import types
 
 import numpy as np
 
+import BarrierEnergy
 import FingerEnergy
 import FrictionEnergy
 import square_mesh
@@ -79,7 +80,9 @@ class Fingers:
 
     def prescribe(self, lagged, t):
         """`lagged` (x^n checked) with the fingers' rows of x^n and x_tilde lifted to time t."""
-        FingerEnergy.check_above(lagged.x_n, self.n)
+        block, fingers = FingerEnergy.split(lagged.x_n, self.n)
+        for n_f, x_f in zip(self.n, fingers):
+            BarrierEnergy.check_above(block, n_f, x_f)
         x_n, x_tilde = (self.moved(a, self.offset(t) - self.along(a))
                         for a in (lagged.x_n, lagged.x_tilde))
         return dataclasses.replace(lagged, x_n=x_n, x_tilde=x_tilde)
@@ -89,21 +92,28 @@ class Fingers:
         return self.moved(g, -self.along(g))
 
     def distances(self, x):
-        """d_fi (F, N_block)."""
-        return FingerEnergy.distances(x, self.n)
+        """d_fi = n_f . (x_i - x_f), (F, N_block)."""
+        block, fingers = FingerEnergy.split(x, self.n)
+        return self.n @ block.T - np.einsum("fj,fj->f", self.n, fingers)[:, None]
 
     def lambdas(self, scene, x, mu=1.0):
-        """mu lambda_fi (F, N): each finger's normal force on each node, times mu."""
-        return FingerEnergy.compute_mu_lambda_kernel(x, self.n, scene.contact_area, mu, scene.dhat,
-                                                     scene.kappa)
+        """mu lambda_fi (F, N): BarrierEnergy's with o = x_f, zero on the fingers' own rows."""
+        block, fingers = FingerEnergy.split(x, self.n)
+        mu_lambda = np.zeros((len(self.n), len(x)))
+        for f, (n_f, x_f) in enumerate(zip(self.n, fingers)):
+            mu_lambda[f, :len(block)] = BarrierEnergy.compute_mu_lambda_kernel(
+                block, n_f, x_f, scene.contact_area, mu, scene.dhat, scene.kappa)
+        return mu_lambda
 
     def mu_lambda(self, scene, x, mu):
         """mu lambda_i (N,), summed over the fingers (they share friction's T)."""
         return self.lambdas(scene, x, mu).sum(axis=0)
 
     def init_step_size(self, x, p):
-        """Algorithm 4, line 1, against the moving fingers."""
-        return FingerEnergy.init_step_size_kernel(x, self.n, p)
+        """Algorithm 4, line 1: BarrierEnergy's against each finger, p relative to its own."""
+        (block, fingers), (p_block, p_fingers) = (FingerEnergy.split(a, self.n) for a in (x, p))
+        return min(BarrierEnergy.init_step_size_kernel(block, n_f, x_f, p_block - p_f)
+                   for n_f, x_f, p_f in zip(self.n, fingers, p_fingers))
 
     def work(self, scene, x_n, v_n, x):
         """The lift's work over a step, sum_f (t . F_f)(t . (x_f - x_f^n)) (J), F = M (x - x^n -
