@@ -29,11 +29,10 @@ def downhill(scene, u):
 
 
 def closed_creep(scene):
-    """closed_forms.creep_speed (pushed surfaces': their closed_creep) in mm/s, or None where
-    Coulomb friction would not hold."""
+    """closed_forms.creep_speed (a grasp's: its closed_creep) in mm/s, or None where Coulomb
+    friction would not hold."""
     if scene.pushed is not None:
-        exact = scene.pushed.closed_creep(scene)
-        return None if exact is None else 1e3 * exact
+        return scene.pushed.closed_creep(scene)
     return 1e3 * closed_forms.creep_speed(scene) if square.holds(scene) else None
 
 

@@ -127,8 +127,8 @@ class Fingers:
         return {"slip": slip(scene, x), "finger_forces": self.lambdas(scene, x).sum(axis=1)}
 
     def closed_creep(self, scene):
-        """u* in the steady lift (m/s), or None where the grasp does not hold."""
-        return creep_speed(scene) if holds(scene) else None
+        """u* in the steady lift (mm/s), or None where the grasp does not hold."""
+        return 1e3 * creep_speed(scene) if holds(scene) else None
 
     def words(self, track, short=False):
         """`words` of a run's kept states (a recording.Track)."""
