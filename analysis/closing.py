@@ -165,10 +165,8 @@ def closing_words(tracks):
     scene = tracks[0].scene
     if scene.hand is not None:
         return stick_slip_words(tracks)
-    if scene.pushed is not None:          # the words its scene gives
-        if len(tracks) == 1:
-            return "the block " + scene.pushed.words(tracks[0])
-        return each(tracks, lambda track: scene.pushed.words(track, short=True))
+    if scene.pushed is not None:          # the words its scene gives (short: a comparison's)
+        return each(tracks, lambda track: scene.pushed.words(track, short=len(tracks) > 1))
     return travel_words(tracks) if scene.surface is not None else rest_words(tracks)
 
 

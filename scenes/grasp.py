@@ -131,9 +131,9 @@ class Fingers:
         return 1e3 * creep_speed(scene) if holds(scene) else None
 
     def words(self, track, short=False):
-        """`words` of a run's kept states (a recording.Track)."""
+        """`words` of a run's kept states (a recording.Track), of 'the block' unless short."""
         t, s = np.array([(x.t, x.slip) for x in track.samples.all()]).T
-        return words(track.scene, t, s, short)
+        return ("" if short else "the block ") + words(track.scene, t, s, short)
 
     def pads(self, x, depth):
         """Each finger's pad, (4, 2) corners: pad_length along the lift, `depth` behind it."""
@@ -293,12 +293,14 @@ def outcome(scene, t, s):
 
 def words(scene, t, s, short=False):
     """'held (slid 0.66 mm, Coulomb 0), creeps 0.498 mm/s in the steady lift (u* 0.500)', 'dropped
-    at 0.62 s, slips 2.462 m/s^2 while the lift accelerates (closed form 2.462)' or 'slips on the
-    pads at 0.60 s: ...'; `short` (a comparison's): 'held, creeps 0.498 mm/s (u* 0.500)', ..."""
+    at 0.62 s, slips 2.462 m/s^2 while the lift accelerates (closed form 2.462)' ('its slip slows
+    at 0.190 m/s^2' below 0) or 'slips on the pads at 0.60 s: ...'; `short` (a comparison's):
+    'held, creeps 0.498 mm/s (u* 0.500)', 'dropped at 0.62 s', ..."""
     on_pads, t_drop, phase, measured, exact = outcome(scene, t, s)
     if not on_pads:
+        rate, sign = ("slips", 1) if not measured < 0.0 else ("its slip slows at", -1)
         return f"dropped at {t_drop:.2f} s" + ("" if short else (
-            f", slips {measured:.3f} m/s^2 {phase} (closed form {exact:.3f})"))
+            f", {rate} {sign * measured:.3f} m/s^2 {phase} (closed form {sign * exact:.3f})"))
     slid = f"slid {1e3 * s[-1]:.2f} mm, Coulomb {1e3 * coulomb_slip(scene, float(t[-1])):.3g}"
     if not measured < scene.epsv:
         return f"slips on the pads at {t[-1]:.2f} s" + ("" if short else (
