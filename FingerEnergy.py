@@ -1,10 +1,7 @@
-"""The fingers of a grasp: half-spaces through the last F rows of x (5_mov_dirichlet's ceiling),
-each pressed toward the block by a force N_f along its normal n_f, a potential like gravity's:
+"""The fingers of a grasp: half-spaces through the last F rows of x, each pressed toward the block
+by a force N_f along its normal n_f (docs/grasp.md). val/grad/hess check, then call the *_kernel:
 
     P(x) = sum_f [ P_b(x_block; n_f, o = x_f) - N_f n_f . x_f ]     (P_b: BarrierEnergy's)
-
-d_fi = n_f . (x_i - x_f), so the chain rule to x_f gives it minus finger f's terms at the block's
-nodes (docs/grasp.md). val/grad/hess check their input and call the *_kernel of the same name.
 """
 import numpy as np
 
@@ -44,21 +41,8 @@ def hess(x, n, squeeze, contact_area, dhat=BarrierEnergy.DHAT, kappa=BarrierEner
 
 
 def split(x, n):
-    """(the block's rows, the fingers' rows x_f (F, 2)): the fingers are the last len(n) rows."""
+    """(the block's rows, the fingers' x_f (F, 2), the last len(n) rows)."""
     return x[:len(x) - len(n)], x[len(x) - len(n):]
-
-
-def distances(x, n):
-    """d_fi = n_f . (x_i - x_f), (F, N_block)."""
-    block, fingers = split(x, n)
-    return n @ block.T - np.einsum("fj,fj->f", n, fingers)[:, None]
-
-
-def check_above(x, n):
-    """NotAboveHalfSpace (a ValueError) if a block node is on or behind a finger (d <= 0)."""
-    block, fingers = split(x, n)
-    for n_f, x_f in zip(n, fingers):
-        BarrierEnergy.check_above(block, n_f, x_f)
 
 
 def val_kernel(x, n, squeeze, contact_area, dhat, kappa):
@@ -70,8 +54,7 @@ def val_kernel(x, n, squeeze, contact_area, dhat, kappa):
 
 
 def grad_kernel(x, n, squeeze, contact_area, dhat, kappa):
-    """grad_i P = sum_f grad_i P_b(n_f, x_f) at a block node; grad_f P = -sum_i grad_i P_b(n_f,
-    x_f) - N_f n_f at finger f's node."""
+    """grad_i P = sum_f grad_i P_b(n_f, x_f); grad_f P = -sum_i grad_i P_b(n_f, x_f) - N_f n_f."""
     block, fingers = split(x, n)
     g = np.zeros(x.shape)
     for f, (n_f, x_f) in enumerate(zip(n, fingers)):
@@ -82,8 +65,7 @@ def grad_kernel(x, n, squeeze, contact_area, dhat, kappa):
 
 
 def hess_kernel(x, n, squeeze, contact_area, dhat, kappa):
-    """The blocks [[A, -A], [-A, A]] on the pairs (i, f), A = hess_i P_b(n_f, x_f) (PSD as A is;
-    the squeeze is linear)."""
+    """Blocks [[A, -A], [-A, A]] on the pairs (i, f), A = hess_i P_b(n_f, x_f) (PSD as A is)."""
     block, fingers = split(x, n)
     nodes, blocks = [np.zeros((0, 2), dtype=np.int64)], [np.zeros((0, 4, 4))]
     for f, (n_f, x_f) in enumerate(zip(n, fingers)):
@@ -91,22 +73,3 @@ def hess_kernel(x, n, squeeze, contact_area, dhat, kappa):
         nodes.append(np.hstack([i, np.full_like(i, len(block) + f)]))
         blocks.append(np.block([[A, -A], [-A, A]]))
     return np.concatenate(nodes), np.concatenate(blocks)
-
-
-def compute_mu_lambda_kernel(x, n, contact_area, mu, dhat, kappa):
-    """mu * lambda_fi (F, N): BarrierEnergy's with o = x_f, zero on the fingers' own rows."""
-    block, fingers = split(x, n)
-    mu_lambda = np.zeros((len(n), len(x)))
-    for f, (n_f, x_f) in enumerate(zip(n, fingers)):
-        mu_lambda[f, :len(block)] = BarrierEnergy.compute_mu_lambda_kernel(
-            block, n_f, x_f, contact_area, mu, dhat, kappa)
-    return mu_lambda
-
-
-def init_step_size_kernel(x, n, p):
-    """Algorithm 4, line 1, against moving half-spaces: d_fi changes at n_f . (p_i - p_f) along p
-    (BarrierEnergy.approach_rates with p_i - p_f)."""
-    (block, fingers), (p_block, p_fingers) = split(x, n), split(p, n)
-    rates = [BarrierEnergy.approach_rates(block, n_f, x_f, p_block - p_f).max(initial=0.0)
-             for n_f, x_f, p_f in zip(n, fingers, p_fingers)]
-    return 0.9 / max(float(max(rates)), 0.9)

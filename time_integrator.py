@@ -3,8 +3,8 @@
     E(x) = 1/2 ||x - x_tilde||_M^2 + h^2 sum P(x),  x_tilde = x^n + h v^n,  P over `scene.terms`,
 
 by projected Newton with Algorithm 4's line search; friction lagged from x^n, or Algorithm 5's
-fixed point (`scene.friction_updates` > 0). What a scene prescribes is taken at t^{n+1}, pushed
-surfaces (`scene.pushed`, else None) as a Dirichlet condition: docs/code-tour.md, "The time step".
+fixed point (`scene.friction_updates` > 0). What a scene prescribes is taken at t^{n+1}, rows of
+x its contact prescribes as a Dirichlet condition: docs/code-tour.md, "The time step".
 
 `step(scene, x, v, step_index=n)` maps (x^n, v^n) at t^n = n h to (x^{n+1}, v^{n+1}) and a
 StepReport, printing nothing, changing no input; `newton_iterates`: one Newton iteration at a time.
@@ -61,7 +61,6 @@ class StepReport:
     surface_work: float = 0.0       # F_f . v_s h: the moving surface's work (J, 0 if still); heat
     #                                 surface_work - friction_work >= 0 (friction's, surface frame)
     friction_force: np.ndarray = None   # (N, 2) with the step's last mu*lambda; None without
-    pushed_work: float = 0.0        # the work holding pushed surfaces on their path did (J)
 
     @property
     def newton_iterations(self):
@@ -86,8 +85,8 @@ class NewtonIterate:
 class Lagged:
     """What E holds fixed during one Newton solve (T^n = I - n n^T is the slope's); None: the scene
     has no such part."""
-    x_n: np.ndarray             # (N, 2) x^n; pushed surfaces' rows at t^{n+1}
-    x_tilde: np.ndarray         # (N, 2) x^n + h v^n; pushed surfaces' rows at t^{n+1}
+    x_n: np.ndarray             # (N, 2) x^n; rows the contact prescribes at t^{n+1}
+    x_tilde: np.ndarray         # (N, 2) x^n + h v^n; rows the contact prescribes at t^{n+1}
     mu_lambda: np.ndarray       # (N,) mu*lambda, or None without friction
     targets: np.ndarray = None  # the hand's targets at t^{n+1}, or None without a hand
     v_s: np.ndarray = field(default_factory=lambda: np.zeros(2))    # the surface's, over the step
@@ -104,10 +103,7 @@ def friction_update(scene, lagged, x, v=None):
     if "friction" not in scene.terms:
         return lagged
     mu = scene.mu if scene.static is None else slip_weakened_mu(scene, lagged, x, v)
-    if scene.pushed is not None:
-        return dataclasses.replace(lagged, mu_lambda=scene.pushed.mu_lambda(scene, x, mu))
-    return dataclasses.replace(lagged, mu_lambda=BarrierEnergy.compute_mu_lambda_kernel(
-        x, scene.n, scene.o, scene.contact_area, mu, scene.dhat, scene.kappa))
+    return dataclasses.replace(lagged, mu_lambda=scene.contact.mu_lambda(scene, x, mu))
 
 
 def slip_weakened_mu(scene, lagged, x, v=None):
@@ -144,9 +140,9 @@ TERMS = {
 
 
 def potential_terms(scene, lagged, x):
-    """[(energy module, its arguments)] at x of the scene's terms: TERMS', or scene.pushed's."""
+    """[(energy module, its arguments)] at x of the scene's terms: TERMS', or the contact's own."""
     v = (x - lagged.x_n) / scene.h - lagged.v_s     # v_p - v_s: friction's slip against the surface
-    terms = [TERMS.get(t, scene.pushed) for t in scene.terms if t != "inertia"]
+    terms = [TERMS.get(t, scene.contact) for t in scene.terms if t != "inertia"]
     return [(term.module, term.args(scene, lagged, x, v)) for term in terms]
 
 
@@ -189,9 +185,8 @@ def predicted_start(scene, lagged):
 
 
 def init_step_size(scene, x, p):
-    """Algorithm 4, line 1: CCD against the slope and pushed surfaces (1 without either)."""
-    alpha = 1.0 if scene.n is None else BarrierEnergy.init_step_size_kernel(x, scene.n, scene.o, p)
-    return alpha if scene.pushed is None else min(alpha, scene.pushed.init_step_size(x, p))
+    """Algorithm 4, line 1: CCD against the scene's contact (1 without one)."""
+    return 1.0 if scene.contact is None else scene.contact.init_step_size(x, p)
 
 
 # --- the time step --------------------------------------------------------------------------------
@@ -232,8 +227,8 @@ def _direction(scene, lagged, x, step_index, bound_shows_convergence=True):
     """(p, ||p||_inf / h) at x (m/s); (None, bound) where ||grad E||_2 / (min m h), a bound on it
     as H >= M, is already <= tol."""
     g = IP_grad(scene, lagged, x)
-    if scene.pushed is not None:    # its prescribed coordinates are no unknowns (5_mov_dirichlet)
-        g = scene.pushed.eliminate(g)
+    if scene.contact is not None:   # coordinates it prescribes are no unknowns (5_mov_dirichlet)
+        g = scene.contact.free(g)
     bound = math.sqrt(np.vdot(g, g)) / scene.m.min() / scene.h
     if bound_shows_convergence and bound <= scene.tol:
         return None, bound
@@ -260,13 +255,11 @@ def newton_iterates(scene, x, v, *, step_index=0):
     x_n = utils.check_points("x", x, scene.x0.shape)
     v_n = utils.check_points("v", v, scene.x0.shape)
     step_index = utils.check_whole("step_index", step_index, minimum=0)
-    if "barrier" in scene.terms:
-        BarrierEnergy.check_above(x_n, scene.n, scene.o)
     t = step_time(scene, step_index)        # t^{n+1}: what the scene prescribes
     targets = scene.hand.targets(t) if "hand" in scene.terms else None
     lagged = Lagged(x_n, x_n + scene.h * v_n, None, targets, scene.surface_velocity(t))
-    if scene.pushed is not None:            # checked; its rows of x^n and x_tilde at t^{n+1}
-        lagged = scene.pushed.prescribe(lagged, t)
+    if scene.contact is not None:           # x^n checked above it; the rows it prescribes
+        lagged = scene.contact.prescribe(lagged, t)
     report = StepReport()
     try:
         lagged = friction_update(scene, lagged, x_n, v_n)                 # mu*lambda^n
@@ -288,19 +281,9 @@ def newton_iterates(scene, x, v, *, step_index=0):
         F_f = -FrictionEnergy.grad_kernel(*dict(potential_terms(scene, lagged, x))[FrictionEnergy])
         report.friction_force, report.friction_work = F_f, float(np.vdot(F_f, x - x_n))
         report.surface_work = float(np.vdot(F_f.sum(axis=0), lagged.v_s)) * scene.h
-    if "barrier" in scene.terms:
-        report.min_distance = float(BarrierEnergy.distances(x, scene.n, scene.o).min())
-    if scene.pushed is not None:        # its distances, the work holding it on its path
-        pushed_report(scene, report, lagged, x, x_n, v_n)
+    if scene.contact is not None:
+        report.min_distance = float(scene.contact.distances(x).min())
     return x, (x - x_n) / scene.h, report      # x^{n+1}, v^{n+1}
-
-
-def pushed_report(scene, report, lagged, x, x_n, v_n):
-    """Pushed surfaces' min_distance, and pushed_work = F . (x - x^n) along their path, F = grad E
-    / h^2 with x_tilde = x^n + h v^n (not prescribed): the force that held them there (J)."""
-    report.min_distance = min(report.min_distance, scene.pushed.min_distance(x))
-    free = dataclasses.replace(lagged, x_tilde=x_n + scene.h * v_n)
-    report.pushed_work = scene.pushed.work(IP_grad(scene, free, x) / scene.h ** 2, x - x_n)
 
 
 def run_out(iterates):

@@ -29,11 +29,10 @@ def downhill(scene, u):
 
 
 def closed_creep(scene):
-    """closed_forms.creep_speed (pushed surfaces': their closed_creep) in mm/s, or None where
-    Coulomb friction would not hold."""
+    """closed_forms.creep_speed (a grasp's: its closed_creep) in mm/s, or None where Coulomb
+    friction would not hold."""
     if scene.pushed is not None:
-        exact = scene.pushed.closed_creep(scene)
-        return None if exact is None else 1e3 * exact
+        return scene.pushed.closed_creep(scene)
     return 1e3 * closed_forms.creep_speed(scene) if square.holds(scene) else None
 
 
@@ -166,10 +165,8 @@ def closing_words(tracks):
     scene = tracks[0].scene
     if scene.hand is not None:
         return stick_slip_words(tracks)
-    if scene.pushed is not None:          # the words its scene gives
-        if len(tracks) == 1:
-            return "the block " + scene.pushed.words(tracks[0])
-        return each(tracks, lambda track: scene.pushed.words(track, short=True))
+    if scene.pushed is not None:          # the words its scene gives (short: a comparison's)
+        return each(tracks, lambda track: scene.pushed.words(track, short=len(tracks) > 1))
     return travel_words(tracks) if scene.surface is not None else rest_words(tracks)
 
 

@@ -1,12 +1,11 @@
 """What a state tells beyond the step's report: contacts (d_k = n . (x_k - o) < dhat), sticking
 (||(I - n n^T)(v_k - v_s)|| < eps_v) and sliding, forces, inverted cells, the energy budget, the
-tip; with pushed surfaces (scene.pushed), over every surface, and the body without their rows."""
+tip; over every surface of the scene's contact, and the body without the contact's own rows."""
 import math
 
 import numpy as np
 
 import BarrierEnergy
-import FrictionEnergy
 import time_integrator
 
 LECTURE_TERMS = ("gravity", "spring", "barrier")     # always in the budget, 0 where absent
@@ -15,7 +14,7 @@ LECTURE_TERMS = ("gravity", "spring", "barrier")     # always in the budget, 0 w
 def energy_terms(scene):
     """The budget's potential terms: the lecture's three, then the scene's others storing energy."""
     others = tuple(name for name in scene.terms if name not in LECTURE_TERMS + ("inertia",)
-                   and time_integrator.TERMS.get(name, scene.pushed).stores_energy)
+                   and time_integrator.TERMS.get(name, scene.contact).stores_energy)
     return LECTURE_TERMS + others
 
 
@@ -23,7 +22,7 @@ def term_energy(scene, name, x, targets=None):
     """One term's energy at x (J), with the hand's `targets`; 0 for a term the scene lacks."""
     if name not in scene.terms and not (name == "gravity" and scene.g is not None):
         return 0.0
-    term = time_integrator.TERMS.get(name, scene.pushed)    # the kernel: the scene is checked
+    term = time_integrator.TERMS.get(name, scene.contact)   # the kernel: the scene is checked
     lagged = time_integrator.Lagged(x, x, None, targets)
     return term.module.val_kernel(*term.args(scene, lagged, x, None))
 
@@ -46,44 +45,35 @@ def hand_work(scene, x, t1, before):
 
 
 def body(scene, x):
-    """The rows of x (N, 2) that are the body's: all but pushed surfaces' own."""
-    return x if scene.pushed is None else scene.pushed.body(x)
+    """The rows of x (N, 2) that are the body's: all but the contact's own (its `rows`)."""
+    return x if scene.contact is None else x[scene.contact.rows]
 
 
 def centre_of_mass(scene, a):
-    """sum_i m_i a_i / sum_i m_i of per-node vectors a (N, 2): the body's (the block's, without the
-    pushed surfaces' rows)."""
-    if scene.pushed is not None:
-        return scene.pushed.centre_of_mass(scene, a)
-    return scene.m @ a / scene.m.sum()
+    """sum_i m_i a_i / sum_i m_i of per-node vectors a (N, 2) over the body's rows."""
+    m = body(scene, scene.m)
+    return m @ body(scene, a) / m.sum()
 
 
 def tangent(scene):
-    """The slope's unit tangent down to the right, (n_y, -n_x); pushed surfaces'; (1, 0) without
-    either."""
-    if scene.pushed is not None:
-        return scene.pushed.tangent
-    return np.array([1.0, 0.0]) if scene.n is None else FrictionEnergy.tangent(scene.n)
+    """The contact's unit tangent t = (n_y, -n_x) (the slope's: down to the right); (1, 0)
+    without one."""
+    return np.array([1.0, 0.0]) if scene.contact is None else scene.contact.tangent
 
 
 def min_distance(scene, x):
-    """min_k n . (x_k - o), or to pushed surfaces (inf without either)."""
-    if scene.pushed is not None:
-        return scene.pushed.min_distance(x)
-    if scene.n is None:
-        return math.inf
-    return float(BarrierEnergy.distances(x, scene.n, scene.o).min())
+    """min_k d_k to the contact's surfaces (inf without one)."""
+    return math.inf if scene.contact is None else float(scene.contact.distances(x).min())
 
 
 def contact_velocities(scene, x, v, v_s=0.0):
-    """t . (v_k - v_s) (m/s) of the nodes with d_k < dhat: the relative tangential velocity along
-    `tangent` (v_s 0: a still surface); pushed surfaces' (their contact_velocities)."""
-    if scene.pushed is not None:
-        return scene.pushed.contact_velocities(scene, x, v, v_s)
-    if scene.n is None:
+    """t . (v_k - v_s) (m/s) of the body's nodes with d_k < dhat, surface by surface: the relative
+    tangential velocity along `tangent` (v_s 0: a still surface)."""
+    if scene.contact is None:
         return np.zeros(0)
-    in_contact = BarrierEnergy.distances(x, scene.n, scene.o) < scene.dhat
-    return (v[in_contact] - v_s) @ tangent(scene)
+    in_contact = scene.contact.distances(x) < scene.dhat    # (N,), or (surfaces, body's nodes)
+    u = (body(scene, v) - v_s) @ tangent(scene)
+    return np.broadcast_to(u, in_contact.shape)[in_contact]
 
 
 def contact_speeds(scene, x, v, v_s=0.0):
@@ -103,15 +93,11 @@ def at_rest(sticking, sliding):
 
 
 def normal_forces(scene, x):
-    """lambda_k n at every node (N, 2): BarrierEnergy.compute_mu_lambda's kernel with mu = 1; the
-    sum over pushed surfaces of lambda_fk n_f with theirs."""
-    if scene.pushed is not None:
-        return scene.pushed.lambdas(scene, x).T @ scene.pushed.n
-    if "barrier" not in scene.terms:
+    """sum_f lambda_fk n_f at every node k (N, 2), over the contact's surfaces f (its `lambdas`,
+    (F, N), and `normals`, (F, 2)); zero without one."""
+    if scene.contact is None:
         return np.zeros_like(x)
-    lam = BarrierEnergy.compute_mu_lambda_kernel(x, scene.n, scene.o, scene.contact_area, 1.0,
-                                                 scene.dhat, scene.kappa)
-    return lam[:, None] * scene.n
+    return scene.contact.lambdas(scene, x).T @ scene.contact.normals
 
 
 def tip(scene, x):

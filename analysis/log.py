@@ -18,13 +18,13 @@ def with_hand(scene):
 
 
 def with_surface(scene):
-    """Whether a scene's surface moves (the tablecloth, pushed surfaces on their path): its speed,
-    the slip and the heat logged."""
-    return scene.surface is not None or scene.pushed is not None
+    """Whether a scene's contact moves along itself (its `moves`): its speed, the slip and the heat
+    logged."""
+    return scene.contact is not None and scene.contact.moves
 
 
 def with_pushed(scene):
-    """Whether a scene has pushed surfaces: their work, and the columns its unit declares."""
+    """Whether a scene has the grasp's fingers: their work, and the columns its unit declares."""
     return scene.pushed is not None
 
 
@@ -96,11 +96,11 @@ COLUMN = {c.name: c for c in [
            "steps as P_hand(x^n, targets(t^{n+1})) - P_hand(x^n, targets(t^n)) (the chalk)", ".9g",
            lambda s: s.hand_work, with_hand),
     Column("W_lift", "J", "lift work",
-           "the work that has held pushed surfaces on their prescribed path since t = 0, summed "
-           "over steps as the force along it, (grad E) . t / h^2 on their rows, times their motion",
-           ".9g", lambda s: s.lift_work, with_pushed),
+           "the work that has held the fingers on their prescribed path since t = 0, summed over "
+           "steps as the force along it, (grad E) . t / h^2 on their rows, times their motion",
+           ".9g", lambda s: s.contact_work, with_pushed),
     Column("D_numerical", "J", "numerical dissipation",
-           "E(0) + W_friction - E (+ W_hand with a hand, + W_lift with pushed surfaces), = E(0) + "
+           "E(0) + W_friction - E (+ W_hand with a hand, + W_lift with the fingers), = E(0) + "
            "W_surface - heat - E on the tablecloth: what implicit Euler's numerical dissipation "
            "has taken out", ".9g",
            lambda s: s.numerical_dissipation),
@@ -115,7 +115,7 @@ COLUMN = {c.name: c for c in [
            "the board's normal force on the chalk, the sum of lambda_k", ".6e",
            lambda s: s.normal_force, with_hand),
     Column("surface_speed", "m/s", "surface speed",
-           "the moving surface's velocity v_s along the table (the tablecloth) or pushed surfaces' "
+           "the moving surface's velocity v_s along the table (the tablecloth) or the fingers' "
            "path over the last step", ".9f", lambda s: s.surface_speed, with_surface),
     Column("slip_speed", "m/s", "slip speed",
            "the largest tangential speed of a contact node relative to the surface, |t . (v_k - "

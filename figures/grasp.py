@@ -51,13 +51,10 @@ def creep(epsv, ratio):
 def compute(mus=MUS, squeezes=SQUEEZES, epsvs=EPSVS, ratios=RATIOS):
     """The grid's cells (mu, N, simulated held, Coulomb held, above the line) and the creep
     points (eps_v, ratio, simulated u, closed-form u*)."""
-    cells = []
-    for mu in mus:          # Coulomb held: its slip only grows, so its slip at DURATION decides
-        for N in squeezes:
-            scene = grasp.build_grasp_scene(mu=mu, squeeze=N)
-            coulomb = grasp.coulomb_slip(scene, DURATION) < grasp.drop_slip(scene)
-            cells.append(SimpleNamespace(mu=mu, N=N, held=held(scene), coulomb=coulomb,
-                                         line=grasp.holds(scene)))
+    scenes = [grasp.build_grasp_scene(mu=mu, squeeze=N) for mu in mus for N in squeezes]
+    cells = [SimpleNamespace(mu=s.mu, N=s.params["squeeze"], held=held(s), line=grasp.holds(s),
+                             coulomb=grasp.coulomb_slip(s, DURATION) < grasp.drop_slip(s))
+             for s in scenes]
     points = [SimpleNamespace(epsv=e, ratio=r, u=u, exact=exact)
               for e in epsvs for r in ratios for u, exact in [creep(e, r)]]
     return SimpleNamespace(cells=cells, points=points, mus=mus, squeezes=squeezes, epsvs=epsvs)
@@ -65,11 +62,9 @@ def compute(mus=MUS, squeezes=SQUEEZES, epsvs=EPSVS, ratios=RATIOS):
 
 def caption(r):
     """The slide's claim in this model, the agreement counts and the creep's worst error."""
-    n = len(r.cells)
-    coulomb = sum(c.held == c.coulomb for c in r.cells)
-    line = sum(c.held == c.line for c in r.cells)
+    n, p = len(r.cells), grasp.GRASP
+    coulomb, line = (sum(c.held == getattr(c, k) for c in r.cells) for k in ("coulomb", "line"))
     worst = max(r.points, key=lambda p: abs(p.u / p.exact - 1))
-    p = grasp.GRASP
     return [
         f"A {p['mass']:g} kg block between two fingers pressed with N each, lifted at a = "
         f"{p['lift_accel']:g} m/s^2 to {p['lift_speed']:g} m/s; held: still on the pads at "
@@ -98,12 +93,10 @@ def draw(r):
                                     "rigid Coulomb: pads' end")]:
         ax.line(mu, N, color, width)
         ax.legend(color, words)
-    for c in r.cells:       # filled: held; hollow: dropped; a small dot: not as Coulomb
-        ax.markers([c.mu], [c.N], BLACK, 6)
-        if not c.held:
-            ax.markers([c.mu], [c.N], (255, 255, 255), 4)
-        if c.held != c.coulomb:
-            ax.markers([c.mu], [c.N], run_color(3), 2)
+    for color, radius, shown in [(BLACK, 6, r.cells),           # filled: held; hollow: dropped
+                                 ((255, 255, 255), 4, [c for c in r.cells if not c.held]),
+                                 (run_color(3), 2, [c for c in r.cells if c.held != c.coulomb])]:
+        ax.markers([c.mu for c in shown], [c.N for c in shown], color, radius)
     ax.legend(BLACK, "simulated cell")
     ax.legend(run_color(3), "differs from Coulomb")
     ax = page.axes(1, 1.0, 0.0, 1e3 * max(r.epsvs), "creep speed of a held block (mm/s) against "

@@ -2,7 +2,7 @@
 checks and the closed forms only it uses.
 
     scene.py        what every scene is (`Scene`, built by `assemble`); the parts only some have:
-                    the hand, static friction, the moving surface, pushed surfaces
+                    the hand, static friction, the moving surface; the contact (`HalfSpace`)
     square.py       the lecture's case study: the mass-spring square dropped on a slope (`DEFAULTS`)
     chalk.py        the lecture's closing remark: Rabinowicz's chalk on a board, in a hand (`CHALK`)
     tablecloth.py   the slide "Tangential Relative Velocity": a dish on a pulled tablecloth
@@ -12,7 +12,7 @@ checks and the closed forms only it uses.
 
 `simulator.py` gathers the first three (`simulator.build_scene`, `build_chalk_scene`,
 `build_tablecloth_scene`) and steps every scene; UNITS holds the units that declare their command
-line and log columns themselves (`scenes.grasp.build_grasp_scene`).
+line and log columns themselves.
 """
 from scenes import grasp
 

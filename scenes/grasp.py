@@ -1,8 +1,6 @@
-"""A grasp (the slide "Remarks - Applications: Robotics", IPC-GraspSim): a block between two
-vertical fingers, each pressed against it by a force N, that lift it: still until t_lift, then at
-lift_accel up to lift_speed. It starts settled, at the gap where each side's barrier carries N. It
-holds iff 2 mu N >= m (g + a) while the lift accelerates and >= m g after; held, it still creeps
-down at u* = eps_v (1 - sqrt(1 - m g / (2 mu N))). Its page, numbers and reasons: docs/grasp.md.
+"""A grasp (the slide "Remarks - Applications: Robotics"): a block between two vertical fingers,
+each pressed against it by a force N, that lift it: still until t_lift, then at lift_accel up to
+lift_speed. It starts settled. Its page, numbers, closed forms and reasons: docs/grasp.md.
 
     scene = build_grasp_scene(squeeze=4.0)  # the numbers (GRASP), one of them changed
 """
@@ -12,6 +10,7 @@ import types
 
 import numpy as np
 
+import BarrierEnergy
 import FingerEnergy
 import FrictionEnergy
 import square_mesh
@@ -41,9 +40,9 @@ GRASP = types.MappingProxyType({
 
 @dataclasses.dataclass(frozen=True)
 class Fingers:
-    """The grasp's pushed surfaces (time_integrator's `scene.pushed`): finger f is the half-space
-    through row len(x) - F + f of x with normal n[f], pressed by squeeze[f] (FingerEnergy); its
-    coordinate along `tangent`, 0 at t = 0, is prescribed: the lift (5_mov_dirichlet)."""
+    """The grasp's contact (scenes.scene.HalfSpace's methods): finger f is the half-space through
+    row len(x) - F + f of x, normal n[f], pressed by squeeze[f] (FingerEnergy), lifted: its
+    coordinate along `tangent` is prescribed, offset(t)."""
     n: np.ndarray               # (F, 2) unit normals, toward the block
     squeeze: np.ndarray         # (F,) N: each finger's pressing force
     tangent: np.ndarray         # (2,) the direction of the lift (along every finger)
@@ -55,6 +54,10 @@ class Fingers:
     velocity = MovingSurface.velocity               # v_s over a step: the offset's difference / h
     counted = "slip: the fingers' lift minus the block's rise; dropped: slid past the pads"
     pads_words = "the fingers' pads"
+    moves = True                # along the lift
+    normals = property(lambda self: self.n)
+    friction_n = property(lambda self: self.n[0])   # they share one tangent
+    rows = property(lambda self: slice(0, -len(self.n)))    # the block's: all but the last F
 
     def args(self, s, lagged, x, v):
         """FingerEnergy's arguments in the lecture's order, as a Term's."""
@@ -65,74 +68,72 @@ class Fingers:
         tau, t_a = max(t - self.t_lift, 0.0), self.lift_speed / self.lift_accel
         return self.lift_accel * tau * tau / 2 if tau < t_a else self.lift_speed * (tau - t_a / 2)
 
-    def body(self, a):
-        """The rows of a (N, ...) that are the block's: all but the fingers' (the last)."""
-        return a[:len(a) - len(self.n)]
-
-    def centre_of_mass(self, scene, a):
-        """sum_i m_i a_i / sum_i m_i over the block's rows of a (N, 2)."""
-        return np.average(self.body(a), axis=0, weights=self.body(scene.m))
-
     def along(self, a):
         """t . a_f (F,) of the fingers' rows of a (N, 2)."""
         return a[len(a) - len(self.n):] @ self.tangent
 
     def moved(self, a, along):
-        """a (N, 2) with `along` (F,) added along `tangent` to the fingers' rows (a new array)."""
+        """A copy of a (N, 2) with `along` (F,) added along `tangent` to the fingers' rows."""
         a = a.copy()
         a[len(a) - len(self.n):] += np.outer(along, self.tangent)
         return a
 
     def prescribe(self, lagged, t):
         """`lagged` (x^n checked) with the fingers' rows of x^n and x_tilde lifted to time t."""
-        FingerEnergy.check_above(lagged.x_n, self.n)
-        lift = self.offset(t)
-        x_n, x_tilde = (self.moved(a, lift - self.along(a)) for a in (lagged.x_n, lagged.x_tilde))
+        block, fingers = FingerEnergy.split(lagged.x_n, self.n)
+        for n_f, x_f in zip(self.n, fingers):
+            BarrierEnergy.check_above(block, n_f, x_f)
+        x_n, x_tilde = (self.moved(a, self.offset(t) - self.along(a))
+                        for a in (lagged.x_n, lagged.x_tilde))
         return dataclasses.replace(lagged, x_n=x_n, x_tilde=x_tilde)
 
-    def eliminate(self, g):
+    def free(self, g):
         """g (N, 2) without its component along `tangent` on the fingers' rows: no unknowns."""
         return self.moved(g, -self.along(g))
 
+    def distances(self, x):
+        """d_fi = n_f . (x_i - x_f), (F, N_block)."""
+        block, fingers = FingerEnergy.split(x, self.n)
+        return self.n @ block.T - np.einsum("fj,fj->f", self.n, fingers)[:, None]
+
     def lambdas(self, scene, x, mu=1.0):
-        """mu lambda_fi (F, N): each finger's normal force on each node, times mu."""
-        return FingerEnergy.compute_mu_lambda_kernel(x, self.n, scene.contact_area, mu, scene.dhat,
-                                                     scene.kappa)
+        """mu lambda_fi (F, N): BarrierEnergy's with o = x_f, zero on the fingers' own rows."""
+        block, fingers = FingerEnergy.split(x, self.n)
+        mu_lambda = np.zeros((len(self.n), len(x)))
+        for f, (n_f, x_f) in enumerate(zip(self.n, fingers)):
+            mu_lambda[f, :len(block)] = BarrierEnergy.compute_mu_lambda_kernel(
+                block, n_f, x_f, scene.contact_area, mu, scene.dhat, scene.kappa)
+        return mu_lambda
 
     def mu_lambda(self, scene, x, mu):
-        """mu lambda_i (N,) summed over the fingers: they share one tangent, so friction's T."""
+        """mu lambda_i (N,), summed over the fingers (they share friction's T)."""
         return self.lambdas(scene, x, mu).sum(axis=0)
 
     def init_step_size(self, x, p):
-        """Algorithm 4, line 1, against the moving fingers."""
-        return FingerEnergy.init_step_size_kernel(x, self.n, p)
+        """Algorithm 4, line 1: BarrierEnergy's against each finger, p relative to its own."""
+        (block, fingers), (p_block, p_fingers) = (FingerEnergy.split(a, self.n) for a in (x, p))
+        return min(BarrierEnergy.init_step_size_kernel(block, n_f, x_f, p_block - p_f)
+                   for n_f, x_f, p_f in zip(self.n, fingers, p_fingers))
 
-    def min_distance(self, x):
-        """The smallest d_fi = n_f . (x_i - x_f)."""
-        return float(FingerEnergy.distances(x, self.n).min())
-
-    def work(self, force, dx):
-        """sum_f (t . force_f)(t . dx_f) over the fingers' rows of force and dx (N, 2), J."""
-        return float(self.along(force) @ self.along(dx))
-
-    def contact_velocities(self, scene, x, v, v_s):
-        """t . (v_i - v_s) of the block nodes within dhat of a finger, finger by finger."""
-        in_contact = FingerEnergy.distances(x, self.n) < scene.dhat         # (F, N_block)
-        return np.broadcast_to(self.body(v - v_s) @ self.tangent, in_contact.shape)[in_contact]
+    def work(self, scene, x_n, v_n, x):
+        """The lift's work over a step, sum_f (t . F_f)(t . (x_f - x_f^n)) (J), F = M (x - x^n -
+        h v^n) / h^2 - M g + grad P_fingers: the force that held the fingers on their path."""
+        inertia = scene.m[:, None] * ((x - x_n - scene.h * v_n) / scene.h ** 2 - scene.g)
+        force = inertia + FingerEnergy.grad_kernel(*self.args(scene, None, x, None))
+        return float(self.along(force) @ self.along(x - x_n))
 
     def figures(self, scene, x):
         """What log.csv adds for a state x: the slip (m) and each finger's force (N)."""
         return {"slip": slip(scene, x), "finger_forces": self.lambdas(scene, x).sum(axis=1)}
 
     def closed_creep(self, scene):
-        """u* in the steady lift (m/s), or None where the grasp does not hold."""
-        return creep_speed(scene) if holds(scene) else None
+        """u* in the steady lift (mm/s), or None where the grasp does not hold."""
+        return 1e3 * creep_speed(scene) if holds(scene) else None
 
     def words(self, track, short=False):
-        """The closing words (`words`) of a run's kept states (a recording.Track)."""
-        samples = track.samples.all()
-        t, s = np.array([x.t for x in samples]), np.array([x.slip for x in samples])
-        return words(track.scene, t, s, short)
+        """`words` of a run's kept states (a recording.Track), of 'the block' unless short."""
+        t, s = np.array([(x.t, x.slip) for x in track.samples.all()]).T
+        return ("" if short else "the block ") + words(track.scene, t, s, short)
 
     def pads(self, x, depth):
         """Each finger's pad, (4, 2) corners: pad_length along the lift, `depth` behind it."""
@@ -168,8 +169,7 @@ GROWS = types.MappingProxyType({        # what the block's sizes grow with (scen
 
 def build_grasp_scene(**overrides):
     """The block centred at the origin between a finger at its left (normal (1, 0)) and one at its
-    right (normal (-1, 0)), each at the gap d0 where the barrier carries the squeeze on a side's
-    ny + 1 nodes, lifted along (0, 1) from t_lift. A ValueError names a bad parameter."""
+    right, each at the gap where the barrier carries the squeeze on a side's ny + 1 nodes."""
     p = check_params(overrides)
     for name, other in sorted((("nx", "ny"), ("ny", "nx")), key=lambda pair: -p[pair[0]]):
         ranges.check_memory(name, p[name], lambda n: (n + 1) * (p[other] + 1))
@@ -191,14 +191,14 @@ def build_grasp_scene(**overrides):
     m = np.append(np.full(nb, p["mass"] / nb), [p["finger_mass"]] * 2)
     w_contact = np.append(np.full(nb, h / p["ny"]), [0.0, 0.0])     # the fingers' nodes: none
     return assemble(p, x, e, m, w_contact, terms, (p["nx"], p["ny"]), elements=[pairs],
-                    pushed=fingers)
+                    contact=fingers, pushed=fingers)
 
 
 # ---- The closed forms: a block of mass m between two fingers pressed with N each -----------------
 
 def grip(scene):
     """2 mu N / m: the largest acceleration the two fingers' friction can give the block, m/s^2."""
-    return scene.mu * float(scene.pushed.squeeze.sum()) / scene.params["mass"]
+    return scene.mu * float(scene.contact.squeeze.sum()) / scene.params["mass"]
 
 
 def load_ratio(scene, lift_accel=0.0):
@@ -212,13 +212,12 @@ def squeeze_for(ratio, mu, lift_accel=0.0, p=GRASP):
 
 
 def holds(scene):
-    """Whether the grasp holds: 2 mu N >= m (g + a) while the lift accelerates, and m g after."""
-    return max(load_ratio(scene, scene.pushed.lift_accel), load_ratio(scene)) <= 1.0
+    """2 mu N >= m (g + a) while the lift accelerates, and >= m g after."""
+    return max(load_ratio(scene, scene.contact.lift_accel), load_ratio(scene)) <= 1.0
 
 
 def creep_speed(scene, lift_accel=0.0):
-    """Held, u* = eps_v (1 - sqrt(1 - m (g + a) / (2 mu N))) (FrictionEnergy.f1_inverse); nan
-    where it slips."""
+    """Held, u* = eps_v (1 - sqrt(1 - m (g + a) / (2 mu N))) (f1_inverse); nan where it slips."""
     ratio = load_ratio(scene, lift_accel)
     return FrictionEnergy.f1_inverse(ratio, scene.epsv) if ratio <= 1.0 else math.nan
 
@@ -230,7 +229,7 @@ def slip_acceleration(scene, lift_accel=0.0):
 
 def phases(scene):
     """The lift's phases: (words, start, end, acceleration a), still, accelerating, steady."""
-    f = scene.pushed
+    f = scene.contact
     t_a = f.t_lift + f.lift_speed / f.lift_accel
     return [("before the lift", 0.0, f.t_lift, 0.0),
             ("while the lift accelerates", f.t_lift, t_a, f.lift_accel),
@@ -238,8 +237,8 @@ def phases(scene):
 
 
 def coulomb_slip(scene, t):
-    """How far a rigid Coulomb block has slid down the fingers by time t (m): through the phases,
-    its slip speed u grows at slip_acceleration where > 0, else falls at it to 0 (sticks)."""
+    """A rigid Coulomb block's slip by time t (m): through the phases its slip speed u grows at
+    slip_acceleration where > 0, else falls at it to 0 (it sticks)."""
     s = u = 0.0
     for _, t0, t1, a in phases(scene):
         du = slip_acceleration(scene, a)
@@ -250,16 +249,15 @@ def coulomb_slip(scene, t):
 
 
 def slip(scene, x):
-    """How far the block has slid down relative to the fingers since t = 0 (m): the fingers' lift
-    minus the rise of the block's centre of mass."""
-    f = scene.pushed
-    rise = (f.centre_of_mass(scene, x) - f.centre_of_mass(scene, scene.x0)) @ f.tangent
+    """The block's slide down the fingers since t = 0 (m): their lift minus its centre's rise."""
+    f = scene.contact
+    rise = np.average(x[f.rows] - scene.x0[f.rows], axis=0, weights=scene.m[f.rows]) @ f.tangent
     return float(f.along(x).mean()) - float(rise)
 
 
 def drop_slip(scene):
     """The slip at which the block has slid past the pads (its top below their bottom), m."""
-    return (scene.pushed.pad_length + scene.params["height"]) / 2
+    return (scene.contact.pad_length + scene.params["height"]) / 2
 
 
 # ---- In words: held (its creep beside u*), dropped (its slip acceleration beside the closed form)
@@ -273,17 +271,15 @@ def within(t, start, end):
 
 
 def fitted_rate(t, s, start, end, order=1):
-    """The slip's speed (order 1: a line's slope) or acceleration (order 2: twice a parabola's
-    leading coefficient) fitted to s over start <= t <= end."""
+    """The slip's speed (order 1) or acceleration (order 2) fitted to s over [start, end]."""
     window = within(t, start, end)
     return float(np.polyfit(t[window], s[window], order)[0]) * order
 
 
 def outcome(scene, t, s):
-    """(held, t_drop, phase words, measured, closed form) from the slip s at times t: on the pads,
-    its slip speed in the phase the run ends in beside u*; dropped (at t_drop, else None), its slip
-    acceleration in the phase it slid past the pads in. The fit leaves out SETTLE after the phase
-    begins (its last half where that leaves under 4 states); measured nan with too few."""
+    """(held, t_drop or None, phase words, measured, closed form) from the slip s at times t: on
+    the pads, its speed beside u* in the phase the run ends in; dropped, its acceleration in the
+    phase it slid past the pads in (fitted from SETTLE into the phase; nan: too few states)."""
     dropped = np.flatnonzero(s >= drop_slip(scene))
     end = float(t[dropped[0]]) if dropped.size else float(t[-1])
     words, start, _, a = next(p for p in phases(scene) if p[1] <= max(end - 1e-9, 0.0) < p[2])
@@ -296,14 +292,15 @@ def outcome(scene, t, s):
 
 
 def words(scene, t, s, short=False):
-    """'held (slid 0.66 mm, Coulomb 0), creeps 0.498 mm/s in the steady lift (u* 0.500)',
-    'dropped at 0.62 s, slips 2.462 m/s^2 while the lift accelerates (closed form 2.462)', or
-    'slips on the pads at 0.60 s: ...'; `short`, for a comparison's closing: 'held, creeps 0.498
-    mm/s (u* 0.500)', 'dropped at 0.62 s'."""
+    """'held (slid 0.66 mm, Coulomb 0), creeps 0.498 mm/s in the steady lift (u* 0.500)', 'dropped
+    at 0.62 s, slips 2.462 m/s^2 while the lift accelerates (closed form 2.462)' ('its slip slows
+    at 0.190 m/s^2' below 0) or 'slips on the pads at 0.60 s: ...'; `short` (a comparison's):
+    'held, creeps 0.498 mm/s (u* 0.500)', 'dropped at 0.62 s', ..."""
     on_pads, t_drop, phase, measured, exact = outcome(scene, t, s)
     if not on_pads:
+        rate, sign = ("slips", 1) if not measured < 0.0 else ("its slip slows at", -1)
         return f"dropped at {t_drop:.2f} s" + ("" if short else (
-            f", slips {measured:.3f} m/s^2 {phase} (closed form {exact:.3f})"))
+            f", {rate} {sign * measured:.3f} m/s^2 {phase} (closed form {sign * exact:.3f})"))
     slid = f"slid {1e3 * s[-1]:.2f} mm, Coulomb {1e3 * coulomb_slip(scene, float(t[-1])):.3g}"
     if not measured < scene.epsv:
         return f"slips on the pads at {t[-1]:.2f} s" + ("" if short else (

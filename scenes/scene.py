@@ -3,8 +3,9 @@
 `Scene` holds what every scene has. What only some scenes have is one optional part each, None when
 the scene has none: the hand (`HandEnergy.Hand`, the chalk's grip), static friction
 (`StaticFriction`: a static coefficient above the kinetic one, the chalk's), a moving surface
-(`MovingSurface`: the half-space sliding along itself, the tablecloth) and pushed surfaces
-(half-spaces through rows of x that the step moves: their protocol in time_integrator's docs).
+(`MovingSurface`: the half-space sliding along itself, the tablecloth). Its `contact` (None: no
+ground) is what the time step, the analysis and the pictures ask about the surfaces it touches: a
+`HalfSpace`, or another unit's object with the same methods (docs/code-tour.md, "The contact").
 """
 from dataclasses import dataclass
 import types
@@ -12,6 +13,7 @@ import types
 import numpy as np
 
 import BarrierEnergy
+import FrictionEnergy
 import HandEnergy
 import MassSpringEnergy
 import utils
@@ -47,6 +49,68 @@ class MovingSurface:
 
 
 @dataclass(frozen=True)
+class HalfSpace:
+    """The contact {x : n . (x - o) >= 0}: the slope, the board, the table, still or (`moving`) the
+    tablecloth. Its surfaces' distances d_k, normal forces mu lambda_k, CCD bound and tangent are
+    BarrierEnergy's and FrictionEnergy's; no rows of x are its own, none prescribed."""
+    n: np.ndarray               # (2,) unit normal
+    o: np.ndarray               # (2,) a point on it
+    moving: MovingSurface = None
+    rows = slice(None)          # the body's rows of x: all
+    moves = property(lambda self: self.moving is not None)      # along itself
+
+    @property
+    def tangent(self):
+        """t = (n_y, -n_x), friction's direction."""
+        return FrictionEnergy.tangent(self.n)
+
+    @property
+    def normals(self):
+        """(1, 2): one surface's n."""
+        return self.n[None]
+
+    friction_n = property(lambda self: self.n)      # FrictionEnergy's n: the tangent's
+
+    def distances(self, x):
+        """d_k = n . (x_k - o), (N,)."""
+        return BarrierEnergy.distances(x, self.n, self.o)
+
+    def mu_lambda(self, scene, x, mu):
+        """mu lambda_k (N,), FrictionUpdate's."""
+        return BarrierEnergy.compute_mu_lambda_kernel(x, self.n, self.o, scene.contact_area, mu,
+                                                      scene.dhat, scene.kappa)
+
+    def lambdas(self, scene, x):
+        """lambda_k (1, N), one row per surface."""
+        return self.mu_lambda(scene, x, 1.0)[None]
+
+    def init_step_size(self, x, p):
+        """Algorithm 4, line 1 (BarrierEnergy.init_step_size_kernel)."""
+        return BarrierEnergy.init_step_size_kernel(x, self.n, self.o, p)
+
+    def prescribe(self, lagged, t):
+        """`lagged` as it is, x^n checked above the half-space (NotAboveHalfSpace)."""
+        BarrierEnergy.check_above(lagged.x_n, self.n, self.o)
+        return lagged
+
+    def free(self, g):
+        """g (N, 2) on the unknowns: all of it."""
+        return g
+
+    def velocity(self, t, h):
+        """v_s (2,) of the step ending at t: the moving surface's, else zero."""
+        return np.zeros(2) if self.moving is None else self.moving.velocity(t, h)
+
+    def work(self, scene, x_n, v_n, x):
+        """The work that held prescribed rows on their path over a step: none (J)."""
+        return 0.0
+
+    def figures(self, scene, x):
+        """What log.csv adds for a state x: nothing."""
+        return {}
+
+
+@dataclass(frozen=True)
 class Scene:
     """What a scene is: its mesh, masses, contact half-space and the solver's numbers."""
     params: types.MappingProxyType  # the checked parameters it was built from
@@ -77,19 +141,17 @@ class Scene:
     hand: HandEnergy.Hand = None            # the grip's held nodes and moving targets, or None
     static: StaticFriction = None           # static friction above kinetic, or None
     surface: MovingSurface = None           # the half-space's own tangential motion, or None
-    pushed: object = None                   # pushed surfaces (time_integrator), or None
+    contact: HalfSpace = None               # what it touches (a HalfSpace, or alike), or None
+    pushed: object = None                   # the grasp's fingers (its contact), or None
 
     def surface_velocity(self, t):
-        """v_s (2,) of the step ending at t (MovingSurface.velocity, or pushed surfaces'); zero for
-        a still surface."""
-        moving = self.surface if self.pushed is None else self.pushed
-        return np.zeros(2) if moving is None else moving.velocity(t, self.h)
+        """v_s (2,) of the step ending at t (the contact's velocity); zero without one."""
+        return np.zeros(2) if self.contact is None else self.contact.velocity(t, self.h)
 
     @property
     def friction_n(self):
-        """The normal friction's tangent comes from: the slope's, or pushed surfaces' (which share
-        one tangent)."""
-        return self.n if self.pushed is None else self.pushed.n[0]
+        """The normal friction's tangent comes from (the contact's)."""
+        return self.contact.friction_n
 
 
 def readonly(a):
@@ -104,8 +166,11 @@ def assemble(p, x, e, m, w, terms, cells, n=None, o=None, v0=None, warnings=(), 
     """The Scene a builder returns, from its checked parameters p (the numbers every scene has: k,
     gravity, mu, dhat, kappa, epsv, h, tol and the solver's) and what it made: the mesh x (N, 2) at
     rest, its springs e (E, 2) (rest lengths measured on x), node masses m, contact weight w per
-    node (a number, or (N,)), its terms, its cells (nx, ny); the half-space's n, o (None: none);
-    v0 (N, 2) (None: at rest); the solver's extra `elements`; its optional parts (hand=, ...)."""
+    node (a number, or (N,)), its terms, its cells (nx, ny); the half-space's n, o (None: none),
+    its `contact` unless parts give one; v0 (N, 2) (None: at rest); the solver's extra `elements`;
+    its optional parts (hand=, ...)."""
+    if n is not None:
+        parts.setdefault("contact", HalfSpace(readonly(n), readonly(o), parts.get("surface")))
     return Scene(
         params=types.MappingProxyType(p), x0=readonly(x),
         v0=readonly(np.zeros_like(x) if v0 is None else v0),

@@ -1,14 +1,23 @@
 """The grasp's energy: FingerEnergy (the barrier against half-spaces through nodes of x, and the
-squeeze), against finite differences on both sides of d = dhat; its CCD and mu*lambda."""
+squeeze), against finite differences on both sides of d = dhat; the fingers' CCD and mu*lambda
+(scenes.grasp.Fingers)."""
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 
 import BarrierEnergy
 import FingerEnergy
 from helpers.fd import assert_close, check_energy
+from scenes.grasp import Fingers
 
 SEEDS = range(4)
 NORMALS = np.array([[1.0, 0.0], [-0.6, 0.8]])       # two fingers, one tilted
+
+
+def fingers(n):
+    """Fingers of normals n (the lift plays no part here)."""
+    return Fingers(np.asarray(n), np.ones(len(n)), np.array([0.0, 1.0]), 1.0, 1.0, 0.0, 0.05)
 
 
 def finger_points(rng, d):
@@ -60,16 +69,17 @@ def test_finger_ccd_is_relative_to_the_moving_finger():
     n = np.array([[1.0, 0.0]])
     x = np.array([[0.01, 0.0], [0.0, 0.0]])
     toward = np.array([[-0.02, 0.0], [0.0, 0.0]])
-    assert FingerEnergy.init_step_size_kernel(x, n, toward) == pytest.approx(0.45)
-    assert FingerEnergy.init_step_size_kernel(x, n, -toward[::-1]) == pytest.approx(0.45)
-    assert FingerEnergy.init_step_size_kernel(x, n, np.tile([5.0, 1.0], (2, 1))) == 1.0
+    assert fingers(n).init_step_size(x, toward) == pytest.approx(0.45)
+    assert fingers(n).init_step_size(x, -toward[::-1]) == pytest.approx(0.45)
+    assert fingers(n).init_step_size(x, np.tile([5.0, 1.0], (2, 1))) == 1.0
 
 
 def test_finger_mu_lambda_is_mu_times_each_finger_s_force():
     rng = np.random.default_rng(3)
     x = finger_points(rng, np.array([[0.002, 0.02], [0.006, 0.5]]))
     w = np.append(np.full(4, 0.25), [0.0, 0.0])
-    mu_lambda = FingerEnergy.compute_mu_lambda_kernel(x, NORMALS, w, 0.3, 0.01, 1e3)
+    scene = SimpleNamespace(contact_area=w, dhat=0.01, kappa=1e3)
+    mu_lambda = fingers(NORMALS).lambdas(scene, x, 0.3)
     for f, rows in enumerate([slice(0, 2), slice(2, 4)]):
         force = -BarrierEnergy.grad(x[:4], NORMALS[f], x[4 + f], w[:4], 0.01, 1e3)
         assert_close(mu_lambda[f, :4], 0.3 * np.linalg.norm(force, axis=1), 1e-12, "mu*lambda")

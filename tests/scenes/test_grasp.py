@@ -6,7 +6,6 @@ import math
 import numpy as np
 import pytest
 
-import FingerEnergy
 import FrictionEnergy
 import closed_forms
 import simulator
@@ -22,15 +21,14 @@ def squeeze_for(ratio, p=grasp.GRASP):
 
 def finger_forces(scene, x):
     """Each finger's normal force on the block (N), the sum of its lambda_i."""
-    return FingerEnergy.compute_mu_lambda_kernel(x, scene.pushed.n, scene.contact_area, 1.0,
-                                                 scene.dhat, scene.kappa).sum(axis=1)
+    return scene.contact.lambdas(scene, x).sum(axis=1)
 
 
 def test_the_block_starts_settled_at_the_gap_where_each_finger_carries_n():
     """Round-off: brentq to xtol 1e-15 m on a force of slope ~1e4 N/m per node: 1e-10 N."""
     scene = grasp.build_grasp_scene()
     assert finger_forces(scene, scene.x0) == pytest.approx([2.616, 2.616], abs=1e-9)
-    gap = FingerEnergy.distances(scene.x0, scene.pushed.n).min()
+    gap = scene.contact.distances(scene.x0).min()
     assert 0.6 * scene.dhat < gap < 0.8 * scene.dhat    # kappa 100: about 0.7 dhat (the issue)
 
 
@@ -41,7 +39,7 @@ def test_the_lift_is_prescribed_and_the_fingers_press_with_n():
     the lift, so nothing else enters)."""
     scene = grasp.build_grasp_scene(squeeze=4.0)
     for rec in simulator.simulate(scene, 60):           # 0.3 s: still, then accelerating
-        assert (rec.x[-2:, 1] == scene.pushed.offset(rec.t)).all()
+        assert (rec.x[-2:, 1] == scene.contact.offset(rec.t)).all()
     assert finger_forces(scene, rec.x) == pytest.approx([4.0, 4.0], rel=1e-5)
 
 
@@ -61,7 +59,7 @@ def test_a_dropped_grasp_slips_at_the_closed_form_s_acceleration():
     """m g / (2 mu N) = 1.25: (g + a) - 2 mu N / m = 2.462 m/s^2 while the lift accelerates, then
     g - 2 mu N / m = 1.962 (measured to 1e-8: friction is mu N exactly above eps_v); 5 %."""
     scene = grasp.build_grasp_scene(squeeze=squeeze_for(1.25))
-    a = scene.pushed.lift_accel
+    a = scene.contact.lift_accel
     assert not grasp.holds(scene)
     t, slip = closed_forms.measured(scene, 0.7, grasp.slip)
     during = grasp.fitted_rate(t, slip, 0.15, 0.45, order=2)
@@ -76,7 +74,7 @@ def test_a_grasp_that_holds_at_rest_slips_while_the_lift_accelerates():
     at u* = 0.86 mm/s), slipping at (g + a) - 2 mu N / m = 0.31 m/s^2 while it accelerates (5 %),
     as far as the rigid block's Coulomb slip says by then (the creep before it: 0.09 mm; 5 %)."""
     scene = grasp.build_grasp_scene(squeeze=2.0)
-    a = scene.pushed.lift_accel
+    a = scene.contact.lift_accel
     assert grasp.load_ratio(scene) < 1.0 < grasp.load_ratio(scene, a)
     t, slip = closed_forms.measured(scene, 0.5, grasp.slip)
     before = grasp.fitted_rate(t, slip, 0.05, 0.1)
@@ -123,12 +121,11 @@ def test_friction_against_the_fingers_is_the_sum_of_each_finger_s():
     scene = grasp.build_grasp_scene()
     rng = np.random.default_rng(5)
     v = rng.uniform(-2e-3, 2e-3, scene.x0.shape)        # both sides of eps_v = 1e-3
-    each = FingerEnergy.compute_mu_lambda_kernel(scene.x0, scene.pushed.n, scene.contact_area,
-                                                 scene.mu, scene.dhat, scene.kappa)
+    each = scene.contact.lambdas(scene, scene.x0, scene.mu)
     assert (np.count_nonzero(each, axis=0) <= 1).all() and each.any()   # one finger a node
-    summed = scene.pushed.mu_lambda(scene, scene.x0, scene.mu)
+    summed = scene.contact.mu_lambda(scene, scene.x0, scene.mu)
     for energy in (FrictionEnergy.val, FrictionEnergy.grad):
         together = energy(v, summed, scene.h, scene.friction_n, scene.epsv)
         apart = sum(energy(v, row, scene.h, n_f, scene.epsv)
-                    for row, n_f in zip(each, scene.pushed.n))
+                    for row, n_f in zip(each, scene.contact.n))
         assert np.allclose(together, apart, rtol=1e-12, atol=0.0)

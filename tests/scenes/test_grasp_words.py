@@ -41,3 +41,14 @@ def test_a_run_that_ends_while_the_block_still_slides_says_so():
     assert grasp.words(scene, t, 0.05 * t).startswith(
         "slips on the pads at 0.60 s: 50.0 mm/s in the steady lift (slid 30.00 mm, Coulomb ")
     assert grasp.words(scene, t, 0.05 * t, short=True) == "slips on the pads at 0.60 s"
+
+
+def test_a_slip_that_slows_past_the_pads_says_so_without_a_minus_sign():
+    """2 mu N / m = 10 > g: in the steady lift a slipping block slows at g - 10 = -0.19 m/s^2; a
+    slip 0.03 m + 0.1 tau - 0.095 tau^2 (tau = t - 0.5 s) reaches the pads' 0.05 m at tau 0.2685."""
+    scene = grasp.build_grasp_scene(squeeze=2.0)
+    t = np.arange(0, 161) * scene.h
+    tau = np.maximum(t - 0.5, 0.0)
+    slip = np.where(t < 0.5, 0.03 * (t / 0.5) ** 2, 0.03 + 0.1 * tau - 0.095 * tau ** 2)
+    assert grasp.words(scene, t, slip) == ("dropped at 0.77 s, its slip slows at 0.190 m/s^2 in "
+                                           "the steady lift (closed form 0.190)")

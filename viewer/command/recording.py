@@ -46,7 +46,7 @@ class Track:
         self.tangent = diagnostics.tangent(scene)
         self.x, self.v = scene.x0, scene.v0
         self.step, self.friction_work, self.hand_work, self.surface_work = 0, 0.0, 0.0, 0.0
-        self.lift_work = 0.0        # pushed surfaces' (time_integrator.StepReport.pushed_work)
+        self.contact_work = 0.0     # what held the contact's prescribed rows (its `work`)
         self.columns = log.columns(scene)
         self.marks = wear.Deposit() if scene.hand is not None else None   # the chalk's mark
         self.warned = set()         # the kinds of warning said so far
@@ -66,7 +66,7 @@ class Track:
         E = diagnostics.energies(scene, x, v, t)
         E0 = self.samples.items[0].energies["total"] if self.samples.items else E["total"]
         tip = diagnostics.tip_figures(scene, x, v, t) if scene.hand is not None else {}
-        pushed = {} if scene.pushed is None else scene.pushed.figures(scene, x)
+        contact = {} if scene.contact is None else scene.contact.figures(scene, x)
         v_s = scene.surface_velocity(t)
         velocities = diagnostics.contact_velocities(scene, x, v, v_s)      # along self.tangent
         speeds = np.abs(velocities)
@@ -79,11 +79,11 @@ class Track:
             energies=E, friction_work=self.friction_work, hand_work=self.hand_work,
             surface_work=self.surface_work, heat=self.surface_work - self.friction_work,
             surface_speed=float(v_s @ self.tangent),
-            lift_work=self.lift_work, numerical_dissipation=E0 + self.friction_work
-            + self.hand_work + self.lift_work - E["total"],
+            contact_work=self.contact_work, numerical_dissipation=E0 + self.friction_work
+            + self.hand_work + self.contact_work - E["total"],
             speeds=speeds, sticking=sticking, sliding=sliding,
             contact_velocity=float(velocities.mean()) if len(velocities) else 0.0,
-            inverted=diagnostics.inverted_triangles(x, self.triangles), **tip, **pushed)
+            inverted=diagnostics.inverted_triangles(x, self.triangles), **tip, **contact)
         if not diagnostics.at_rest(sticking, sliding):
             self.rest_since = None
         elif self.rest_since is None:
@@ -101,12 +101,13 @@ class Track:
         """Log the StepRecord of the step from the current state (the window hands them in)."""
         E_hand = self.samples.last.energies.get("hand")      # at x^n, known
         self.hand_work += diagnostics.hand_work(self.scene, self.x, record.t, E_hand)
+        if self.scene.contact is not None:
+            self.contact_work += self.scene.contact.work(self.scene, self.x, self.v, record.x)
         if self.marks is not None:
             self.marks.step(self.scene, self.x, record.x)       # what the tip left over the step
         self.x, self.v, self.step = record.x, record.v, record.index + 1
         self.friction_work += record.report.friction_work
         self.surface_work += record.report.surface_work
-        self.lift_work += record.report.pushed_work
         sample = self._add(record.report, record.t, record.wall)
         said = step_warnings(self.scene, sample.step, sample.t, record.report, sample.inverted)
         for kind in [kind for kind in said if kind not in self.warned]:   # each kind said once

@@ -14,7 +14,6 @@ ENERGY_COLORS = {"kinetic": (230, 120, 0), "gravity": (120, 80, 40), "spring": (
                  "barrier": (200, 0, 160), "hand": (0, 150, 200), "total": (0, 0, 0),
                  "W_friction": (0, 0, 255), "W_hand": (120, 0, 200), "-D_numerical": (200, 0, 0),
                  "W_surface": (0, 170, 170), "-heat": (128, 128, 0), "W_lift": (146, 73, 0)}
-PUSHED_COLOR = (109, 109, 170)      # draw.PUSHED_COLOR: a pushed surfaces' term (scene.pushed)
 ENERGY_LABELS = {"total": "total E", "W_friction": "friction work W", "W_hand": "hand work W_hand",
                  "-D_numerical": "-D, numerical dissip.", "W_surface": "surface work W_surface",
                  "-heat": "-heat, cloth's frame", "W_lift": "lift work W_lift"}
@@ -312,19 +311,17 @@ def mark_rest(ax, track, color):
 def energy_panel(axes, d):
     """The energy budget: each term, E, the work W (friction's, the hand's), with a moving surface
     its work and the heat (W_friction = W_surface - heat), and -D."""
-    hand, cloth, lift = d["W_hand"] is not None, "heat" in d, d["W_lift"] is not None
-    curves = dict(d["E"], W_friction=d["W"], **({"W_hand": d["W_hand"]} if hand else {}),
-                  **({"W_lift": d["W_lift"]} if lift else {}))     # lift: pushed surfaces' path
+    cloth, works = "heat" in d, [k for k in ("W_hand", "W_lift") if d[k] is not None]
+    curves = dict(d["E"], W_friction=d["W"], **{k: d[k] for k in works})
     if cloth:
         curves.update({"W_surface": d["surface_work"], "-heat": -d["heat"]})
     curves["-D_numerical"] = -d["D"]
     lo = min(float(c.min()) for c in curves.values())
     hi = max(float(c.max()) for c in curves.values())
     work = "W_surface - heat" if cloth else "W_friction"
-    ax = axes(lo, hi, f"energy budget (J): E = E(0) + {work}" + (" + W_hand" if hand else "")
-              + (" + W_lift" if lift else "")
+    ax = axes(lo, hi, f"energy budget (J): E = E(0) + {work}" + "".join(f" + {k}" for k in works)
               + " - D, D = implicit Euler's numerical dissipation", "E (J)")
     for key, values in curves.items():
-        color = ENERGY_COLORS.get(key, PUSHED_COLOR)
+        color = ENERGY_COLORS.get(key, draw.PUSHED_COLOR)       # a unit's own term: its colour
         ax.line(d["t"], values, color, 3 if key == "total" else 2)
         ax.legend(color, ENERGY_LABELS.get(key, key))

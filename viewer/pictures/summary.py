@@ -151,12 +151,15 @@ def draw_summary(pygame, tracks, header):
 
 def draw_panel(pygame, surface, font, small, panel, width):
     """One run: its label and figures, the slope, the snapshots (the last in full colour, the
-    others 55 % of the way to white) with their times, the centre-of-mass path."""
+    others 55 % of the way to white) with their times, the centre-of-mass path; a grasp's pads
+    where the last snapshot has them."""
     track, view = panel.track, panel.view
     area = surface.subsurface((0, panel.top, width, panel.height))
     sub = area.subsurface((0, HEADER, view.size, panel.height - HEADER))     # the motion
     draw.draw_slope(pygame, sub, track.scene, view, BLACK, small)
     light = tuple(int(c + 0.55 * (255 - c)) for c in track.color)
+    if track.scene.pushed is not None:
+        draw.draw_pushed(pygame, sub, track.scene, panel.snapshots[-1].x, view)
     for snap in panel.snapshots:
         color = track.color if snap is panel.snapshots[-1] else light
         draw.draw_square(pygame, sub, track.scene, snap.x, view, color, nodes=False)

@@ -45,3 +45,5 @@ def test_a_grasp_run_says_held_or_dropped_logs_the_slip_and_draws_the_pads(tmp_p
     pygame = draw.load_pygame()
     frame = pygame.surfarray.array3d(pygame.image.load(str(tmp_path / "frame_00000.png")))
     assert np.all(frame == draw.PUSHED_COLOR, axis=2).sum() > 500      # the pads, and the legend
+    summary = pygame.surfarray.array3d(pygame.image.load(str(tmp_path / "summary.png")))
+    assert np.all(summary == draw.PUSHED_COLOR, axis=2).sum() > 100    # each run's pads
