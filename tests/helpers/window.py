@@ -1,6 +1,7 @@
 """The live window as the tests drive it: events posted into its loop under SDL's dummy driver, a
 fake wall clock (ScriptClock) so nothing waits on real time, and what the window's tests read."""
 import csv
+import random
 
 import pytest
 
@@ -53,6 +54,20 @@ class ScriptClock:
                 self.script = None
                 post(pygame().QUIT)
 
+
+
+class LoadedClock(ScriptClock):
+    """A ScriptClock on a loaded machine: each reading finds it moved on by a random while, up to
+    `most` s (seeded), as if the steps, the drawing and other processes took that time; the loop
+    falls behind, drops the window's frames and catches up as on a busy machine."""
+
+    def __init__(self, script=None, seed=0, most=0.05, max_frames=20000):
+        super().__init__(script, max_frames)
+        self.rng, self.most = random.Random(seed), most
+
+    def now(self):
+        self.t += self.rng.uniform(0.0, self.most)
+        return self.t
 
 def live_window(scene=None, steps=300, speed=1.0, size=400, recorder=None):
     """A LiveWindow on the dummy display with a ScriptClock (give it its script, then loop())."""
