@@ -1,8 +1,10 @@
 """The live window as the tests drive it: events posted into its loop under SDL's dummy driver, a
 fake wall clock (ScriptClock) so nothing waits on real time, and what the window's tests read."""
 import csv
+import io
 import random
 
+import numpy as np
 import pytest
 
 import simulator
@@ -102,3 +104,18 @@ def hidden(folder):
 def read_log(folder):
     with open(folder / "log.csv") as f:
         return list(csv.DictReader(f))
+
+
+def differing_pixels(a, b):
+    """Where two pictures (arrays [x, y, rgb], or PNG bytes) differ, in words: how many pixels, the
+    box holding them, the first one's colour in each; what a failed comparison says."""
+    if isinstance(a, bytes):
+        a, b = (pygame().surfarray.array3d(pygame().image.load(io.BytesIO(p))) for p in (a, b))
+    if a.shape != b.shape:
+        return f"sizes differ: {a.shape} and {b.shape}"
+    where = np.argwhere((a != b).any(axis=2))
+    if not len(where):
+        return "no pixel differs"
+    (x0, y0), (x1, y1), (x, y) = where.min(axis=0), where.max(axis=0), where[0]
+    return (f"{len(where)} px differ in x {x0}..{x1}, y {y0}..{y1}; first ({x}, {y}): "
+            f"{tuple(a[x, y].tolist())} against {tuple(b[x, y].tolist())}")

@@ -20,8 +20,8 @@ import viewer.main
 
 from helpers import ROOT
 from helpers.command import ending
-from helpers.window import (LoadedClock, ScriptClock, frames_until, hidden, post,
-                            press, pygame, read_log, run_window)
+from helpers.window import (LoadedClock, ScriptClock, differing_pixels, frames_until,
+                            hidden, post, press, pygame, read_log, run_window)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -101,7 +101,8 @@ def test_the_window_writes_the_files_a_run_without_it_writes(tmp_path, flags, fr
     assert [{k: v for k, v in r.items() if k != "wall_s"} for r in read_log(windowed)] == drop_wall
     for name in names:
         if name != "log.csv":
-            assert (windowed / name).read_bytes() == (plain / name).read_bytes(), name
+            ours, theirs = (windowed / name).read_bytes(), (plain / name).read_bytes()
+            assert ours == theirs, (name, differing_pixels(ours, theirs) if ".png" in name else "")
 
 
 def test_without_out_nothing_is_written(tmp_path, monkeypatch):
