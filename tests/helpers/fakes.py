@@ -27,18 +27,23 @@ def fill_disk_after(monkeypatch, writes):
 _RUNS = {}      # drag -> {index: the chalk's live.LiveRun after that many steps}
 
 
+def own_copy(run):
+    """A copy of the live.LiveRun `run` sharing nothing with it but its scene: its own x, v, marks
+    and StepReport, so that what a test does to it in place never reaches a kept run."""
+    return copy.deepcopy(run, {id(run.scene): run.scene})
+
+
 def chalk_at(index, drag=False, steps=3000):
     """A live.LiveRun of the chalk (pushed, or dragged) after `index` steps, marks and all, in a run
-    of `steps`: a copy of one stepped once per test session from the nearest state kept (a chalk
-    step costs about 5 ms), to put in a window (`window.run = ...`; its scene is `run.scene`, the
-    same each call)."""
+    of `steps`: a copy of its own (own_copy) of one stepped once per test session from the nearest
+    state kept (a chalk step costs about 5 ms), to put in a window (`window.run = ...`; its scene is
+    `run.scene`, the same each call)."""
     kept = _RUNS.setdefault(drag, {})
     if not kept:
         kept[0] = live.LiveRun(simulator.build_chalk_scene(drag=drag), steps)
-    run = copy.copy(kept[max(i for i in kept if i <= index)])
-    run.marks = run.marks.copy()
+    run = own_copy(kept[max(i for i in kept if i <= index)])
     while run.index < index:
         run.step()
-    kept[index] = copy.copy(run)
-    run.marks, run.steps = run.marks.copy(), steps
+    kept[index] = own_copy(run)
+    run.steps = steps
     return run

@@ -1,7 +1,10 @@
 """The live window as the tests drive it: events posted into its loop under SDL's dummy driver, a
 fake wall clock (ScriptClock) so nothing waits on real time, and what the window's tests read."""
 import csv
+import io
+import random
 
+import numpy as np
 import pytest
 
 import simulator
@@ -54,6 +57,20 @@ class ScriptClock:
                 post(pygame().QUIT)
 
 
+
+class LoadedClock(ScriptClock):
+    """A ScriptClock on a loaded machine: each reading finds it moved on by a random while, up to
+    `most` s (seeded), as if the steps, the drawing and other processes took that time; the loop
+    falls behind, drops the window's frames and catches up as on a busy machine."""
+
+    def __init__(self, script=None, seed=0, most=0.05, max_frames=20000):
+        super().__init__(script, max_frames)
+        self.rng, self.most = random.Random(seed), most
+
+    def now(self):
+        self.t += self.rng.uniform(0.0, self.most)
+        return self.t
+
 def live_window(scene=None, steps=300, speed=1.0, size=400, recorder=None):
     """A LiveWindow on the dummy display with a ScriptClock (give it its script, then loop())."""
     pg = window.open_display()
@@ -87,3 +104,18 @@ def hidden(folder):
 def read_log(folder):
     with open(folder / "log.csv") as f:
         return list(csv.DictReader(f))
+
+
+def differing_pixels(a, b):
+    """Where two pictures (arrays [x, y, rgb], or PNG bytes) differ, in words: how many pixels, the
+    box holding them, the first one's colour in each; what a failed comparison says."""
+    if isinstance(a, bytes):
+        a, b = (pygame().surfarray.array3d(pygame().image.load(io.BytesIO(p))) for p in (a, b))
+    if a.shape != b.shape:
+        return f"sizes differ: {a.shape} and {b.shape}"
+    where = np.argwhere((a != b).any(axis=2))
+    if not len(where):
+        return "no pixel differs"
+    (x0, y0), (x1, y1), (x, y) = where.min(axis=0), where.max(axis=0), where[0]
+    return (f"{len(where)} px differ in x {x0}..{x1}, y {y0}..{y1}; first ({x}, {y}): "
+            f"{tuple(a[x, y].tolist())} against {tuple(b[x, y].tolist())}")

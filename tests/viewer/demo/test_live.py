@@ -200,3 +200,22 @@ def test_the_chalks_mark_and_figures_are_those_a_run_to_files_keeps(tmp_path):
     assert np.array_equal(start.marks.values, one.values)
     run.restart()
     assert run.marks.span() is None and run.index == 0
+
+
+def test_a_chalk_run_handed_out_shares_nothing_but_its_scene_with_those_kept():
+    """helpers.fakes.chalk_at keeps the chalk's runs for the session and hands out copies: a test
+    that changes its copy in place (its x and v, its StepReport, its marks) leaves the next copy of
+    the same step as stepped, bit for bit; the scene is the one scene of them all."""
+    first = chalk_at(CHALK_STEPS)
+    stepped = (first.x.copy(), first.v.copy(), list(first.report.alphas),
+               first.report.friction_force.copy(), first.marks.values.copy())
+    first.x[:] += 1.0
+    first.v[:] = 0.0
+    first.report.alphas.append(0.5)
+    first.report.friction_force[:] = np.nan
+    first.marks.add(0, np.ones(3))
+    again = chalk_at(CHALK_STEPS)
+    assert again.scene is first.scene
+    now = (again.x, again.v, again.report.alphas, again.report.friction_force, again.marks.values)
+    for kept, seen in zip(stepped, now):
+        assert np.array_equal(kept, seen)

@@ -11,7 +11,7 @@ from analysis import diagnostics
 from viewer.pictures import draw, frames, marks
 from viewer.demo import live, newton_view
 
-from helpers.window import (live_window, pygame)
+from helpers.window import differing_pixels, live_window, pygame
 
 
 # ------------------------------------------------------------------------------------------------
@@ -73,7 +73,8 @@ def test_the_chalk_window_draws_the_frame_of_the_chalk_its_hand_forces_and_mark(
                                      w.newton_per_metre, w.reserve)
     assert w.reserve == (top - legends, size - bottom)
     shown, drawn = pygame().surfarray.array3d(w.screen), pygame().surfarray.array3d(frame)
-    assert np.array_equal(shown[:, top:bottom], drawn[:, top:bottom])
+    assert np.array_equal(shown[:, top:bottom], drawn[:, top:bottom]), \
+        differing_pixels(shown[:, top:bottom], drawn[:, top:bottom])
     px = w.view(w.run.x)
     (left, high), (right, low) = px.min(axis=0), px.max(axis=0)
     assert left > 0 and right < size and top < high and low < bottom

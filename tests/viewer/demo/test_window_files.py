@@ -20,8 +20,8 @@ import viewer.main
 
 from helpers import ROOT
 from helpers.command import ending
-from helpers.window import (ScriptClock, frames_until, hidden, post,
-                            press, pygame, read_log, run_window)
+from helpers.window import (LoadedClock, ScriptClock, differing_pixels, frames_until,
+                            hidden, post, press, pygame, read_log, run_window)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -64,30 +64,35 @@ def test_close_button_esc_and_q_end_the_run_with_exit_0_and_files_intact(tmp_pat
     assert framed == [stride * j for j in range(len(frames))]
 
 
+@pytest.mark.parametrize("pacing", [ScriptClock, LoadedClock])
 @pytest.mark.parametrize("flags, frame_count", [(["--steps", "20", "--mu", "0.2"], 8),
                                                (["--scene", "chalk", "--steps", "240"], 9)])
-def test_the_window_writes_the_files_a_run_without_it_writes(tmp_path, flags, frame_count):
+def test_the_window_writes_the_files_a_run_without_it_writes(tmp_path, flags, frame_count, pacing):
     """--window --out played to the end writes what `simulator.py --out` writes, by the same code:
     the same file names, log.csv the same but the wall times, the frames and OBJs byte for byte
     (one computation: the same steps, drawn the same way). The square, and the chalk (its frames
-    with its mark, from the files' own Track, and marks.csv)."""
+    with its mark, from the files' own Track, and marks.csv). Whatever the window's pacing: on a
+    loaded machine (LoadedClock) it falls behind and drops frames of the window, never a step or a
+    frame of the files (a frame of the files is due at a step, not at a wall-clock time)."""
     def script():
         yield from frames_until(lambda: w_run.finished)
 
-    clock = ScriptClock()
+    clock = pacing()
     windowed, plain = tmp_path / "window", tmp_path / "plain"
     real_loop = window.LiveWindow.loop
-    w_run = None
+    w_run = shown = None
 
     def loop(self):
-        nonlocal w_run
-        w_run = self.run
+        nonlocal w_run, shown
+        w_run, shown = self.run, self
         clock.script = script()
         return real_loop(self)
 
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr(window.LiveWindow, "loop", loop)
         assert run_window(["--window", *flags, "--out", str(windowed)], clock=clock) == 0
+    # loaded, the window fell behind: frames saying "slower than real time"
+    assert (shown.slow_frames > 0) == (pacing is LoadedClock)
     assert viewer.main.main([*flags, "--out", str(plain)]) == 0
     names = sorted(p.name for p in plain.iterdir())
     assert sorted(p.name for p in windowed.iterdir()) == names
@@ -96,7 +101,8 @@ def test_the_window_writes_the_files_a_run_without_it_writes(tmp_path, flags, fr
     assert [{k: v for k, v in r.items() if k != "wall_s"} for r in read_log(windowed)] == drop_wall
     for name in names:
         if name != "log.csv":
-            assert (windowed / name).read_bytes() == (plain / name).read_bytes(), name
+            ours, theirs = (windowed / name).read_bytes(), (plain / name).read_bytes()
+            assert ours == theirs, (name, differing_pixels(ours, theirs) if ".png" in name else "")
 
 
 def test_without_out_nothing_is_written(tmp_path, monkeypatch):
