@@ -16,10 +16,12 @@ import sys
 import tempfile
 import time
 
-# part: (module, the attribute holding its function); each frame calls each once (the files twice)
+# part: (module, the attribute holding its function), timed where the tree has it; the PNG of
+# frames.BandedPng (since issue 42) holds its palette indices (on changed bands only) and zlib
 PARTS = {"drawing": ("viewer.pictures.draw", "draw_frame"),
-         "palette indices": ("viewer.pictures.draw", "palette_rows"),
-         "zlib": ("zlib", "compress"),
+         "palette indices": ("viewer.pictures.draw", "palette_indices"),
+         "zlib (one stream)": ("zlib", "compress"),
+         "banded PNG": ("viewer.pictures.frames", "BandedPng.data"),
          "OBJ text": ("square_mesh", "obj_text"),
          "the two files": ("viewer.output.files", "RunFolder.write"),
          "whole frame": ("viewer.pictures.frames", "FrameWriter.write")}
@@ -48,8 +50,9 @@ def frame_parts(tree):
         owner = importlib.import_module(module)
         *path, attribute = name.split(".")
         for step in path:
-            owner = getattr(owner, step)
-        setattr(owner, attribute, timed(spent, part, getattr(owner, attribute)))
+            owner = getattr(owner, step, None)
+        if hasattr(owner, attribute):
+            setattr(owner, attribute, timed(spent, part, getattr(owner, attribute)))
     quiet = io.StringIO()
     with tempfile.TemporaryDirectory() as out, contextlib.redirect_stderr(quiet), \
             contextlib.redirect_stdout(quiet):
@@ -80,7 +83,7 @@ def main(argv=None):
     print(f"CPU ms per frame, medians of {args.rounds} runs, in turn: {', '.join(trees)}")
     for part in PARTS:
         figures = [statistics.median(run[part] for run in runs) for runs in done.values()]
-        print(f"  {part:16s}" + "".join(f"{ms:8.2f}" for ms in figures))
+        print(f"  {part:18s}" + "".join(f"{ms:8.2f}" for ms in figures))
     return 0
 
 
