@@ -97,19 +97,24 @@ class BandedPng:
         self.pieces = [None] * len(self.starts)     # per band: (deflate bytes, adler32, length)
 
     def data(self, pygame, surface):
+        """The PNG of `surface`: the bands whose pixels changed since the last call encoded anew."""
         pixel = pygame.surfarray.pixels2d(surface).T        # a view, [y, x]
         np.not_equal(pixel, self.pixels, out=self.changed)
-        changed = np.logical_or.reduceat(self.changed.any(axis=1), self.starts)
-        for k in np.flatnonzero(changed | [p is None for p in self.pieces]).tolist():
-            band = slice(k * BAND, min((k + 1) * BAND, self.height))
-            rows, n = self.rows[band], band.stop - band.start
-            draw.palette_indices(pixel[band], surface.get_shifts(), rows[:, 1:],
-                                 self.scratch[:, :n])
-            self.pixels[band] = pixel[band]
+        new = np.logical_or.reduceat(self.changed.any(axis=1), self.starts)
+        new = np.flatnonzero(new | [piece is None for piece in self.pieces])
+        gaps = np.flatnonzero(np.diff(new) > 1)         # runs of adjacent bands: one call each
+        firsts, lasts = np.r_[new[:1], new[gaps + 1]], np.r_[new[gaps], new[-1:]]
+        for a, b in zip(firsts.tolist(), lasts.tolist()):
+            rows = slice(a * BAND, min((b + 1) * BAND, self.height))        # bands a to b
+            draw.palette_indices(pixel[rows], surface.get_shifts(), self.rows[rows, 1:],
+                                 self.scratch[:, :rows.stop - rows.start])
+            self.pixels[rows] = pixel[rows]
+        del pixel                                           # unlocks the surface
+        for k in new.tolist():
+            rows = self.rows[k * BAND:(k + 1) * BAND]
             deflate = zlib.compressobj(1, zlib.DEFLATED, -15)
             piece = deflate.compress(rows) + deflate.flush(zlib.Z_SYNC_FLUSH)
             self.pieces[k] = (piece, zlib.adler32(rows), rows.size)
-        del pixel                                           # unlocks the surface
         adler = 1
         for _, a, n in self.pieces:
             adler = adler32_joined(adler, a, n)
