@@ -84,9 +84,9 @@ def frame_run(scene, x, report, label, color, forces):
 
 class BandedPng:
     """draw.png_data's 8-bit PNG, its rows deflated BAND at a time: each band alone (no history
-    before it), ended byte-aligned (a sync flush), the pieces then one zlib stream. A band whose
-    pixels are the last frame's keeps its piece; a piece depends on its band's pixels alone, so
-    the bytes do not depend on the frames before."""
+    before it; runs of a byte only, zlib's Z_RLE), ended byte-aligned (a sync flush), the pieces
+    then one zlib stream. A band whose pixels are the last frame's keeps its piece; a piece
+    depends on its band's pixels alone, so the bytes do not depend on the frames before."""
 
     def __init__(self, width, height):
         self.width, self.height = width, height
@@ -112,7 +112,7 @@ class BandedPng:
         del pixel                                           # unlocks the surface
         for k in new.tolist():
             rows = self.rows[k * BAND:(k + 1) * BAND]
-            deflate = zlib.compressobj(1, zlib.DEFLATED, -15)
+            deflate = zlib.compressobj(1, zlib.DEFLATED, -15, 8, zlib.Z_RLE)
             piece = deflate.compress(rows) + deflate.flush(zlib.Z_SYNC_FLUSH)
             self.pieces[k] = (piece, zlib.adler32(rows), rows.size)
         adler = 1
