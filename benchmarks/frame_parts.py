@@ -16,15 +16,16 @@ import sys
 import tempfile
 import time
 
-# part: (module, the attribute holding its function), timed where the tree has it; the PNG of
-# frames.BandedPng (since issue 42) holds its palette indices (on changed bands only) and zlib
-PARTS = {"drawing": ("viewer.pictures.draw", "draw_frame"),
-         "palette indices": ("viewer.pictures.draw", "palette_indices"),
-         "zlib (one stream)": ("zlib", "compress"),
-         "banded PNG": ("viewer.pictures.frames", "BandedPng.data"),
-         "OBJ text": ("square_mesh", "obj_text"),
-         "the two files": ("viewer.output.files", "RunFolder.write"),
-         "whole frame": ("viewer.pictures.frames", "FrameWriter.write")}
+# part: [(module, the attribute holding its function)], each timed where the tree has it (a part
+# it never calls: "-"). The palette indices: draw.palette_rows on whole frames before issue 42's
+# bands, draw.palette_indices on the bands that changed since (within frames.BandedPng.data)
+PARTS = {"drawing": [("viewer.pictures.draw", "draw_frame")],
+         "palette indices": [("viewer.pictures.draw", "palette_rows"),
+                             ("viewer.pictures.draw", "palette_indices")],
+         "PNG in bands": [("viewer.pictures.frames", "BandedPng.data")],
+         "OBJ text": [("square_mesh", "obj_text")],
+         "the two files": [("viewer.output.files", "RunFolder.write")],
+         "whole frame": [("viewer.pictures.frames", "FrameWriter.write")]}
 
 
 def timed(spent, part, function):
@@ -41,12 +42,13 @@ def timed(spent, part, function):
 
 
 def frame_parts(tree):
-    """{part: CPU ms per frame} of one default run with `tree`'s modules, its output swallowed
-    (the files: the run's plots, summary and page too, 3 of its 405)."""
+    """{part: CPU ms per frame, None where never called} of one default run with `tree`'s modules,
+    its output swallowed (the files: the run's plots, summary and page too, 3 of its 405)."""
     sys.path.insert(0, tree)
     from viewer import main
     spent = {part: [0.0, 0] for part in PARTS}
-    for part, (module, name) in PARTS.items():
+    for part, (module, name) in [(part, place) for part, places in PARTS.items()
+                                 for place in places]:
         owner = importlib.import_module(module)
         *path, attribute = name.split(".")
         for step in path:
@@ -58,7 +60,8 @@ def frame_parts(tree):
             contextlib.redirect_stdout(quiet):
         main.main(["--out", os.path.join(out, "run")])
     frames = spent["whole frame"][1]
-    return {part: 1e3 * seconds / frames for part, (seconds, _) in spent.items()}
+    return {part: 1e3 * seconds / frames if calls else None
+            for part, (seconds, calls) in spent.items()}
 
 
 def main(argv=None):
@@ -82,8 +85,9 @@ def main(argv=None):
             for name, tree in trees.items()}, args.rounds)
     print(f"CPU ms per frame, medians of {args.rounds} runs, in turn: {', '.join(trees)}")
     for part in PARTS:
-        figures = [statistics.median(run[part] for run in runs) for runs in done.values()]
-        print(f"  {part:18s}" + "".join(f"{ms:8.2f}" for ms in figures))
+        figures = [[run[part] for run in runs] for runs in done.values()]
+        print(f"  {part:16s}" + "".join(f"{statistics.median(ms):8.2f}" if None not in ms
+                                        else f"{'-':>8s}" for ms in figures))
     return 0
 
 
