@@ -83,45 +83,53 @@ def frame_run(scene, x, report, label, color, forces):
 
 
 class BandedPng:
-    """draw.png_data's 8-bit PNG, its rows deflated BAND at a time: each band alone (no history
-    before it; runs of a byte only, zlib's Z_RLE), ended byte-aligned (a sync flush), the pieces
-    then one zlib stream. A band whose pixels are the last frame's keeps its piece; a piece
-    depends on its band's pixels alone, so the bytes do not depend on the frames before."""
+    """draw.png_data's 8-bit PNG of a picture width x height, its rows deflated BAND at a time
+    (`deflated`), the pieces joined into one zlib stream (`zlib_stream`). A band whose pixels are
+    the last picture's keeps its piece and palette indices; a piece depends on its band's pixels
+    alone, so the bytes do not depend on the pictures before."""
 
     def __init__(self, width, height):
         self.width, self.height = width, height
-        self.pixels = np.zeros((height, width), np.uint32)      # the last frame's
+        self.pixels = np.zeros((height, width), np.uint32)      # the last picture's
         self.changed = np.empty((height, width), bool)
         self.rows, self.scratch = draw.new_rows(width, height)
         self.starts = np.arange(0, height, BAND)
-        self.pieces = [None] * len(self.starts)     # per band: (deflate bytes, adler32, length)
+        self.pieces = [None] * len(self.starts)     # per band: `deflated`'s, None before the first
 
     def data(self, pygame, surface):
-        """The PNG of `surface`: the bands whose pixels changed since the last call encoded anew."""
+        """The PNG of `surface`: the bands whose pixels changed since the last call made anew."""
         pixel = pygame.surfarray.pixels2d(surface).T        # a view, [y, x]
         np.not_equal(pixel, self.pixels, out=self.changed)
         new = np.logical_or.reduceat(self.changed.any(axis=1), self.starts)
         new = np.flatnonzero(new | [piece is None for piece in self.pieces])
-        gaps = np.flatnonzero(np.diff(new) > 1)         # runs of adjacent bands: one call each
+        gaps = np.flatnonzero(np.diff(new) > 1)         # runs of adjacent new bands: a call each
         firsts, lasts = np.r_[new[:1], new[gaps + 1]], np.r_[new[gaps], new[-1:]]
-        for a, b in zip(firsts.tolist(), lasts.tolist()):
-            rows = slice(a * BAND, min((b + 1) * BAND, self.height))        # bands a to b
-            draw.palette_indices(pixel[rows], surface.get_shifts(), self.rows[rows, 1:],
-                                 self.scratch[:, :rows.stop - rows.start])
-            self.pixels[rows] = pixel[rows]
+        for first, last in zip(firsts.tolist(), lasts.tolist()):
+            y = slice(first * BAND, min((last + 1) * BAND, self.height))
+            draw.palette_indices(pixel[y], surface.get_shifts(), self.rows[y, 1:],
+                                 self.scratch[:, :y.stop - y.start])
+            self.pixels[y] = pixel[y]
         del pixel                                           # unlocks the surface
         for k in new.tolist():
-            rows = self.rows[k * BAND:(k + 1) * BAND]
-            deflate = zlib.compressobj(1, zlib.DEFLATED, -15, 8, zlib.Z_RLE)
-            piece = deflate.compress(rows) + deflate.flush(zlib.Z_SYNC_FLUSH)
-            self.pieces[k] = (piece, zlib.adler32(rows), rows.size)
-        adler = 1
-        for _, a, n in self.pieces:
-            adler = adler32_joined(adler, a, n)
-        # zlib's header (deflate, 32 kB window, fastest), the pieces, an empty last block, adler32
-        idat = b"".join([b"\x78\x01", *(p for p, _, _ in self.pieces), b"\x03\x00",
-                         struct.pack(">I", adler)])
-        return draw.palette_png(self.width, self.height, idat)
+            self.pieces[k] = deflated(self.rows[k * BAND:(k + 1) * BAND])
+        return draw.palette_png(self.width, self.height, zlib_stream(self.pieces))
+
+
+def deflated(rows):
+    """(bytes, adler32, length) of `rows`: raw deflate of them alone (no history before them; runs
+    of a byte only, zlib's Z_RLE, level 1), ended byte-aligned by a sync flush."""
+    deflate = zlib.compressobj(1, zlib.DEFLATED, -15, 8, zlib.Z_RLE)
+    return deflate.compress(rows) + deflate.flush(zlib.Z_SYNC_FLUSH), zlib.adler32(rows), rows.size
+
+
+def zlib_stream(pieces):
+    """One zlib stream (RFC 1950) of `deflated` pieces in turn: its header (deflate, 32 kB window,
+    fastest), the pieces, an empty last block, the adler32 of all their bytes."""
+    adler = 1
+    for _, piece_adler, length in pieces:
+        adler = adler32_joined(adler, piece_adler, length)
+    return b"".join([b"\x78\x01", *(data for data, _, _ in pieces), b"\x03\x00",
+                     struct.pack(">I", adler)])
 
 
 def adler32_joined(first, second, length):

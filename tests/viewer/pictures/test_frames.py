@@ -108,6 +108,8 @@ def test_a_kept_surface_and_bands_carry_nothing_over():
     assert len(set(kept)) == 3
     kept_pieces = [a is b for a, b in zip(pieces[1], pieces[2])]
     assert any(kept_pieces) and not all(kept_pieces)        # some bands kept, some new
+    assert png.data(pygame, surface) == kept[2]             # the same picture again: all kept
+    assert all(a is b for a, b in zip(pieces[2], png.pieces))
 
 
 def test_a_picture_of_bands_not_whole_decodes_and_loads(tmp_path):
