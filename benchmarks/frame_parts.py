@@ -16,13 +16,16 @@ import sys
 import tempfile
 import time
 
-# part: (module, the attribute holding its function); each frame calls each once (the files twice)
-PARTS = {"drawing": ("viewer.pictures.draw", "draw_frame"),
-         "palette indices": ("viewer.pictures.draw", "palette_rows"),
-         "zlib": ("zlib", "compress"),
-         "OBJ text": ("square_mesh", "obj_text"),
-         "the two files": ("viewer.output.files", "RunFolder.write"),
-         "whole frame": ("viewer.pictures.frames", "FrameWriter.write")}
+# part: [(module, the attribute holding its function)], each timed where the tree has it (a part
+# it never calls: "-"). The palette indices: draw.palette_rows on whole frames before issue 42's
+# bands, draw.palette_indices on the bands that changed since (within frames.BandedPng.data)
+PARTS = {"drawing": [("viewer.pictures.draw", "draw_frame")],
+         "palette indices": [("viewer.pictures.draw", "palette_rows"),
+                             ("viewer.pictures.draw", "palette_indices")],
+         "PNG in bands": [("viewer.pictures.frames", "BandedPng.data")],
+         "OBJ text": [("square_mesh", "obj_text")],
+         "the two files": [("viewer.output.files", "RunFolder.write")],
+         "whole frame": [("viewer.pictures.frames", "FrameWriter.write")]}
 
 
 def timed(spent, part, function):
@@ -39,23 +42,26 @@ def timed(spent, part, function):
 
 
 def frame_parts(tree):
-    """{part: CPU ms per frame} of one default run with `tree`'s modules, its output swallowed
-    (the files: the run's plots, summary and page too, 3 of its 405)."""
+    """{part: CPU ms per frame, None where never called} of one default run with `tree`'s modules,
+    its output swallowed (the files: the run's plots, summary and page too, 3 of its 405)."""
     sys.path.insert(0, tree)
     from viewer import main
     spent = {part: [0.0, 0] for part in PARTS}
-    for part, (module, name) in PARTS.items():
+    for part, (module, name) in [(part, place) for part, places in PARTS.items()
+                                 for place in places]:
         owner = importlib.import_module(module)
         *path, attribute = name.split(".")
         for step in path:
-            owner = getattr(owner, step)
-        setattr(owner, attribute, timed(spent, part, getattr(owner, attribute)))
+            owner = getattr(owner, step, None)
+        if hasattr(owner, attribute):
+            setattr(owner, attribute, timed(spent, part, getattr(owner, attribute)))
     quiet = io.StringIO()
     with tempfile.TemporaryDirectory() as out, contextlib.redirect_stderr(quiet), \
             contextlib.redirect_stdout(quiet):
         main.main(["--out", os.path.join(out, "run")])
     frames = spent["whole frame"][1]
-    return {part: 1e3 * seconds / frames for part, (seconds, _) in spent.items()}
+    return {part: 1e3 * seconds / frames if calls else None
+            for part, (seconds, calls) in spent.items()}
 
 
 def main(argv=None):
@@ -79,8 +85,9 @@ def main(argv=None):
             for name, tree in trees.items()}, args.rounds)
     print(f"CPU ms per frame, medians of {args.rounds} runs, in turn: {', '.join(trees)}")
     for part in PARTS:
-        figures = [statistics.median(run[part] for run in runs) for runs in done.values()]
-        print(f"  {part:16s}" + "".join(f"{ms:8.2f}" for ms in figures))
+        figures = [[run[part] for run in runs] for runs in done.values()]
+        print(f"  {part:16s}" + "".join(f"{statistics.median(ms):8.2f}" if None not in ms
+                                        else f"{'-':>8s}" for ms in figures))
     return 0
 
 

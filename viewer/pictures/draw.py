@@ -342,23 +342,27 @@ PALETTE = np.array([(round(r * 255 / 7), round(g * 255 / 7), round(b * 255 / 3))
                     for r in range(8) for g in range(8) for b in range(4)], np.uint8)
 
 
-def png_data(pygame, surface, exact=False, rows=None):
-    """PNG bytes: with `exact` (plots, summary) pygame's 24-bit colour; else (frames, 3.5 ms, not
-    pygame's 20-25) an 8-bit PNG of PALETTE indices, rows unfiltered, one zlib stream at level 1,
-    its rows built in `rows` where given (palette_rows' buffers, kept from frame to frame)."""
+def png_data(pygame, surface, exact=False):
+    """PNG bytes: with `exact` (plots, summary) pygame's 24-bit colour; else (3.5 ms, not pygame's
+    20-25) an 8-bit PNG of PALETTE indices, rows unfiltered, one zlib stream at level 1 (a run's
+    frames: the same pixels, in bands, frames.BandedPng)."""
     if exact:
         buffer = io.BytesIO()
         pygame.image.save(surface, buffer, "png")
         return buffer.getvalue()
     width, height = surface.get_size()
-    rows = palette_rows(pygame, surface, *(rows or new_rows(width, height)))
+    rows = palette_rows(pygame, surface, *new_rows(width, height))
+    return palette_png(width, height, zlib.compress(rows, 1))
 
+
+def palette_png(width, height, idat):
+    """PNG bytes of a picture of PALETTE indices, `idat` the zlib stream of its rows."""
     def chunk(kind, body):
         crc = struct.pack(">I", zlib.crc32(kind + body))
         return struct.pack(">I", len(body)) + kind + body + crc
     header = struct.pack(">IIBBBBB", width, height, 8, 3, 0, 0, 0)     # 8 bits, palette
     return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"PLTE", PALETTE.tobytes())
-            + chunk(b"IDAT", zlib.compress(rows, 1)) + chunk(b"IEND", b""))
+            + chunk(b"IDAT", idat) + chunk(b"IEND", b""))
 
 
 def new_rows(width, height):
@@ -368,15 +372,20 @@ def new_rows(width, height):
 
 def palette_rows(pygame, surface, rows, scratch):
     """`rows` (height, 1 + width): each row's filter byte 0, then its pixels' PALETTE indices
-    r & 0xE0 | (g & 0xE0) >> 3 | b >> 6, taken from the 32-bit pixels (r, g and b at the surface's
-    shifts) in `scratch`: no new megabyte array per frame, and a pixel per element, not a channel
-    (faster: benchmarks/README.md, frames)."""
-    r, g, b, _ = surface.get_shifts()
+    (palette_indices), in new_rows' buffers: no new megabyte array per frame."""
     pixel = pygame.surfarray.pixels2d(surface).T        # a view, [y, x]
-    index, part = scratch
-    np.bitwise_and(np.right_shift(pixel, r, out=index), 0xE0, out=index)
-    index |= np.bitwise_and(np.right_shift(pixel, g + 3, out=part), 0x1C, out=part)
-    index |= np.bitwise_and(np.right_shift(pixel, b + 6, out=part), 0x03, out=part)
+    palette_indices(pixel, surface.get_shifts(), rows[:, 1:], scratch)
     del pixel                                           # unlocks the surface
-    rows[:, 1:] = index
     return rows
+
+
+def palette_indices(pixel, shifts, index, scratch):
+    """`index` = the PALETTE indices r & 0xE0 | (g & 0xE0) >> 3 | b >> 6 of 32-bit pixels (r, g
+    and b at `shifts`), through `scratch` (2 x pixel's shape): a pixel per element, not a channel
+    (faster: benchmarks/README.md, frames)."""
+    r, g, b = shifts[:3]
+    whole, part = scratch
+    np.bitwise_and(np.right_shift(pixel, r, out=whole), 0xE0, out=whole)
+    whole |= np.bitwise_and(np.right_shift(pixel, g + 3, out=part), 0x1C, out=part)
+    whole |= np.bitwise_and(np.right_shift(pixel, b + 6, out=part), 0x03, out=part)
+    index[...] = whole

@@ -1,6 +1,8 @@
 """The frames of a run: when each is due (every `stride` steps of the smallest h, so that runs show
 the same times), and writing one: a PNG of every run, an OBJ each, the page's figures."""
 import math
+import struct
+import zlib
 from collections import namedtuple
 
 import numpy as np
@@ -12,6 +14,7 @@ from viewer.pictures import draw, page
 
 # what the page shows beside frame `index` at time t: per run, its figures by name (page.figures)
 FrameInfo = namedtuple("FrameInfo", "index t runs")
+BAND = 16       # rows of a frame deflated alone, a piece kept while its pixels stay the same
 
 
 def frame_count(scenes, steps, stride):
@@ -48,7 +51,7 @@ class FrameWriter:
         # drawn and encoded in the same arrays frame after frame: a new megabyte array each frame
         # costs glibc an mmap and a page fault per 4 kB (benchmarks/README.md, frames)
         self.surface = self.pygame.Surface((self.view.size, self.view.height))
-        self.rows = draw.new_rows(self.view.size, self.view.height)
+        self.png = BandedPng(self.view.size, self.view.height)
 
     def write(self, j):
         """Frame j, then each track's OBJ (after its log row: the CSV is never behind)."""
@@ -59,7 +62,7 @@ class FrameWriter:
         t = max(tr.t for tr in tracks)
         surface, _ = draw.draw_frame(self.pygame, runs, t, self.view, self.fonts,
                                      self.newton_per_metre, surface=self.surface)
-        png = draw.png_data(self.pygame, surface, rows=self.rows)
+        png = self.png.data(self.pygame, surface)
         with self.folder.signals.held():
             self.folder.write(files.frame_png(j), png)
             for tr in tracks:
@@ -77,3 +80,61 @@ def frame_run(scene, x, report, label, color, forces):
         friction = report.friction_force if report is not None else None
         run["friction"] = np.zeros_like(x) if friction is None else friction
     return run
+
+
+class BandedPng:
+    """draw.png_data's 8-bit PNG of a picture width x height, its rows deflated BAND at a time
+    (`deflated`), the pieces joined into one zlib stream (`zlib_stream`). A band whose pixels are
+    the last picture's keeps its piece and palette indices; a piece depends on its band's pixels
+    alone, so the bytes do not depend on the pictures before."""
+
+    def __init__(self, width, height):
+        self.width, self.height = width, height
+        self.pixels = np.zeros((height, width), np.uint32)      # the last picture's
+        self.changed = np.empty((height, width), bool)
+        self.rows, self.scratch = draw.new_rows(width, height)
+        self.starts = np.arange(0, height, BAND)
+        self.pieces = [None] * len(self.starts)     # per band: `deflated`'s, None before the first
+
+    def data(self, pygame, surface):
+        """The PNG of `surface`: the bands whose pixels changed since the last call made anew."""
+        pixel = pygame.surfarray.pixels2d(surface).T        # a view, [y, x]
+        np.not_equal(pixel, self.pixels, out=self.changed)
+        new = np.logical_or.reduceat(self.changed.any(axis=1), self.starts)
+        new = np.flatnonzero(new | [piece is None for piece in self.pieces])
+        gaps = np.flatnonzero(np.diff(new) > 1)         # runs of adjacent new bands: a call each
+        firsts, lasts = np.r_[new[:1], new[gaps + 1]], np.r_[new[gaps], new[-1:]]
+        for first, last in zip(firsts.tolist(), lasts.tolist()):
+            y = slice(first * BAND, min((last + 1) * BAND, self.height))
+            draw.palette_indices(pixel[y], surface.get_shifts(), self.rows[y, 1:],
+                                 self.scratch[:, :y.stop - y.start])
+            self.pixels[y] = pixel[y]
+        del pixel                                           # unlocks the surface
+        for k in new.tolist():
+            self.pieces[k] = deflated(self.rows[k * BAND:(k + 1) * BAND])
+        return draw.palette_png(self.width, self.height, zlib_stream(self.pieces))
+
+
+def deflated(rows):
+    """(bytes, adler32, length) of `rows`: raw deflate of them alone (no history before them; runs
+    of a byte only, zlib's Z_RLE, level 1), ended byte-aligned by a sync flush."""
+    deflate = zlib.compressobj(1, zlib.DEFLATED, -15, 8, zlib.Z_RLE)
+    return deflate.compress(rows) + deflate.flush(zlib.Z_SYNC_FLUSH), zlib.adler32(rows), rows.size
+
+
+def zlib_stream(pieces):
+    """One zlib stream (RFC 1950) of `deflated` pieces in turn: its header (deflate, 32 kB window,
+    fastest), the pieces, an empty last block, the adler32 of all their bytes."""
+    adler = 1
+    for _, piece_adler, length in pieces:
+        adler = adler32_joined(adler, piece_adler, length)
+    return b"".join([b"\x78\x01", *(data for data, _, _ in pieces), b"\x03\x00",
+                     struct.pack(">I", adler)])
+
+
+def adler32_joined(first, second, length):
+    """adler32 of bytes X then Y from X's and Y's (Y `length` bytes long). adler32 = B << 16 | A,
+    A = 1 + the sum of the bytes, B = the sum of A after each byte (mod 65521, RFC 1950); joined,
+    A = A_X + A_Y - 1 and B = B_X + B_Y + length (A_X - 1)."""
+    a1, b1, a2, b2 = first & 0xFFFF, first >> 16, second & 0xFFFF, second >> 16
+    return (b1 + b2 + length * (a1 - 1)) % 65521 << 16 | (a1 + a2 - 1) % 65521

@@ -1,7 +1,9 @@
 """viewer/pictures/frames.py: when each frame is due. Frames come every `stride` steps of the
 smallest h, numbered from 0, the last at the end of the longest run; each run is shown at the last
 step it has reached by then."""
+import struct
 import types
+import zlib
 
 import numpy as np
 import pytest
@@ -71,18 +73,61 @@ def test_frames_are_the_same_bytes_run_to_run(tmp_path):
         assert (tmp_path / "a" / name).read_bytes() == (tmp_path / "b" / name).read_bytes(), name
 
 
-def test_a_kept_surface_and_buffers_carry_nothing_over():
-    """A frame drawn over the writer's surface and encoded in its buffers, both still holding the
-    frame before, is the PNG a new surface and new buffers give."""
+def idat_rows(png):
+    """The decompressed rows of a PNG's IDAT chunks (their CRCs checked)."""
+    at, stream = 8, b""
+    while at < len(png):
+        (length,), kind = struct.unpack(">I", png[at:at + 4]), png[at + 4:at + 8]
+        assert struct.unpack(">I", png[at + 8 + length:at + 12 + length])[0] == zlib.crc32(
+            png[at + 4:at + 8 + length])
+        stream += png[at + 8:at + 8 + length] if kind == b"IDAT" else b""
+        at += 12 + length
+    return zlib.decompress(stream)
+
+
+def test_a_kept_surface_and_bands_carry_nothing_over():
+    """Frames drawn over the writer's surface and encoded by one BandedPng, which keeps the bands
+    that did not change, are the bytes a new surface and a new BandedPng give, and their pixels
+    are png_data's (one zlib stream)."""
     pygame = draw.load_pygame()
     scene = simulator.build_scene()
     view, fonts = draw.View.of(scene), draw.fonts(pygame)
-    states = [record.x for record in simulator.simulate(scene, 60)][::59]
+    states = [record.x for record in simulator.simulate(scene, 60)][::29]
     pictures = [dict(frames.frame_run(scene, x, None, "run", draw.BLUE, False), marks=None)
                 for x in states]
-    surface, rows = pygame.Surface((view.size, view.size)), draw.new_rows(view.size, view.size)
-    kept = [draw.png_data(pygame, draw.draw_frame(pygame, [p], t, view, fonts, surface=surface)[0],
-                          rows=rows) for p, t in zip(pictures, (0.0, 0.6))]
-    new = [draw.png_data(pygame, draw.draw_frame(pygame, [p], t, view, fonts)[0])
-           for p, t in zip(pictures, (0.0, 0.6))]
-    assert kept == new and kept[0] != kept[1]
+    surface, png = pygame.Surface((view.size, view.size)), frames.BandedPng(view.size, view.size)
+    kept, pieces = [], []
+    for p, t in zip(pictures, (0.0, 0.3, 0.6)):
+        kept.append(png.data(pygame, draw.draw_frame(pygame, [p], t, view, fonts,
+                                                     surface=surface)[0]))
+        pieces.append(list(png.pieces))
+    new = [draw.draw_frame(pygame, [p], t, view, fonts)[0]
+           for p, t in zip(pictures, (0.0, 0.3, 0.6))]
+    assert kept == [frames.BandedPng(view.size, view.size).data(pygame, s) for s in new]
+    assert [idat_rows(b) for b in kept] == [idat_rows(draw.png_data(pygame, s)) for s in new]
+    assert len(set(kept)) == 3
+    kept_pieces = [a is b for a, b in zip(pieces[1], pieces[2])]
+    assert any(kept_pieces) and not all(kept_pieces)        # some bands kept, some new
+    assert png.data(pygame, surface) == kept[2]             # the same picture again: all kept
+    assert all(a is b for a, b in zip(pieces[2], png.pieces))
+
+
+def test_a_picture_of_bands_not_whole_decodes_and_loads(tmp_path):
+    """A picture whose height is no multiple of BAND, all black (the pixels a new BandedPng's
+    record of the last frame holds): every band written, and pygame loads the PNG."""
+    pygame = draw.load_pygame()
+    surface = pygame.Surface((7, 2 * frames.BAND + 3))
+    surface.fill(draw.BLACK)
+    png = frames.BandedPng(*surface.get_size()).data(pygame, surface)
+    assert idat_rows(png) == idat_rows(draw.png_data(pygame, surface))
+    (tmp_path / "f.png").write_bytes(png)
+    back = pygame.image.load(str(tmp_path / "f.png"))
+    assert back.get_size() == surface.get_size() and back.get_at((6, 34))[:3] == draw.BLACK
+
+
+def test_adler32_of_joined_bytes():
+    """adler32_joined(adler32(X), adler32(Y), len(Y)) is adler32(X + Y)."""
+    rng = np.random.default_rng(7)
+    for n, m in [(0, 0), (0, 5), (3, 0), (100, 70_000), (70_000, 100), (5_000, 1_000_000)]:
+        x, y = rng.integers(0, 256, n, np.uint8).tobytes(), b"\xff" * m
+        assert frames.adler32_joined(zlib.adler32(x), zlib.adler32(y), m) == zlib.adler32(x + y)
