@@ -8,7 +8,6 @@ import types
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.linalg import lapack
 
 # ---- Input checks: one line each in the energies, a ValueError that names the argument ----------
 
@@ -326,6 +325,7 @@ class SPDSolver:
         np.linalg.LinAlgError when H is not positive definite."""
         if self.kind == "superlu":
             return self._superlu_solve(H, b)
+        from scipy.linalg import lapack     # here: a command line refused never pays its 0.25 s
         factor, info = lapack.dpbtrf(self.upper_band(H), lower=0, overwrite_ab=1)
         if info != 0:
             raise np.linalg.LinAlgError(f"H is not positive definite (dpbtrf info {info})")

@@ -1,8 +1,9 @@
 """Shared test setup: import the flat modules from the project root and the shared helpers from
 tests/ (whatever folder a test module is in); pygame draws off-screen. pytest.ini runs the tests
 on every core (pytest-xdist, -n auto), each test module on one worker (--dist loadfile): a module's
-fixtures and the runs its process keeps (tests/helpers/chalk.py) are made once per module; each
-worker is a process of its own, with its own tmp_path_factory."""
+fixtures are made once per module; each worker is a process of its own, with its own
+tmp_path_factory; the chalk's runs (tests/helpers/chalk.py) are stepped once per session, for
+every worker (`chalk_runs`)."""
 import os
 import sys
 
@@ -33,3 +34,15 @@ def pytest_collection_modifyitems(config, items):
         items[:] = [item for item in items if item not in twins]
     slow_paths = {path for path, _ in slow}
     items.sort(key=lambda item: item.path not in slow_paths)
+
+
+@pytest.fixture(scope="session")
+def chalk_runs(tmp_path_factory):
+    """The chalk's runs (helpers/chalk.py), kept in a folder every worker of this session shares:
+    under pytest-xdist each worker's temporary folder is in the session's (popen-gw0, ...)."""
+    from helpers import chalk
+    folder = tmp_path_factory.getbasetemp()
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        folder = folder.parent
+    (folder / "chalk-runs").mkdir(exist_ok=True)
+    return chalk.Runs(str(folder / "chalk-runs"))

@@ -15,7 +15,6 @@ import pytest
 
 import BarrierEnergy
 import FrictionEnergy
-import simulator
 from analysis import stick_slip, wear
 
 from helpers import ROOT
@@ -68,38 +67,37 @@ def test_the_deposit_grows_both_ways_and_keeps_only_the_board_touched():
 
 
 @functools.cache
-def chalk(seconds, **params):
-    """The chalk stepped for `seconds`: its scene, its mark, the step deposits sum_k lambda_k |delta
-    s_k| taken from the barrier's own compute_mu_lambda (mu = 1), and the tip's stick-slip
-    (analysis/stick_slip.py)."""
-    scene = simulator.build_chalk_scene(**params)
+def chalk(chalk_runs, seconds, **params):
+    """The chalk stepped for `seconds` (helpers/chalk.py): its scene, its mark, the step deposits
+    sum_k lambda_k |delta s_k| taken from the barrier's own compute_mu_lambda (mu = 1), and the
+    tip's stick-slip (analysis/stick_slip.py)."""
+    scene, t, xs, vs = chalk_runs.states(seconds, **params)
     mark, before, tangent = wear.Deposit(), scene.x0, FrictionEnergy.tangent(scene.n)
     tip = int(np.argmin(scene.x0[:, 1]))
-    by_hand, t, x, u = [], [0.0], [scene.x0[tip] @ tangent], [0.0]
-    for rec in simulator.simulate(scene, round(seconds / scene.h)):
-        mark.step(scene, before, rec.x)
-        lam = BarrierEnergy.compute_mu_lambda(rec.x, scene.n, scene.o, scene.contact_area, 1.0,
+    by_hand = []
+    for x in xs:
+        mark.step(scene, before, x)
+        lam = BarrierEnergy.compute_mu_lambda(x, scene.n, scene.o, scene.contact_area, 1.0,
                                               scene.dhat, scene.kappa)
-        by_hand.append(float(lam @ np.abs((rec.x - before) @ tangent)))
-        t.append(rec.t)
-        x.append(rec.x[tip] @ tangent)
-        u.append(rec.v[tip] @ tangent)
-        before = rec.x
-    counted = stick_slip.measure(t, x, u, scene.epsv, scene.params["drive"],
-                                 stick_slip.drive_start(scene))
+        by_hand.append(float(lam @ np.abs((x - before) @ tangent)))
+        before = x
+    x_tip, u_tip = np.r_[scene.x0[tip] @ tangent, xs[:, tip] @ tangent], vs[:, tip] @ tangent
+    counted = stick_slip.measure(np.r_[0.0, t], x_tip, np.r_[0.0, u_tip], scene.epsv,
+                                 scene.params["drive"], stick_slip.drive_start(scene))
     return scene, mark, np.array(by_hand), counted
 
 
-def test_the_mark_holds_what_the_steps_left_no_more_no_less():
+def test_the_mark_holds_what_the_steps_left_no_more_no_less(chalk_runs):
     """Conservation: over 1.5 s of the pushed chalk the bins sum to the sum over steps and contact
     nodes of lambda_k |delta s_k| (summed in another order: round-off), and no step leaves a
     negative deposit."""
-    _, mark, by_hand, _ = chalk(1.5)
+    _, mark, by_hand, _ = chalk(chalk_runs, 1.5)
     assert mark.values.sum() == pytest.approx(by_hand.sum(), rel=1e-12)
     assert (mark.values >= 0).all() and (by_hand >= 0).all() and by_hand.sum() > 0
 
 
-def test_pushed_a_sawtooth_of_dashes_a_slip_apart_each_fading_from_where_its_slip_starts():
+def test_pushed_a_sawtooth_of_dashes_a_slip_apart_each_fading_from_where_its_slip_starts(
+        chalk_runs):
     """The pushed chalk, 1.5 s: a dash per slip (RISE: the deposit more than doubles from one bin to
     the next where a slip starts), the dashes a slip length apart (within a bin); each darkest where
     it starts and fading bin by bin to its faintest, where the next begins. The normal force falls
@@ -108,7 +106,7 @@ def test_pushed_a_sawtooth_of_dashes_a_slip_apart_each_fading_from_where_its_sli
     so each dash is at least 5 times darker than its faintest bin (measured 5.1 to 7.0, median 6.4);
     the bound, 4.5, leaves room for slips that end elsewhere in their bins. p90 / p10 is 4.68:
     above 4."""
-    _, mark, _, counted = chalk(1.5)
+    _, mark, _, counted = chalk(chalk_runs, 1.5)
     v = mark.values
     dashes = wear.dashes(v)
     assert len(dashes) >= len(counted.slips) - 1 >= 9
@@ -123,11 +121,11 @@ def test_pushed_a_sawtooth_of_dashes_a_slip_apart_each_fading_from_where_its_sli
     assert p90 / p10 > 4.0
 
 
-def test_dragged_a_uniform_line_without_a_dash():
+def test_dragged_a_uniform_line_without_a_dash(chalk_runs):
     """The dragged chalk slides at the drive's speed under a steady normal force: no dash, and every
     bin inside its mark within 5 % of their median (measured: 2.8 %, the bin after the press's spot,
     where the slide started; the rest within 1e-6)."""
-    _, mark, by_hand, counted = chalk(1.5, drag=True)
+    _, mark, by_hand, counted = chalk(chalk_runs, 1.5, drag=True)
     v = mark.values[1:-1]
     assert wear.dashes(mark.values) == [] and counted.slips == []
     assert np.abs(v / np.median(v) - 1).max() < 0.05
@@ -140,7 +138,7 @@ def simulate(*args):
     return run_main("--scene", "chalk", "--no-frames", *args)
 
 
-def test_a_chalk_run_writes_its_mark_as_marks_csv(tmp_path):
+def test_a_chalk_run_writes_its_mark_as_marks_csv(tmp_path, chalk_runs):
     """`--scene chalk` writes marks.csv: board position (mm, each bin's middle) and the deposit of
     the bin in N m, as the header says; the rows are the run's mark (the same steps as
     simulator.simulate's), 0.1 mm apart; a comparison writes one per run, named by its tag."""
@@ -153,7 +151,7 @@ def test_a_chalk_run_writes_its_mark_as_marks_csv(tmp_path):
         rows = list(csv.reader(f))
     assert rows[0] == ["x_mm", "deposit_N_m_per_0.1_mm"]
     x, d = np.array(rows[1:], float).T
-    _, mark, _, _ = chalk(0.3)
+    _, mark, _, _ = chalk(chalk_runs, 0.3)
     assert x == pytest.approx(1e3 * mark.centres(), abs=5e-3)
     assert np.diff(x) == pytest.approx(0.1, abs=1e-9)
     assert d == pytest.approx(mark.values, rel=1e-12, abs=0)

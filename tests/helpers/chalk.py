@@ -1,6 +1,13 @@
-"""The chalk's runs as the scene tests read them, each stepped once per test session: a run's first
-seconds are the shorter run (the same steps), so every shorter run is cut from the longest kept."""
+"""The chalk's runs as the scene and wear tests read them, each stepped once per test session: a
+run's first seconds are the shorter run (the same steps), so every shorter run is cut from the
+longest kept. The states are kept as .npz in a folder the session's pytest-xdist workers share
+(the `chalk_runs` fixture, tests/conftest.py): the first worker to need a run steps it while the
+others wait for it, so tests/scenes/test_chalk.py and tests/analysis/test_wear.py step the pushed
+and the dragged chalk once between them."""
+import contextlib
 import dataclasses
+import os
+import time
 
 import numpy as np
 
@@ -8,7 +15,62 @@ import BarrierEnergy
 import simulator
 from analysis import stick_slip as cycles
 
-_LONGEST = {}       # the chalk's parameters -> the longest Track stepped with them
+WAIT = 600          # s another worker may take to step a run before this one gives up on it
+
+
+class Runs:
+    """The chalk's states after each step, keyed by its parameters, in `folder` and in memory."""
+
+    def __init__(self, folder):
+        self.folder, self.kept = folder, {}
+
+    def states(self, seconds, **params):
+        """(scene, t, x, v) of the chalk built from `params` after each of round(seconds / h)
+        steps: t (S,), x and v (S, N, 2), read-only."""
+        scene = simulator.build_chalk_scene(**params)
+        steps = int(round(seconds / scene.h))
+        key = ",".join(f"{name}={value!r}" for name, value in sorted(params.items()))
+        if key not in self.kept or len(self.kept[key][0]) < steps:
+            self.kept[key] = self.shared(key or "default", scene, steps)
+        return (scene, *(a[:steps] for a in self.kept[key]))
+
+    def run(self, seconds, **params):
+        """The Track of the chalk built from `params`, stepped for `seconds`."""
+        return track(*self.states(seconds, **params))
+
+    def shared(self, key, scene, steps):
+        """(t, x, v) of at least `steps` steps: read from the folder, or stepped here and written
+        there (a temporary name, then a rename) while a lock file keeps other workers waiting."""
+        path = os.path.join(self.folder, f"chalk {key}.npz")
+        deadline = time.monotonic() + WAIT
+        while True:
+            if os.path.exists(path):
+                with np.load(path) as kept:
+                    if len(kept["t"]) >= steps:
+                        return read_only(kept["t"], kept["x"], kept["v"])
+            try:
+                lock = os.open(path + ".lock", os.O_CREAT | os.O_EXCL | os.O_WRONLY)
+                break
+            except FileExistsError:             # another worker steps it: wait for its file
+                assert time.monotonic() < deadline, f"{path}.lock held for {WAIT} s"
+                time.sleep(0.05)
+        try:
+            records = list(simulator.simulate(scene, steps))
+            t, x, v = (np.array([getattr(r, name) for r in records]) for name in "txv")
+            with open(path + ".tmp", "wb") as f:
+                np.savez(f, t=t, x=x, v=v)
+            os.replace(path + ".tmp", path)
+        finally:
+            os.close(lock)
+            with contextlib.suppress(OSError):
+                os.remove(path + ".lock")
+        return read_only(t, x, v)
+
+
+def read_only(*arrays):
+    for a in arrays:
+        a.setflags(write=False)
+    return arrays
 
 
 @dataclasses.dataclass(frozen=True)
@@ -25,37 +87,19 @@ class Track:
     lowest: np.ndarray
     lean: np.ndarray
 
-    def first(self, steps):
-        """The run's first `steps` steps."""
-        arrays = {f.name: getattr(self, f.name)[:steps] for f in dataclasses.fields(self)
-                  if f.name != "scene"}
-        return dataclasses.replace(self, **arrays)
 
-
-def stepped(scene, steps):
-    """The Track of `steps` steps of the chalk `scene`; the tip is its lowest node at the start."""
+def track(scene, t, x, v):
+    """The Track of the chalk `scene`'s states (t, x, v); the tip is its lowest node at the
+    start."""
     tip = int(np.argmin(scene.x0[:, 1]))
     tip_end = np.arange(scene.cells[1] + 1)                         # column 0: the tip's end
-    rows = []
-    for rec in simulator.simulate(scene, steps):
-        lam = BarrierEnergy.compute_mu_lambda_kernel(rec.x, scene.n, scene.o, scene.contact_area,
-                                                     1.0, scene.dhat, scene.kappa)
-        lean = rec.x[scene.hand.nodes, 0].mean() - rec.x[tip_end, 0].mean()
-        hand_x = scene.hand.targets(rec.t)[:, 0].mean()
-        rows.append((rec.t, rec.x[tip, 0], rec.v[tip, 0], lam.sum(), hand_x,
-                     np.argmin(rec.x[:, 1]), lean))
-    t, x_tip, u_tip, normal_force, hand_x, lowest, lean = map(np.array, zip(*rows))
-    return Track(scene, t, x_tip, u_tip, normal_force, hand_x, lowest.astype(int), lean)
-
-
-def run(seconds, **params):
-    """The chalk built from `params`, stepped for `seconds`: cut from the longest run kept."""
-    scene = simulator.build_chalk_scene(**params)
-    steps = int(round(seconds / scene.h))
-    key = tuple(sorted(params.items()))
-    if key not in _LONGEST or len(_LONGEST[key].t) < steps:
-        _LONGEST[key] = stepped(scene, steps)
-    return _LONGEST[key].first(steps)
+    normal_force = [BarrierEnergy.compute_mu_lambda_kernel(x_n, scene.n, scene.o,
+                                                           scene.contact_area, 1.0, scene.dhat,
+                                                           scene.kappa).sum() for x_n in x]
+    hand_x = [scene.hand.targets(t_n)[:, 0].mean() for t_n in t]
+    lean = x[:, scene.hand.nodes, 0].mean(axis=1) - x[:, tip_end, 0].mean(axis=1)
+    return Track(scene, t, x[:, tip, 0], v[:, tip, 0], np.array(normal_force), np.array(hand_x),
+                 np.argmin(x[:, :, 1], axis=1), lean)
 
 
 def stick_slip(track, start=0.2):

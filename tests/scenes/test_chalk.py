@@ -3,7 +3,8 @@ the time the step learns, mu per node lagged like lambda, and Rabinowicz's obser
 
 The tip is the chalk's lowest corner at the start (node 2 of the pushed chalk). Every run here but
 the last stops before the hand passes over the tip, so the tip stays the node in contact. The runs
-come from helpers/chalk.py, each stepped once: a shorter run is the first part of a longer one."""
+come from helpers/chalk.py, each stepped once in a session: a shorter run is the first part of a
+longer one."""
 import dataclasses
 import math
 
@@ -15,7 +16,7 @@ import FrictionEnergy
 import HandEnergy
 import simulator
 import time_integrator
-from helpers.chalk import run, stick_slip
+from helpers.chalk import stick_slip
 from scenes.scene import StaticFriction
 
 
@@ -101,16 +102,15 @@ def test_one_coefficient_takes_the_lecture_s_path_bit_for_bit():
         assert np.array_equal(a.x, b.x)
 
 
-def test_friction_update_takes_mu_from_the_velocity_of_its_state():
+def test_friction_update_takes_mu_from_the_velocity_of_its_state(chalk_runs):
     """FrictionUpdate at x^n uses v^n (the step's start velocity); at an iterate x of Algorithm 5
     (x - x^n) / h: mu_k = mu + (mu_s - mu) exp(-|t . v_k| / v_c), mu_lambda_k = mu_k lambda_k(x)."""
-    scene = simulator.build_chalk_scene()
+    scene, _, xs, vs = chalk_runs.states(0.26)
 
     def lam_at(x):
         return BarrierEnergy.compute_mu_lambda(x, scene.n, scene.o, scene.contact_area, 1.0,
                                                scene.dhat, scene.kappa)
-    for rec in simulator.simulate(scene, 260):                     # sliding, in contact
-        x, v = rec.x, rec.v
+    x, v = xs[-1], vs[-1]                                           # 260 steps: sliding, in contact
     t = FrictionEnergy.tangent(scene.n)
     assert (lam_at(x) > 0).any()
     lagged = time_integrator.Lagged(x, x + scene.h * v, None)
@@ -125,12 +125,13 @@ def test_friction_update_takes_mu_from_the_velocity_of_its_state():
 
 # --- Rabinowicz's chalk --------------------------------------------------------------------------
 
-def test_one_coefficient_slides_below_the_self_locking_angle_and_jams_above():
+def test_one_coefficient_slides_below_the_self_locking_angle_and_jams_above(chalk_runs):
     """mu_s = mu = 0.35: a rigid strut pushed at tilt theta slides where cot theta > mu, below
     90 - atan mu = 70.7 degrees, and jams above (this grip: between 67.05 and 67.1, docs/chalk.md).
     10 degrees below, the tip slides with the hand; 10 above, it stays stuck over 10 mm."""
     lock = 90.0 - math.degrees(math.atan(0.35))
-    slides, jams = run(1.0, mu_s=0.35, tilt=lock - 10.0), run(1.2, mu_s=0.35, tilt=lock + 10.0)
+    slides = chalk_runs.run(1.0, mu_s=0.35, tilt=lock - 10.0)
+    jams = chalk_runs.run(1.2, mu_s=0.35, tilt=lock + 10.0)
     late = slides.t > 0.5
     assert np.allclose(slides.u_tip[late], 0.01, rtol=0.05)      # at the drive's speed, steadily
     assert slides.x_tip[-1] - slides.x_tip[0] > 0.6 * (slides.hand_x[-1] - slides.hand_x[0])
@@ -143,12 +144,12 @@ def test_one_coefficient_slides_below_the_self_locking_angle_and_jams_above():
         assert (track.lean < 0).all() and (track.lowest == track.lowest[0]).all()
 
 
-def test_static_above_kinetic_the_pushed_chalk_stick_slips():
+def test_static_above_kinetic_the_pushed_chalk_stick_slips(chalk_runs):
     """mu_s 0.5 > mu 0.35 (v_c 1e-3 m/s), k_hand 2000 N/m: cycles of a stick (the tip below eps_v,
     most of the time) and a slip faster than the drive, each slip about catching up with the hand
     (slip length = drive x period). Measured over 1.5 s, as the figure: 11 cycles, 107 ms, 1.06 mm
     (drive x period 1.07 mm), peaks 0.125 m/s, stuck 85 %; the bounds hold with a wide margin."""
-    track = run(1.5)
+    track = chalk_runs.run(1.5)
     stuck, slips = stick_slip(track)
     starts, lengths, peaks = map(np.array, zip(*slips))
     period = np.diff(starts).mean()
@@ -157,10 +158,10 @@ def test_static_above_kinetic_the_pushed_chalk_stick_slips():
     assert (track.lean < 0).all() and (track.lowest == track.lowest[0]).all()   # pushed throughout
 
 
-def test_static_above_kinetic_the_dragged_chalk_slides_without_a_stick():
+def test_static_above_kinetic_the_dragged_chalk_slides_without_a_stick(chalk_runs):
     """The same chalk, dragged (the hand ahead of the tip): after its start-up (stuck until the
     grip's pull overcomes mu_s lambda, about 0.3 s) the tip slides at the drive's speed, unstuck."""
-    track = run(1.5, drag=True)
+    track = chalk_runs.run(1.5, drag=True)
     start_up = track.t[np.argmax((track.t > 0.2) & (np.abs(track.u_tip) >= track.scene.epsv))]
     assert start_up < 0.5
     sliding = track.t >= start_up
@@ -170,27 +171,29 @@ def test_static_above_kinetic_the_dragged_chalk_slides_without_a_stick():
 
 
 @pytest.mark.slow
-def test_a_tighter_grip_shortens_the_slips():
+def test_a_tighter_grip_shortens_the_slips(chalk_runs):
     """Rabinowicz: the more tightly the chalk is held, the smaller the distance of slip. Four grips
-    at the same press force k_hand * press = 1 N per held node, 1.2 s each; measured 1.48 / 1.06 /
-    0.61 / 0.35 mm (7 / 9 / 16 / 27 cycles; over 3 s the same to 0.1 %, in 19 / 25 / 46 / 79)."""
+    at the same press force k_hand * press = 1 N per held node, each run for 7 cycles or more (a
+    tighter grip's are shorter): 1.2 / 1.2 / 0.6 / 0.5 s; measured 1.48 / 1.06 / 0.61 / 0.35 mm
+    (7 / 9 / 7 / 7 cycles; over 1.2 s the same to 0.02 %, in 16 and 27 cycles; over 3 s to 0.1 %,
+    in 19 / 25 / 46 / 79)."""
     lengths = []
-    for k_hand in (1000.0, 2000.0, 4000.0, 8000.0):
+    for k_hand, seconds in ((1000.0, 1.2), (2000.0, 1.2), (4000.0, 0.6), (8000.0, 0.5)):
         press = {} if k_hand == 2000.0 else dict(k_hand=k_hand, press=1.0 / k_hand)
-        slips = stick_slip(run(1.2, **press))[1]
+        slips = stick_slip(chalk_runs.run(seconds, **press))[1]
         assert len(slips) >= 5, k_hand
         lengths.append(np.mean([length for _, length, _ in slips]))
     assert all(a > b for a, b in zip(lengths, lengths[1:])), lengths
 
 
 @pytest.mark.slow
-def test_the_stick_slip_is_no_artifact_of_lagging():
+def test_the_stick_slip_is_no_artifact_of_lagging(chalk_runs):
     """Lagged mu*lambda^n and mu^n could oscillate where the normal force changes fast (issue 28):
     the cycle must be the same with Algorithm 5 (friction and mu implicit, at the fixed point),
     period within 10 %, slip length within 15 %. Measured over 1 s, 7 cycles each: 113 ms and
     1.126 mm against 107 ms and 1.065 mm, 5.6 % and 5.7 % apart (the same over 1.5 s)."""
     cycles = []
-    for track in (run(1.0), run(1.0, friction_updates=20)):
+    for track in (chalk_runs.run(1.0), chalk_runs.run(1.0, friction_updates=20)):
         slips = stick_slip(track)[1]
         assert len(slips) >= 5
         starts, lengths, _ = map(np.array, zip(*slips))

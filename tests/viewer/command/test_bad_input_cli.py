@@ -11,9 +11,10 @@ from helpers import ROOT
 from helpers.command import ending, refused, run_main
 
 
-def cli(*args):
-    """python simulator.py ARGS as a child process: the whole path, start-up included."""
-    return subprocess.run([sys.executable, os.path.join(ROOT, "simulator.py"), *args],
+def cli(*args, python=()):
+    """python simulator.py ARGS as a child process: the whole path, start-up included; `python`:
+    options to the interpreter."""
+    return subprocess.run([sys.executable, *python, os.path.join(ROOT, "simulator.py"), *args],
                           capture_output=True, text=True, timeout=120,
                           env={**os.environ, "SDL_VIDEODRIVER": "dummy"})
 
@@ -82,12 +83,18 @@ def test_cli_refuses_in_one_line_with_exit_2_and_touches_nothing(args, message, 
 @pytest.mark.parametrize("args, message", [(["--mu", "-0.5"], "--mu: mu must be >= 0"),
                                            (["--steps", "abc"], "invalid int value: 'abc'")])
 def test_simulator_py_refuses_in_one_line_with_exit_2(args, message, tmp_path):
-    """The same refusals from `python simulator.py`, start-up and all: nothing made."""
-    result = cli(*args, "--out", str(tmp_path / "o"))
-    lines = result.stderr.strip().splitlines()
+    """The same refusals from `python simulator.py`, start-up and all: nothing made, and said
+    before scipy (the Newton solve's LAPACK, 0.25 s of CPU) or pygame (the drawing) is loaded:
+    -X importtime lists on stderr every module the process imported."""
+    result = cli(*args, "--out", str(tmp_path / "o"), python=("-X", "importtime"))
+    imported = [line.split("|")[-1].strip() for line in result.stderr.splitlines()
+                if line.startswith("import time:")]
+    lines = [line for line in result.stderr.splitlines() if not line.startswith("import time:")]
     assert result.returncode == 2 and len(lines) == 1, result.stderr
     assert lines[0].startswith("simulator.py: error: ") and message in lines[0]
     assert not (tmp_path / "o").exists()
+    assert "numpy" in imported and "viewer.command.cli" in imported     # what it did load
+    assert not [name for name in imported if name.split(".")[0] in ("scipy", "pygame")]
 
 
 def test_cli_refuses_unwritable_output_folder(tmp_path):

@@ -105,11 +105,34 @@ def test_a_refused_claim_leaves_the_other_runs_folder(tmp_path):
 
 # ---- runs started at once
 
+FORKED = """
+import os, runpy, sys, time
+root, folder, count = sys.argv[1], sys.argv[2], int(sys.argv[3])
+sys.path.insert(0, root)
+import pygame, scipy.linalg, viewer.main    # what the runs load, loaded once: each forks from here
+go, pids = os.path.join(folder, "go"), []
+for k in range(count):
+    pid = os.fork()
+    if pid == 0:                        # a run, a process of its own: stderr to err<k>, then go
+        os.dup2(os.open(os.path.join(folder, f"err{k}"), os.O_WRONLY | os.O_CREAT), 2)
+        while not os.path.exists(go):
+            time.sleep(0.001)
+        sys.argv = [os.path.join(root, "simulator.py")] + sys.argv[4:]
+        try:
+            runpy.run_path(sys.argv[0], run_name="__main__")
+        except SystemExit as ended:
+            sys.stderr.flush()
+            os._exit(ended.code)
+        os._exit(70)                    # simulator.py ended without an exit code
+    pids.append(pid)
+open(go, "w").close()
+print(*(os.waitstatus_to_exitcode(os.waitpid(pid, 0)[1]) for pid in pids))
+"""
 READY_THEN_GO = """
 import os, runpy, sys, time
 root, ready, go = sys.argv[1:4]
 sys.path.insert(0, root)
-import viewer.main                  # numpy, scipy, pygame loaded: then every run claims at once
+import viewer.main                  # numpy loaded: then every run claims at once
 open(ready, "w").close()
 while not os.path.exists(go):
     time.sleep(0.001)
@@ -124,11 +147,19 @@ RACERS = [pytest.param(2, marks=pytest.mark.quick_twin), pytest.param(8, marks=p
 
 
 def at_once(tmp_path, count, *args):
-    """`count` runs of `python simulator.py ARGS` in `tmp_path`, each let go the same moment once
-    all have loaded; their (exit code, stderr lines). 8 runs load numpy, scipy and pygame 8 times
-    (about 15 s on 2 busy cores): marked slow."""
+    """`count` runs of `python simulator.py ARGS` in `tmp_path`, each a process of its own, let go
+    the same moment once all have loaded; their (exit code, stderr lines). Where the OS forks,
+    one process loads numpy, scipy and pygame and forks the runs (8 processes each loading them
+    took about 5 s of CPU); elsewhere (Windows) each run is started and loads them itself."""
     go = tmp_path / "go"
     env = {**os.environ, "OPENBLAS_NUM_THREADS": "1", "SDL_VIDEODRIVER": "dummy"}
+    if hasattr(os, "fork"):
+        forked = subprocess.run([sys.executable, "-c", FORKED, ROOT, str(tmp_path), str(count),
+                                 *args], cwd=tmp_path, env=env, capture_output=True, text=True,
+                                timeout=300)
+        assert forked.returncode == 0 and not forked.stderr, forked
+        return [(int(code), (tmp_path / f"err{k}").read_text().splitlines())
+                for k, code in enumerate(forked.stdout.split())]
     children = [subprocess.Popen([sys.executable, "-c", READY_THEN_GO, ROOT,
                                   str(tmp_path / f"ready{k}"), str(go), *args],
                                  cwd=tmp_path, env=env, stderr=subprocess.PIPE, text=True)
