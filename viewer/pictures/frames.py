@@ -86,8 +86,8 @@ def frame_run(scene, x, report, label, color, forces):
 
 class KeptTexts:
     """A pygame font whose `render` keeps the last TEXTS_KEPT texts it drew (by string, antialias
-    and colour) and gives them again: the same pixels, drawn once (the legends and the slope's
-    numbers, frame after frame)."""
+    and colour) and gives them again, to be blitted, never drawn on: the same pixels, drawn once
+    (the legends and the slope's numbers, frame after frame)."""
 
     def __init__(self, font):
         self.font, self.render = font, functools.lru_cache(maxsize=TEXTS_KEPT)(font.render)
