@@ -87,8 +87,10 @@ class View:
         self.center = np.clip(moved, hi - half, lo + half)
 
     def __call__(self, p):
-        q = (np.asarray(p) - self.center) * self.scale
-        return np.stack([self.size / 2 + q[..., 0], self.height / 2 - q[..., 1]], axis=-1)
+        q = (np.asarray(p) - self.center) * self.scale         # new: set in place to pixels
+        q[..., 0] += self.size / 2
+        q[..., 1] = self.height / 2 - q[..., 1]
+        return q
 
 
 def slope_span(scene, view):

@@ -72,3 +72,14 @@ def test_the_arrows_scale_coarsens_at_the_impact_so_no_arrow_is_longer_than_arro
             reach = np.hypot(*(red[:, None, :] - nodes[None, :, :]).T).min(axis=0)   # px to a node
             assert reach.max() <= draw.ARROW_FIT * view.scale + 2
     assert max(longest_at_1) > 1.3 and factors[0] == 1.0 < factors[-1]       # (measured: 1.39, x2)
+
+
+def test_a_view_maps_world_to_pixels_y_down_and_leaves_its_input():
+    """View: (p - centre) x scale from the picture's middle, y flipped (pixels count down); the
+    points given are not changed (the pixels are a new array)."""
+    view = draw.View(scale=100.0, size=400, height=300)
+    view.center = np.array([1.0, 2.0])
+    points = np.array([[1.0, 2.0], [2.0, 2.5]])
+    assert view(points).tolist() == [[200.0, 150.0], [300.0, 100.0]]
+    assert points.tolist() == [[1.0, 2.0], [2.0, 2.5]]
+    assert view([1.5, 1.0]).tolist() == [250.0, 250.0]     # one point, as a list
