@@ -1,6 +1,5 @@
 """The frames of a run: when each is due (every `stride` steps of the smallest h, so that runs show
 the same times), and writing one: a PNG of every run, an OBJ each, the page's figures."""
-import functools
 import math
 import struct
 import zlib
@@ -16,7 +15,6 @@ from viewer.pictures import draw, page
 # what the page shows beside frame `index` at time t: per run, its figures by name (page.figures)
 FrameInfo = namedtuple("FrameInfo", "index t runs")
 BAND = 16       # rows of a frame deflated alone, a piece kept while its pixels stay the same
-TEXTS_KEPT = 64     # texts a writer's font keeps rendered (KeptTexts)
 
 
 def frame_count(scenes, steps, stride):
@@ -47,7 +45,7 @@ class FrameWriter:
     def __init__(self, tracks, folder, forces, frame_log):
         self.tracks, self.folder, self.frame_log = tracks, folder, frame_log
         self.pygame = draw.load_pygame()
-        self.fonts = [KeptTexts(font) for font in draw.fonts(self.pygame)]
+        self.fonts = draw.fonts(self.pygame)
         self.view = draw.View.of(tracks[0].scene)
         self.newton_per_metre = draw.newton_per_metre(tracks[0].scene) if forces else None
         # drawn and encoded in the same arrays frame after frame: a new megabyte array each frame
@@ -82,18 +80,6 @@ def frame_run(scene, x, report, label, color, forces):
         friction = report.friction_force if report is not None else None
         run["friction"] = np.zeros_like(x) if friction is None else friction
     return run
-
-
-class KeptTexts:
-    """A pygame font whose `render` keeps the last TEXTS_KEPT texts it drew (by string, antialias
-    and colour) and gives them again, to be blitted, never drawn on: the same pixels, drawn once
-    (the legends and the slope's numbers, frame after frame)."""
-
-    def __init__(self, font):
-        self.font, self.render = font, functools.lru_cache(maxsize=TEXTS_KEPT)(font.render)
-
-    def __getattr__(self, name):
-        return getattr(self.font, name)       # the font's sizes and metrics
 
 
 class BandedPng:

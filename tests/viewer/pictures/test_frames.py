@@ -131,27 +131,3 @@ def test_adler32_of_joined_bytes():
     for n, m in [(0, 0), (0, 5), (3, 0), (100, 70_000), (70_000, 100), (5_000, 1_000_000)]:
         x, y = rng.integers(0, 256, n, np.uint8).tobytes(), b"\xff" * m
         assert frames.adler32_joined(zlib.adler32(x), zlib.adler32(y), m) == zlib.adler32(x + y)
-
-
-def test_a_writers_fonts_render_each_text_once_with_the_fonts_own_pixels():
-    """KeptTexts gives the font's own picture of a text, the same one while it is among the last
-    TEXTS_KEPT drawn; frames drawn with a writer's fonts are those drawn with the plain fonts."""
-    pygame = draw.load_pygame()
-    plain = draw.fonts(pygame)
-    kept = [frames.KeptTexts(font) for font in plain]
-    first = kept[1].render("1 m", True, draw.BLUE)
-    assert kept[1].render("1 m", True, draw.BLUE) is first
-    assert (pygame.surfarray.array2d(first)
-            == pygame.surfarray.array2d(plain[1].render("1 m", True, draw.BLUE))).all()
-    for k in range(frames.TEXTS_KEPT):
-        kept[1].render(f"{k} m", True, draw.BLACK)
-    assert kept[1].render("1 m", True, draw.BLUE) is not first         # dropped, drawn anew
-    assert kept[1].get_linesize() == plain[1].get_linesize()
-    scene = simulator.build_scene()
-    view = draw.View.of(scene)
-    run = dict(frames.frame_run(scene, scene.x0, None, "run", draw.BLUE, True), marks=None)
-    def pixels(fonts, t):
-        surface, _ = draw.draw_frame(pygame, [run], t, view, fonts, draw.newton_per_metre(scene))
-        return pygame.surfarray.array2d(surface)
-    for t in (0.0, 0.5):        # the second frame's title new, the rest kept
-        assert (pixels(kept, t) == pixels(plain, t)).all()
