@@ -13,6 +13,8 @@ import numpy as np
 import BarrierEnergy
 import FingerEnergy
 import FrictionEnergy
+import GravityEnergy
+import InertiaEnergy
 import square_mesh
 import utils
 from scenes import ranges
@@ -116,10 +118,12 @@ class Fingers:
                    for n_f, x_f, p_f in zip(self.n, fingers, p_fingers))
 
     def work(self, scene, x_n, v_n, x):
-        """The lift's work over a step, sum_f (t . F_f)(t . (x_f - x_f^n)) (J), F = M (x - x^n -
-        h v^n) / h^2 - M g + grad P_fingers: the force that held the fingers on their path."""
-        inertia = scene.m[:, None] * ((x - x_n - scene.h * v_n) / scene.h ** 2 - scene.g)
-        force = inertia + FingerEnergy.grad_kernel(*self.args(scene, None, x, None))
+        """The lift's work over a step, sum_f (t . F_f)(t . (x_f - x_f^n)) (J), F = grad E / h^2
+        on the fingers' rows (inertia with x_tilde = x^n + h v^n, gravity, their own term; no
+        spring or friction acts there): the force that held the fingers on their path."""
+        force = (InertiaEnergy.grad_kernel(x, x_n + scene.h * v_n, scene.m) / scene.h ** 2
+                 + GravityEnergy.grad_kernel(x, scene.m, scene.g)
+                 + FingerEnergy.grad_kernel(*self.args(scene, None, x, None)))
         return float(self.along(force) @ self.along(x - x_n))
 
     def figures(self, scene, x):
