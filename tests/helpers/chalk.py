@@ -11,7 +11,6 @@ import time
 
 import numpy as np
 
-import BarrierEnergy
 import simulator
 from analysis import stick_slip as cycles
 
@@ -93,9 +92,7 @@ def track(scene, t, x, v):
     start."""
     tip = int(np.argmin(scene.x0[:, 1]))
     tip_end = np.arange(scene.cells[1] + 1)                         # column 0: the tip's end
-    normal_force = [BarrierEnergy.compute_mu_lambda_kernel(x_n, scene.n, scene.o,
-                                                           scene.contact_area, 1.0, scene.dhat,
-                                                           scene.kappa).sum() for x_n in x]
+    normal_force = [scene.contact.lambdas(scene, x_n).sum() for x_n in x]
     hand_x = [scene.hand.targets(t_n)[:, 0].mean() for t_n in t]
     lean = x[:, scene.hand.nodes, 0].mean(axis=1) - x[:, tip_end, 0].mean(axis=1)
     return Track(scene, t, x[:, tip, 0], v[:, tip, 0], np.array(normal_force), np.array(hand_x),
