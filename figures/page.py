@@ -30,4 +30,4 @@ class Page:
 
     def png(self):
         """The page as 24-bit PNG bytes."""
-        return draw.png_data(self.pygame, self.surface, exact=True)
+        return draw.png_data(self.pygame, self.surface)

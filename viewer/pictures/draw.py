@@ -344,17 +344,12 @@ PALETTE = np.array([(round(r * 255 / 7), round(g * 255 / 7), round(b * 255 / 3))
                     for r in range(8) for g in range(8) for b in range(4)], np.uint8)
 
 
-def png_data(pygame, surface, exact=False):
-    """PNG bytes: with `exact` (plots, summary) pygame's 24-bit colour; else (3.5 ms, not pygame's
-    20-25) an 8-bit PNG of PALETTE indices, rows unfiltered, one zlib stream at level 1 (a run's
-    frames: the same pixels, in bands, frames.BandedPng)."""
-    if exact:
-        buffer = io.BytesIO()
-        pygame.image.save(surface, buffer, "png")
-        return buffer.getvalue()
-    width, height = surface.get_size()
-    rows = palette_rows(pygame, surface, *new_rows(width, height))
-    return palette_png(width, height, zlib.compress(rows, 1))
+def png_data(pygame, surface):
+    """PNG bytes of `surface` in pygame's 24-bit colour (plots, summary, figures; a run's frames
+    are 8-bit PNGs of PALETTE indices: frames.BandedPng)."""
+    buffer = io.BytesIO()
+    pygame.image.save(surface, buffer, "png")
+    return buffer.getvalue()
 
 
 def palette_png(width, height, idat):
@@ -368,17 +363,9 @@ def palette_png(width, height, idat):
 
 
 def new_rows(width, height):
-    """palette_rows' buffers for a picture width x height: its PNG rows, two 32-bit scratches."""
+    """Buffers for the PNG rows of a picture width x height (frames.BandedPng's, kept from frame to
+    frame: no new megabyte array per frame): its rows, two 32-bit scratches."""
     return np.zeros((height, 1 + width), np.uint8), np.empty((2, height, width), np.uint32)
-
-
-def palette_rows(pygame, surface, rows, scratch):
-    """`rows` (height, 1 + width): each row's filter byte 0, then its pixels' PALETTE indices
-    (palette_indices), in new_rows' buffers: no new megabyte array per frame."""
-    pixel = pygame.surfarray.pixels2d(surface).T        # a view, [y, x]
-    palette_indices(pixel, surface.get_shifts(), rows[:, 1:], scratch)
-    del pixel                                           # unlocks the surface
-    return rows
 
 
 def palette_indices(pixel, shifts, index, scratch):

@@ -21,9 +21,9 @@ def write(tracks, folder, stride, frames, frame_log, header):
             folder.write(files.marks_csv(tr.tag), wear.csv_text(tr.marks))
     pygame = draw.load_pygame()
     surface = summary.draw_summary(pygame, tracks, header)
-    folder.write("summary.png", draw.png_data(pygame, surface, exact=True))
+    folder.write("summary.png", draw.png_data(pygame, surface))
     surface, axis = plots.draw_plots(pygame, tracks)
-    folder.write("plots.png", draw.png_data(pygame, surface, exact=True))
+    folder.write("plots.png", draw.png_data(pygame, surface))
     if frames:
         fps = 1.0 / (stride * min(tr.scene.h for tr in tracks))
         first = tracks[0].scene

@@ -18,7 +18,7 @@ from helpers.command import ending, run_main
 from helpers.fakes import fill_disk_after
 from viewer.command import recording
 from viewer.output import whole_files
-from viewer.pictures import draw
+from viewer.pictures import draw, frames
 
 
 def frame_indices(folder):
@@ -123,16 +123,17 @@ def test_a_run_of_any_length_keeps_bounded_history():
 
 
 def test_frame_png_keeps_every_drawn_colour_exactly(tmp_path):
-    """png_data's 3-3-2 palette: the colours frames are drawn in come back exactly, any other
-    colour within one palette step (36 of 255 in red and green, 85 in blue): a channel's top bits
-    pick the level, so 192..223 of red all become level 6, 219."""
+    """The frames' 3-3-2 palette (frames.BandedPng): the colours frames are drawn in come back
+    exactly, any other colour within one palette step (36 of 255 in red and green, 85 in blue): a
+    channel's top bits pick the level, so 192..223 of red all become level 6, 219."""
     import pygame
     colors = [(255, 255, 255), (0, 0, 0), draw.NORMAL_COLOR, draw.FRICTION_COLOR] + draw.RUN_COLORS
     surface = pygame.Surface((len(colors) + 1, 3))
     for i, color in enumerate(colors):
         surface.fill(color, (i, 0, 1, 3))
     surface.fill((200, 100, 50), (len(colors), 0, 1, 3))
-    (tmp_path / "f.png").write_bytes(draw.png_data(pygame, surface))
+    (tmp_path / "f.png").write_bytes(frames.BandedPng(*surface.get_size()).data(pygame,
+                                                                              surface))
     back = pygame.surfarray.array3d(pygame.image.load(str(tmp_path / "f.png"))).astype(int)
     assert back.shape == (len(colors) + 1, 3, 3)
     assert [tuple(back[i, 1]) for i in range(len(colors))] == colors
