@@ -28,24 +28,40 @@ class Stopped(BaseException):
 
 
 class Signals:
-    """`with Signals():` the signals of EXIT_CODES raise Stopped, at once or as `held()` ends."""
+    """`with Signals():` the signals of EXIT_CODES raise Stopped, at once or as `held()` ends.
+    Each is noted before it is raised: CPython drops an exception raised in a handler inside some C
+    code (an import's abc checks) or a weakref callback, so one noted and not yet raised is raised
+    by the next `check()` (every `held()` ends with one: each step's log row, each file)."""
 
     def __init__(self):
-        self.depth, self.pending, self.previous = 0, None, {}
+        self.depth, self.pending, self.previous, self.unraisable = 0, None, {}, None
 
     def __enter__(self):
         with contextlib.suppress(ValueError):       # not the main thread: signals left alone
             self.previous = {signum: signal.signal(signum, self._handle) for signum in EXIT_CODES}
+        self.unraisable, sys.unraisablehook = sys.unraisablehook, self._unraisable
         return self
 
     def __exit__(self, *exc):
         for signum, handler in self.previous.items():
             signal.signal(signum, handler)
+        sys.unraisablehook = self.unraisable
 
     def _handle(self, signum, frame):
+        self.pending = self.pending or signum
         if not self.depth:
             raise Stopped(signum)
-        self.pending = self.pending or signum
+
+    def _unraisable(self, unraisable):
+        """A Stopped dropped in a weakref callback or __del__: no traceback, `check()` raises it."""
+        if not isinstance(unraisable.exc_value, Stopped):
+            self.unraisable(unraisable)
+
+    def check(self):
+        """Raise Stopped for a signal noted and not yet raised, unless a block holds it."""
+        if self.depth == 0 and self.pending is not None:
+            signum, self.pending = self.pending, None
+            raise Stopped(signum)
 
     @contextlib.contextmanager
     def held(self):
@@ -55,9 +71,11 @@ class Signals:
             yield
         finally:
             self.depth -= 1
-        if self.depth == 0 and self.pending is not None:
-            signum, self.pending = self.pending, None
-            raise Stopped(signum)
+        self.check()
+
+    def said(self):
+        """The run's ending says how it failed: a signal noted so far is not raised again."""
+        self.pending = None
 
     def close(self):
         """The run is ending: from here on a signal only waits."""
@@ -144,6 +162,8 @@ def failure_of(err, plan, when=""):
 def end(plan, signals, folder, tracks, frame_log, failure, messages, done):
     """How every run ends: the last pictures of the steps kept, then `say`; returns the exit code.
     A signal that comes between two steps of this, outside their try, is the run's ending too."""
+    if failure is not None:
+        signals.said()
     try:
         if tracks:
             try:
@@ -212,6 +232,7 @@ def to_files(plan, signals, messages=None):
             tracks.append(recording.Track(scene, steps, records, label, tag, color, folder))
         recording.record(tracks, folder, plan.stride, plan.frames, plan.forces, messages, frame_log)
         done = closing(plan, folder, tracks, time.perf_counter() - start)
+        signals.check()
     except ENDINGS as err:          # the closing words too: a signal as they are found
         failure = failure_of(err, plan)
     try:

@@ -37,10 +37,13 @@ class LiveWindow(live.LiveDemo):
         # as last drawn: the Newton inset, the first row under the status, draw_frame's reserve
         self.inset, self.text_bottom, self.reserve = None, 0, None
 
-    def loop(self):
-        """Run until Esc, q or the close button: 0, or 1 after a failed step or write."""
+    def loop(self, check=None):
+        """Run until Esc, q or the close button: 0, or 1 after a failed step or write; `check()`
+        (a run's Signals.check) once a frame."""
         self.pacer.start(self.run.t)
         while not self.done:
+            if check is not None:
+                check()
             started = self.clock.now()
             events = self.pygame.event.get()
             for event in events:
@@ -203,7 +206,7 @@ def run_window(plan, speed, size, signals, clock=None, log=None):
             output = live.Files(plan, folder, log) if folder is not None else None
             window = LiveWindow(pygame, screen, scene, plan.steps[0], speed, output, clock, log,
                                 plan.labels[0], plan.forces)
-            window.loop()
+            window.loop(signals.check)
             failure = window.write_error or window.failure
             failure = failure and orchestration.failure_of(failure, plan)
         except orchestration.ENDINGS as err:     # Ctrl+C, SIGTERM; starting the files (frame 0)

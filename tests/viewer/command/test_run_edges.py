@@ -16,6 +16,7 @@ import simulator
 import time_integrator
 import analysis.log
 from helpers.command import ending, run_main as main
+from helpers.fakes import signal_dropped_at_step
 from helpers import ROOT
 from viewer.command import cli
 from viewer.output import whole_files
@@ -144,6 +145,20 @@ def test_ctrl_c_at_any_moment_of_a_real_run_is_one_line(tmp_path):
         assert "Traceback" not in err
         assert ending(err.strip().splitlines()).startswith("simulator.py: stopped: interrupted")
         assert not (tmp_path / str(k)).exists() or not leftovers(tmp_path / str(k))
+
+
+@pytest.mark.parametrize("signum, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
+def test_a_signal_whose_raise_cpython_drops_still_stops_the_run(tmp_path, monkeypatch, signum,
+                                                                code):
+    """Noted as it came: the run stops after that step's log row, in one line, no traceback (on
+    main it ran on to the end, exit 0, 'Exception ignored' and a traceback on stderr)."""
+    signal_dropped_at_step(monkeypatch, 3, signum)
+    status, lines = main("--steps", "30", "--out", str(tmp_path))
+    assert status == code and lines[-1].startswith("simulator.py: stopped: "), lines
+    assert not any("Traceback" in line or "Exception ignored" in line for line in lines), lines
+    assert log_steps(tmp_path / "log.csv") == list(range(5))    # step 3 -> row 4, then stopped
+    assert lines[-1].endswith(f"; 4 steps kept in {tmp_path}/; the page: "
+                              f"{(tmp_path / 'index.html').as_uri()}")
 
 
 # ---- the command line
