@@ -240,16 +240,40 @@ def phases(scene):
             ("in the steady lift", t_a, math.inf, 0.0)]
 
 
-def coulomb_slip(scene, t):
-    """A rigid Coulomb block's slip by time t (m): through the phases its slip speed u grows at
-    slip_acceleration where > 0, else falls at it to 0 (it sticks)."""
+def coulomb_phases(scene):
+    """A rigid Coulomb block through the lift's phases: (t0, t1, s0, u0, du) each, its slip s0 and
+    slip speed u0 at t0; it slips at du = slip_acceleration where du >= 0, else its u falls at du
+    to 0 and it sticks (t1 then ends there)."""
     s = u = 0.0
     for _, t0, t1, a in phases(scene):
         du = slip_acceleration(scene, a)
-        T = max(min(t1, t) - t0, 0.0)
-        T = T if du >= 0.0 else min(T, u / -du)                 # until it sticks again
+        t1 = t1 if du >= 0.0 else min(t1, t0 + u / -du)         # until it sticks again
+        yield t0, t1, s, u, du
+        T = t1 - t0
         s, u = s + u * T + du * T * T / 2, u + du * T
+
+
+def coulomb_slip(scene, t):
+    """A rigid Coulomb block's slip by time t (m): s0 + u0 T + du T^2 / 2, T into its phase."""
+    s = 0.0
+    for t0, t1, s0, u0, du in coulomb_phases(scene):
+        if t >= t0:
+            T = min(t, t1) - t0
+            s = s0 + u0 * T + du * T * T / 2
     return s
+
+
+def coulomb_drop(scene):
+    """When a rigid Coulomb block has slid past the pads (its slip reaches D = drop_slip), s; inf
+    where it never does: T = 2 (D - s0) / (u0 + sqrt(u0^2 + 2 du (D - s0))) into its phase."""
+    D = drop_slip(scene)
+    for t0, t1, s0, u0, du in coulomb_phases(scene):
+        root = u0 * u0 + 2 * du * (D - s0)
+        if root >= 0.0 and u0 + math.sqrt(root) > 0.0:
+            T = 2 * (D - s0) / (u0 + math.sqrt(root))
+            if T <= t1 - t0:
+                return t0 + T
+    return math.inf
 
 
 def slip(scene, x):
@@ -297,14 +321,16 @@ def outcome(scene, t, s):
 
 def words(scene, t, s, short=False):
     """'held (slid 0.66 mm, Coulomb 0), creeps 0.498 mm/s in the steady lift (u* 0.500)', 'dropped
-    at 0.62 s, slips 2.462 m/s^2 while the lift accelerates (closed form 2.462)' ('its slip slows
-    at 0.190 m/s^2' below 0) or 'slips on the pads at 0.60 s: ...'; `short` (a comparison's):
-    'held, creeps 0.498 mm/s (u* 0.500)', 'dropped at 0.62 s', ..."""
+    at 0.62 s (Coulomb 0.61); it slips 2.462 m/s^2 while the lift accelerates (closed form 2.462)'
+    ('its slip slows at 0.190 m/s^2' below 0) or 'slips on the pads at 0.60 s: ...'; `short` (a
+    comparison's): 'held, creeps 0.498 mm/s (u* 0.500)', 'dropped at 0.62 s (Coulomb 0.61)', ..."""
     on_pads, t_drop, phase, measured, exact = outcome(scene, t, s)
     if not on_pads:
-        rate, sign = ("slips", 1) if not measured < 0.0 else ("its slip slows at", -1)
-        return f"dropped at {t_drop:.2f} s" + ("" if short else (
-            f", {rate} {sign * measured:.3f} m/s^2 {phase} (closed form {sign * exact:.3f})"))
+        rate, sign = ("it slips", 1) if not measured < 0.0 else ("its slip slows at", -1)
+        coulomb = coulomb_drop(scene)
+        coulomb = f"{coulomb:.2f}" if coulomb < math.inf else "holds"
+        return f"dropped at {t_drop:.2f} s (Coulomb {coulomb})" + ("" if short else (
+            f"; {rate} {sign * measured:.3f} m/s^2 {phase} (closed form {sign * exact:.3f})"))
     slid = f"slid {1e3 * s[-1]:.2f} mm, Coulomb {1e3 * coulomb_slip(scene, float(t[-1])):.3g}"
     if not measured < scene.epsv:
         return f"slips on the pads at {t[-1]:.2f} s" + ("" if short else (

@@ -98,6 +98,22 @@ def test_the_coulomb_slip_through_the_lift_s_phases():
     assert grasp.coulomb_slip(held, 10.0) == 0.0
 
 
+def test_the_coulomb_block_drops_when_its_slip_reaches_the_pads():
+    """By hand, as above (squeeze 2): 0.0248 m at 0.124 m/s as the steady lift begins, then
+    0.0252 m more at -0.19 m/s^2: T = 0.0504 / (0.124 + sqrt(0.124^2 - 0.38 * 0.0252)) = 0.2518 s.
+    Squeeze 1.5696 (2 mu N / m = 7.848): slips from t = 0 at 1.962 m/s^2 (0.00981 m at 0.1962 m/s
+    by the lift), then at 2.462: T = 0.08038 / (0.1962 + sqrt(0.1962^2 + 4.924 * 0.04019))."""
+    slows, slips = grasp.build_grasp_scene(squeeze=2.0), grasp.build_grasp_scene(squeeze=1.5696)
+    assert grasp.drop_slip(slows) == pytest.approx(0.05)
+    for scene, exact in [(slows, 0.5 + 0.0504 / (0.124 + math.sqrt(0.124 ** 2 - 0.38 * 0.0252))),
+                         (slips, 0.1 + 0.08038 / (0.1962 + math.sqrt(0.1962 ** 2
+                                                                      + 4.924 * 0.04019)))]:
+        t_drop = grasp.coulomb_drop(scene)
+        assert t_drop == pytest.approx(exact, rel=1e-9)
+        assert grasp.coulomb_slip(scene, t_drop) == pytest.approx(0.05, rel=1e-12)
+    assert grasp.coulomb_drop(grasp.build_grasp_scene(squeeze=4.0)) == math.inf
+
+
 @pytest.mark.parametrize("name, value, words", [
     ("squeeze", 0.0, "squeeze must be a finite number > 0"),
     ("lift_accel", -1.0, "lift_accel must be a finite number > 0"),

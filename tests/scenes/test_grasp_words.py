@@ -21,7 +21,8 @@ def test_a_creeping_slip_is_held_and_its_speed_is_measured_in_the_phase_it_ends_
 
 def test_a_slip_past_the_pads_is_dropped_at_that_time_with_its_acceleration():
     """A slip of 2.462 (t - 0.1)^2 / 2 from t = 0.1 s reaches the pads' 0.05 m at 0.1 + 0.2015 s,
-    in the lift's acceleration (to 0.5 s)."""
+    in the lift's acceleration (to 0.5 s); the Coulomb block, slipping from t = 0 (this start is
+    not settled), at 0.218 s (test_grasp.py)."""
     scene = grasp.build_grasp_scene(squeeze=1.5696)
     t = np.arange(0, 121) * scene.h
     slip = 2.462 * np.maximum(t - 0.1, 0.0) ** 2 / 2
@@ -29,8 +30,9 @@ def test_a_slip_past_the_pads_is_dropped_at_that_time_with_its_acceleration():
     assert not held and t_drop == pytest.approx(0.305) and phase == "while the lift accelerates"
     assert measured == pytest.approx(2.462, rel=1e-9)
     assert grasp.words(scene, t, slip) == (
-        "dropped at 0.30 s, slips 2.462 m/s^2 while the lift accelerates (closed form 2.462)")
-    assert grasp.words(scene, t, slip, short=True) == "dropped at 0.30 s"
+        "dropped at 0.30 s (Coulomb 0.22); it slips 2.462 m/s^2 while the lift accelerates (closed "
+        "form 2.462)")
+    assert grasp.words(scene, t, slip, short=True) == "dropped at 0.30 s (Coulomb 0.22)"
 
 
 def test_a_run_that_ends_while_the_block_still_slides_says_so():
@@ -45,10 +47,11 @@ def test_a_run_that_ends_while_the_block_still_slides_says_so():
 
 def test_a_slip_that_slows_past_the_pads_says_so_without_a_minus_sign():
     """2 mu N / m = 10 > g: in the steady lift a slipping block slows at g - 10 = -0.19 m/s^2; a
-    slip 0.03 m + 0.1 tau - 0.095 tau^2 (tau = t - 0.5 s) reaches the pads' 0.05 m at tau 0.2685."""
+    slip 0.03 m + 0.1 tau - 0.095 tau^2 (tau = t - 0.5 s) reaches the pads' 0.05 m at tau 0.2685;
+    the Coulomb block at tau 0.2518 (test_grasp.py)."""
     scene = grasp.build_grasp_scene(squeeze=2.0)
     t = np.arange(0, 161) * scene.h
     tau = np.maximum(t - 0.5, 0.0)
     slip = np.where(t < 0.5, 0.03 * (t / 0.5) ** 2, 0.03 + 0.1 * tau - 0.095 * tau ** 2)
-    assert grasp.words(scene, t, slip) == ("dropped at 0.77 s, its slip slows at 0.190 m/s^2 in "
-                                           "the steady lift (closed form 0.190)")
+    assert grasp.words(scene, t, slip) == ("dropped at 0.77 s (Coulomb 0.75); its slip slows at "
+                                           "0.190 m/s^2 in the steady lift (closed form 0.190)")
