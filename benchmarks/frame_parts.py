@@ -41,9 +41,10 @@ def timed(spent, part, function):
     return run
 
 
-def frame_parts(tree):
-    """{part: CPU ms per frame, None where never called} of one default run with `tree`'s modules,
-    its output swallowed (the files: the run's plots, summary and page too, 3 of its 405)."""
+def frame_parts(tree, scratch):
+    """{part: CPU ms per frame, None where never called} of one default run with `tree`'s modules
+    into a new folder in `scratch`, its output swallowed (the files: the run's plots, summary and
+    page too, 3 of its 405)."""
     sys.path.insert(0, tree)
     from viewer import main
     spent = {part: [0.0, 0] for part in PARTS}
@@ -56,9 +57,8 @@ def frame_parts(tree):
         if hasattr(owner, attribute):
             setattr(owner, attribute, timed(spent, part, getattr(owner, attribute)))
     quiet = io.StringIO()
-    with tempfile.TemporaryDirectory() as out, contextlib.redirect_stderr(quiet), \
-            contextlib.redirect_stdout(quiet):
-        main.main(["--out", os.path.join(out, "run")])
+    with contextlib.redirect_stderr(quiet), contextlib.redirect_stdout(quiet):
+        main.main(["--out", tempfile.mkdtemp(dir=scratch)])
     frames = spent["whole frame"][1]
     return {part: 1e3 * seconds / frames if calls else None
             for part, (seconds, calls) in spent.items()}
@@ -76,12 +76,12 @@ def main(argv=None):
         return 2
     # imported here, not above: it loads viewer, which frame_parts takes from the tree it is given
     from benchmarks import tables
-    with tempfile.TemporaryDirectory(prefix="frame-parts-") as folder:
+    with tables.scratch("frame-parts-") as folder:
         trees = {"this tree": tables.ROOT}
         if args.against:
             trees = {args.against: tables.export_tree(args.against, folder), **trees}
         done = tables.in_turn({name: functools.partial(
-            tables.in_fresh_process, "benchmarks.frame_parts", "frame_parts", tree)
+            tables.in_fresh_process, "benchmarks.frame_parts", "frame_parts", tree, folder)
             for name, tree in trees.items()}, args.rounds)
     print(f"CPU ms per frame, medians of {args.rounds} runs, in turn: {', '.join(trees)}")
     for part in PARTS:

@@ -17,6 +17,7 @@ from viewer.output import whole_files
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 RESULTS = os.path.join(ROOT, "benchmarks", "results")
+SCRATCH = os.path.join(ROOT, "output")          # where `python simulator.py` writes: `scratch`
 SPREAD_LIMIT, WAIT_LIMIT = 0.20, 1.15
 
 
@@ -26,6 +27,14 @@ def output_folder(out, full, program):
         out = RESULTS if full else tempfile.mkdtemp(prefix=f"{program}-")
     os.makedirs(out, exist_ok=True)
     return out
+
+
+def scratch(prefix):
+    """A temporary folder in SCRATCH, where `python simulator.py` writes: a run's files cost what
+    they cost a student's default run (this machine's /tmp creates files about 6x slower;
+    benchmarks/README.md, "Where the runs write")."""
+    os.makedirs(SCRATCH, exist_ok=True)
+    return tempfile.TemporaryDirectory(prefix=prefix, dir=SCRATCH)
 
 
 def export_tree(rev, folder):

@@ -12,7 +12,6 @@ import json
 import math
 import statistics
 import sys
-import tempfile
 import textwrap
 
 import simulator
@@ -51,7 +50,7 @@ def chapter_folder(path):
 def run_tutorial(chapter, steps):
     """The tutorial's simulator.py for `steps` steps in a scratch folder (its output/*.obj go
     there): wall and CPU s, and tutorial_driver.py's report (steps, step CPU, Newton, numbers)."""
-    with tempfile.TemporaryDirectory(prefix="tutorial-") as scratch:
+    with tables.scratch("tutorial-") as scratch:
         wall, cpu, stderr = tables.run_process(
             [sys.executable, DRIVER, chapter, str(steps)], cwd=scratch, SDL_AUDIODRIVER="dummy")
     return {"wall_s": wall, "cpu_s": cpu, **json.loads(stderr.splitlines()[-1])}

@@ -11,7 +11,6 @@ import re
 import statistics
 import subprocess
 import sys
-import tempfile
 import time
 
 from benchmarks import tables
@@ -50,7 +49,7 @@ memory, x11: the frames shown on the display (the X server's own CPU time not in
 def run_simulator(flags, python=sys.executable):
     """One `python simulator.py *flags` process: wall, CPU and stepping wall s (its closing line),
     Newton iterations per step and simulated s (log.csv), frames written."""
-    with tempfile.TemporaryDirectory(prefix="waits-") as out:
+    with tables.scratch("waits-") as out:
         wall, cpu, stderr = tables.run_process(
             [python, os.path.join(ROOT, "simulator.py"), "--out", out, *flags])
         with open(os.path.join(out, "log.csv")) as f:

@@ -5,13 +5,13 @@ from benchmarks import frame_parts, tables
 from helpers.checkout import ROOT, checkout_state
 
 
-def test_each_part_is_timed_and_the_frame_holds_its_parts():
+def test_each_part_is_timed_and_the_frame_holds_its_parts(tmp_path):
     """One default run in a fresh process (the timers replace module functions): every part was
     called and took time, and the whole frame, which calls the drawing, the PNG (the palette
     indices within it) and the OBJ text, took at least their sum (process time never runs
     backwards)."""
     before = checkout_state()
-    ms = tables.in_fresh_process("benchmarks.frame_parts", "frame_parts", ROOT)
+    ms = tables.in_fresh_process("benchmarks.frame_parts", "frame_parts", ROOT, str(tmp_path))
     assert set(ms) == set(frame_parts.PARTS) and all(ms[part] > 0 for part in ms)
     inside = ("drawing", "PNG in bands", "OBJ text")
     assert ms["whole frame"] >= sum(ms[part] for part in inside)

@@ -1,8 +1,10 @@
 """benchmarks/tutorial.py: its arguments, and tutorial_driver.py on a tiny fake of the tutorial's
 4_friction (its loop's shape: poll the events, draw, step, wait, write an OBJ). No timing."""
+import os
+
 import pytest
 
-from benchmarks import tutorial
+from benchmarks import tables, tutorial
 from helpers.checkout import checkout_state
 
 FAKE_SIMULATOR = """\
@@ -76,7 +78,8 @@ def test_bad_arguments_end_in_one_line_before_anything_runs(args, named, fake_tu
 
 def test_the_driver_ends_the_tutorials_loop_after_the_steps_asked(fake_tutorial):
     """The fake's loop ends after 4 steps (its guard would stop it at 51), 2 directions a step after
-    the first, its OBJs written in a scratch folder, not in the tutorial or the checkout."""
+    the first, its OBJs written in a scratch folder (tables.SCRATCH: output/ in a real benchmark,
+    here conftest's), removed after, not in the tutorial or the checkout."""
     before = checkout_state()
     chapter = tutorial.chapter_folder(str(fake_tutorial))
     done = tutorial.run_tutorial(chapter, 4)
@@ -85,7 +88,7 @@ def test_the_driver_ends_the_tutorials_loop_after_the_steps_asked(fake_tutorial)
     assert done["numbers"]["mu"] == 0.2 and done["numbers"]["tol"] == 1e-2
     assert tutorial.differences(done["numbers"]) == ["mu 0.11 against 0.2"]
     assert not (fake_tutorial / tutorial.CHAPTER / "output").exists()
-    assert checkout_state() == before
+    assert checkout_state() == before and os.listdir(tables.SCRATCH) == []
 
 
 def test_the_table_has_the_three_runs_and_does_not_judge_a_short_run(fake_tutorial, monkeypatch):
