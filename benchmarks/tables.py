@@ -31,8 +31,8 @@ def output_folder(out, full, program):
 
 def scratch(prefix):
     """A temporary folder in SCRATCH, where `python simulator.py` writes: a run's files cost what
-    they cost a student's default run (this machine's /tmp creates files about 6x slower;
-    benchmarks/README.md, "Where the runs write")."""
+    they cost the default run (on this machine new files under /tmp cost up to 8x; benchmarks/
+    README.md, "Where the runs write")."""
     os.makedirs(SCRATCH, exist_ok=True)
     return tempfile.TemporaryDirectory(prefix=prefix, dir=SCRATCH)
 
