@@ -246,10 +246,10 @@ def coulomb_phases(scene):
     to 0 and it sticks (t1 then ends there)."""
     s = u = 0.0
     for _, t0, t1, a in phases(scene):
-        du = slip_acceleration(scene, a)
+        du = float(slip_acceleration(scene, a))     # a Python float: inf * 0 gives no warning
         t1 = t1 if du >= 0.0 else min(t1, t0 + u / -du)         # until it sticks again
         yield t0, t1, s, u, du
-        T = t1 - t0
+        T = t1 - t0                     # inf in the last phase, whose end nothing reads
         s, u = s + u * T + du * T * T / 2, u + du * T
 
 

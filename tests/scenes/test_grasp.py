@@ -2,6 +2,7 @@
 it creeps at u*; dropped, it slips at (g + a) - 2 mu N / m; in between, it holds at rest but
 slips while the lift accelerates)."""
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -112,6 +113,18 @@ def test_the_coulomb_block_drops_when_its_slip_reaches_the_pads():
         assert t_drop == pytest.approx(exact, rel=1e-9)
         assert grasp.coulomb_slip(scene, t_drop) == pytest.approx(0.05, rel=1e-12)
     assert grasp.coulomb_drop(grasp.build_grasp_scene(squeeze=4.0)) == math.inf
+
+
+def test_a_coulomb_block_balanced_exactly_slips_on_without_a_warning():
+    """2 mu N / m = 8 m/s^2 = g exactly: no slip before the lift, 0.5 m/s^2 in it (0.04 m at
+    0.2 m/s by t = 0.5 s), then on at 0.2 m/s: past the pads' 0.05 m at 0.55 s, 1.94 m by 10 s.
+    The steady lift's end, inf * 0, warns nowhere (on main: numpy's RuntimeWarning)."""
+    scene = grasp.build_grasp_scene(squeeze=2.0, mass=0.25, gravity=(0.0, -8.0))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert grasp.slip_acceleration(scene) == 0.0
+        assert grasp.coulomb_drop(scene) == pytest.approx(0.55, rel=1e-12)
+        assert grasp.coulomb_slip(scene, 10.0) == pytest.approx(1.94, rel=1e-12)
 
 
 @pytest.mark.parametrize("name, value, words", [
