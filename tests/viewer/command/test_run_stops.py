@@ -16,7 +16,7 @@ import analysis.log
 from helpers import ROOT
 from helpers.command import ending, run_main
 from helpers.fakes import fill_disk_after
-from viewer.command import recording
+from viewer.command import cli, recording
 from viewer.output import whole_files
 from viewer.pictures import draw, frames
 
@@ -139,3 +139,17 @@ def test_frame_png_keeps_every_drawn_colour_exactly(tmp_path):
     assert [tuple(back[i, 1]) for i in range(len(colors))] == colors
     error = np.array([200, 100, 50]) - back[-1, 1]
     assert (np.abs(error) < [37, 37, 86]).all()
+
+
+def test_a_signal_as_a_bad_command_line_is_said_waits(monkeypatch):
+    """Ctrl+C as the error line is made: that line and exit code 2 (the Stopped the handler raised
+    there escaped main, a traceback; found with SIGINT at the k-th profile event)."""
+    real = cli.flag_of
+
+    def flag_of(err):
+        os.kill(os.getpid(), signal.SIGINT)
+        return real(err)
+    monkeypatch.setattr(cli, "flag_of", flag_of)
+    assert run_main("--steps", "-5") == (
+        2, ["simulator.py: error: --steps: steps must be a whole number >= 1, got -5.0"])
+
