@@ -12,7 +12,7 @@ import simulator
 import time_integrator
 from analysis.closing import closing_words
 from viewer.command import progress, recording
-from viewer.command.startup import EXIT_CODES, REASONS
+from viewer.command.startup import EXIT_CODES, REASONS, WhileStarting
 from viewer.output import files
 from viewer.pictures import draw, run_pictures
 from viewer.pictures.frames import frame_count
@@ -43,8 +43,12 @@ class Signals:
         return self
 
     def __exit__(self, *exc):
+        """The handlers handed back, signals only waiting meanwhile; start-up's, which would say
+        'while starting; nothing written' after the run's ending, give way to SIG_IGN."""
+        self.close()
         for signum, handler in self.previous.items():
-            signal.signal(signum, handler)
+            starting = isinstance(handler, WhileStarting)
+            signal.signal(signum, signal.SIG_IGN if starting else handler)
         sys.unraisablehook = self.unraisable
 
     def _handle(self, signum, frame):
