@@ -54,7 +54,7 @@ class Signals:
     def _handle(self, signum, frame):
         self.pending = self.pending or signum
         if not self.depth:
-            raise Stopped(signum)
+            raise Stopped(self.pending)         # the first noted: a dropped one's, if any
 
     def _unraisable(self, unraisable):
         """A Stopped dropped in a weakref callback or __del__: no traceback, `check()` raises it."""

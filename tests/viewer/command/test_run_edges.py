@@ -161,6 +161,24 @@ def test_a_signal_whose_raise_cpython_drops_still_stops_the_run(tmp_path, monkey
                               f"{(tmp_path / 'index.html').as_uri()}")
 
 
+
+def test_a_signal_after_a_dropped_one_ends_the_run_as_the_first(tmp_path, monkeypatch):
+    """SIGINT noted, its raise dropped, then SIGTERM within the step: 'interrupted', 130, as the
+    first signal ends a run (it said 'terminated (SIGTERM)', 143: the second's Stopped raised)."""
+    signal_dropped_at_step(monkeypatch, 3, signal.SIGINT)
+    dropped = time_integrator.step
+
+    def step(scene, x, v, step_index=0, **kw):
+        record = dropped(scene, x, v, step_index=step_index, **kw)
+        if step_index == 3:
+            os.kill(os.getpid(), signal.SIGTERM)
+        return record
+    monkeypatch.setattr(time_integrator, "step", step)
+    status, lines = main("--steps", "30", "--no-frames", "--out", str(tmp_path))
+    assert (status, lines[-1]) == (130, f"simulator.py: stopped: interrupted; 3 steps kept in "
+                                        f"{tmp_path}/"), lines
+
+
 # ---- the command line
 
 @pytest.mark.parametrize("args, flag", [(["--mu", "0,1", "--mu", "0.5"], "--mu"),
