@@ -46,23 +46,27 @@ def main(argv=None):
     with run.Signals() as signals:
         folder = None
         try:
-            names, out = parse(sys.argv[1:] if argv is None else argv)
-            pngs = [f"{name}.png" for name in names]
-            folder = files.RunFolder.make(out, "figures", pngs, signals)
-            write(names, folder)
-            return 0
-        except (CommandLineError, ValueError) as err:
-            if folder is not None:      # not bad input: a bug in a figure
-                raise
-            print(f"figures: error: {err}", file=sys.stderr)
-            return 2
-        except run.Stopped as stopped:
+            try:
+                names, out = parse(sys.argv[1:] if argv is None else argv)
+                pngs = [f"{name}.png" for name in names]
+                folder = files.RunFolder.make(out, "figures", pngs, signals)
+                write(names, folder)
+                return 0
+            except (CommandLineError, ValueError) as err:
+                if folder is not None:      # not bad input: a bug in a figure
+                    raise
+                signals.close()             # the error is said: a signal from here on waits
+                print(f"figures: error: {err}", file=sys.stderr)
+                return 2
+            except (OSError, time_integrator.SimulationError) as err:   # a full disk, a step
+                signals.close()
+                print(progress.wrapped(f"figures: error: {err}"), file=sys.stderr)
+                return 1
+        except run.Stopped as stopped:      # also as an error was found
+            signals.close()
             said = "nothing written" if folder is None else "the figures written so far are whole"
             print(f"figures: stopped: {stopped.reason}; {said}", file=sys.stderr)
             return stopped.code
-        except (OSError, time_integrator.SimulationError) as err:   # a full disk, a failed step
-            print(progress.wrapped(f"figures: error: {err}"), file=sys.stderr)
-            return 1
         finally:
             signals.close()
             if folder is not None:

@@ -377,6 +377,22 @@ def test_ctrl_c_ends_in_one_line_with_130(tmp_path, capsys, monkeypatch):
     assert capsys.readouterr().err.count("\n") == 1 and os.listdir(tmp_path) == []
 
 
+def test_ctrl_c_as_a_full_disk_is_said_waits(tmp_path, capsys, monkeypatch):
+    """The error's line and exit code 1 (the Stopped the handler raised in that line's making
+    escaped main, a traceback)."""
+    class Full(OSError):
+        def __str__(self):
+            os.kill(os.getpid(), signal.SIGINT)
+            return "No space left on device"
+
+    def full(result):
+        raise Full()
+    monkeypatch.setattr(mollifier, "compute", lambda: None)
+    monkeypatch.setattr(mollifier, "draw", full)
+    assert cli.main(["mollifier", "--out", str(tmp_path)]) == 1
+    assert capsys.readouterr().err == "figures: error: No space left on device\n"
+
+
 def test_ctrl_c_while_writing_lands_after_the_file_is_whole(tmp_path, capsys, monkeypatch):
     """A real SIGINT sent while the PNG is being written is held until the rename: the file is
     whole, no temporary file is left, and the run then ends with 130."""

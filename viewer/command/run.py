@@ -12,7 +12,7 @@ import simulator
 import time_integrator
 from analysis.closing import closing_words
 from viewer.command import progress, recording
-from viewer.command.startup import EXIT_CODES, REASONS
+from viewer.command.startup import EXIT_CODES, REASONS, WhileStarting
 from viewer.output import files
 from viewer.pictures import draw, run_pictures
 from viewer.pictures.frames import frame_count
@@ -31,10 +31,12 @@ class Signals:
     """`with Signals():` the signals of EXIT_CODES raise Stopped, at once or as `held()` ends.
     Each is noted before it is raised: CPython drops an exception raised in a handler inside some C
     code (an import's abc checks) or a weakref callback, so one noted and not yet raised is raised
-    by the next `check()` (every `held()` ends with one: each step's log row, each file)."""
+    by the next `check()` (every `held()` ends with one: each step's log row, each file). One
+    Stopped until the ending has said it (`said`): a signal meanwhile only waits."""
 
     def __init__(self):
         self.depth, self.pending, self.previous, self.unraisable = 0, None, {}, None
+        self.raised = False         # a Stopped raised and not yet said
 
     def __enter__(self):
         with contextlib.suppress(ValueError):       # not the main thread: signals left alone
@@ -43,24 +45,31 @@ class Signals:
         return self
 
     def __exit__(self, *exc):
+        """The handlers handed back, signals only waiting meanwhile; start-up's, which would say
+        'while starting; nothing written' after the run's ending, give way to SIG_IGN."""
+        self.close()
         for signum, handler in self.previous.items():
-            signal.signal(signum, handler)
+            starting = isinstance(handler, WhileStarting)
+            signal.signal(signum, signal.SIG_IGN if starting else handler)
         sys.unraisablehook = self.unraisable
 
     def _handle(self, signum, frame):
         self.pending = self.pending or signum
-        if not self.depth:
-            raise Stopped(signum)
+        if not self.depth and not self.raised:
+            self.raised = True
+            raise Stopped(self.pending)         # the first noted: a dropped one's, if any
 
     def _unraisable(self, unraisable):
         """A Stopped dropped in a weakref callback or __del__: no traceback, `check()` raises it."""
-        if not isinstance(unraisable.exc_value, Stopped):
+        if isinstance(unraisable.exc_value, Stopped):
+            self.raised = False                 # the next signal raises it again
+        else:
             self.unraisable(unraisable)
 
     def check(self):
         """Raise Stopped for a signal noted and not yet raised, unless a block holds it."""
         if self.depth == 0 and self.pending is not None:
-            signum, self.pending = self.pending, None
+            signum, self.pending, self.raised = self.pending, None, True
             raise Stopped(signum)
 
     @contextlib.contextmanager
@@ -74,8 +83,9 @@ class Signals:
         self.check()
 
     def said(self):
-        """The run's ending says how it failed: a signal noted so far is not raised again."""
-        self.pending = None
+        """The run's ending says how it failed: a signal noted so far is not raised again, and
+        the next one stops what is left (the last pictures)."""
+        self.pending, self.raised = None, False
 
     def close(self):
         """The run is ending: from here on a signal only waits."""

@@ -2,7 +2,6 @@
 SIGTERM, SIGHUP and SIGQUIT in one line, stdout and stderr best effort; then the command line
 (viewer.main)."""
 import contextlib
-import functools
 import importlib
 import io
 import os
@@ -44,11 +43,18 @@ class BestEffort(io.TextIOBase):
             self.stream = None
 
 
-def _stopped_while_starting(program, signum, frame):
-    line = f"{program}: stopped: {REASONS[signum]} while starting; nothing written\n"
-    with contextlib.suppress(OSError):      # stderr closed or full: the exit code still says it
-        os.write(2, line.encode())
-    os._exit(EXIT_CODES[signum])
+class WhileStarting:
+    """The signals' handler until the run takes them over (run.Signals, which leaves them ignored
+    as it hands them back: these words would then be untrue): one line, the exit code, at once."""
+
+    def __init__(self, program):
+        self.program = program
+
+    def __call__(self, signum, frame):
+        line = f"{self.program}: stopped: {REASONS[signum]} while starting; nothing written\n"
+        with contextlib.suppress(OSError):      # stderr closed or full: the exit code still says it
+            os.write(2, line.encode())
+        os._exit(EXIT_CODES[signum])
 
 
 def run_command_line(program="simulator.py", main="viewer.main"):
@@ -56,7 +62,7 @@ def run_command_line(program="simulator.py", main="viewer.main"):
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     os.environ.setdefault("OMP_NUM_THREADS", "1")
     for signum in EXIT_CODES:
-        signal.signal(signum, functools.partial(_stopped_while_starting, program))
+        signal.signal(signum, WhileStarting(program))
     sys.stdout, sys.stderr = BestEffort(sys.stdout), BestEffort(sys.stderr)
     code = importlib.import_module(main).main(sys.argv[1:])      # its run takes the signals over
     for signum in EXIT_CODES:       # the run has said how it ended: a late signal changes nothing

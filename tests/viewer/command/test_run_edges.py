@@ -18,8 +18,8 @@ import analysis.log
 from helpers.command import ending, run_main as main
 from helpers.fakes import signal_dropped_at_step
 from helpers import ROOT
-from viewer.command import cli
-from viewer.output import whole_files
+from viewer.command import cli, run
+from viewer.output import files, whole_files
 from viewer.pictures import draw, plots
 
 
@@ -159,6 +159,49 @@ def test_a_signal_whose_raise_cpython_drops_still_stops_the_run(tmp_path, monkey
     assert log_steps(tmp_path / "log.csv") == list(range(5))    # step 3 -> row 4, then stopped
     assert lines[-1].endswith(f"; 4 steps kept in {tmp_path}/; the page: "
                               f"{(tmp_path / 'index.html').as_uri()}")
+
+
+
+def test_a_signal_after_a_dropped_one_ends_the_run_as_the_first(tmp_path, monkeypatch):
+    """SIGINT noted, its raise dropped, then SIGTERM within the step: 'interrupted', 130, as the
+    first signal ends a run (it said 'terminated (SIGTERM)', 143: the second's Stopped raised)."""
+    signal_dropped_at_step(monkeypatch, 3, signal.SIGINT)
+    dropped = time_integrator.step
+
+    def step(scene, x, v, step_index=0, **kw):
+        record = dropped(scene, x, v, step_index=step_index, **kw)
+        if step_index == 3:
+            os.kill(os.getpid(), signal.SIGTERM)
+        return record
+    monkeypatch.setattr(time_integrator, "step", step)
+    status, lines = main("--steps", "30", "--no-frames", "--out", str(tmp_path))
+    assert (status, lines[-1]) == (130, f"simulator.py: stopped: interrupted; 3 steps kept in "
+                                        f"{tmp_path}/"), lines
+
+
+
+def test_a_second_signal_as_the_first_is_caught_waits(tmp_path, monkeypatch):
+    """SIGTERM as the run turns SIGINT's Stopped into its ending (as a second signal sent with
+    the first runs): the run ends as interrupted, its pictures written, its folder released (the
+    second Stopped escaped to_files: 'stopped: terminated (SIGTERM); nothing written', the
+    claim left in the folder)."""
+    real_step, real_failure_of = time_integrator.step, run.failure_of
+
+    def step(scene, x, v, step_index=0, **kw):
+        if step_index == 3:
+            os.kill(os.getpid(), signal.SIGINT)
+        return real_step(scene, x, v, step_index=step_index, **kw)
+
+    def failure_of(err, plan, when=""):
+        os.kill(os.getpid(), signal.SIGTERM)
+        return real_failure_of(err, plan, when)
+    monkeypatch.setattr(time_integrator, "step", step)
+    monkeypatch.setattr(run, "failure_of", failure_of)
+    status, lines = main("--steps", "30", "--out", str(tmp_path))
+    assert (status, lines[-1]) == (130, f"simulator.py: stopped: interrupted; 3 steps kept in "
+                                        f"{tmp_path}/; the page: "
+                                        f"{(tmp_path / 'index.html').as_uri()}"), lines
+    assert not leftovers(tmp_path) and not (tmp_path / files.CLAIM).exists()
 
 
 # ---- the command line

@@ -16,7 +16,7 @@ import analysis.log
 from helpers import ROOT
 from helpers.command import ending, run_main
 from helpers.fakes import fill_disk_after
-from viewer.command import recording
+from viewer.command import cli, recording
 from viewer.output import whole_files
 from viewer.pictures import draw, frames
 
@@ -139,3 +139,40 @@ def test_frame_png_keeps_every_drawn_colour_exactly(tmp_path):
     assert [tuple(back[i, 1]) for i in range(len(colors))] == colors
     error = np.array([200, 100, 50]) - back[-1, 1]
     assert (np.abs(error) < [37, 37, 86]).all()
+
+
+def test_a_signal_as_a_bad_command_line_is_said_waits(monkeypatch):
+    """Ctrl+C as the error line is made: that line and exit code 2 (the Stopped the handler raised
+    there escaped main, a traceback; found with SIGINT at the k-th profile event)."""
+    real = cli.flag_of
+
+    def flag_of(err):
+        os.kill(os.getpid(), signal.SIGINT)
+        return real(err)
+    monkeypatch.setattr(cli, "flag_of", flag_of)
+    assert run_main("--steps", "-5") == (
+        2, ["simulator.py: error: --steps: steps must be a whole number >= 1, got -5.0"])
+
+
+ENDED_THEN_SIGNALLED = """
+import os, signal, sys, types
+sys.path.insert(0, sys.argv[1])
+from viewer.command import run, startup
+def main(argv):                     # a run that has said its ending; Ctrl+C as main returns
+    with run.Signals() as signals:
+        print("done", file=sys.stderr)
+        signals.close()
+    os.kill(os.getpid(), signal.SIGINT)
+    return 0
+sys.modules["ended"] = types.SimpleNamespace(main=main)
+sys.exit(startup.run_command_line(main="ended"))
+"""
+
+
+def test_a_signal_after_the_run_has_said_its_ending_changes_nothing():
+    """Handed back start-up's handler, it said 'stopped: interrupted while starting; nothing
+    written' under a finished run's closing and exited 130 (a real run: SIGINT at any of the
+    about 50 profile events between run.Signals.__exit__ and start-up's SIG_IGN)."""
+    done = subprocess.run([sys.executable, "-c", ENDED_THEN_SIGNALLED, ROOT], capture_output=True,
+                          text=True, timeout=120)
+    assert (done.returncode, done.stderr) == (0, "done\n")
