@@ -33,7 +33,11 @@ def scratch(prefix):
     """A temporary folder in SCRATCH, where `python simulator.py` writes: a run's files cost what
     they cost the default run (on this machine new files under /tmp cost up to 8x; benchmarks/
     README.md, "Where the runs write")."""
-    os.makedirs(SCRATCH, exist_ok=True)
+    try:
+        os.makedirs(SCRATCH, exist_ok=True)
+    except OSError as err:          # a file named output, a read-only checkout
+        raise SystemExit(f"error: {SCRATCH} cannot hold the runs' folders: "
+                         f"{err.strerror}") from None
     return tempfile.TemporaryDirectory(prefix=prefix, dir=SCRATCH)
 
 

@@ -52,3 +52,14 @@ def test_each_benchmarks_help_is_whole_sentences(module, capsys):
     description = " ".join(said.split("\n\n")[1].split())
     assert description == " ".join(module.__doc__.split("\n\n")[0].split())
     assert description.endswith(".")
+
+
+def test_a_file_named_output_is_one_line_not_a_traceback(tmp_path, monkeypatch):
+    """tables.scratch where output/ cannot be made: SystemExit with one line naming it."""
+    (tmp_path / "output").write_text("the user's own")
+    monkeypatch.setattr(tables, "SCRATCH", str(tmp_path / "output"))
+    with pytest.raises(SystemExit) as ended:
+        tables.scratch("waits-")
+    said = str(ended.value.code)
+    assert said.startswith(f"error: {tmp_path / 'output'} cannot hold") and "\n" not in said
+    assert (tmp_path / "output").read_text() == "the user's own"
