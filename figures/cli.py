@@ -34,6 +34,7 @@ def write(names, folder):
     for name in names:
         start = time.perf_counter()
         module = importlib.import_module(f"figures.{name}")
+        folder.signals.check()          # a signal whose raise the import dropped: before compute
         folder.write(f"{name}.png", module.draw(module.compute()).png())
         seconds = time.perf_counter() - start
         print(f"figures: wrote {folder.path(name + '.png')} ({seconds:.1f} s)")

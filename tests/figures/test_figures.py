@@ -18,6 +18,7 @@ from analysis import wear
 from figures import (cli, dissipation, fixed_point, mollifier, relative_velocity, semi_implicit,
                      stick_slip)
 from helpers import ROOT
+from helpers.fakes import DropsTheHandlersRaise
 from scenes import tablecloth
 from viewer.output import whole_files
 
@@ -373,6 +374,23 @@ def test_ctrl_c_ends_in_one_line_with_130(tmp_path, capsys, monkeypatch):
     def interrupted():
         os.kill(os.getpid(), signal.SIGINT)
     monkeypatch.setattr(mollifier, "compute", interrupted)
+    assert cli.main(["mollifier", "--out", str(tmp_path)]) == 130
+    assert capsys.readouterr().err.count("\n") == 1 and os.listdir(tmp_path) == []
+
+
+def test_a_signal_whose_raise_an_import_dropped_stops_before_the_compute(tmp_path, capsys,
+                                                                         monkeypatch):
+    """The figure's import drops the handler's raise (DropsTheHandlersRaise's __del__): 130 and
+    one line before its compute, not after it (a figure's compute takes up to a minute)."""
+    real, imports = cli.importlib.import_module, []
+
+    def import_module(name):
+        if not imports:
+            DropsTheHandlersRaise(signal.SIGINT)    # made and deleted at once: __del__ runs
+        imports.append(name)
+        return real(name)
+    monkeypatch.setattr(cli.importlib, "import_module", import_module)
+    monkeypatch.setattr(mollifier, "compute", lambda: pytest.fail("computed"))
     assert cli.main(["mollifier", "--out", str(tmp_path)]) == 130
     assert capsys.readouterr().err.count("\n") == 1 and os.listdir(tmp_path) == []
 
