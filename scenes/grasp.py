@@ -327,8 +327,8 @@ def words(scene, t, s, short=False):
     on_pads, t_drop, phase, measured, exact = outcome(scene, t, s)
     if not on_pads:
         rate, sign = ("it slips", 1) if not measured < 0.0 else ("its slip slows at", -1)
-        coulomb = coulomb_drop(scene)
-        coulomb = f"{coulomb:.2f}" if coulomb < math.inf else "holds"
+        t_coulomb = coulomb_drop(scene)
+        coulomb = f"{t_coulomb:.2f}" if t_coulomb < math.inf else "holds"
         return f"dropped at {t_drop:.2f} s (Coulomb {coulomb})" + ("" if short else (
             f"; {rate} {sign * measured:.3f} m/s^2 {phase} (closed form {sign * exact:.3f})"))
     slid = f"slid {1e3 * s[-1]:.2f} mm, Coulomb {1e3 * coulomb_slip(scene, float(t[-1])):.3g}"
