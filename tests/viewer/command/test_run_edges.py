@@ -161,7 +161,6 @@ def test_a_signal_whose_raise_cpython_drops_still_stops_the_run(tmp_path, monkey
                               f"{(tmp_path / 'index.html').as_uri()}")
 
 
-
 def test_a_signal_after_a_dropped_one_ends_the_run_as_the_first(tmp_path, monkeypatch):
     """SIGINT noted, its raise dropped, then SIGTERM within the step: 'interrupted', 130, as the
     first signal ends a run (it said 'terminated (SIGTERM)', 143: the second's Stopped raised)."""
@@ -177,7 +176,6 @@ def test_a_signal_after_a_dropped_one_ends_the_run_as_the_first(tmp_path, monkey
     status, lines = main("--steps", "30", "--no-frames", "--out", str(tmp_path))
     assert (status, lines[-1]) == (130, f"simulator.py: stopped: interrupted; 3 steps kept in "
                                         f"{tmp_path}/"), lines
-
 
 
 def test_a_second_signal_as_the_first_is_caught_waits(tmp_path, monkeypatch):
