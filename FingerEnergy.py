@@ -1,8 +1,5 @@
-"""The fingers of a grasp: half-spaces through the last F rows of x, each pressed toward the block
-by a force N_f along its normal n_f (docs/grasp.md). val/grad/hess check, then call the *_kernel:
-
-    P(x) = sum_f [ P_b(x_block; n_f, o = x_f) - N_f n_f . x_f ]     (P_b: BarrierEnergy's)
-"""
+"""A grasp's fingers (docs/grasp.md): P(x) = sum_f [P_b(x_block; n_f, o = x_f) - N_f n_f . x_f], x_f
+the last F rows of x, P_b BarrierEnergy's; val/grad/hess check, then call the *_kernel."""
 import numpy as np
 
 import BarrierEnergy

@@ -274,15 +274,11 @@ def drop_slip(scene):
 SETTLE = 0.05       # s left out of a fit after a phase of the lift begins (the springs take it up)
 
 
-def within(t, start, end):
-    """The states at times t with start <= t <= end (to round-off)."""
-    return (t >= start - 1e-9) & (t <= end + 1e-9)
-
-
 def fitted_rate(t, s, start, end, order=1):
-    """The slip's speed (order 1) or acceleration (order 2) fitted to s over [start, end]."""
-    window = within(t, start, end)
-    return float(np.polyfit(t[window], s[window], order)[0]) * order
+    """The slip's speed (order 1) or acceleration (order 2) fitted to s over the states with
+    start <= t <= end (to round-off); nan on fewer than 4."""
+    w = (t >= start - 1e-9) & (t <= end + 1e-9)
+    return float(np.polyfit(t[w], s[w], order)[0]) * order if w.sum() >= 4 else math.nan
 
 
 def outcome(scene, t, s):
@@ -291,10 +287,10 @@ def outcome(scene, t, s):
     dropped = np.flatnonzero(s >= drop_slip(scene))
     end = float(t[dropped[0]]) if dropped.size else float(t[-1])
     words, start, _, a = next(p for p in phases(scene) if p[1] <= max(end - 1e-9, 0.0) < p[2])
-    fit = start + SETTLE if within(t, start + SETTLE, end).sum() >= 4 else (start + end) / 2
     order = 2 if dropped.size else 1
-    measured = (fitted_rate(t, s, fit, end, order)
-                if within(t, fit, end).sum() > order + 1 else math.nan)
+    measured = fitted_rate(t, s, start + SETTLE, end, order)
+    if math.isnan(measured):                    # a short phase: fitted from its middle
+        measured = fitted_rate(t, s, (start + end) / 2, end, order)
     exact = slip_acceleration(scene, a) if dropped.size else creep_speed(scene, a)
     return not dropped.size, end if dropped.size else None, words, measured, exact
 
