@@ -100,10 +100,6 @@ class Fingers:
             block, n_f, x_f, scene.contact_area, mu, scene.dhat, scene.kappa), rest)
             for n_f, x_f in zip(self.n, fingers)])
 
-    def mu_lambda(self, scene, x, mu):
-        """mu lambda_i (N,), summed over the fingers (they share friction's T)."""
-        return self.lambdas(scene, x, mu).sum(axis=0)
-
     def init_step_size(self, x, p):
         """Algorithm 4, line 1: BarrierEnergy's against each finger, p relative to its own."""
         (block, fingers), (p_block, p_fingers) = (FingerEnergy.split(a, self.n) for a in (x, p))
@@ -111,8 +107,7 @@ class Fingers:
                    for n_f, x_f, p_f in zip(self.n, fingers, p_fingers))
 
     def work(self, scene, x_n, v_n, x):
-        """The lift's work over a step, sum_f (t . F_f)(t . (x_f - x_f^n)) (J), F = grad E / h^2 on
-        the fingers' rows (docs/grasp.md): the force that held the fingers on their path."""
+        """The lift's work over a step (J): sum_f (t . F_f)(t . (x_f - x_f^n)), F = grad E / h^2."""
         force = (InertiaEnergy.grad_kernel(x, x_n + scene.h * v_n, scene.m) / scene.h ** 2
                  + GravityEnergy.grad_kernel(x, scene.m, scene.g)
                  + FingerEnergy.grad_kernel(*self.args(scene, None, x, None)))
@@ -157,8 +152,7 @@ GROWS = types.MappingProxyType({        # what the block's sizes grow with (scen
 
 
 def build_grasp_scene(**overrides):
-    """The block centred at the origin between a finger at its left (normal (1, 0)) and one at its
-    right, each at the gap where the barrier carries the squeeze on a side's ny + 1 nodes."""
+    """The block centred at the origin, a finger each side at the gap where the barrier holds N."""
     p = check_params(overrides)
     for name, other in sorted((("nx", "ny"), ("ny", "nx")), key=lambda pair: -p[pair[0]]):
         ranges.check_memory(name, p[name], lambda n: (n + 1) * (p[other] + 1))
@@ -316,10 +310,8 @@ def words(scene, t, s, short=False):
 # ---- What the command line and log.csv read (scenes.UNITS) ---------------------------------------
 
 PARAMS, BUILD = GRASP, build_grasp_scene
-FLAGS = [(("--squeeze",), "squeeze", "NEWTONS",
-          "--scene grasp: each finger's pressing force N in N"),
-         (("--lift-accel",), "lift_accel", "M_PER_S2",
-          "--scene grasp: the fingers' lift acceleration a in m/s^2")]
+FLAGS = [(("--squeeze",), "squeeze", "NEWTONS", "--scene grasp: each finger's force N in N"),
+         (("--lift-accel",), "lift_accel", "M_PER_S2", "--scene grasp: the lift's a in m/s^2")]
 LABEL = "squeeze = {squeeze:g} N, mu = {mu:g}"      # a single run's label
 HEADER = ("block {width:g} x {height:g} m, {mass:g} kg   squeeze N = {squeeze:g} N a finger   lift "
           "at a = {lift_accel:g} m/s^2 to {lift_speed:g} m/s from t = {t_lift:g} s   mu = {mu:g}")
