@@ -321,8 +321,7 @@ LOG_COLUMNS = [     # (name, unit, label, meaning, format, value(sample)): analy
     ("E_fingers", "J", "fingers' energy", "the barrier against the fingers plus their squeeze's "
      "potential -N n_f . x_f (the grasp)", ".9g", lambda s: s.energies["fingers"]),
     ("slip", "m", "slip", "how far the block has slid down relative to the fingers since t = 0: "
-     "their lift minus the rise of its centre of mass (the grasp)", ".9f", lambda s: s.slip),
-    ("normal_force_left", "N", "left finger's force", "the left finger's normal force on the "
-     "block, the sum of its lambda_i (the grasp)", ".9g", lambda s: float(s.finger_forces[0])),
-    ("normal_force_right", "N", "right finger's force", "the right finger's normal force on the "
-     "block, the sum of its lambda_i (the grasp)", ".9g", lambda s: float(s.finger_forces[1]))]
+     "their lift minus the rise of its centre of mass (the grasp)", ".9f", lambda s: s.slip)] + [
+    (f"normal_force_{side}", "N", f"{side} finger's force", f"the {side} finger's normal force on "
+     "the block, the sum of its lambda_i (the grasp)", ".9g", lambda s, f=f: s.finger_forces[f])
+    for f, side in enumerate(("left", "right"))]
