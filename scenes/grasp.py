@@ -77,9 +77,7 @@ class Fingers:
 
     def prescribe(self, lagged, t):
         """`lagged` (x^n checked) with the fingers' rows of x^n and x_tilde lifted to time t."""
-        block, fingers = FingerEnergy.split(lagged.x_n, self.n)
-        for n_f, x_f in zip(self.n, fingers):
-            BarrierEnergy.check_above(block, n_f, x_f)
+        FingerEnergy.each(BarrierEnergy.check_above, lagged.x_n, self.n)
         x_n, x_tilde = (self.moved(a, self.offset(t)) for a in (lagged.x_n, lagged.x_tilde))
         return dataclasses.replace(lagged, x_n=x_n, x_tilde=x_tilde)
 
@@ -89,16 +87,13 @@ class Fingers:
 
     def distances(self, x):
         """d_fi = n_f . (x_i - x_f), (F, N_block)."""
-        block, fingers = FingerEnergy.split(x, self.n)
-        return self.n @ block.T - np.einsum("fj,fj->f", self.n, fingers)[:, None]
+        return np.array(FingerEnergy.each(BarrierEnergy.distances, x, self.n))
 
     def lambdas(self, scene, x, mu=1.0):
         """mu lambda_fi (F, N): BarrierEnergy's with o = x_f, zero on the fingers' own rows."""
-        block, fingers = FingerEnergy.split(x, self.n)
-        rest = np.zeros(len(fingers))           # the fingers' own rows
-        return np.array([np.append(BarrierEnergy.compute_mu_lambda_kernel(
-            block, n_f, x_f, scene.contact_area, mu, scene.dhat, scene.kappa), rest)
-            for n_f, x_f in zip(self.n, fingers)])
+        mu_lambda = FingerEnergy.each(BarrierEnergy.compute_mu_lambda_kernel, x, self.n,
+                                      scene.contact_area, mu, scene.dhat, scene.kappa)
+        return np.pad(mu_lambda, [(0, 0), (0, len(self.n))])
 
     def init_step_size(self, x, p):
         """Algorithm 4, line 1: BarrierEnergy's against each finger, p relative to its own."""
