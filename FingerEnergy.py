@@ -1,8 +1,5 @@
-"""The fingers of a grasp: half-spaces through the last F rows of x, each pressed toward the block
-by a force N_f along its normal n_f (docs/grasp.md). val/grad/hess check, then call the *_kernel:
-
-    P(x) = sum_f [ P_b(x_block; n_f, o = x_f) - N_f n_f . x_f ]     (P_b: BarrierEnergy's)
-"""
+"""A grasp's fingers (docs/grasp.md): P(x) = sum_f [P_b(x_block; n_f, o = x_f) - N_f n_f . x_f], x_f
+the last F rows of x, P_b BarrierEnergy's; val/grad/hess check, then call the *_kernel."""
 import numpy as np
 
 import BarrierEnergy
@@ -45,31 +42,27 @@ def split(x, n):
     return x[:len(x) - len(n)], x[len(x) - len(n):]
 
 
+def each(kernel, x, n, *args):
+    """[kernel(x_block, n_f, x_f, *args) for each finger f]: BarrierEnergy's, with o = x_f."""
+    block, fingers = split(x, n)
+    return [kernel(block, n_f, x_f, *args) for n_f, x_f in zip(n, fingers)]
+
+
 def val_kernel(x, n, squeeze, contact_area, dhat, kappa):
     """P = sum_f [P_b(x_block; n_f, x_f) - N_f n_f . x_f]."""
-    block, fingers = split(x, n)
-    barrier = sum(BarrierEnergy.val_kernel(block, n_f, x_f, contact_area, dhat, kappa)
-                  for n_f, x_f in zip(n, fingers))
-    return barrier - float(squeeze @ np.einsum("fj,fj->f", n, fingers))
+    barrier = sum(each(BarrierEnergy.val_kernel, x, n, contact_area, dhat, kappa))
+    return barrier - float(squeeze @ np.einsum("fj,fj->f", n, split(x, n)[1]))
 
 
 def grad_kernel(x, n, squeeze, contact_area, dhat, kappa):
     """grad_i P = sum_f grad_i P_b(n_f, x_f); grad_f P = -sum_i grad_i P_b(n_f, x_f) - N_f n_f."""
-    block, fingers = split(x, n)
-    g = np.zeros(x.shape)
-    for f, (n_f, x_f) in enumerate(zip(n, fingers)):
-        g_f = BarrierEnergy.grad_kernel(block, n_f, x_f, contact_area, dhat, kappa)
-        g[:len(block)] += g_f
-        g[len(block) + f] = -g_f.sum(axis=0) - squeeze[f] * n_f
-    return g
+    g_b = each(BarrierEnergy.grad_kernel, x, n, contact_area, dhat, kappa)     # (N_block, 2) each
+    g_f = [-g.sum(axis=0) - N_f * n_f for g, N_f, n_f in zip(g_b, squeeze, n)]
+    return np.vstack([sum(g_b), g_f])
 
 
 def hess_kernel(x, n, squeeze, contact_area, dhat, kappa):
     """Blocks [[A, -A], [-A, A]] on the pairs (i, f), A = hess_i P_b(n_f, x_f) (PSD as A is)."""
-    block, fingers = split(x, n)
-    nodes, blocks = [np.zeros((0, 2), dtype=np.int64)], [np.zeros((0, 4, 4))]
-    for f, (n_f, x_f) in enumerate(zip(n, fingers)):
-        i, A = BarrierEnergy.hess_kernel(block, n_f, x_f, contact_area, dhat, kappa)
-        nodes.append(np.hstack([i, np.full_like(i, len(block) + f)]))
-        blocks.append(np.block([[A, -A], [-A, A]]))
-    return np.concatenate(nodes), np.concatenate(blocks)
+    parts = each(BarrierEnergy.hess_kernel, x, n, contact_area, dhat, kappa)
+    pairs = [np.hstack([i, np.full_like(i, len(x) - len(n) + f)]) for f, (i, _) in enumerate(parts)]
+    return np.concatenate(pairs), np.concatenate([np.block([[A, -A], [-A, A]]) for _, A in parts])

@@ -103,7 +103,7 @@ def friction_update(scene, lagged, x, v=None):
     if "friction" not in scene.terms:
         return lagged
     mu = scene.mu if scene.static is None else slip_weakened_mu(scene, lagged, x, v)
-    return dataclasses.replace(lagged, mu_lambda=scene.contact.mu_lambda(scene, x, mu))
+    return dataclasses.replace(lagged, mu_lambda=scene.contact.lambdas(scene, x, mu).sum(axis=0))
 
 
 def slip_weakened_mu(scene, lagged, x, v=None):

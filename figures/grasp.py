@@ -1,6 +1,5 @@
-"""Slide "Remarks - Applications: Robotics" (IPC-GraspSim's table of grasp successes), redrawn for
-scenes/grasp.py: held or dropped over mu x N for one lift, each cell simulated, beside the line
-2 mu N = m (g + a) and the rigid Coulomb block; and a held block's creep on u* for two eps_v."""
+"""Slide "Remarks - Applications: Robotics" (IPC-GraspSim's success table) for scenes/grasp.py: held
+or dropped over mu x N, beside the line and the Coulomb block; creep on u* (docs/grasp.md)."""
 from types import SimpleNamespace
 
 import numpy as np
@@ -14,9 +13,7 @@ from figures.page import BLACK, GREY, Page
 from viewer.pictures.draw import run_color
 
 MUS = (0.4, 0.45, 0.5, 0.55, 0.6)           # the grid's friction coefficients, and
-SQUEEZES = (1.7, 1.9, 2.05, 2.2, 2.4)       # N, each finger's force: mu N = 1.025 (mu 0.5) and
-#   1.02 (mu 0.6) lie just below the line mu N = m (g + a) / 2 = 1.031, where the block slips while
-#   the lift accelerates and grips again
+SQUEEZES = (1.7, 1.9, 2.05, 2.2, 2.4)       # N, each finger's force (two cells just below the line)
 DURATION = 1.0      # s: the lift accelerates from 0.1 s to 0.5 s, then half a second steady
 EPSVS = (1e-3, 2e-3)                        # m/s, the creep panel's two eps_v
 RATIOS = (0.3, 0.5, 0.7, 0.85, 0.95)        # m g / (2 mu N) of its simulated points
@@ -51,10 +48,9 @@ def creep(epsv, ratio):
 def compute(mus=MUS, squeezes=SQUEEZES, epsvs=EPSVS, ratios=RATIOS):
     """The grid's cells (mu, N, simulated held, Coulomb held, above the line) and the creep
     points (eps_v, ratio, simulated u, closed-form u*)."""
-    scenes = [grasp.build_grasp_scene(mu=mu, squeeze=N) for mu in mus for N in squeezes]
     cells = [SimpleNamespace(mu=s.mu, N=s.params["squeeze"], held=held(s), line=grasp.holds(s),
                              coulomb=grasp.coulomb_slip(s, DURATION) < grasp.drop_slip(s))
-             for s in scenes]
+             for s in (grasp.build_grasp_scene(mu=mu, squeeze=N) for mu in mus for N in squeezes)]
     points = [SimpleNamespace(epsv=e, ratio=r, u=u, exact=exact)
               for e in epsvs for r in ratios for u, exact in [creep(e, r)]]
     return SimpleNamespace(cells=cells, points=points, mus=mus, squeezes=squeezes, epsvs=epsvs)
@@ -86,11 +82,10 @@ def draw(r):
                    "mu: filled held, hollow dropped (simulated)", "mu", "N (N)", x_lo=mu_lo)
     mu = np.linspace(mu_lo, mu_hi, 200)
     mu = mu[(grasp.squeeze_for(1.0, mu, A) <= N_hi) & (grasp.squeeze_for(1.0, mu) >= N_lo)]
-    for N, color, width, words in [(grasp.squeeze_for(1.0, mu, A), run_color(0), 2,
-                                    "2 mu N = m (g + a)"),
-                                   (grasp.squeeze_for(1.0, mu), GREY, 1, "2 mu N = m g"),
-                                   ([coulomb_boundary(m) for m in mu], run_color(1), 2,
-                                    "rigid Coulomb: pads' end")]:
+    curves = [(grasp.squeeze_for(1.0, mu, A), run_color(0), 2, "2 mu N = m (g + a)"),
+              (grasp.squeeze_for(1.0, mu), GREY, 1, "2 mu N = m g"),
+              ([coulomb_boundary(m) for m in mu], run_color(1), 2, "rigid Coulomb: pads' end")]
+    for N, color, width, words in curves:
         ax.line(mu, N, color, width)
         ax.legend(color, words)
     for color, radius, shown in [(BLACK, 6, r.cells),           # filled: held; hollow: dropped

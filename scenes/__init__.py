@@ -17,4 +17,5 @@ line and log columns themselves.
 from scenes import grasp
 
 UNITS = {"grasp": grasp}    # the scenes that declare their command line and log columns as data:
-#   FLAGS, LABEL, HELP, DURATION, PARAMS, BUILD (viewer/command/cli.py); LOG_COLUMNS (analysis/log)
+#   FLAGS, LABEL, HELP, DURATION, PARAMS, BUILD (viewer/command/cli.py), HEADER (command/run.py),
+#   LOG_COLUMNS (analysis/log.py)

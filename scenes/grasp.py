@@ -1,9 +1,5 @@
-"""A grasp (the slide "Remarks - Applications: Robotics"): a block between two vertical fingers,
-each pressed against it by a force N, that lift it: still until t_lift, then at lift_accel up to
-lift_speed. It starts settled. Its page, numbers, closed forms and reasons: docs/grasp.md.
-
-    scene = build_grasp_scene(squeeze=4.0)  # the numbers (GRASP), one of them changed
-"""
+"""A grasp (the slide "Remarks - Applications: Robotics"): a settled block between two fingers
+pressed with N each that lift it. Its page, numbers, closed forms and reasons: docs/grasp.md."""
 import dataclasses
 import math
 import types
@@ -42,9 +38,8 @@ GRASP = types.MappingProxyType({
 
 @dataclasses.dataclass(frozen=True)
 class Fingers:
-    """The grasp's contact (scenes.scene.HalfSpace's methods): finger f is the half-space through
-    row len(x) - F + f of x, normal n[f], pressed by squeeze[f] (FingerEnergy), lifted: its
-    coordinate along `tangent` is prescribed, offset(t)."""
+    """The grasp's contact (HalfSpace's methods): finger f, the half-space through row len(x) - F
+    + f of x, normal n[f], pressed by squeeze[f] (FingerEnergy), lifted along `tangent`: offset."""
     n: np.ndarray               # (F, 2) unit normals, toward the block
     squeeze: np.ndarray         # (F,) N: each finger's pressing force
     tangent: np.ndarray         # (2,) the direction of the lift (along every finger)
@@ -75,41 +70,30 @@ class Fingers:
         return a[len(a) - len(self.n):] @ self.tangent
 
     def moved(self, a, along):
-        """A copy of a (N, 2) with `along` (F,) added along `tangent` to the fingers' rows."""
+        """A copy of a (N, 2) whose fingers' rows lie at `along` along `tangent`."""
         a = a.copy()
-        a[len(a) - len(self.n):] += np.outer(along, self.tangent)
+        a[len(a) - len(self.n):] += np.outer(along - self.along(a), self.tangent)
         return a
 
     def prescribe(self, lagged, t):
         """`lagged` (x^n checked) with the fingers' rows of x^n and x_tilde lifted to time t."""
-        block, fingers = FingerEnergy.split(lagged.x_n, self.n)
-        for n_f, x_f in zip(self.n, fingers):
-            BarrierEnergy.check_above(block, n_f, x_f)
-        x_n, x_tilde = (self.moved(a, self.offset(t) - self.along(a))
-                        for a in (lagged.x_n, lagged.x_tilde))
+        FingerEnergy.each(BarrierEnergy.check_above, lagged.x_n, self.n)
+        x_n, x_tilde = (self.moved(a, self.offset(t)) for a in (lagged.x_n, lagged.x_tilde))
         return dataclasses.replace(lagged, x_n=x_n, x_tilde=x_tilde)
 
     def free(self, g):
         """g (N, 2) without its component along `tangent` on the fingers' rows: no unknowns."""
-        return self.moved(g, -self.along(g))
+        return self.moved(g, 0.0)
 
     def distances(self, x):
         """d_fi = n_f . (x_i - x_f), (F, N_block)."""
-        block, fingers = FingerEnergy.split(x, self.n)
-        return self.n @ block.T - np.einsum("fj,fj->f", self.n, fingers)[:, None]
+        return np.array(FingerEnergy.each(BarrierEnergy.distances, x, self.n))
 
     def lambdas(self, scene, x, mu=1.0):
         """mu lambda_fi (F, N): BarrierEnergy's with o = x_f, zero on the fingers' own rows."""
-        block, fingers = FingerEnergy.split(x, self.n)
-        mu_lambda = np.zeros((len(self.n), len(x)))
-        for f, (n_f, x_f) in enumerate(zip(self.n, fingers)):
-            mu_lambda[f, :len(block)] = BarrierEnergy.compute_mu_lambda_kernel(
-                block, n_f, x_f, scene.contact_area, mu, scene.dhat, scene.kappa)
-        return mu_lambda
-
-    def mu_lambda(self, scene, x, mu):
-        """mu lambda_i (N,), summed over the fingers (they share friction's T)."""
-        return self.lambdas(scene, x, mu).sum(axis=0)
+        mu_lambda = FingerEnergy.each(BarrierEnergy.compute_mu_lambda_kernel, x, self.n,
+                                      scene.contact_area, mu, scene.dhat, scene.kappa)
+        return np.pad(mu_lambda, [(0, 0), (0, len(self.n))])
 
     def init_step_size(self, x, p):
         """Algorithm 4, line 1: BarrierEnergy's against each finger, p relative to its own."""
@@ -118,9 +102,7 @@ class Fingers:
                    for n_f, x_f, p_f in zip(self.n, fingers, p_fingers))
 
     def work(self, scene, x_n, v_n, x):
-        """The lift's work over a step, sum_f (t . F_f)(t . (x_f - x_f^n)) (J), F = grad E / h^2
-        on the fingers' rows (inertia with x_tilde = x^n + h v^n, gravity, their own term; no
-        spring or friction acts there): the force that held the fingers on their path."""
+        """The lift's work over a step (J): sum_f (t . F_f)(t . (x_f - x_f^n)), F = grad E / h^2."""
         force = (InertiaEnergy.grad_kernel(x, x_n + scene.h * v_n, scene.m) / scene.h ** 2
                  + GravityEnergy.grad_kernel(x, scene.m, scene.g)
                  + FingerEnergy.grad_kernel(*self.args(scene, None, x, None)))
@@ -145,13 +127,6 @@ class Fingers:
         behind = depth * np.array([0.0, 0.0, 1.0, 1.0])[:, None]
         return [x_f + along - behind * n_f for n_f, x_f in zip(self.n, x[len(x) - len(self.n):])]
 
-    def header(self, scene):
-        """The summary's line of the grasp's numbers."""
-        p = scene.params
-        return (f"block {p['width'] * 100:g} x {p['height'] * 100:g} cm, {p['mass']:g} kg   "
-                f"squeeze N = {p['squeeze']:g} N a finger   lift at a = {self.lift_accel:g} m/s^2 "
-                f"to {self.lift_speed:g} m/s from t = {self.t_lift:g} s   mu = {scene.mu:g}")
-
 
 def check_params(overrides):
     """GRASP updated by `overrides`, each value checked (a ValueError naming the parameter)."""
@@ -172,8 +147,7 @@ GROWS = types.MappingProxyType({        # what the block's sizes grow with (scen
 
 
 def build_grasp_scene(**overrides):
-    """The block centred at the origin between a finger at its left (normal (1, 0)) and one at its
-    right, each at the gap where the barrier carries the squeeze on a side's ny + 1 nodes."""
+    """The block centred at the origin, a finger each side at the gap where the barrier holds N."""
     p = check_params(overrides)
     for name, other in sorted((("nx", "ny"), ("ny", "nx")), key=lambda pair: -p[pair[0]]):
         ranges.check_memory(name, p[name], lambda n: (n + 1) * (p[other] + 1))
@@ -242,8 +216,7 @@ def phases(scene):
 
 def coulomb_phases(scene):
     """A rigid Coulomb block through the lift's phases: (t0, t1, s0, u0, du) each, its slip s0 and
-    slip speed u0 at t0; it slips at du = slip_acceleration where du >= 0, else its u falls at du
-    to 0 and it sticks (t1 then ends there)."""
+    speed u0 at t0, slipping at du = slip_acceleration (du < 0: until it sticks, t1)."""
     s = u = 0.0
     for _, t0, t1, a in phases(scene):
         du = float(slip_acceleration(scene, a))     # a Python float: inf * 0 gives no warning
@@ -255,12 +228,9 @@ def coulomb_phases(scene):
 
 def coulomb_slip(scene, t):
     """A rigid Coulomb block's slip by time t (m): s0 + u0 T + du T^2 / 2, T into its phase."""
-    s = 0.0
-    for t0, t1, s0, u0, du in coulomb_phases(scene):
-        if t >= t0:
-            T = min(t, t1) - t0
-            s = s0 + u0 * T + du * T * T / 2
-    return s
+    t0, t1, s0, u0, du = [phase for phase in coulomb_phases(scene) if phase[0] <= t][-1]
+    T = min(t, t1) - t0
+    return s0 + u0 * T + du * T * T / 2
 
 
 def coulomb_drop(scene):
@@ -293,37 +263,30 @@ def drop_slip(scene):
 SETTLE = 0.05       # s left out of a fit after a phase of the lift begins (the springs take it up)
 
 
-def within(t, start, end):
-    """The states at times t with start <= t <= end (to round-off)."""
-    return (t >= start - 1e-9) & (t <= end + 1e-9)
-
-
 def fitted_rate(t, s, start, end, order=1):
-    """The slip's speed (order 1) or acceleration (order 2) fitted to s over [start, end]."""
-    window = within(t, start, end)
-    return float(np.polyfit(t[window], s[window], order)[0]) * order
+    """The slip's speed (order 1) or acceleration (order 2) fitted to s over the states with
+    start <= t <= end (to round-off); nan on fewer than 4."""
+    w = (t >= start - 1e-9) & (t <= end + 1e-9)
+    return float(np.polyfit(t[w], s[w], order)[0]) * order if w.sum() >= 4 else math.nan
 
 
 def outcome(scene, t, s):
-    """(held, t_drop or None, phase words, measured, closed form) from the slip s at times t: on
-    the pads, its speed beside u* in the phase the run ends in; dropped, its acceleration in the
-    phase it slid past the pads in (fitted from SETTLE into the phase; nan: too few states)."""
+    """(held, t_drop or None, phase words, measured, closed form) from the slip s at times t: the
+    speed and u*, or the acceleration where it dropped, in the phase it ended in (docs/grasp.md)."""
     dropped = np.flatnonzero(s >= drop_slip(scene))
     end = float(t[dropped[0]]) if dropped.size else float(t[-1])
     words, start, _, a = next(p for p in phases(scene) if p[1] <= max(end - 1e-9, 0.0) < p[2])
-    fit = start + SETTLE if within(t, start + SETTLE, end).sum() >= 4 else (start + end) / 2
     order = 2 if dropped.size else 1
-    measured = (fitted_rate(t, s, fit, end, order)
-                if within(t, fit, end).sum() > order + 1 else math.nan)
+    measured = fitted_rate(t, s, start + SETTLE, end, order)
+    if math.isnan(measured):                    # a short phase: fitted from its middle
+        measured = fitted_rate(t, s, (start + end) / 2, end, order)
     exact = slip_acceleration(scene, a) if dropped.size else creep_speed(scene, a)
     return not dropped.size, end if dropped.size else None, words, measured, exact
 
 
 def words(scene, t, s, short=False):
     """'held (slid 0.66 mm, Coulomb 0), creeps 0.498 mm/s in the steady lift (u* 0.500)', 'dropped
-    at 0.62 s (Coulomb 0.61); it slips 2.462 m/s^2 while the lift accelerates (closed form 2.462)'
-    ('its slip slows at 0.190 m/s^2' below 0) or 'slips on the pads at 0.60 s: ...'; `short` (a
-    comparison's): 'held, creeps 0.498 mm/s (u* 0.500)', 'dropped at 0.62 s (Coulomb 0.61)', ..."""
+    at 0.62 s (Coulomb 0.61); ...' or 'slips on the pads at 0.60 s: ...' (docs/output.md)."""
     on_pads, t_drop, phase, measured, exact = outcome(scene, t, s)
     if not on_pads:
         rate, sign = ("it slips", 1) if not measured < 0.0 else ("its slip slows at", -1)
@@ -335,28 +298,25 @@ def words(scene, t, s, short=False):
     if not measured < scene.epsv:
         return f"slips on the pads at {t[-1]:.2f} s" + ("" if short else (
             f": {1e3 * measured:.1f} mm/s {phase} ({slid})"))
-    creeps = f"creeps {1e3 * measured:.3f} mm/s"
-    if short:
-        return f"held, {creeps} (u* {1e3 * exact:.3f})"
-    return f"held ({slid}), {creeps} {phase} (u* {1e3 * exact:.3f})"
+    creeps, u_star = f"creeps {1e3 * measured:.3f} mm/s", f"(u* {1e3 * exact:.3f})"
+    return f"held, {creeps} {u_star}" if short else f"held ({slid}), {creeps} {phase} {u_star}"
 
 
 # ---- What the command line and log.csv read (scenes.UNITS) ---------------------------------------
 
 PARAMS, BUILD = GRASP, build_grasp_scene
-FLAGS = [(("--squeeze",), "squeeze", "NEWTONS",
-          "--scene grasp: each finger's pressing force N in N"),
-         (("--lift-accel",), "lift_accel", "M_PER_S2",
-          "--scene grasp: the fingers' lift acceleration a in m/s^2")]
+FLAGS = [(("--squeeze",), "squeeze", "NEWTONS", "--scene grasp: each finger's force N in N"),
+         (("--lift-accel",), "lift_accel", "M_PER_S2", "--scene grasp: the lift's a in m/s^2")]
 LABEL = "squeeze = {squeeze:g} N, mu = {mu:g}"      # a single run's label
+HEADER = ("block {width:g} x {height:g} m, {mass:g} kg   squeeze N = {squeeze:g} N a finger   lift "
+          "at a = {lift_accel:g} m/s^2 to {lift_speed:g} m/s from t = {t_lift:g} s   mu = {mu:g}")
 HELP = "a block lifted between two pressed fingers"
 DURATION = 1.5      # s: the lift's acceleration (0.1 s to 0.5 s), then 1 s of steady lift
 LOG_COLUMNS = [     # (name, unit, label, meaning, format, value(sample)): analysis/log.py's Column
     ("E_fingers", "J", "fingers' energy", "the barrier against the fingers plus their squeeze's "
      "potential -N n_f . x_f (the grasp)", ".9g", lambda s: s.energies["fingers"]),
     ("slip", "m", "slip", "how far the block has slid down relative to the fingers since t = 0: "
-     "their lift minus the rise of its centre of mass (the grasp)", ".9f", lambda s: s.slip),
-    ("normal_force_left", "N", "left finger's force", "the left finger's normal force on the "
-     "block, the sum of its lambda_i (the grasp)", ".9g", lambda s: float(s.finger_forces[0])),
-    ("normal_force_right", "N", "right finger's force", "the right finger's normal force on the "
-     "block, the sum of its lambda_i (the grasp)", ".9g", lambda s: float(s.finger_forces[1]))]
+     "their lift minus the rise of its centre of mass (the grasp)", ".9f", lambda s: s.slip)] + [
+    (f"normal_force_{side}", "N", f"{side} finger's force", f"the {side} finger's normal force on "
+     "the block, the sum of its lambda_i (the grasp)", ".9g", lambda s, f=f: s.finger_forces[f])
+    for f, side in enumerate(("left", "right"))]

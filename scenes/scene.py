@@ -75,14 +75,10 @@ class HalfSpace:
         """d_k = n . (x_k - o), (N,)."""
         return BarrierEnergy.distances(x, self.n, self.o)
 
-    def mu_lambda(self, scene, x, mu):
-        """mu lambda_k (N,), FrictionUpdate's."""
+    def lambdas(self, scene, x, mu=1.0):
+        """mu lambda_k (1, N), one row per surface."""
         return BarrierEnergy.compute_mu_lambda_kernel(x, self.n, self.o, scene.contact_area, mu,
-                                                      scene.dhat, scene.kappa)
-
-    def lambdas(self, scene, x):
-        """lambda_k (1, N), one row per surface."""
-        return self.mu_lambda(scene, x, 1.0)[None]
+                                                      scene.dhat, scene.kappa)[None]
 
     def init_step_size(self, x, p):
         """Algorithm 4, line 1 (BarrierEnergy.init_step_size_kernel)."""

@@ -145,14 +145,14 @@ def test_friction_off_leaves_no_friction_term():
 
 def test_friction_against_the_fingers_is_the_sum_of_each_finger_s():
     """The fingers share one tangent (the lift's), so friction against them is P_f with mu*lambda
-    summed over them (Fingers.mu_lambda) and either's normal: the sum of each finger's own P_f,
-    value and gradient, to round-off (one addition of a zero per node)."""
+    summed over them (as friction_update sums Fingers.lambdas) and either's normal: the sum of
+    each finger's own P_f, value and gradient, to round-off (one addition of a zero per node)."""
     scene = grasp.build_grasp_scene()
     rng = np.random.default_rng(5)
     v = rng.uniform(-2e-3, 2e-3, scene.x0.shape)        # both sides of eps_v = 1e-3
     each = scene.contact.lambdas(scene, scene.x0, scene.mu)
     assert (np.count_nonzero(each, axis=0) <= 1).all() and each.any()   # one finger a node
-    summed = scene.contact.mu_lambda(scene, scene.x0, scene.mu)
+    summed = each.sum(axis=0)
     for energy in (FrictionEnergy.val, FrictionEnergy.grad):
         together = energy(v, summed, scene.h, scene.friction_n, scene.epsv)
         apart = sum(energy(v, row, scene.h, n_f, scene.epsv)

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import simulator
 import time_integrator
 from analysis.closing import closing_words
+from scenes import UNITS
 from viewer.command import progress, recording
 from viewer.command.startup import EXIT_CODES, REASONS, WhileStarting
 from viewer.output import files
@@ -135,8 +136,8 @@ def summary_header(plan):
         lines = [f"chalk {p['length'] * 100:g} x {p['width'] * 100:g} cm, {how} at tilt = "
                  f"{p['tilt']:g} deg   grip k_hand = {p['k_hand']:g} N/m   drive = {p['drive']:g} "
                  f"m/s   mu_s = {p['mu_s']:g}   mu = {scene.mu:g}   v_c = {p['v_c']:g} m/s", solver]
-    elif scene.pushed is not None:
-        lines = [scene.pushed.header(scene), solver]
+    elif plan.kind in UNITS:
+        lines = [UNITS[plan.kind].HEADER.format(**p), solver]
     elif scene.surface is not None:
         lines = [f"dish {p['width'] * 100:g} x {p['height'] * 100:g} cm, {p['mass']:g} kg   cloth "
                  f"pulled L = {p['pull_length']:g} m at U = {p['pull_speed']:g} m/s from t = "

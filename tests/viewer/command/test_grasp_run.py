@@ -20,8 +20,8 @@ def test_grasp_flags_reach_the_scene_and_a_list_compares_squeezes():
     assert plan.labels == ["squeeze = 1", "squeeze = 2", "squeeze = 4"]
     assert plan.steps == [round(grasp.DURATION / 0.005)] * 3 and plan.kind == "grasp"
     assert run.summary_header(plan)[1] == (
-        "block 5 x 5 cm, 0.3 kg   squeeze N = 1 N a finger   lift at a = 1 m/s^2 to 0.2 m/s from "
-        "t = 0.1 s   mu = 0.4")
+        "block 0.05 x 0.05 m, 0.3 kg   squeeze N = 1 N a finger   lift at a = 1 m/s^2 to 0.2 m/s "
+        "from t = 0.1 s   mu = 0.4")
     (one,) = cli.parse_command_line(["--scene", "grasp"])
     assert cli.plan_from_args([one]).labels == ["squeeze = 2.616 N, mu = 0.5"]
 
