@@ -286,7 +286,7 @@ def outcome(scene, t, s):
 
 def words(scene, t, s, short=False):
     """'held (slid 0.66 mm, Coulomb 0), creeps 0.498 mm/s in the steady lift (u* 0.500)', 'dropped
-    at 0.62 s (Coulomb 0.61); ...' or 'slips on the pads at 0.60 s: ...' (docs/output.md)."""
+    at 0.62 s (Coulomb 0.61); ...' or 'slips on the pads at 0.60 s: ...' (docs/grasp.md)."""
     on_pads, t_drop, phase, measured, exact = outcome(scene, t, s)
     if not on_pads:
         rate, sign = ("it slips", 1) if not measured < 0.0 else ("its slip slows at", -1)
