@@ -211,13 +211,15 @@ def say(plan, signals, folder, tracks, failure, messages, done):
 
 
 def kept(tracks, folder, plan):
-    """'N steps kept in out/' (the last step log.csv holds), the last pictures left out and its
-    page's link where it was written; nothing kept where the folder disappeared."""
+    """'N steps kept in out/' (the last step log.csv holds; a comparison's logs, 'N to M' where
+    they differ), the last pictures left out and its page's link where it was written; nothing
+    kept where the folder disappeared."""
     if folder is not None and folder.lost:
         return f"nothing kept: {folder.folder}/ disappeared as the run wrote it"
     if not tracks:
         return "nothing written" + (f" in {folder.folder}/" if folder is not None else "")
-    steps = min(track.logged for track in tracks)
+    fewest, most = min(track.logged for track in tracks), max(track.logged for track in tracks)
+    steps = fewest if fewest == most else f"{fewest} to {most}"
     left_out = [name for name in run_pictures.names(tracks)
                 if (plan.frames or name != "index.html") and name not in folder.written]
     said = f"; left out: {', '.join(left_out)}" if left_out else ""

@@ -6,6 +6,7 @@ import signal
 import subprocess
 import sys
 import time
+from types import SimpleNamespace
 
 import pytest
 
@@ -97,3 +98,17 @@ def test_sighup_and_sigquit_stop_a_run_as_sigterm_does(tmp_path, name, code, rea
     steps = len((tmp_path / "log.csv").read_text().splitlines()) - 2
     assert last == f"simulator.py: stopped: {reason}; {steps} steps kept in {tmp_path}/", last
     assert sorted(os.listdir(tmp_path)) == ["log.csv", "plots.png", "summary.png"]
+
+
+def test_a_comparison_whose_logs_differ_says_the_fewest_and_the_most_steps_kept(tmp_path):
+    """Runs of a comparison step in turn up to each frame, so a signal can leave their logs a few
+    steps apart (a tester's SIGHUP: 24, 24 and 21): the line said '21 steps kept'. It says the
+    range where they differ and one number where they agree."""
+    folder = SimpleNamespace(lost=False, folder=str(tmp_path), written={"log.csv"})
+    tracks = [SimpleNamespace(logged=n, marks=None, tag=f"run{i}") for i, n in enumerate([24, 21])]
+    plan = SimpleNamespace(frames=False)
+    assert run.kept(tracks, folder, plan) == (f"21 to 24 steps kept in {tmp_path}/; left out: "
+                                              "summary.png, plots.png")
+    for track in tracks:
+        track.logged = 21
+    assert run.kept(tracks, folder, plan).startswith(f"21 steps kept in {tmp_path}/;")
