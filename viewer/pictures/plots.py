@@ -35,10 +35,10 @@ class Axes:
     (`xlabel` along, `ylabel` up); t from t_lo to t_max; `yticks`, (value, text), name rows."""
 
     def __init__(self, pygame, surface, font, top, t_max, y_lo, y_hi, title, ylabel, log=False,
-                 xlabel="t (s)", t_lo=0.0, yticks=None):
+                 xlabel="t (s)", t_lo=0.0, yticks=None, height=PANEL_HEIGHT):
         self.pygame, self.surface, self.font = pygame, surface, font
         self.log, self.yticks = log, yticks
-        self.top, self.bottom = top + 24, top + PANEL_HEIGHT - 30
+        self.panel_top, self.top, self.bottom = top, top + 24, top + height - 30
         self.t_lo, self.t_max = t_lo, t_max if t_max > t_lo else t_lo + 1.0
         if log:
             y_lo, y_hi = math.log10(y_lo), math.log10(y_hi)
@@ -117,6 +117,10 @@ class Axes:
         for col, row in zip(*self.px(t, y)):
             self.pygame.draw.circle(self.surface, color, (round(col), round(row)), radius)
 
+    def height_needed(self):
+        """The panel's height that holds its legend above its time axis's label."""
+        return self.legend_row - self.panel_top + 30 - 3
+
     def legend(self, color, text):
         self.pygame.draw.rect(self.surface, color, (RIGHT + 12, self.legend_row + 5, 16, 6))
         self.note(text)
@@ -166,19 +170,29 @@ def speed_range(speeds, epsv):
 
 
 def draw_plots(pygame, tracks):
-    """plots.png's surface, and the time axis as the page needs it: (left px, right px, t_max)."""
+    """plots.png's surface, and the time axis as the page needs it: (left px, right px, t_max).
+    Panels are PANEL_HEIGHT tall; one whose legend would run into the next grows to hold it (the
+    plots drawn again)."""
     font = pygame.font.Font(None, 18)
     chalk = tracks[0].scene.hand is not None
-    surface = pygame.Surface((WIDTH, TOP + (CHALK_PANELS if chalk else 3) * PANEL_HEIGHT))
-    surface.fill(draw.WHITE)
     data = [series(tr) for tr in tracks]
     t_max = max(float(d["t"][-1]) for d in data)
-    rows = iter(TOP + k * PANEL_HEIGHT for k in range(CHALK_PANELS))
+    heights = [PANEL_HEIGHT] * (CHALK_PANELS if chalk else 3)
+    for _ in range(2):                  # the legends' rows do not depend on the heights
+        surface = pygame.Surface((WIDTH, TOP + sum(heights)))
+        surface.fill(draw.WHITE)
+        tops, panels = iter(TOP + np.cumsum([0] + heights[:-1])), []
 
-    def axes(*args, **kw):
-        """The next panel down: Axes(y_lo, y_hi, title, ylabel, ...) over [0, t_max]."""
-        return Axes(pygame, surface, font, next(rows), t_max, *args, **kw)
-    (chalk_panels if chalk else square_panels)(axes, tracks, data)
+        def axes(*args, **kw):
+            """The next panel down: Axes(y_lo, y_hi, title, ylabel, ...) over [0, t_max]."""
+            panels.append(Axes(pygame, surface, font, int(next(tops)), t_max, *args,
+                               height=heights[len(panels)], **kw))
+            return panels[-1]
+        (chalk_panels if chalk else square_panels)(axes, tracks, data)
+        needed = [max(height, ax.height_needed()) for height, ax in zip(heights, panels)]
+        if needed == heights:
+            break
+        heights = needed
     return surface, (LEFT, RIGHT, t_max)
 
 

@@ -125,3 +125,17 @@ def test_a_long_label_takes_a_legend_row_of_its_own(monkeypatch, chalks):
         assert {tr.label, first, second} <= set(texts) and f"{tr.label}: {first}" not in texts
         for row in (tr.label, first, second):
             assert font.size(row)[0] <= plots.WIDTH - plots.LEGEND_TEXT, row
+
+
+def test_a_panel_grows_to_hold_a_long_legend_above_its_time_axis(monkeypatch, tmp_path):
+    """Seven runs: the speed panel's legend has a row per run, one per run's rest and eps_v's, 15
+    rows, more than a 250-pixel panel holds (11): it ran over the time axis's "t (s)" and into the
+    panel below (a tester's tablecloth comparison). The panel grows; the picture with it."""
+    pygame = draw.load_pygame()
+    scenes = [simulator.build_scene(mu=mu) for mu in (0.1, 0.12, 0.14, 0.16, 0.18, 0.2, 0.22)]
+    surface, _, panels = drawn(monkeypatch, pygame, tracks_of(tmp_path, scenes, 20))
+    moved, speeds, newton = panels.values()
+    assert speeds.legend_row - speeds.top == 15 * 18 and speeds.legend_row <= speeds.bottom + 3
+    assert newton.panel_top == speeds.panel_top + speeds.height_needed() > moved.panel_top + 500
+    assert surface.get_height() == newton.panel_top + plots.PANEL_HEIGHT
+    axis_labels_drawn(pygame, surface, 1)               # the first panel as it was
