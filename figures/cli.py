@@ -42,6 +42,15 @@ def write(names, folder):
     print(f"figures: {len(names)} figure{plural} in {time.perf_counter() - begin:.1f} s")
 
 
+def kept(folder):
+    """'N figures kept in out/' (each whole), 'nothing written in out/', or 'nothing written'."""
+    if folder is None:
+        return "nothing written"
+    count = sum(name.endswith(".png") for name in folder.written)
+    said = f"{count} figure{'s' * (count != 1)} kept" if count else "nothing written"
+    return f"{said} in {folder.folder}/"
+
+
 def main(argv=None):
     """Write the figures asked for; returns the exit code."""
     with run.Signals() as signals:
@@ -65,8 +74,7 @@ def main(argv=None):
                 return 1
         except run.Stopped as stopped:      # also as an error was found
             signals.close()
-            said = "nothing written" if folder is None else "the figures written so far are whole"
-            print(f"figures: stopped: {stopped.reason}; {said}", file=sys.stderr)
+            print(f"figures: stopped: {stopped.reason}; {kept(folder)}", file=sys.stderr)
             return stopped.code
         finally:
             signals.close()

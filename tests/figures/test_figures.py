@@ -371,11 +371,15 @@ def test_a_folder_that_holds_anything_is_refused_and_left_as_it_is(tmp_path, cap
 
 
 def test_ctrl_c_ends_in_one_line_with_130(tmp_path, capsys, monkeypatch):
+    """The line names the folder and what it holds (it said only 'the figures written so far are
+    whole', the folder left unnamed)."""
     def interrupted():
         os.kill(os.getpid(), signal.SIGINT)
     monkeypatch.setattr(mollifier, "compute", interrupted)
     assert cli.main(["mollifier", "--out", str(tmp_path)]) == 130
-    assert capsys.readouterr().err.count("\n") == 1 and os.listdir(tmp_path) == []
+    said = capsys.readouterr().err
+    assert said == f"figures: stopped: interrupted; nothing written in {tmp_path}/\n"
+    assert os.listdir(tmp_path) == []
 
 
 def test_a_signal_whose_raise_an_import_dropped_stops_before_the_compute(tmp_path, capsys,
@@ -422,7 +426,8 @@ def test_ctrl_c_while_writing_lands_after_the_file_is_whole(tmp_path, capsys, mo
         return real(path, data)
     monkeypatch.setattr(whole_files, "write_temporary", write_interrupted)
     assert cli.main(["mollifier", "--out", str(tmp_path)]) == 130
-    assert capsys.readouterr().err.count("\n") == 1
+    said = capsys.readouterr().err
+    assert said == f"figures: stopped: interrupted; 1 figure kept in {tmp_path}/\n"
     assert sorted(os.listdir(tmp_path)) == ["mollifier.png"]
     assert is_png((tmp_path / "mollifier.png").read_bytes())
 
