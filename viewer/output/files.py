@@ -143,19 +143,19 @@ def make_folders(folder, out):
     raise refused(f"out folder {out!r} cannot be created: its parents keep disappearing")
 
 
-def check_empty(path, out):
+def check_empty(path, out, given=True):
     """ValueError unless `path` is an empty folder of this user's that others cannot write to."""
     if not os.path.isdir(path):
-        raise refused(f"out folder {out!r} is not a folder: choose a new one")
+        raise refused(f"{named(out, given)} is not a folder: choose a new one", given)
     st = os.stat(path)
     shared = st.st_mode & stat.S_IWOTH and not st.st_mode & stat.S_ISVTX
     if whole_files.HAS_OWNERS and (st.st_uid != os.geteuid() or shared):
-        raise refused(f"out folder {out!r} is another user's or others may write to it: choose "
-                      f"a new folder")
+        raise refused(f"{named(out, given)} is another user's or others may write to it: choose "
+                      f"a new folder", given)
     if os.listdir(path):
-        raise refused(f"out folder {out!r} is not empty: a run writes only into a new or empty "
+        raise refused(f"{named(out, given)} is not empty: a run writes only into a new or empty "
                       f"folder, so choose another --out (or leave it out: each run then makes "
-                      f"its own under {OUTPUT}/)")
+                      f"its own under {OUTPUT}/)", given)
 
 
 def identity(path):
@@ -167,28 +167,30 @@ def identity(path):
     return st.st_dev, st.st_ino
 
 
-def claim(path, out):
+def claim(path, out, given=True):
     """Claim the folder `path` for this run: the file CLAIM created in it (O_EXCL: one run only
-    can), then the folder found empty but for it. A ValueError naming --out where another run
-    claimed it first or it is not empty; returns the claim's identity."""
-    check_empty(path, out)
+    can), then the folder found empty but for it. A ValueError naming --out (where `given`, else
+    the folder) where another run claimed it first or it is not empty; returns its identity."""
+    check_empty(path, out, given)
     name = os.path.join(path, CLAIM)
     try:
         fd = os.open(name, whole_files.NEW, 0o666)
     except FileExistsError:
-        raise refused(f"out folder {out!r} was taken by another run started at the same moment: "
-                      f"choose another --out") from None
+        raise refused(f"{named(out, given)} was taken by another run started at the same moment: "
+                      f"choose another --out", given) from None
     except OSError as err:
-        raise refused(f"out folder {out!r} cannot be written: {err.strerror or err}") from None
+        raise refused(f"{named(out, given)} cannot be written: {err.strerror or err}",
+                      given) from None
     try:
         with os.fdopen(fd, "w") as f:
             f.write(f"the folder of the run of process {os.getpid()}, while it runs\n")
     except OSError as err:          # a full disk
         os.remove(name)
-        raise refused(f"out folder {out!r} cannot be written: {err.strerror or err}") from None
+        raise refused(f"{named(out, given)} cannot be written: {err.strerror or err}",
+                      given) from None
     if os.listdir(path) != [CLAIM]:
         os.remove(name)
-        check_empty(path, out)
+        check_empty(path, out, given)
     return identity(name)
 
 
@@ -202,17 +204,17 @@ def new_folder(kind):
         for out in [base] + [f"{base}-{k}" for k in range(2, 1000)]:
             with contextlib.suppress(FileExistsError):
                 os.mkdir(out)
-                return out, claim_made(out, [out], out)
+                return out, claim_made(out, [out], out, False)
     except OSError as err:
         raise refused(f"{named(base, False)} cannot be created: {err.strerror or err}",
                       False) from None
     raise refused(f"no new folder could be made as {base}-N: give --out", False)
 
 
-def claim_made(folder, made, out):
+def claim_made(folder, made, out, given=True):
     """`claim` the folder (the folders `made` for it); where it cannot, those are removed."""
     try:
-        return claim(folder, out)
+        return claim(folder, out, given)
     except BaseException:
         remove(made)
         raise

@@ -326,6 +326,18 @@ def test_a_run_refused_on_a_full_disk_leaves_nothing_behind(small_disk):
     assert sorted(os.listdir(small_disk)) == before
 
 
+def test_a_full_disk_without_out_blames_the_folder_not_the_flag(small_disk, monkeypatch):
+    """No --out given: the line names the folder tried under output/, not --out (it said
+    '--out: out folder ... cannot be written', a flag the student never gave)."""
+    monkeypatch.chdir(small_disk)
+    fill(small_disk)
+    code, lines = main("--steps", "3")
+    assert code == 2 and len(lines) == 1, lines
+    assert lines[0].startswith("simulator.py: error: folder 'output/square-"), lines
+    assert lines[0].endswith("cannot be written: No space left on device"), lines
+    assert sorted(os.listdir(small_disk / "output")) == []
+
+
 def test_an_empty_read_only_folder_is_refused(small_disk):
     """An empty folder on a read-only disk: one line, exit 2, before anything else."""
     subprocess.run(["mount", "-o", "remount,ro", str(small_disk)], check=True)
