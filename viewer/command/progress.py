@@ -42,7 +42,8 @@ class Progress:
     def say(self, n, runs):
         """The line of step n, within WIDTH columns: the first run's step count and time, and the
         run's figures; a comparison's Newton iterations run by run ('-': a run already ended), its
-        largest residual and its least min_d (and each run's t where the runs' h differ)."""
+        largest residual and its least min_d (and each run's t where the runs' h differ); where
+        that is wider than WIDTH, the least to the most of them ('newton=1-6')."""
         first = self.tracks[min(runs)]
         _, newton, residual, min_d = zip(*runs.values())
         line = f"step {n}/{first.steps}  t={n * first.scene.h:.2f}s  "
@@ -51,15 +52,29 @@ class Progress:
                   file=self.log, flush=True)
             return
         each = [runs.get(k) for k in range(len(self.tracks))]
-        if len({tr.scene.h for tr in self.tracks}) > 1:
-            times = ",".join("-" if r is None else f"{r[0]:.2f}" for r in each)
-            line = f"step {n}/{first.steps}  t={times}s  "
-        counts = ",".join("-" if r is None else str(r[1]) for r in each)
-        print(f"{line}newton={counts}  residual<={max(residual):.1e}  min_d>={min(min_d):.2e}",
-              file=self.log, flush=True)
+        ts, counts = ([None if r is None else r[k] for r in each] for k in (0, 1))
+        tail = f"  residual<={max(residual):.1e}  min_d>={min(min_d):.2e}"
+        for say in (listed, span):          # run by run; where that is too wide, least to most
+            t = say(ts, ".2f") if len({tr.scene.h for tr in self.tracks}) > 1 else (
+                f"{n * first.scene.h:.2f}")
+            line = f"step {n}/{first.steps}  t={t}s  newton={say(counts, 'd')}{tail}"
+            if columns(line) <= WIDTH:
+                break
+        print(line, file=self.log, flush=True)
 
     def warn(self, track, text):
         warning(self.log, track.label if len(self.tracks) > 1 else None, text)
+
+
+def listed(figures, form):
+    """Each run's figure in `form`, '-' for a run already ended (None): '1,2,-'."""
+    return ",".join("-" if f is None else format(f, form) for f in figures)
+
+
+def span(figures, form):
+    """The least to the most of the figures (None aside) in `form`: '1-6'; '3' where they agree."""
+    low, high = (format(f(x for x in figures if x is not None), form) for f in (min, max))
+    return low if low == high else f"{low}-{high}"
 
 
 def warning(log, label, text):

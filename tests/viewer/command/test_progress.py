@@ -9,7 +9,7 @@ import numpy as np
 
 import simulator
 import time_integrator
-from helpers.command import recorded, run_main
+from helpers.command import recorded, run_main, too_wide
 from viewer.command import progress
 from analysis import closing, stick_slip
 
@@ -136,3 +136,15 @@ def check_lines_against_logs(folder, tags, lines, expected):
         if len(times.split(",")) > 1:       # 0.205 may show as 0.20 or 0.21
             assert [abs(float(t) - float(row["t"])) <= 0.005 + 1e-9
                     for t, row in zip(times.split(","), rows) if t != "-"] == [True] * len(shown)
+
+
+def test_a_comparison_of_many_runs_gives_the_least_to_the_most_within_100_columns(tmp_path):
+    """30 runs: a Newton count each ran to 105 columns at 20 runs and 1061 at 500 (a tester's);
+    where the run-by-run line would not fit, it gives the least to the most ('newton=0-1')."""
+    mus = ",".join(f"{0.1 + 0.01 * k:.2f}" for k in range(30))
+    code, lines = run_main("--mu", mus, "--steps", "3", "--no-frames", "--out", str(tmp_path))
+    said = [line for line in lines if line.startswith("step ")]
+    assert code == 0 and said and not too_wide(lines, tmp_path), lines
+    for line in said:
+        assert re.fullmatch(r"step \d+/3  t=0\.0\ds  newton=\d+(-\d+)?  residual<=\S+  "
+                            r"min_d>=\S+", line), line
