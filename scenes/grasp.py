@@ -284,17 +284,25 @@ def outcome(scene, t, s):
     return not dropped.size, end if dropped.size else None, words, measured, exact
 
 
+TOO_FEW = "too short a run to fit {} (fewer than 4 states in its window)"
+
+
 def words(scene, t, s, short=False):
     """'held (slid 0.66 mm, Coulomb 0), creeps 0.498 mm/s in the steady lift (u* 0.500)', 'dropped
-    at 0.62 s (Coulomb 0.61); ...' or 'slips on the pads at 0.60 s: ...' (docs/grasp.md)."""
+    at 0.62 s (Coulomb 0.61); ...', 'slips on the pads at 0.60 s: ...' or, too few states to fit a
+    rate, 'is on the pads at 0.01 s (...): too short a run to fit ...' (docs/grasp.md)."""
     on_pads, t_drop, phase, measured, exact = outcome(scene, t, s)
     if not on_pads:
         rate, sign = ("it slips", 1) if not measured < 0.0 else ("its slip slows at", -1)
         t_coulomb = coulomb_drop(scene)
         coulomb = f"{t_coulomb:.2f}" if t_coulomb < math.inf else "holds"
-        return f"dropped at {t_drop:.2f} s (Coulomb {coulomb})" + ("" if short else (
-            f"; {rate} {sign * measured:.3f} m/s^2 {phase} (closed form {sign * exact:.3f})"))
+        said = f"{rate} {sign * measured:.3f} m/s^2 {phase} (closed form {sign * exact:.3f})"
+        said = TOO_FEW.format("its acceleration") if math.isnan(measured) else said
+        return f"dropped at {t_drop:.2f} s (Coulomb {coulomb})" + ("" if short else f"; {said}")
     slid = f"slid {1e3 * s[-1]:.2f} mm, Coulomb {1e3 * coulomb_slip(scene, float(t[-1])):.3g}"
+    if math.isnan(measured):                    # neither held nor slipping: not measured
+        return (f"on the pads at {t[-1]:.2f} s, too short to fit its speed" if short else
+                f"is on the pads at {t[-1]:.2f} s ({slid}): " + TOO_FEW.format("its speed"))
     if not measured < scene.epsv:
         return f"slips on the pads at {t[-1]:.2f} s" + ("" if short else (
             f": {1e3 * measured:.1f} mm/s {phase} ({slid})"))

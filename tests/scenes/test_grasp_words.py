@@ -55,3 +55,30 @@ def test_a_slip_that_slows_past_the_pads_says_so_without_a_minus_sign():
     slip = np.where(t < 0.5, 0.03 * (t / 0.5) ** 2, 0.03 + 0.1 * tau - 0.095 * tau ** 2)
     assert grasp.words(scene, t, slip) == ("dropped at 0.77 s (Coulomb 0.75); its slip slows at "
                                            "0.190 m/s^2 in the steady lift (closed form 0.190)")
+
+
+@pytest.mark.parametrize("steps", [1, 3, 21, 101])
+def test_a_run_too_short_to_fit_a_rate_says_so_and_claims_no_slip(steps):
+    """1 to 3 kept states before the lift, 2 at 0.105 s into its acceleration, 2 into the steady
+    lift: fewer than the 4 a fit needs (fitted_rate's nan), so neither held nor slipping."""
+    scene = grasp.build_grasp_scene()
+    t = np.arange(0, steps + 1) * scene.h
+    slip = 5e-4 * t
+    assert np.isnan(grasp.outcome(scene, t, slip)[3])
+    said = grasp.words(scene, t, slip)
+    assert said.startswith(f"is on the pads at {t[-1]:.2f} s (slid ")
+    assert said.endswith("too short a run to fit its speed (fewer than 4 states in its window)")
+    assert grasp.words(scene, t, slip, short=True) == (
+        f"on the pads at {t[-1]:.2f} s, too short to fit its speed")
+
+
+def test_a_drop_too_soon_to_fit_its_acceleration_says_so():
+    """A slip reaching the pads' 0.05 m at 0.105 s, 1 state into the lift's acceleration: no fit."""
+    scene = grasp.build_grasp_scene(squeeze=0.1)
+    t = np.arange(0, 22) * scene.h
+    slip = 0.05 * (t / t[-1]) ** 4
+    assert grasp.outcome(scene, t, slip)[1] == t[-1]
+    said = grasp.words(scene, t, slip)
+    assert said.startswith("dropped at 0.10 s (Coulomb ") and "nan" not in said
+    assert said.endswith("; too short a run to fit its acceleration (fewer than 4 states in its "
+                         "window)")

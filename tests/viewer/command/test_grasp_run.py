@@ -50,3 +50,17 @@ def test_a_grasp_run_says_held_or_dropped_logs_the_slip_and_draws_the_pads(tmp_p
     assert np.all(frame == draw.PUSHED_COLOR, axis=2).sum() > 500      # the pads, and the legend
     summary = pygame.surfarray.array3d(pygame.image.load(str(tmp_path / "summary.png")))
     assert np.all(summary == draw.PUSHED_COLOR, axis=2).sum() > 100    # each run's pads
+
+
+def test_a_run_too_short_to_fit_says_so_without_nan(tmp_path):
+    """1 step, and a comparison of 2: too few states to fit a speed (test_grasp_words.py)."""
+    code, lines = run_main("--scene", "grasp", "--steps", "1", "--no-frames",
+                           "--out", str(tmp_path / "one"))
+    assert code == 0, lines
+    assert "the block is on the pads at 0.01 s (slid 0.00 mm, Coulomb 0): too short a run to fit " \
+        "its speed" in closing_text(lines)
+    code, lines = run_main("--scene", "grasp", "--squeeze", "1,4", "--steps", "2", "--no-frames",
+                           "--out", str(tmp_path / "two"))
+    last = closing_text(lines)
+    assert code == 0 and "nan" not in last and "slips" not in last, lines
+    assert "squeeze = 4: on the pads at 0.01 s, too short to fit its speed" in last
