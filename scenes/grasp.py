@@ -319,6 +319,7 @@ LABEL = "squeeze = {squeeze:g} N, mu = {mu:g}"      # a single run's label
 HEADER = ("block {width:g} x {height:g} m, {mass:g} kg   squeeze N = {squeeze:g} N a finger   lift "
           "at a = {lift_accel:g} m/s^2 to {lift_speed:g} m/s from t = {t_lift:g} s   mu = {mu:g}")
 HELP = "a block lifted between two pressed fingers"
+TITLE = "Block lifted between fingers"                  # the page's
 DURATION = 1.5      # s: the lift's acceleration (0.1 s to 0.5 s), then 1 s of steady lift
 LOG_COLUMNS = [     # (name, unit, label, meaning, format, value(sample)): analysis/log.py's Column
     ("E_fingers", "J", "fingers' energy", "the barrier against the fingers plus their squeeze's "

@@ -50,6 +50,9 @@ def test_a_grasp_run_says_held_or_dropped_logs_the_slip_and_draws_the_pads(tmp_p
     assert np.all(frame == draw.PUSHED_COLOR, axis=2).sum() > 500      # the pads, and the legend
     summary = pygame.surfarray.array3d(pygame.image.load(str(tmp_path / "summary.png")))
     assert np.all(summary == draw.PUSHED_COLOR, axis=2).sum() > 100    # each run's pads
+    page = (tmp_path / "index.html").read_text(encoding="utf-8")
+    title = "Block lifted between fingers: squeeze = 1, squeeze = 4"
+    assert f"<title>{title}</title>" in page and f"<h2>{title}</h2>" in page
 
 
 def test_a_run_too_short_to_fit_says_so_without_nan(tmp_path):
