@@ -118,8 +118,11 @@ class Fingers:
 
     def words(self, track, short=False):
         """`words` of a run's kept states (a recording.Track), of 'the block' unless short."""
-        t, s = np.array([(x.t, x.slip) for x in track.samples.all()]).T
-        return ("" if short else "the block ") + words(track.scene, t, s, short)
+        return ("" if short else "the block ") + words(track.scene, *slips(track), short)
+
+    def mark(self, track):
+        """(`mark`, short `words`) of a run's kept states: plots.png's mark and its legend."""
+        return mark(track.scene, *slips(track)), words(track.scene, *slips(track), short=True)
 
     def pads(self, x, depth):
         """Each finger's pad, (4, 2) corners: pad_length along the lift, `depth` behind it."""
@@ -253,6 +256,11 @@ def slip(scene, x):
     return float(f.along(x).mean()) - float(rise)
 
 
+def slips(track):
+    """(t, slip) of a run's kept states (a recording.Track), (K,) each."""
+    return np.array([(x.t, x.slip) for x in track.samples.all()]).T
+
+
 def drop_slip(scene):
     """The slip at which the block has slid past the pads (its top below their bottom), m."""
     return (scene.contact.pad_length + scene.params["height"]) / 2
@@ -271,27 +279,32 @@ def fitted_rate(t, s, start, end, order=1):
 
 
 def outcome(scene, t, s):
-    """(held, t_drop or None, phase words, measured, closed form) from the slip s at times t: the
-    speed and u*, or the acceleration where it dropped, in the phase it ended in (docs/grasp.md)."""
+    """(held, t_drop or None, phase words, measured, closed form, since) from the slip s at times
+    t: the speed and u*, or the acceleration where it dropped, fitted over the phase it ended in
+    from `since` (SETTLE into it, else its middle) to its end (docs/grasp.md)."""
     dropped = np.flatnonzero(s >= drop_slip(scene))
     end = float(t[dropped[0]]) if dropped.size else float(t[-1])
     words, start, _, a = next(p for p in phases(scene) if p[1] <= max(end - 1e-9, 0.0) < p[2])
-    order = 2 if dropped.size else 1
-    measured = fitted_rate(t, s, start + SETTLE, end, order)
+    order, since = 2 if dropped.size else 1, start + SETTLE
+    measured = fitted_rate(t, s, since, end, order)
     if math.isnan(measured):                    # a short phase: fitted from its middle
-        measured = fitted_rate(t, s, (start + end) / 2, end, order)
+        since = (start + end) / 2
+        measured = fitted_rate(t, s, since, end, order)
     exact = slip_acceleration(scene, a) if dropped.size else creep_speed(scene, a)
-    return not dropped.size, end if dropped.size else None, words, measured, exact
+    return not dropped.size, end if dropped.size else None, words, measured, exact, since
 
 
 TOO_FEW = "too short a run to fit {} (fewer than 4 states in its window)"
 
 
 def words(scene, t, s, short=False):
-    """'held (slid 0.66 mm, Coulomb 0), creeps 0.498 mm/s in the steady lift (u* 0.500)', 'dropped
-    at 0.62 s (Coulomb 0.61); ...', 'slips on the pads at 0.60 s: ...' or, too few states to fit a
-    rate, 'is on the pads at 0.01 s (...): too short a run to fit ...' (docs/grasp.md)."""
-    on_pads, t_drop, phase, measured, exact = outcome(scene, t, s)
+    """'held (slid 0.66 mm, Coulomb 0); creeps 0.498 mm/s in the steady lift from 0.55 s (u*
+    0.500)', 'dropped at 0.62 s (Coulomb 0.61); ...', 'slips on the pads at 0.60 s (...); ...' or,
+    too few states to fit a rate, 'is on the pads at 0.01 s (...); too short a run to fit ...';
+    each rate with the start of its fit, `outcome`'s since (docs/grasp.md). Its parts, split at
+    '; ', each fit a closing line."""
+    on_pads, t_drop, phase, measured, exact, since = outcome(scene, t, s)
+    phase = f"{phase} from {since:.2f} s"
     if not on_pads:
         rate, sign = ("it slips", 1) if not measured < 0.0 else ("its slip slows at", -1)
         t_coulomb = coulomb_drop(scene)
@@ -302,12 +315,20 @@ def words(scene, t, s, short=False):
     slid = f"slid {1e3 * s[-1]:.2f} mm, Coulomb {1e3 * coulomb_slip(scene, float(t[-1])):.3g}"
     if math.isnan(measured):                    # neither held nor slipping: not measured
         return (f"on the pads at {t[-1]:.2f} s, too short to fit its speed" if short else
-                f"is on the pads at {t[-1]:.2f} s ({slid}): " + TOO_FEW.format("its speed"))
+                f"is on the pads at {t[-1]:.2f} s ({slid}); " + TOO_FEW.format("its speed"))
     if not measured < scene.epsv:
         return f"slips on the pads at {t[-1]:.2f} s" + ("" if short else (
-            f": {1e3 * measured:.1f} mm/s {phase} ({slid})"))
+            f" ({slid}); at {1e3 * measured:.1f} mm/s {phase}"))
     creeps, u_star = f"creeps {1e3 * measured:.3f} mm/s", f"(u* {1e3 * exact:.3f})"
-    return f"held, {creeps} {u_star}" if short else f"held ({slid}), {creeps} {phase} {u_star}"
+    return (f"held, {creeps} from {since:.2f} s {u_star}" if short else
+            f"held ({slid}); {creeps} {phase} {u_star}")
+
+
+def mark(scene, t, s):
+    """When plots.png marks a run of slip s at times t: where the fit of a held block's creep
+    starts (outcome's since), where it dropped, else None (slipping, or not fitted)."""
+    held, t_drop, _, measured, _, since = outcome(scene, t, s)
+    return t_drop if not held else since if measured < scene.epsv else None
 
 
 # ---- What the command line and log.csv read (scenes.UNITS) ---------------------------------------

@@ -60,7 +60,7 @@ def test_a_run_too_short_to_fit_says_so_without_nan(tmp_path):
     code, lines = run_main("--scene", "grasp", "--steps", "1", "--no-frames",
                            "--out", str(tmp_path / "one"))
     assert code == 0, lines
-    assert "the block is on the pads at 0.01 s (slid 0.00 mm, Coulomb 0): too short a run to fit " \
+    assert "the block is on the pads at 0.01 s (slid 0.00 mm, Coulomb 0); too short a run to fit " \
         "its speed" in closing_text(lines)
     code, lines = run_main("--scene", "grasp", "--squeeze", "1,4", "--steps", "2", "--no-frames",
                            "--out", str(tmp_path / "two"))

@@ -1,0 +1,36 @@
+"""The grasp's plots.png and page say what its closing words say: the block dropped at its time,
+or held and creeping as fitted from the same window, beside u*; never 'sticks from' a time after
+the block slid past the pads (there the infinite half-spaces grip it again, the pads do not)."""
+import pytest
+
+from analysis import closing
+from helpers import legibility
+from helpers.command import recorded
+from scenes import grasp
+from viewer.pictures import draw, page, plots
+
+
+@pytest.fixture(scope="module")
+def tracks(tmp_path_factory):
+    """2 N drops the block at 0.75 s and the half-spaces grip it again at about 1.16 s (measured);
+    4 N holds it. 1.2 s each."""
+    scenes = [grasp.build_grasp_scene(squeeze=2.0), grasp.build_grasp_scene(squeeze=4.0)]
+    return recorded(tmp_path_factory.mktemp("grasps"), scenes, 240)
+
+
+def test_plots_legend_says_the_closing_words_not_sticks_from(tracks, monkeypatch):
+    dropped, held = (closing.closing_words([track]) for track in tracks)
+    assert dropped.startswith("the block dropped at 0.75 s") and tracks[0].rest_since > 0.75
+    assert held.startswith("the block held") and "from 0.55 s (u* 0.286)" in held
+    texts = legibility.record_text(monkeypatch)
+    plots.draw_plots(draw.load_pygame(), tracks)
+    said = " ".join(text for text, _, _ in texts)
+    assert "sticks from" not in said and "closed form" not in said
+    for track in tracks:            # the legend's rows are the short closing words, whole
+        assert track.scene.pushed.words(track, short=True) in said
+
+
+def test_the_page_table_says_the_closing_words(tracks):
+    figures = page.run_figures(tracks)
+    assert "rest" not in figures
+    assert figures["rows"] == [("what it showed", [closing.closing_words([t]) for t in tracks])]
