@@ -13,7 +13,7 @@ LEGEND_TEXT = RIGHT + 34        # the column where a legend's text starts
 ENERGY_COLORS = {"kinetic": (230, 120, 0), "gravity": (120, 80, 40), "spring": (0, 150, 60),
                  "barrier": (200, 0, 160), "hand": (0, 150, 200), "total": (0, 0, 0),
                  "W_friction": (0, 0, 255), "W_hand": (120, 0, 200), "-D_numerical": (200, 0, 0),
-                 "W_surface": (0, 170, 170), "-heat": (128, 128, 0), "W_lift": (146, 73, 0)}
+                 "W_surface": (0, 170, 170), "-heat": (128, 128, 0), "W_lift": (240, 100, 160)}
 ENERGY_LABELS = {"total": "total E", "W_friction": "friction work W", "W_hand": "hand work W_hand",
                  "-D_numerical": "-D, numerical dissip.", "W_surface": "surface work W_surface",
                  "-heat": "-heat, cloth's frame", "W_lift": "lift work W_lift"}

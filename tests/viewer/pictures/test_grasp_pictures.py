@@ -1,6 +1,7 @@
 """The grasp's plots.png and page say what its closing words say: the block dropped at its time,
 or held and creeping as fitted from the same window, beside u*; never 'sticks from' a time after
 the block slid past the pads (there the infinite half-spaces grip it again, the pads do not)."""
+import numpy as np
 import pytest
 
 from analysis import closing
@@ -34,3 +35,16 @@ def test_the_page_table_says_the_closing_words(tracks):
     figures = page.run_figures(tracks)
     assert "rest" not in figures
     assert figures["rows"] == [("what it showed", [closing.closing_words([t]) for t in tracks])]
+
+
+def test_the_energy_panel_draws_each_curve_in_a_colour_of_its_own(tracks, monkeypatch):
+    """The grasp's energy curves (gravity and W_lift were both brown): every two colours at least
+    60 apart in RGB (the closest pair of the other scenes' curves drawn together: 63)."""
+    drawn = []
+    monkeypatch.setattr(plots.Axes, "legend", lambda ax, *row: drawn.append((ax, *row)))
+    plots.draw_plots(draw.load_pygame(), tracks[1:])
+    energy = [(color, text) for ax, color, text in drawn if ax is drawn[0][0]]
+    assert {"gravity", "lift work W_lift", "fingers"} <= {text for _, text in energy}
+    colors = np.array([color for color, _ in energy], dtype=float)
+    apart = np.linalg.norm(colors[:, None] - colors[None], axis=2)[np.triu_indices(len(colors), 1)]
+    assert apart.min() >= 60.0, energy
