@@ -117,8 +117,8 @@ class Fingers:
         return 1e3 * creep_speed(scene) if holds(scene) else None
 
     def words(self, track, short=False):
-        """`words` of a run's kept states (a recording.Track), of 'the block' unless short."""
-        return ("" if short else "the block ") + words(track.scene, *slips(track), short)
+        """`words` of a run's kept states (a recording.Track), of its body unless short."""
+        return ("" if short else f"{track.scene.body} ") + words(track.scene, *slips(track), short)
 
     def mark(self, track):
         """(`mark`, short `words`) of a run's kept states: plots.png's mark and its legend."""
@@ -172,7 +172,7 @@ def build_grasp_scene(**overrides):
     m = np.append(np.full(nb, p["mass"] / nb), [p["finger_mass"]] * 2)
     w_contact = np.append(np.full(nb, h / p["ny"]), [0.0, 0.0])     # the fingers' nodes: none
     return assemble(p, x, e, m, w_contact, terms, (p["nx"], p["ny"]), elements=[pairs],
-                    contact=fingers, pushed=fingers)
+                    contact=fingers, pushed=fingers, body="the block")
 
 
 # ---- The closed forms: a block of mass m between two fingers pressed with N each -----------------
