@@ -121,8 +121,12 @@ class Fingers:
         return ("" if short else f"{track.scene.body} ") + words(track.scene, *slips(track), short)
 
     def mark(self, track):
-        """(`mark`, short `words`) of a run's kept states: plots.png's mark and its legend."""
-        return mark(track.scene, *slips(track)), words(track.scene, *slips(track), short=True)
+        """(when, short `words`) of a run, plots.png's mark and legend: when it dropped, or where
+        a held block's creep fit starts (outcome's since); None where it slips or is not fitted."""
+        (t, s), scene = slips(track), track.scene
+        held, t_drop, _, measured, _, since = outcome(scene, t, s)
+        when = t_drop if not held else since if measured < scene.epsv else None
+        return when, words(scene, t, s, short=True)
 
     def pads(self, x, depth):
         """Each finger's pad, (4, 2) corners: pad_length along the lift, `depth` behind it."""
@@ -322,13 +326,6 @@ def words(scene, t, s, short=False):
     creeps, u_star = f"creeps {1e3 * measured:.3f} mm/s", f"(u* {1e3 * exact:.3f})"
     return (f"held, {creeps} from {since:.2f} s {u_star}" if short else
             f"held ({slid}); {creeps} {phase} {u_star}")
-
-
-def mark(scene, t, s):
-    """When plots.png marks a run of slip s at times t: where the fit of a held block's creep
-    starts (outcome's since), where it dropped, else None (slipping, or not fitted)."""
-    held, t_drop, _, measured, _, since = outcome(scene, t, s)
-    return t_drop if not held else since if measured < scene.epsv else None
 
 
 # ---- What the command line and log.csv read (scenes.UNITS) ---------------------------------------

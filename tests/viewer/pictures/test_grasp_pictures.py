@@ -23,6 +23,8 @@ def test_plots_legend_says_the_closing_words_not_sticks_from(tracks, monkeypatch
     dropped, held = (closing.closing_words([track]) for track in tracks)
     assert dropped.startswith("the block dropped at 0.75 s") and tracks[0].rest_since > 0.75
     assert held.startswith("the block held") and "from 0.55 s (u* 0.286)" in held
+    (when_dropped, _), (when_held, _) = (track.scene.pushed.mark(track) for track in tracks)
+    assert f"{when_dropped:.2f}" == "0.75" and when_held == 0.55     # the drop; the fit's start
     texts = legibility.record_text(monkeypatch)
     plots.draw_plots(draw.load_pygame(), tracks)
     said = " ".join(text for text, _, _ in texts)
