@@ -285,7 +285,7 @@ def fitted_rate(t, s, start, end, order=1):
 def outcome(scene, t, s):
     """(held, t_drop or None, phase words, measured, closed form, since) from the slip s at times
     t: the speed and u*, or the acceleration where it dropped, fitted over the phase it ended in
-    from `since` (SETTLE into it, else its middle) to its end (docs/grasp.md)."""
+    from SETTLE into it (else its middle) to its end; since: the first state fitted (grasp.md)."""
     dropped = np.flatnonzero(s >= drop_slip(scene))
     end = float(t[dropped[0]]) if dropped.size else float(t[-1])
     words, start, _, a = next(p for p in phases(scene) if p[1] <= max(end - 1e-9, 0.0) < p[2])
@@ -295,6 +295,7 @@ def outcome(scene, t, s):
         since = (start + end) / 2
         measured = fitted_rate(t, s, since, end, order)
     exact = slip_acceleration(scene, a) if dropped.size else creep_speed(scene, a)
+    since = float(t[t >= since - 1e-9][0]) if not math.isnan(measured) else since
     return not dropped.size, end if dropped.size else None, words, measured, exact, since
 
 
@@ -308,7 +309,8 @@ def words(scene, t, s, short=False):
     each rate with the start of its fit, `outcome`'s since (docs/grasp.md). Its parts, split at
     '; ', each fit a closing line."""
     on_pads, t_drop, phase, measured, exact, since = outcome(scene, t, s)
-    phase = f"{phase} from {since:.2f} s"
+    since = f"{round(since, 3):g}"                      # 0.55, 0.015: a state's time
+    phase = f"{phase} from {since} s"
     if not on_pads:
         rate, sign = ("it slips", 1) if not measured < 0.0 else ("its slip slows at", -1)
         t_coulomb = coulomb_drop(scene)
@@ -324,7 +326,7 @@ def words(scene, t, s, short=False):
         return f"slips on the pads at {t[-1]:.2f} s" + ("" if short else (
             f" ({slid}); at {1e3 * measured:.1f} mm/s {phase}"))
     creeps, u_star = f"creeps {1e3 * measured:.3f} mm/s", f"(u* {1e3 * exact:.3f})"
-    return (f"held, {creeps} from {since:.2f} s {u_star}" if short else
+    return (f"held, {creeps} from {since} s {u_star}" if short else
             f"held ({slid}); {creeps} {phase} {u_star}")
 
 

@@ -86,3 +86,12 @@ def test_a_drop_too_soon_to_fit_its_acceleration_says_so():
     assert said.startswith("dropped at 0.10 s (Coulomb ") and "nan" not in said
     assert said.endswith("; too short a run to fit its acceleration (fewer than 4 states in its "
                          "window)")
+
+
+def test_a_short_phase_s_fit_says_its_first_state_s_time():
+    """0.03 s: the fit from the phase's middle, 0.015 s, its first state (formatted as '%.2f' it
+    read 'from 0.01 s', a time no state fitted has)."""
+    scene = grasp.build_grasp_scene()
+    t = np.arange(0, 7) * scene.h
+    assert grasp.words(scene, t, 5e-4 * t, short=True) == (
+        "held, creeps 0.500 mm/s from 0.015 s (u* 0.500)")
