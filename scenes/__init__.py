@@ -18,4 +18,5 @@ from scenes import grasp
 
 UNITS = {"grasp": grasp}    # the scenes that declare their command line and log columns as data:
 #   FLAGS, LABEL, HELP, DURATION, PARAMS, BUILD (viewer/command/cli.py), HEADER (command/run.py),
+#   TITLE (the page's: viewer/pictures/run_pictures.py),
 #   LOG_COLUMNS (analysis/log.py)

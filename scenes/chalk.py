@@ -91,4 +91,4 @@ def build_chalk_scene(**overrides):
     static = StaticFriction(p["mu_s"], p["v_c"]) if p["mu_s"] != p["mu"] else None
     return assemble(p, x, e, m, w=p["width"] / p["ny"], terms=terms, cells=(p["nx"], p["ny"]),
                     n=[0.0, 1.0], o=[0.0, 0.0], elements=[held[:, None]],   # the hand: nodes
-                    hand=hand, static=static)
+                    hand=hand, static=static, body="the chalk")

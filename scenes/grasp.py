@@ -117,9 +117,16 @@ class Fingers:
         return 1e3 * creep_speed(scene) if holds(scene) else None
 
     def words(self, track, short=False):
-        """`words` of a run's kept states (a recording.Track), of 'the block' unless short."""
-        t, s = np.array([(x.t, x.slip) for x in track.samples.all()]).T
-        return ("" if short else "the block ") + words(track.scene, t, s, short)
+        """`words` of a run's kept states (a recording.Track), of its body unless short."""
+        return ("" if short else f"{track.scene.body} ") + words(track.scene, *slips(track), short)
+
+    def mark(self, track):
+        """(when, short `words`) of a run, plots.png's mark and legend: when it dropped, or where
+        a held block's creep fit starts (outcome's since); None where it slips or is not fitted."""
+        (t, s), scene = slips(track), track.scene
+        held, t_drop, _, measured, _, since = outcome(scene, t, s)
+        when = t_drop if not held else since if measured < scene.epsv else None
+        return when, words(scene, t, s, short=True)
 
     def pads(self, x, depth):
         """Each finger's pad, (4, 2) corners: pad_length along the lift, `depth` behind it."""
@@ -169,7 +176,7 @@ def build_grasp_scene(**overrides):
     m = np.append(np.full(nb, p["mass"] / nb), [p["finger_mass"]] * 2)
     w_contact = np.append(np.full(nb, h / p["ny"]), [0.0, 0.0])     # the fingers' nodes: none
     return assemble(p, x, e, m, w_contact, terms, (p["nx"], p["ny"]), elements=[pairs],
-                    contact=fingers, pushed=fingers)
+                    contact=fingers, pushed=fingers, body="the block")
 
 
 # ---- The closed forms: a block of mass m between two fingers pressed with N each -----------------
@@ -253,6 +260,11 @@ def slip(scene, x):
     return float(f.along(x).mean()) - float(rise)
 
 
+def slips(track):
+    """(t, slip) of a run's kept states (a recording.Track), (K,) each."""
+    return np.array([(x.t, x.slip) for x in track.samples.all()]).T
+
+
 def drop_slip(scene):
     """The slip at which the block has slid past the pads (its top below their bottom), m."""
     return (scene.contact.pad_length + scene.params["height"]) / 2
@@ -271,35 +283,51 @@ def fitted_rate(t, s, start, end, order=1):
 
 
 def outcome(scene, t, s):
-    """(held, t_drop or None, phase words, measured, closed form) from the slip s at times t: the
-    speed and u*, or the acceleration where it dropped, in the phase it ended in (docs/grasp.md)."""
+    """(held, t_drop or None, phase words, measured, closed form, since) from the slip s at times
+    t: the speed and u*, or the acceleration where it dropped, fitted over the phase it ended in
+    from SETTLE into it (else its middle) to its end; since: the first state fitted (grasp.md)."""
     dropped = np.flatnonzero(s >= drop_slip(scene))
     end = float(t[dropped[0]]) if dropped.size else float(t[-1])
     words, start, _, a = next(p for p in phases(scene) if p[1] <= max(end - 1e-9, 0.0) < p[2])
-    order = 2 if dropped.size else 1
-    measured = fitted_rate(t, s, start + SETTLE, end, order)
+    order, since = 2 if dropped.size else 1, start + SETTLE
+    measured = fitted_rate(t, s, since, end, order)
     if math.isnan(measured):                    # a short phase: fitted from its middle
-        measured = fitted_rate(t, s, (start + end) / 2, end, order)
+        since = (start + end) / 2
+        measured = fitted_rate(t, s, since, end, order)
     exact = slip_acceleration(scene, a) if dropped.size else creep_speed(scene, a)
-    return not dropped.size, end if dropped.size else None, words, measured, exact
+    since = float(t[t >= since - 1e-9][0]) if not math.isnan(measured) else since
+    return not dropped.size, end if dropped.size else None, words, measured, exact, since
+
+
+TOO_FEW = "too short a run to fit {} (fewer than 4 states in its window)"
 
 
 def words(scene, t, s, short=False):
-    """'held (slid 0.66 mm, Coulomb 0), creeps 0.498 mm/s in the steady lift (u* 0.500)', 'dropped
-    at 0.62 s (Coulomb 0.61); ...' or 'slips on the pads at 0.60 s: ...' (docs/grasp.md)."""
-    on_pads, t_drop, phase, measured, exact = outcome(scene, t, s)
+    """'held (slid 0.66 mm, Coulomb 0); creeps 0.498 mm/s in the steady lift from 0.55 s (u*
+    0.500)', 'dropped at 0.62 s (Coulomb 0.61); ...', 'slips on the pads at 0.60 s (...); ...' or,
+    too few states to fit a rate, 'is on the pads at 0.01 s (...); too short a run to fit ...';
+    each rate with the start of its fit, `outcome`'s since (docs/grasp.md). Its parts, split at
+    '; ', each fit a closing line."""
+    on_pads, t_drop, phase, measured, exact, since = outcome(scene, t, s)
+    since = f"{round(since, 3):g}"                      # 0.55, 0.015: a state's time
+    phase = f"{phase} from {since} s"
     if not on_pads:
         rate, sign = ("it slips", 1) if not measured < 0.0 else ("its slip slows at", -1)
         t_coulomb = coulomb_drop(scene)
         coulomb = f"{t_coulomb:.2f}" if t_coulomb < math.inf else "holds"
-        return f"dropped at {t_drop:.2f} s (Coulomb {coulomb})" + ("" if short else (
-            f"; {rate} {sign * measured:.3f} m/s^2 {phase} (closed form {sign * exact:.3f})"))
+        said = f"{rate} {sign * measured:.3f} m/s^2 {phase} (closed form {sign * exact:.3f})"
+        said = TOO_FEW.format("its acceleration") if math.isnan(measured) else said
+        return f"dropped at {t_drop:.2f} s (Coulomb {coulomb})" + ("" if short else f"; {said}")
     slid = f"slid {1e3 * s[-1]:.2f} mm, Coulomb {1e3 * coulomb_slip(scene, float(t[-1])):.3g}"
+    if math.isnan(measured):                    # neither held nor slipping: not measured
+        return (f"on the pads at {t[-1]:.2f} s, too short to fit its speed" if short else
+                f"is on the pads at {t[-1]:.2f} s ({slid}); " + TOO_FEW.format("its speed"))
     if not measured < scene.epsv:
         return f"slips on the pads at {t[-1]:.2f} s" + ("" if short else (
-            f": {1e3 * measured:.1f} mm/s {phase} ({slid})"))
+            f" ({slid}); at {1e3 * measured:.1f} mm/s {phase}"))
     creeps, u_star = f"creeps {1e3 * measured:.3f} mm/s", f"(u* {1e3 * exact:.3f})"
-    return f"held, {creeps} {u_star}" if short else f"held ({slid}), {creeps} {phase} {u_star}"
+    return (f"held, {creeps} from {since} s {u_star}" if short else
+            f"held ({slid}); {creeps} {phase} {u_star}")
 
 
 # ---- What the command line and log.csv read (scenes.UNITS) ---------------------------------------
@@ -311,6 +339,7 @@ LABEL = "squeeze = {squeeze:g} N, mu = {mu:g}"      # a single run's label
 HEADER = ("block {width:g} x {height:g} m, {mass:g} kg   squeeze N = {squeeze:g} N a finger   lift "
           "at a = {lift_accel:g} m/s^2 to {lift_speed:g} m/s from t = {t_lift:g} s   mu = {mu:g}")
 HELP = "a block lifted between two pressed fingers"
+TITLE = "Block lifted between fingers"                  # the page's
 DURATION = 1.5      # s: the lift's acceleration (0.1 s to 0.5 s), then 1 s of steady lift
 LOG_COLUMNS = [     # (name, unit, label, meaning, format, value(sample)): analysis/log.py's Column
     ("E_fingers", "J", "fingers' energy", "the barrier against the fingers plus their squeeze's "

@@ -139,6 +139,7 @@ class Scene:
     surface: MovingSurface = None           # the half-space's own tangential motion, or None
     contact: HalfSpace = None               # what it touches (a HalfSpace, or alike), or None
     pushed: object = None                   # the grasp's fingers (its contact), or None
+    body: str = "the square"                # the mesh in words (its builder's), as runs say it
 
     def surface_velocity(self, t):
         """v_s (2,) of the step ending at t (the contact's velocity); zero without one."""

@@ -96,7 +96,8 @@ def build_tablecloth_scene(**overrides):
     terms = ("inertia", "spring", "gravity", "barrier") + ("friction",) * (p["mu"] > 0.0)
     cloth = MovingSurface(p["pull_speed"], p["pull_length"], p["t_pull"], readonly([1.0, 0.0]))
     return assemble(p, x, e, m, w=p["width"] / p["nx"], terms=terms, cells=(p["nx"], p["ny"]),
-                    n=[0.0, 1.0], o=[0.0, 0.0], warnings=warnings(p), surface=cloth)
+                    n=[0.0, 1.0], o=[0.0, 0.0], warnings=warnings(p), surface=cloth,
+                    body="the dish")
 
 
 # ---- Its closed forms: a rigid dish, Coulomb friction ------------------------------------------

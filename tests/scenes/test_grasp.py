@@ -1,6 +1,7 @@
 """The grasp: a settled start, the prescribed lift, and the slip against the closed forms (held,
-it creeps at u*; dropped, it slips at (g + a) - 2 mu N / m; in between, it holds at rest but
-slips while the lift accelerates)."""
+it creeps at u*; dropped, it slips at (g + a) - 2 mu N / m; in between, it is held before the
+lift, creeping at u* (IPC's friction has no static friction), but slips while the lift
+accelerates)."""
 import math
 import warnings
 
@@ -35,9 +36,9 @@ def test_the_block_starts_settled_at_the_gap_where_each_finger_carries_n():
 
 def test_the_lift_is_prescribed_and_the_fingers_press_with_n():
     """The fingers' rows rise by Fingers.offset(t) exactly (a Dirichlet condition: Newton never
-    moves them along the lift), and each finger's force stays N; a held block at rest in the lift's
-    frame (up to its creep) sees N to 1e-5 relative (the fingers' own inertia, m_f a, is normal to
-    the lift, so nothing else enters)."""
+    moves them along the lift), and each finger's force stays N; a held block, creeping in the
+    lift's frame at u* (0.29 to 0.30 mm/s), sees N to 1e-5 relative (the fingers' own inertia,
+    m_f a, is normal to the lift, so nothing else enters)."""
     scene = grasp.build_grasp_scene(squeeze=4.0)
     for rec in simulator.simulate(scene, 60):           # 0.3 s: still, then accelerating
         assert (rec.x[-2:, 1] == scene.contact.offset(rec.t)).all()
@@ -70,7 +71,7 @@ def test_a_dropped_grasp_slips_at_the_closed_form_s_acceleration():
     assert grasp.slip_acceleration(scene, a) == pytest.approx(2.462, abs=1e-9)
 
 
-def test_a_grasp_that_holds_at_rest_slips_while_the_lift_accelerates():
+def test_a_grasp_held_creeping_before_the_lift_slips_while_it_accelerates():
     """2 mu N = 2.0 N between m g = 1.962 and m (g + a) = 2.062: held before the lift (creeping
     at u* = 0.86 mm/s), slipping at (g + a) - 2 mu N / m = 0.31 m/s^2 while it accelerates (5 %),
     as far as the rigid block's Coulomb slip says by then (the creep before it: 0.09 mm; 5 %)."""

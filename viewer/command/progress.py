@@ -114,7 +114,7 @@ def step_warnings(scene, step, t, report, inverted):
     said, at = {}, f"at step {step} (t = {t:.2f} s)"
     if inverted:
         cells = len(square_mesh.triangles(*scene.cells))
-        said["inverted"] = (f"{at} {inverted} of {cells} mesh triangles are inverted (the square "
+        said["inverted"] = (f"{at} {inverted} of {cells} mesh triangles are inverted ({scene.body} "
                             f"folded over, docs/limits.md): use a stiffer --k or a smaller --h")
     if report.stalled:
         said["stalled"] = (f"{at} Newton stopped at float64's round-off floor, residual "

@@ -181,7 +181,8 @@ def end(plan, signals, folder, tracks, frame_log, failure, messages, done):
                 for track in tracks:
                     track.last_snapshot()
                 header = summary_header(plan)
-                run_pictures.write(tracks, folder, plan.stride, plan.frames, frame_log, header)
+                run_pictures.write(tracks, folder, plan.stride, plan.frames, frame_log, header,
+                                   plan.kind)
             except ENDINGS as err:
                 failure = failure or failure_of(err, plan, " while writing the last pictures")
         signals.close()

@@ -44,7 +44,9 @@ def creep_cell(track):
 def run_figures(tracks):
     """page_html's keywords for what the table says of each whole run: when the square stuck
     (`rest`) and how fast it creeps since (closing.creep, `rows`); the chalk's stick-slip
-    (analysis/stick_slip.py), a row per figure (`rows`)."""
+    (analysis/stick_slip.py), a row per figure (`rows`); a pushed scene's closing words."""
+    if tracks[0].scene.pushed is not None:
+        return {"rows": [("what it showed", [closing.closing_words([t]) for t in tracks])]}
     if tracks[0].scene.hand is None:
         return {"rest": [track.rest_since for track in tracks],
                 "rows": [("creeps since (mm/s; closed form)", [creep_cell(t) for t in tracks])]}

@@ -13,7 +13,7 @@ LEGEND_TEXT = RIGHT + 34        # the column where a legend's text starts
 ENERGY_COLORS = {"kinetic": (230, 120, 0), "gravity": (120, 80, 40), "spring": (0, 150, 60),
                  "barrier": (200, 0, 160), "hand": (0, 150, 200), "total": (0, 0, 0),
                  "W_friction": (0, 0, 255), "W_hand": (120, 0, 200), "-D_numerical": (200, 0, 0),
-                 "W_surface": (0, 170, 170), "-heat": (128, 128, 0), "W_lift": (146, 73, 0)}
+                 "W_surface": (0, 170, 170), "-heat": (128, 128, 0), "W_lift": (240, 100, 160)}
 ENERGY_LABELS = {"total": "total E", "W_friction": "friction work W", "W_hand": "hand work W_hand",
                  "-D_numerical": "-D, numerical dissip.", "W_surface": "surface work W_surface",
                  "-heat": "-heat, cloth's frame", "W_lift": "lift work W_lift"}
@@ -309,9 +309,29 @@ def cycles_legend(r):
     return "no cycle", f"slid from {r.start_up:.2f} s, {100 * r.stuck:.0f} %"
 
 
+def legend_rows(font, text):
+    """text split at spaces into legend rows that fit right of the time axis."""
+    rows = [""]
+    for word in text.split(" "):
+        row = f"{rows[-1]} {word}".lstrip()
+        if rows[-1] and font.size(row)[0] > WIDTH - LEGEND_TEXT:
+            rows.append(word)
+        else:
+            rows[-1] = row
+    return rows
+
+
 def mark_rest(ax, track, color):
     """The time the track stuck (recording.Track.rest_since), dashed, and how fast it creeps since
-    beside the closed form (closing.creep_figures); or that it did not stick."""
+    beside the closed form (closing.creep_figures); or that it did not stick. A pushed scene's
+    mark and words are its own (its `mark`: a grasp's fit start or drop, its closing words)."""
+    if track.scene.pushed is not None:
+        when, said = track.scene.pushed.mark(track)
+        first, *rows = legend_rows(ax.font, said)
+        ax.legend(color, first) if when is None else ax.vline(when, color, first)
+        for row in rows:
+            ax.note(row)
+        return
     if track.rest_since is None:
         ax.legend(color, f"not stuck by {track.t:.2f} s")
         return

@@ -2,10 +2,13 @@
 the run ended: each chalk's marks.csv, summary.png, plots.png, and with frames index.html."""
 from analysis import wear
 from analysis.closing import closing_note
+from scenes import UNITS
 from viewer.output import files
 from viewer.pictures import draw, page, plots, summary
 
 NAMES = ("summary.png", "plots.png", "index.html")      # in the order written, after the marks
+TITLES = {"square": "Square on a slope", "chalk": "Chalk on a board",   # the page's, by --scene
+          "tablecloth": "Dish on a tablecloth", **{k: unit.TITLE for k, unit in UNITS.items()}}
 
 
 def names(tracks):
@@ -13,9 +16,10 @@ def names(tracks):
     return [files.marks_csv(tr.tag) for tr in tracks if tr.marks is not None] + list(NAMES)
 
 
-def write(tracks, folder, stride, frames, frame_log, header):
+def write(tracks, folder, stride, frames, frame_log, header, kind="square"):
     """The pictures of `tracks` into `folder` (files.RunFolder): `header`, the lines summary.png
-    and the page open with; `frame_log`, the frames.FrameInfo of each frame written."""
+    and the page open with; `frame_log`, the frames.FrameInfo of each frame written; `kind`, the
+    --scene, whose TITLES the page has."""
     for tr in tracks:
         if tr.marks is not None:
             folder.write(files.marks_csv(tr.tag), wear.csv_text(tr.marks))
@@ -26,11 +30,8 @@ def write(tracks, folder, stride, frames, frame_log, header):
     folder.write("plots.png", draw.png_data(pygame, surface))
     if frames:
         fps = 1.0 / (stride * min(tr.scene.h for tr in tracks))
-        first = tracks[0].scene
-        scene = ("Chalk on a board: " if first.hand is not None else "Dish on a tablecloth: "
-                 if first.surface is not None else "Square on a slope: ")
         note = " ".join(header) + "; " + closing_note(tracks)
-        text = page.page_html(scene + ", ".join(tr.label for tr in tracks),
+        text = page.page_html(f"{TITLES[kind]}: " + ", ".join(tr.label for tr in tracks),
                               [tr.label for tr in tracks], frame_log, fps, axis,
                               surface.get_width(), note=note, **page.run_figures(tracks))
         folder.write("index.html", text)

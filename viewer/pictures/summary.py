@@ -49,7 +49,8 @@ def time_label(t):
 
 
 def labelled(view, font, snapshots):
-    """Each snapshot (t, x) a Snapshot: its label centred above it, the last one's to its right."""
+    """Each snapshot (t, x) a Snapshot: its label centred above it, the last one's to its right;
+    a label wider than the room beside its snapshot slid inside the view's columns."""
     out = []
     for i, (t, x) in enumerate(snapshots):
         px, text = view(x), time_label(t)
@@ -57,7 +58,7 @@ def labelled(view, font, snapshots):
         if i == len(snapshots) - 1:
             at = (right + 6, 0.5 * (top + bottom) - h / 2)
         else:
-            at = (0.5 * (left + right) - w / 2, top - h - 2)
+            at = (min(max(0.5 * (left + right) - w / 2, 0.0), view.size - w), top - h - 2)
         box = [min(left, at[0]), min(top, at[1]), max(right, at[0] + w), max(bottom, at[1] + h)]
         out.append(Snapshot(t, x, text, at, np.array(box)))
     return out

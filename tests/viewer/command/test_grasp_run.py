@@ -1,8 +1,11 @@
 """`--scene grasp` on the command line: its flags and lists, a run's closing words (held beside
 u*, dropped beside the slip acceleration), log.csv's slip and finger forces, the pads drawn."""
 import csv
+import re
+from pathlib import Path
 
 import numpy as np
+import pytest
 
 from helpers.command import closing_text, run_main
 from scenes import grasp
@@ -50,3 +53,35 @@ def test_a_grasp_run_says_held_or_dropped_logs_the_slip_and_draws_the_pads(tmp_p
     assert np.all(frame == draw.PUSHED_COLOR, axis=2).sum() > 500      # the pads, and the legend
     summary = pygame.surfarray.array3d(pygame.image.load(str(tmp_path / "summary.png")))
     assert np.all(summary == draw.PUSHED_COLOR, axis=2).sum() > 100    # each run's pads
+    page = (tmp_path / "index.html").read_text(encoding="utf-8")
+    title = "Block lifted between fingers: squeeze = 1, squeeze = 4"
+    assert f"<title>{title}</title>" in page and f"<h2>{title}</h2>" in page
+
+
+def test_a_run_too_short_to_fit_says_so_without_nan(tmp_path):
+    """1 step, and a comparison of 2: too few states to fit a speed (test_grasp_words.py)."""
+    code, lines = run_main("--scene", "grasp", "--steps", "1", "--no-frames",
+                           "--out", str(tmp_path / "one"))
+    assert code == 0, lines
+    assert "the block is on the pads at 0.01 s (slid 0.00 mm, Coulomb 0); too short a run to fit " \
+        "its speed" in closing_text(lines)
+    code, lines = run_main("--scene", "grasp", "--squeeze", "1,4", "--steps", "2", "--no-frames",
+                           "--out", str(tmp_path / "two"))
+    last = closing_text(lines)
+    assert code == 0 and "nan" not in last and "slips" not in last, lines
+    assert "squeeze = 4: on the pads at 0.01 s, too short to fit its speed" in last
+
+
+@pytest.mark.slow
+def test_the_comparison_in_command_line_md_says_what_the_run_says(tmp_path):
+    """docs/command-line.md's `--squeeze 1,2,4` block, its wall time and folder aside: it said
+    'wrote 395 files' where the run writes 210 (51 frames of a PNG and 3 OBJs, 3 logs, 3
+    pictures)."""
+    doc = (Path(__file__).parents[3] / "docs" / "command-line.md").read_text(encoding="utf-8")
+    block = doc.split("python simulator.py --scene grasp --squeeze 1,2,4\n```\n\n```\n")[1]
+    said = block.split("\n```")[0].splitlines()
+    code, lines = run_main("--scene", "grasp", "--squeeze", "1,2,4", "--out", str(tmp_path))
+    assert code == 0, lines
+    ran = [re.sub(r"in [0-9.]+ s wall", "in … s wall", line) for line in lines[-len(said):]]
+    ran[-1] = ran[-1].replace(tmp_path.as_uri(), "file:///…/output/grasp-20261204-134500")
+    assert ran == said

@@ -6,10 +6,12 @@ import re
 import types
 
 import numpy as np
+import pytest
 
 import simulator
 import time_integrator
 from helpers.command import recorded, run_main, too_wide
+from scenes import grasp
 from viewer.command import progress
 from analysis import closing, stick_slip
 
@@ -26,6 +28,17 @@ def test_step_warnings_name_the_step_and_what_to_do():
     assert "--k" in said["inverted"] and "--h" in said["inverted"]
     assert said["stalled"].startswith(f"{at} Newton stopped at float64's round-off floor, "
                                       "residual 1.3e-08 m/s above tol = 0.01 m/s")
+
+
+@pytest.mark.parametrize("build, body", [(simulator.build_scene, "the square"),
+                                         (simulator.build_chalk_scene, "the chalk"),
+                                         (simulator.build_tablecloth_scene, "the dish"),
+                                         (grasp.build_grasp_scene, "the block")])
+def test_an_inverted_mesh_is_said_of_the_scene_s_own_body(build, body):
+    """The grasp's block was 'the square folded over' (--scene grasp --k 1e-320)."""
+    scene = build()
+    said = progress.step_warnings(scene, 3, 0.01, time_integrator.StepReport(residual=0.0), 2)
+    assert scene.body == body and f"are inverted ({body} folded over, docs" in said["inverted"]
 
 
 def test_a_run_to_files_says_each_kind_of_warning_once(tmp_path):

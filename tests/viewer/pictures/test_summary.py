@@ -136,3 +136,16 @@ def test_a_square_far_above_its_slope_gets_a_summary_of_bounded_size(recorded):
     assert panel.height - summary.HEADER <= summary.MAX_HEIGHT + 2 * (label_h + 4)
     surface = summary.draw_summary(pygame, tracks, ["a header line"])
     assert surface.get_size() == (plan.width, plan.height)
+
+
+def test_a_label_wider_than_the_room_beside_its_snapshot_is_slid_inside():
+    """A 5 cm block at 10 px/m beside the view's left edge (a grasp's dropped block at the scale
+    that fits its fall): its label centred above it would start at about -25 px, cut."""
+    small = draw.load_pygame().font.Font(None, 20)
+    view = draw.View(10.0, 200, 400)
+    view.center = np.array([10.0, 0.0])                 # x = 0 m at the left edge
+    block = np.array([[0.5, 0.0], [0.55, 0.0], [0.55, 0.05], [0.5, 0.05]])
+    shots = summary.labelled(view, small, [(0.0, block), (0.5, block + [0.0, -5.0])])
+    centred = view(block)[:, 0].mean() - small.size(shots[0].label)[0] / 2
+    assert centred < 0.0 and shots[0].label_at[0] == 0.0 and shots[0].box[0] == 0.0
+    assert shots[-1].label_at[0] > view(block)[:, 0].max()      # the last one's to its right
