@@ -37,7 +37,7 @@ def write(names, folder):
         folder.signals.check()          # a signal whose raise the import dropped: before compute
         folder.write(f"{name}.png", module.draw(module.compute()).png())
         seconds = time.perf_counter() - start
-        print(f"figures: wrote {folder.path(name + '.png')} ({seconds:.1f} s)")
+        print(f"figures: wrote {files.shown(folder.path(name + '.png'))} ({seconds:.1f} s)")
     plural = "s" * (len(names) > 1)
     print(f"figures: {len(names)} figure{plural} in {time.perf_counter() - begin:.1f} s")
 

@@ -17,6 +17,12 @@ TRIES = 5               # a parent removed by another run as this one made its f
 MAX_LINKS = 40          # as the kernel's ELOOP
 
 
+def shown(path):
+    """`path` as a line may print it: each control character (a newline, a terminal's escape)
+    written as Python writes it in a string, '\\n', '\\x1b'; the rest as it is."""
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(path))
+
+
 def refused(text, given=True):
     """The ValueError that refuses a run's folder: about --out where it was `given`, else about the
     folder tried under output/ (its parameter "output" has no flag to blame)."""
