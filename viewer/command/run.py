@@ -162,8 +162,8 @@ def failure_of(err, plan, when=""):
     if isinstance(err, Stopped):
         return Failure(err.code, f"stopped: {err.reason}{when}")
     if isinstance(err, OSError):
-        where = err.filename or plan.out or "the run's folder"
-        return Failure(1, f"error: cannot write {files.shown(where)}: {err.strerror or err}")
+        where = plan.out or "the run's folder"
+        return Failure(1, f"error: {files.cannot_write(err, where)}")
     if isinstance(err, time_integrator.SimulationError):    # its figures after a '; '
         figures = f"; {err.figures_said}" if err.figures else ""
         return Failure(1, f"stopped: simulation failed: {err.what}{figures}")

@@ -23,6 +23,11 @@ def shown(path):
     return "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(path))
 
 
+def cannot_write(err, where):
+    """'cannot write X: why' for the OSError `err` of a failed write: X its file, else `where`."""
+    return f"cannot write {shown(err.filename or where)}: {err.strerror or err}"
+
+
 def refused(text, given=True):
     """The ValueError that refuses a run's folder: about --out where it was `given`, else about the
     folder tried under output/ (its parameter "output" has no flag to blame)."""
