@@ -29,9 +29,9 @@ FLOAT64_SCALE_LIMIT = 1e150
 # M + h^2 K: LAPACK's banded Cholesky loses the node mass m from h^2 k / m = 0.5/eps (measured);
 # 0.1/eps leaves a factor 5 for the barrier's curvature.
 NEWTON_RATIO_LIMIT = 0.1 / EPS
-# The most steps a run may take by default (the tablecloth's: till its dish stops); more only where
-# asked for (--steps, --duration): log.csv holds about 180 bytes a step (18 GB), at about 3 ms a
-# step on one core (3.5 days).
+# The most steps a run takes, asked for (--steps, --duration) or by default (the tablecloth's: till
+# its dish stops): log.csv holds about 180 bytes a step (18 GB), at about 3 ms a step on one core
+# (3.5 days).
 MAX_STEPS = 10 ** 8
 # Peak resident memory per node of build_scene plus one step, measured at n_seg 128 to 400
 # (7.6 to 10 KiB), rounded up.

@@ -268,21 +268,29 @@ def default_duration(scenes, kind=None):
 
 
 def steps_from_args(args, scene, duration):
-    """--steps, or --duration (default `duration`) in steps of h."""
+    """--steps, or --duration (default `duration`) in steps of h; either refused beyond
+    ranges.MAX_STEPS (check_steps)."""
     if args.steps is not None:
         if args.duration is not None:
             raise CommandLineError("--duration and --steps both set the run's length; give one")
-        return utils.check_whole("steps", args.steps, 1)
+        steps = utils.check_whole("steps", args.steps, 1)
+        return check_steps("steps", f"{steps:.9g}", steps, scene.h)
     if args.duration is not None:
         duration = args.duration
     duration, h = utils.check_positive("duration", duration), scene.h
     if duration < h:
         raise utils.ParameterError("duration", f"duration {duration:g} s is shorter than one time "
                                    f"step h = {h:g} s")
-    if not math.isfinite(duration / h):
-        raise utils.ParameterError("duration", f"duration {duration:g} s is more time steps of h = "
-                                   f"{h:g} s than float64 counts")
-    return int(round(duration / h))
+    return check_steps("duration", f"{duration:g} s", duration / h, h)
+
+
+def check_steps(name, value, steps, h):
+    """`steps` of h (inf where duration / h overflowed) rounded to a whole number, or a
+    ParameterError naming --steps or --duration (`name`, given as `value`) beyond MAX_STEPS."""
+    if not steps <= ranges.MAX_STEPS:
+        raise utils.ParameterError(name, f"{name} = {value}: {steps:.9g} steps of h = {h:g} s "
+                                   f"(a run takes <= {ranges.MAX_STEPS:.0e})")
+    return int(round(steps))
 
 
 def unfinished(scene, steps):
