@@ -3,7 +3,7 @@ exit code 2, nothing written; or a run with a warning saying what its result can
 for. The library's refusals: tests/scenes/test_bad_input_ranges.py."""
 import pytest
 
-from helpers.command import messages, refused, run_main
+from helpers.command import messages, refused, run_main, too_wide
 
 TABLECLOTH = [
     (["--gravity", "0,-1e308"], "--gravity: gravity = 0, -1e+308 is beyond float64's range"),
@@ -53,3 +53,13 @@ def test_a_tablecloth_result_that_cannot_be_trusted_is_warned_about(tmp_path, fl
 def test_a_tablecloth_run_to_its_dish_stop_is_not_warned_about(tmp_path):
     code, lines = run_main("--scene", "tablecloth", "--no-frames", "--out", str(tmp_path / "run"))
     assert code == 0 and not [line for line in lines if "warning" in line], lines
+
+
+def test_a_huge_closed_form_figure_is_said_in_3_digits(tmp_path):
+    """--pull-speed 1e-300 for 0.03 s: the closed form's dish stops at 1e+300 s, said so (it was
+    written with %.2f, a line of 383 columns); every line fits in 100 columns."""
+    code, lines = run_main("--scene", "tablecloth", "--pull-speed", "1e-300", "--duration", "0.03",
+                           "--no-frames", "--out", str(tmp_path / "run"))
+    assert code == 0 and not too_wide(lines, tmp_path), lines
+    assert ("the dish travelled 0.0000 m by 0.03 s, unfinished: the closed form's stops at "
+            "1e+300 s") in lines, lines
