@@ -3,12 +3,7 @@ stick-slip, or how far the tablecloth's dish travelled."""
 import closed_forms
 from analysis import diagnostics, stick_slip
 from scenes import square, tablecloth
-
-
-def fixed(value, decimals):
-    """`value` with `decimals` decimals, as the closing writes its figures; in 3 digits (1e+300)
-    where that would run past 10 digits before the point (a pull speed of 1e-300 m/s)."""
-    return f"{value:.{decimals}f}" if abs(value) < 1e10 else f"{value:.3g}"
+from utils import fixed
 
 
 def each(tracks, words):

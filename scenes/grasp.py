@@ -181,7 +181,8 @@ def grip(scene):
 
 def load_ratio(scene, lift_accel=0.0):
     """m (g + a) / (2 mu N): the load on friction while the lift accelerates at a (inf: mu 0)."""
-    return (-scene.g[1] + lift_accel) / grip(scene) if grip(scene) > 0.0 else math.inf
+    load = float(-scene.g[1]) + lift_accel        # a Python float: inf past float64, as it is
+    return load / grip(scene) if grip(scene) > 0.0 else math.inf
 
 
 def squeeze_for(ratio, mu, lift_accel=0.0, p=GRASP):
@@ -298,7 +299,7 @@ def words(scene, t, s, short=False):
     if not measured < scene.epsv:
         return f"slips on the pads at {t[-1]:.2f} s" + ("" if short else (
             f": {1e3 * measured:.1f} mm/s {phase} ({slid})"))
-    creeps, u_star = f"creeps {1e3 * measured:.3f} mm/s", f"(u* {1e3 * exact:.3f})"
+    creeps, u_star = f"creeps {1e3 * measured:.3f} mm/s", f"(u* {utils.fixed(1e3 * exact, 3)})"
     return f"held, {creeps} {u_star}" if short else f"held ({slid}), {creeps} {phase} {u_star}"
 
 

@@ -96,7 +96,8 @@ def culprit(p, defaults, grows_with):
 def _scales(p, grows, x, m, spacing, w, o, d):
     """The first step's scales (what, value, the parameters it grows with), docs/limits.md's: M,
     1/2 M |v0|^2, 1/2 M (|v0| h + |g| h^2)^2, h^2 M |g| (max |x| + |v0| h + |g| h^2), h^2 k,
-    h^2 k l^2, h^2 kappa w dhat, h^2 kappa w (1/d + dhat/d^2) / 2, h mu M |g| / eps_v."""
+    h^2 k l^2, h^2 kappa w dhat, h^2 kappa w (1/d + dhat/d^2) / 2, h max(mu, mu_s) M |g| / eps_v
+    (the chalk's static mu_s where it has one)."""
     h, k, g = p["h"], p["k"], math.hypot(*p["gravity"])
     v = math.hypot(*p.get("v0", (0.0, 0.0)))
     M, X, l = float(np.sum(m)), float(np.abs(x).max()), spacing
@@ -121,8 +122,8 @@ def _scales(p, grows, x, m, spacing, w, o, d):
          powers(barrier, {"dhat": 1})),
         ("the barrier's curvature",
          kappa_w * (1 / near + p["dhat"] / near / near) / 2, powers(barrier, {"dhat": -1})),
-        ("friction's stiffness", h * p["mu"] * M * g / p["epsv"],
-         powers(Mp, {"h": 1, "mu": 1, "gravity": 1, "epsv": -1}))]
+        ("friction's stiffness", h * max(p["mu"], p.get("mu_s", 0.0)) * M * g / p["epsv"],
+         powers(Mp, {"h": 1, "mu": 1, "mu_s": 1, "gravity": 1, "epsv": -1}))]
 
 
 def check_start(p, defaults, grows, x, m, spacing, w, o=None, d=None):

@@ -22,7 +22,8 @@ TABLECLOTH = [      # each ended in brentq's "f(a) and f(b) must have different 
     (dict(nx=2, ny=1e9), "ny")]
 CHALK = [(dict(mu=1e308), "mu"), (dict(kappa=1e300), "kappa"), (dict(dhat=1e300), "dhat"),
          (dict(h=1e200), "h"), (dict(h=1e-160), "h"), (dict(rho=1e300), "rho"),
-         (dict(k=1e30), "k"), (dict(nx=1e4, ny=1e4), "nx")]
+         (dict(k=1e30), "k"), (dict(nx=1e4, ny=1e4), "nx"),
+         (dict(mu_s=1e308), "mu_s")]    # its static friction's stiffness, as mu's
 GRASP = [(dict(kappa=1e-320), "kappa"), (dict(squeeze=1e300), "squeeze"),
          (dict(mass=1e300), "mass"), (dict(h=1e200), "h"), (dict(gravity=(0.0, -1e308)), "gravity"),
          (dict(nx=1e4, ny=1e4), "nx")]
@@ -88,3 +89,21 @@ def test_a_pull_under_two_steps_is_warned_about(pull_speed, warned):
     said = simulator.build_tablecloth_scene(pull_speed=pull_speed).warnings
     assert bool(said) == warned
     assert all("cannot be trusted (use U <= 100 m/s)" in w for w in said)
+
+
+@pytest.mark.parametrize("kind", BUILDERS)
+@pytest.mark.parametrize("epsv", [1e-300, 1e308])
+def test_every_scene_refuses_an_eps_v_whose_square_leaves_float64(kind, epsv, monkeypatch):
+    """eps_v in [1e-150, 1e150] (utils.check_epsv): 1e308 overflowed f_hess_term's eps_v^2 in a
+    RuntimeWarning, then Newton stalled, in every scene."""
+    err = refused(BUILDERS[kind], dict(epsv=epsv), monkeypatch)
+    assert err.parameter == "epsv" and "[1e-150, 1e+150]" in str(err), str(err)
+
+
+def test_a_grasp_of_mu_1e_320_slips_without_a_warning():
+    """Its load ratio m (g + a) / (2 mu N) is beyond float64: inf, it slips (no RuntimeWarning
+    of a numpy division)."""
+    scene = grasp.build_grasp_scene(mu=1e-320)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert grasp.load_ratio(scene) == float("inf") and not grasp.holds(scene)

@@ -64,7 +64,9 @@ CLI = [
     (["--k", "-inf"], "--k: k must be a finite number > 0, got -inf"),
     (["--v0", "-inf,0"], "--v0: v0 must be finite, got [-inf, 0.0]"),
     (["--center", "1e16,0"], "--center: center = 1e+16, 0 leaves the spacing"),
-    (["--epsv", "1e-300"], "--epsv: epsv must be >= 1e-150"),
+    (["--epsv", "1e-300"], "--epsv: epsv must be in [1e-150, 1e+150] m/s"),
+    *[(["--scene", scene, "--epsv", "1e308"], "--epsv: epsv must be in [1e-150, 1e+150] m/s")
+      for scene in ("square", "chalk", "tablecloth", "grasp")],
 ]
 
 
