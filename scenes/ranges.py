@@ -166,12 +166,30 @@ def check_start(p, defaults, grows, x, m, spacing, w, o=None, d=None):
 def check_carries(p, defaults, load, w, grows_with, what):
     """ParameterError, naming the parameter that moved furthest (culprit of `grows_with`), where
     the barrier cannot carry `load` (N) on a node of contact weight w even at a gap of CLOSEST_GAP
-    dhat: kappa below load / (w dhat (-b'(CLOSEST_GAP dhat)) at kappa 1), to 3 digits rounded up."""
-    closest = CLOSEST_GAP * p["dhat"]
-    kappa_min = load / -BarrierEnergy.dP_dd(closest, w, p["dhat"], 1.0)
+    dhat: kappa below load / (w dhat (-b'(CLOSEST_GAP dhat)) at kappa 1), to 3 digits rounded up;
+    or cannot resolve it: `load` below its push at the gap (1 - ROUNDOFF_ULPS eps) dhat, a gap
+    that round-off cannot tell from dhat (resolves)."""
+    dhat, kappa = p["dhat"], p["kappa"]
+    resolves(p, defaults, load, -BarrierEnergy.dP_dd(dhat * (1.0 - ROUNDOFF_ULPS * EPS), w, dhat,
+                                                     kappa), grows_with, what)
+    kappa_min = load / -BarrierEnergy.dP_dd(CLOSEST_GAP * dhat, w, dhat, 1.0)
     digit = 10.0 ** (math.floor(math.log10(kappa_min)) - 2)
     kappa_min = math.ceil(kappa_min / digit) * digit
-    if not p["kappa"] >= kappa_min:
+    if not kappa >= kappa_min:
         name = culprit(p, defaults, grows_with)
         raise ParameterError(name, f"{name} = {shown(p[name])}: cannot carry {what} (needs kappa "
-                                   f">= {kappa_min:.3g} here)")
+                                   f">= {kappa_min:.3g})")
+
+
+def resolves(p, defaults, load, load_min, grows_with, what):
+    """ParameterError unless load >= load_min, naming the culprit of load / load_min (exponents
+    `grows_with`) and the value of it that would reach load_min, the others as they are."""
+    if load >= load_min:
+        return
+    name = culprit(p, defaults, powers(grows_with, scale=-1))
+    size = float(np.hypot(*p[name])) if np.ndim(p[name]) else p[name]
+    bound = 10.0 ** (math.log10(size) + (math.log10(load_min) - math.log10(load))
+                     / grows_with[name])
+    said = f"|{name}|" if np.ndim(p[name]) else name
+    bound = f"{said} {'>=' if grows_with[name] > 0 else '<='} {bound:.3g}"
+    raise ParameterError(name, f"{name} = {shown(p[name])}: {what} is lost in round-off ({bound})")

@@ -14,7 +14,19 @@ TABLECLOTH = [
     (["--mu", "1e308"], "--mu: mu = 1e+308 is beyond float64's range"),
     (["--h", "1e200"], "--h: h = 1e+200 is beyond float64's range"),
     (["--h", "1e-160"], "--h: h = 1e-160 s is too small for float64"),
-    (["--pull-length", "1e308"], "--pull-length: pull_length must be <= 1e+150")]
+    (["--pull-length", "1e308"], "--pull-length: pull_length must be <= 1e+150"),
+    (["--gravity", "0,-1e-320"], "--gravity: gravity = 0, -9.99989e-321: the dish's weight is lost "
+                                 "in round-off (|gravity| >= 8.9e-11)")]
+
+
+@pytest.mark.parametrize("flags, said", [
+    (["--squeeze", "1e-320"], "--squeeze: squeeze = 9.99989e-321: the squeeze is lost in round-off "
+                              "(squeeze >= 1.11e-14)"),       # was 'math domain error'
+    (["--kappa", "1e150"], "--kappa: kappa = 1e+150: the squeeze is lost in round-off "
+                           "(kappa <= 2.36e+16)")])
+def test_the_grasp_refuses_a_squeeze_the_barrier_cannot_resolve(tmp_path, flags, said):
+    line = refused(["--scene", "grasp", *flags], tmp_path / "out")
+    assert line == f"simulator.py: error: {said}", line
 DEFAULT_DURATION = [    # ran for ever: the default duration lasts till the closed-form dish stops
     (["--pull-speed", "1e-300"], "--pull-speed: pull_speed = 1e-300: the dish stops at t = 1e+300"),
     (["--pull-length", "1e100"], "--pull-length: pull_length = 1e+100: the dish stops at t = "),
