@@ -170,8 +170,10 @@ def check_carries(p, defaults, load, w, grows_with, what):
     or cannot resolve it: `load` below its push at the gap (1 - ROUNDOFF_ULPS eps) dhat, a gap
     that round-off cannot tell from dhat (resolves)."""
     dhat, kappa = p["dhat"], p["kappa"]
-    resolves(p, defaults, load, -BarrierEnergy.dP_dd(dhat * (1.0 - ROUNDOFF_ULPS * EPS), w, dhat,
-                                                     kappa), grows_with, what)
+    load_min = -BarrierEnergy.dP_dd(dhat * (1.0 - ROUNDOFF_ULPS * EPS), w, dhat, kappa)
+    if load_min > 0.0:              # 0: a kappa that underflows it carries nothing (below)
+        resolves(p, defaults, (math.log10(load) if load > 0.0 else -math.inf)
+                 - math.log10(load_min), grows_with, what)
     kappa_min = load / -BarrierEnergy.dP_dd(CLOSEST_GAP * dhat, w, dhat, 1.0)
     digit = 10.0 ** (math.floor(math.log10(kappa_min)) - 2)
     kappa_min = math.ceil(kappa_min / digit) * digit
@@ -181,15 +183,16 @@ def check_carries(p, defaults, load, w, grows_with, what):
                                    f">= {kappa_min:.3g})")
 
 
-def resolves(p, defaults, load, load_min, grows_with, what):
-    """ParameterError unless load >= load_min, naming the culprit of load / load_min (exponents
-    `grows_with`) and the value of it that would reach load_min, the others as they are."""
-    if load >= load_min:
+def resolves(p, defaults, log_ratio, grows_with, what):
+    """ParameterError where log_ratio = log10(load / load_min) < 0, naming the parameter that moved
+    the load furthest down (its exponents `grows_with`) and the value of it that reaches load_min.
+    In logarithms: a load that underflows float64 (a subnormal parameter) still has its bound."""
+    if log_ratio >= 0.0:
         return
     name = culprit(p, defaults, powers(grows_with, scale=-1))
     size = float(np.hypot(*p[name])) if np.ndim(p[name]) else p[name]
-    bound = 10.0 ** (math.log10(size) + (math.log10(load_min) - math.log10(load))
-                     / grows_with[name])
+    bound = 10.0 ** (math.log10(size) - log_ratio / grows_with[name])
     said = f"|{name}|" if np.ndim(p[name]) else name
-    bound = f"{said} {'>=' if grows_with[name] > 0 else '<='} {bound:.3g}"
+    op = ">=" if grows_with[name] > 0 else "<="
+    bound = f"{said} {op} {bound:.3g}" if 0.0 < bound < math.inf else "it underflows"  # load 0
     raise ParameterError(name, f"{name} = {shown(p[name])}: {what} is lost in round-off ({bound})")

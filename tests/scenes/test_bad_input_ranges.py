@@ -23,7 +23,9 @@ TABLECLOTH = [      # each ended in brentq's "f(a) and f(b) must have different 
 CHALK = [(dict(mu=1e308), "mu"), (dict(kappa=1e300), "kappa"), (dict(dhat=1e300), "dhat"),
          (dict(h=1e200), "h"), (dict(h=1e-160), "h"), (dict(rho=1e300), "rho"),
          (dict(k=1e30), "k"), (dict(nx=1e4, ny=1e4), "nx"),
-         (dict(mu_s=1e308), "mu_s")]    # its static friction's stiffness, as mu's
+         (dict(mu_s=1e308), "mu_s"),    # its static friction's stiffness, as mu's
+         # an OverflowError traceback as its first frame was drawn (h^2 k_hand / m lost beside 1)
+         (dict(k_hand=1e-320), "k_hand"), (dict(k_hand=1e-300), "k_hand"), (dict(h=1e-12), "h")]
 GRASP = [(dict(kappa=1e-320), "kappa"), (dict(squeeze=1e300), "squeeze"),
          (dict(mass=1e300), "mass"), (dict(h=1e200), "h"), (dict(gravity=(0.0, -1e308)), "gravity"),
          (dict(nx=1e4, ny=1e4), "nx"),
@@ -121,3 +123,11 @@ def test_a_squeeze_the_barrier_cannot_resolve_names_the_bound(name, bound, scale
     op = ">=" if name == "squeeze" else "<="
     assert str(err).endswith(f"the squeeze is lost in round-off ({name} {op} {bound:.3g})")
     assert grasp.build_grasp_scene(**{name: bound * scale}).params[name] == bound * scale
+
+
+def test_the_least_grip_the_chalk_names_is_taken():
+    """h^2 k_hand / m >= 8 eps: the bound the message names (3 digits) builds 1 % above it."""
+    with pytest.raises(utils.ParameterError, match=r"the grip is lost in round-off") as info:
+        simulator.build_chalk_scene(k_hand=1e-320)
+    least = float(str(info.value).split("k_hand >= ")[1].rstrip(")"))
+    assert simulator.build_chalk_scene(k_hand=1.01 * least).hand.k_hand == 1.01 * least

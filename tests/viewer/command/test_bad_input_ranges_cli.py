@@ -75,3 +75,11 @@ def test_a_huge_closed_form_figure_is_said_in_3_digits(tmp_path):
     assert code == 0 and not too_wide(lines, tmp_path), lines
     assert ("the dish travelled 0.0000 m by 0.03 s, unfinished: the closed form's stops at "
             "1e+300 s") in lines, lines
+
+
+def test_a_grip_lost_in_round_off_is_refused_before_anything_is_written(tmp_path):
+    """--grip 1e-320 ran, then its first frame's drawing ended in an OverflowError traceback,
+    exit 1, the folder left claimed: refused in one line, the least grip named."""
+    line = refused(["--scene", "chalk", "--grip", "1e-320", "--duration", "0.03"], tmp_path / "o")
+    assert line == ("simulator.py: error: --grip: k_hand = 9.99989e-321: the grip is lost in "
+                    "round-off (k_hand >= 4.21e-13)"), line
