@@ -136,8 +136,8 @@ def check_params(overrides):
               **dict.fromkeys(("mu", "t_lift"), utils.check_nonnegative), **utils.SOLVER_CHECKS}
     p = utils.check_params(checks, GRASP, overrides, "grasp")
     if not p["gravity"][1] < 0.0 or p["gravity"][0] != 0.0:
-        raise utils.ParameterError("gravity", f"gravity must point down along the fingers "
-                                              f"(0, y < 0), got {p['gravity']}")
+        raise utils.ParameterError("gravity", f"gravity must point down the fingers (0, y < 0), "
+                                              f"got {p['gravity']}")
     return p
 
 

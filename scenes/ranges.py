@@ -60,7 +60,7 @@ def check_memory(name, value, nodes_of):
         low, high = (middle, high) if MEMORY_PER_NODE * nodes_of(middle) <= have else (low, middle)
     need = decimal.Decimal(MEMORY_PER_NODE * nodes) / 2**30
     raise ParameterError(name, f"{name} = {float(value):g}: {decimal.Decimal(nodes):.3g} nodes, "
-                               f"{need:.3g} GiB > {have / 2**30:.3g} GiB ({name} <= {low} fits)")
+                               f"{need:.3g} GiB > {have / 2**30:.3g} GiB ({name} <= {low})")
 
 
 def roundoff(x, o):
@@ -103,14 +103,14 @@ def _scales(p, grows, x, m, spacing, w, o, d):
     M, X, l = float(np.sum(m)), float(np.abs(x).max()), spacing
     D, Mp = v * h + g * h * h, grows["M"]
     scales = [
-        ("the total mass", M, Mp),
-        ("the kinetic energy", 0.5 * M * v * v, powers(Mp, {"v0": 2})),
-        ("the first inertia term", 0.5 * M * D * D,
+        ("total mass", M, Mp),
+        ("kinetic energy", 0.5 * M * v * v, powers(Mp, {"v0": 2})),
+        ("first inertia term", 0.5 * M * D * D,
          powers(Mp, {"v0": 2, "h": 2, "gravity": 2})),
         ("gravity's term", h * h * M * g * (X + D),
          powers(Mp, {"h": 2, "gravity": 1}, grows["X"], grows["size"])),
-        ("the springs' stiffness", h * h * k, {"h": 2, "k": 1}),
-        ("the springs' energy", h * h * k * l * l,
+        ("springs' stiffness", h * h * k, {"h": 2, "k": 1}),
+        ("springs' energy", h * h * k * l * l,
          powers({"h": 2, "k": 1}, powers(grows["l"], scale=2)))]
     if d is None:
         return scales
@@ -118,9 +118,9 @@ def _scales(p, grows, x, m, spacing, w, o, d):
     kappa_w = h * h * p["kappa"] * w
     near = min(max(float(d.min()), roundoff(x, o)), p["dhat"])
     return scales + [
-        ("the barrier's energy", kappa_w * p["dhat"],
+        ("barrier's energy", kappa_w * p["dhat"],
          powers(barrier, {"dhat": 1})),
-        ("the barrier's curvature",
+        ("barrier's curvature",
          kappa_w * (1 / near + p["dhat"] / near / near) / 2, powers(barrier, {"dhat": -1})),
         ("friction's stiffness", h * max(p["mu"], p.get("mu_s", 0.0)) * M * g / p["epsv"],
          powers(Mp, {"h": 1, "mu": 1, "mu_s": 1, "gravity": 1, "epsv": -1}))]
@@ -135,31 +135,30 @@ def check_start(p, defaults, grows, x, m, spacing, w, o=None, d=None):
     for what, value, grows_with in _scales(p, grows, x, m, spacing, w, o, d):
         if not value <= FLOAT64_SCALE_LIMIT:
             name = culprit(p, defaults, grows_with)
-            message = (f"{name} = {shown(p[name])} is beyond float64's range: {what} "
-                       f"{value:.3g} > {FLOAT64_SCALE_LIMIT:g}")
+            message = (f"{name} = {shown(p[name])}: {what} {value:.3g} > "
+                       f"{FLOAT64_SCALE_LIMIT:g} (float64)")
             raise ParameterError(name, message)
     h, k, m_node = p["h"], p["k"], float(np.min(m))
     ratio = h * h * k / m_node if m_node > 0.0 else math.inf    # an underflowed mass: no M
     if not ratio <= NEWTON_RATIO_LIMIT:
         name = culprit(p, defaults, powers({"k": 1, "h": 2}, grows["N"], powers(grows["M"],
                                                                                 scale=-1)))
-        message = (f"{name} = {shown(p[name])}: float64 cannot resolve the Newton matrix: "
-                   f"h^2 k / m = {ratio:.3g} > 0.1/eps")
+        message = (f"{name} = {shown(p[name])}: h^2 k / m = {ratio:.3g} > 0.1/eps (the Newton "
+                   f"matrix loses m)")
         raise ParameterError(name, message)
     if not h * h >= np.finfo(float).tiny:
-        raise ParameterError("h", f"h = {h:g} s is too small for float64: h^2 underflows "
-                                  f"(h >= 1.5e-154 s)")
+        raise ParameterError("h", f"h = {h:g} s: h^2 underflows float64 (h >= 1.5e-154 s)")
     travel = math.hypot(*p.get("v0", (0.0, 0.0))) * h + math.hypot(*p["gravity"]) * h * h
     scale = float(np.abs(x).max()) + (0.0 if o is None else float(np.abs(o).max())) + travel
     moved = powers({"v0": 1, "gravity": 1, "h": 1}, grows["X"])
-    lengths = (("the spacing", spacing,
+    lengths = (("spacing", spacing,
                 powers(moved, powers(grows["l"], scale=-1))),
                ("dhat", p["dhat"], {**powers(moved, grows["size"]), "dhat": -1}))
     for what, length, grows_with in lengths:
         if not length > ROUNDOFF_ULPS * EPS * scale:
             name = culprit(p, defaults, grows_with)
-            message = (f"{name} = {shown(p[name])} leaves {what} = {length:.3g} m below the "
-                       f"round-off at {scale:.3g} m")
+            message = (f"{name} = {shown(p[name])}: {what} {length:.3g} m is below round-off at "
+                       f"{scale:.3g} m")
             raise ParameterError(name, message)
 
 
@@ -179,8 +178,8 @@ def check_carries(p, defaults, load, w, grows_with, what):
     kappa_min = math.ceil(kappa_min / digit) * digit
     if not kappa >= kappa_min:
         name = culprit(p, defaults, grows_with)
-        raise ParameterError(name, f"{name} = {shown(p[name])}: cannot carry {what} (needs kappa "
-                                   f">= {kappa_min:.3g})")
+        raise ParameterError(name, f"{name} = {shown(p[name])}: cannot carry {what} (kappa >= "
+                                   f"{kappa_min:.3g})")
 
 
 def resolves(p, defaults, log_ratio, grows_with, what):
@@ -195,4 +194,4 @@ def resolves(p, defaults, log_ratio, grows_with, what):
     said = f"|{name}|" if np.ndim(p[name]) else name
     op = ">=" if grows_with[name] > 0 else "<="
     bound = f"{said} {op} {bound:.3g}" if 0.0 < bound < math.inf else "it underflows"  # load 0
-    raise ParameterError(name, f"{name} = {shown(p[name])}: {what} is lost in round-off ({bound})")
+    raise ParameterError(name, f"{name} = {shown(p[name])}: lost in round-off ({bound})")

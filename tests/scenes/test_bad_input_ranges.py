@@ -64,9 +64,9 @@ def test_the_grasp_refuses_what_float64_cannot_hold_by_name(kwargs, name, monkey
 
 def test_a_kappa_that_cannot_carry_the_dish_names_the_least_that_can():
     """The least kappa the message names carries the dish (the scene builds); half of it not."""
-    with pytest.raises(ValueError, match=r"needs kappa >= (\S+)\)") as info:
+    with pytest.raises(ValueError, match=r"\(kappa >= (\S+)\)") as info:
         simulator.build_tablecloth_scene(kappa=1e-20)
-    least = float(str(info.value).split("needs kappa >= ")[1].rstrip(")"))
+    least = float(str(info.value).split("kappa >= ")[1].rstrip(")"))
     assert simulator.build_tablecloth_scene(kappa=least).x0[:, 1].min() > 0.0
     with pytest.raises(ValueError, match="cannot carry the dish's weight"):
         simulator.build_tablecloth_scene(kappa=least / 2)
@@ -121,13 +121,13 @@ def test_a_squeeze_the_barrier_cannot_resolve_names_the_bound(name, bound, scale
     err = refused(grasp.build_grasp_scene, {name: 1e-320 if name == "squeeze" else 1e150},
                   monkeypatch)
     op = ">=" if name == "squeeze" else "<="
-    assert str(err).endswith(f"the squeeze is lost in round-off ({name} {op} {bound:.3g})")
+    assert str(err).endswith(f": lost in round-off ({name} {op} {bound:.3g})")
     assert grasp.build_grasp_scene(**{name: bound * scale}).params[name] == bound * scale
 
 
 def test_the_least_grip_the_chalk_names_is_taken():
     """h^2 k_hand / m >= 8 eps: the bound the message names (3 digits) builds 1 % above it."""
-    with pytest.raises(utils.ParameterError, match=r"the grip is lost in round-off") as info:
+    with pytest.raises(utils.ParameterError, match=r"k_hand = .*: lost in round-off") as info:
         simulator.build_chalk_scene(k_hand=1e-320)
     least = float(str(info.value).split("k_hand >= ")[1].rstrip(")"))
     assert simulator.build_chalk_scene(k_hand=1.01 * least).hand.k_hand == 1.01 * least

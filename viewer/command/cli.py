@@ -241,10 +241,9 @@ def scene_from_args(args):
     for param in overrides:
         if param not in table:
             flag = given[0] if param == "slope" else FLAG_OF.get(param, "--drag")
-            owners = " or ".join(f"--scene {name}" for name, (params, _) in scene_kinds().items()
-                                 if param in params)
-            raise CommandLineError(f"{flag} applies only to {owners}; --scene {args.scene} has no "
-                                   f"such parameter")
+            owners = ", ".join(name for name, (params, _) in scene_kinds().items()
+                               if param in params)
+            raise CommandLineError(f"{flag} applies only to --scene {owners} (not {args.scene})")
     return build(**overrides)
 
 
@@ -334,6 +333,11 @@ def plan_from_args(runs):
     return run.Plan(scenes=scenes, labels=labels, tags=[a.tag for a in runs], steps=steps,
                     out=args.out, stride=frame_stride(args, scenes), frames=not args.no_frames,
                     forces=not args.no_forces, said=args.said, kind=args.scene)
+
+
+def refusal(err):
+    """The line that refuses a command line: 'simulator.py: error: --flag: ...' (flag_of)."""
+    return f"simulator.py: error: {flag_of(err)}{err}"
 
 
 def flag_of(err):

@@ -161,12 +161,10 @@ def check_empty(path, out):
     st = os.stat(path)
     shared = st.st_mode & stat.S_IWOTH and not st.st_mode & stat.S_ISVTX
     if whole_files.HAS_OWNERS and (st.st_uid != os.geteuid() or shared):
-        raise refused(f"out folder {out!r} is another user's or others may write to it: choose "
-                      f"a new folder")
+        raise refused(f"out folder {out!r} is another user's or writable by others: choose a "
+                      f"new one")
     if os.listdir(path):
-        raise refused(f"out folder {out!r} is not empty: a run writes only into a new or empty "
-                      f"folder, so choose another --out (or leave it out: each run then makes "
-                      f"its own under {OUTPUT}/)")
+        raise refused(f"out folder {out!r} is not empty: choose another --out, new or empty")
 
 
 def identity(path):
@@ -187,8 +185,8 @@ def claim(path, out):
     try:
         fd = os.open(name, whole_files.NEW, 0o666)
     except FileExistsError:
-        raise refused(f"out folder {out!r} was taken by another run started at the same moment: "
-                      f"choose another --out") from None
+        raise refused(f"out folder {out!r} was taken by a run started at once: choose another "
+                      f"--out") from None
     except OSError as err:
         raise refused(f"out folder {out!r} cannot be written: {err.strerror or err}") from None
     try:
