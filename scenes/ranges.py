@@ -143,8 +143,8 @@ def check_start(p, defaults, grows, x, m, spacing, w, o=None, d=None):
     if not ratio <= NEWTON_RATIO_LIMIT:
         name = culprit(p, defaults, powers({"k": 1, "h": 2}, grows["N"], powers(grows["M"],
                                                                                 scale=-1)))
-        message = (f"{name} = {shown(p[name])}: h^2 k / m = {ratio:.3g} > 0.1/eps (the Newton "
-                   f"matrix loses m)")
+        message = (f"{name} = {shown(p[name])}: h^2 k / m = {ratio:.3g} > 0.1/eps (m lost in "
+                   f"float64)")
         raise ParameterError(name, message)
     if not h * h >= np.finfo(float).tiny:
         raise ParameterError("h", f"h = {h:g} s: h^2 underflows float64 (h >= 1.5e-154 s)")

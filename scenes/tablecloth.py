@@ -74,7 +74,7 @@ def resting_gap(p):
     w, load = p["width"] / p["nx"], -p["mass"] * p["gravity"][1] / (p["nx"] + 1)
     ranges.check_carries(p, TABLECLOTH, load, w, {"kappa": -1, "mass": 1, "gravity": 1,
                                                   "width": -1, "nx": 2, "dhat": -1},
-                         "the dish's weight")
+                         "the dish")
     return gap_carrying(load, w, p["dhat"], p["kappa"])
 
 

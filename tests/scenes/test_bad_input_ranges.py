@@ -68,7 +68,7 @@ def test_a_kappa_that_cannot_carry_the_dish_names_the_least_that_can():
         simulator.build_tablecloth_scene(kappa=1e-20)
     least = float(str(info.value).split("kappa >= ")[1].rstrip(")"))
     assert simulator.build_tablecloth_scene(kappa=least).x0[:, 1].min() > 0.0
-    with pytest.raises(ValueError, match="cannot carry the dish's weight"):
+    with pytest.raises(ValueError, match="cannot carry the dish"):
         simulator.build_tablecloth_scene(kappa=least / 2)
 
 

@@ -288,7 +288,7 @@ def check_steps(name, value, steps, h):
     ParameterError naming --steps or --duration (`name`, given as `value`) beyond MAX_STEPS."""
     if not steps <= ranges.MAX_STEPS:
         raise utils.ParameterError(name, f"{name} = {value}: {steps:.9g} steps of h = {h:g} s "
-                                   f"(a run takes <= {ranges.MAX_STEPS:.0e})")
+                                   f"(at most {ranges.MAX_STEPS:.0e})")
     return int(round(steps))
 
 
