@@ -235,12 +235,6 @@ def check_params(checks, defaults, overrides, scene, aliases=types.MappingProxyT
     return p
 
 
-def fixed(value, decimals):
-    """`value` with `decimals` decimals, as a run's closing words write a figure; in 3 digits
-    (1e+300) where that would run past 10 digits before the point (a pull speed of 1e-300 m/s)."""
-    return f"{value:.{decimals}f}" if abs(value) < 1e10 else f"{value:.3g}"
-
-
 def finite_result(what, value, arguments):
     """`value` if every entry is finite; else a ValueError (never a NaN): finite `arguments` (their
     names) overflowed float64, e.g. springs stretched to 1e308 m."""

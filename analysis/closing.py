@@ -3,7 +3,7 @@ stick-slip, or how far the tablecloth's dish travelled."""
 import closed_forms
 from analysis import diagnostics, stick_slip
 from scenes import square, tablecloth
-from utils import fixed
+from scenes.scene import fixed
 
 
 def each(tracks, words):

@@ -14,7 +14,7 @@ import InertiaEnergy
 import square_mesh
 import utils
 from scenes import ranges
-from scenes.scene import MovingSurface, assemble, gap_carrying, readonly
+from scenes.scene import MovingSurface, assemble, fixed, gap_carrying, readonly
 
 GRASP = types.MappingProxyType({
     "width": 0.05, "height": 0.05,  # m: the block
@@ -299,7 +299,7 @@ def words(scene, t, s, short=False):
     if not measured < scene.epsv:
         return f"slips on the pads at {t[-1]:.2f} s" + ("" if short else (
             f": {1e3 * measured:.1f} mm/s {phase} ({slid})"))
-    creeps, u_star = f"creeps {1e3 * measured:.3f} mm/s", f"(u* {utils.fixed(1e3 * exact, 3)})"
+    creeps, u_star = f"creeps {1e3 * measured:.3f} mm/s", f"(u* {fixed(1e3 * exact, 3)})"
     return f"held, {creeps} {u_star}" if short else f"held ({slid}), {creeps} {phase} {u_star}"
 
 
