@@ -170,15 +170,17 @@ def check_choice(name, value, choices):
     return value
 
 
-EPSV_MIN = 1e-150       # below it, f_hess_term's 1/eps_v^2 overflows float64 (from 7.5e-155)
+# f_hess_term's 1/max(||vbar||, eps_v)^2 overflows float64 for eps_v below 7.5e-155, and its
+# max(||vbar||, eps_v)^2 for eps_v above 1.3e154 (-1/inf: a zero Hessian, Newton stalls)
+EPSV_MIN, EPSV_MAX = 1e-150, 1e150
 
 
 def check_epsv(epsv):
-    """eps_v as a float, a finite number >= EPSV_MIN."""
+    """eps_v as a float, a finite number in [EPSV_MIN, EPSV_MAX]."""
     epsv = check_positive("epsv", epsv)
-    if epsv < EPSV_MIN:
-        raise ParameterError("epsv", f"epsv must be >= {EPSV_MIN:g} (f_hess_term's 1/eps_v^2 "
-                                     f"must fit in float64), got {epsv}")
+    if not EPSV_MIN <= epsv <= EPSV_MAX:
+        raise ParameterError("epsv", f"epsv must be in [{EPSV_MIN:g}, {EPSV_MAX:g}] m/s (eps_v^2 "
+                                     f"in float64), got {epsv}")
     return epsv
 
 

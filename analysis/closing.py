@@ -3,6 +3,7 @@ stick-slip, or how far the tablecloth's dish travelled."""
 import closed_forms
 from analysis import diagnostics, stick_slip
 from scenes import square, tablecloth
+from scenes.scene import fixed
 
 
 def each(tracks, words):
@@ -49,8 +50,8 @@ def state_words(scene, x, v, t):
     if not diagnostics.at_rest(*diagnostics.sticking_sliding(abs(u), scene.epsv)):
         return None
     exact, measured = closed_creep(scene), 1e3 * downhill(scene, u.mean())
-    form = "" if exact is None else f" (closed form {exact:.2f})"
-    return f"sticks: every contact below eps_v, creeps {measured:.2f} mm/s{form}"
+    form = "" if exact is None else f" (closed form {fixed(exact, 2)})"
+    return f"sticks: every contact below eps_v, creeps {fixed(measured, 2)} mm/s{form}"
 
 
 def blur(track):
@@ -76,9 +77,10 @@ def rest_words(tracks):
         blurred, (measured, exact) = blur(track), creep_figures(track)
         digits = 2 if blurred else 3
         epsv = ", set by --epsv" if one else ""
-        form = "" if exact is None else f" (closed form {exact:.{digits}f}{epsv})"
+        form = "" if exact is None else f" (closed form {fixed(exact, digits)}{epsv})"
         tol = f" {blurred} --tol {track.scene.tol:g}" if one and blurred else ""
-        return f"sticks at {track.rest_since:.2f} s, creeps {measured:.{digits}f} mm/s{form}{tol}"
+        creeps = f"creeps {fixed(measured, digits)} mm/s"
+        return f"sticks at {track.rest_since:.2f} s, {creeps}{form}{tol}"
     if one:
         return "the square " + words(tracks[0])
     stuck = [track for track in tracks if track.rest_since is not None]
@@ -99,7 +101,7 @@ def stuck_together(stuck, name, word):
     figures = [creep_figures(track) for track in stuck]
 
     def column(values):
-        return ", ".join("-" if v is None else f"{v:.{digits}f}" for v in values)
+        return ", ".join("-" if v is None else fixed(v, digits) for v in values)
     values = ", ".join(track.label.partition(" = ")[2] for track in stuck)
     since = ", ".join(f"{track.rest_since:.2f}" for track in stuck)
     tol = f", {word} --tol" if word else ""
@@ -126,15 +128,15 @@ def travel_words(tracks):
         runs.append((travel, exact, "mu g L^2 / U^2" if U * U >= scene.mu * g * L else "L", off,
                      stop))
     if len(runs) > 1:
-        travels = ", ".join(f"{travel:.4f}" for travel, *_ in runs)
+        travels = ", ".join(fixed(travel, 4) for travel, *_ in runs)
         offs = ", ".join(r[3] + ("" if r[3] == "unfinished" else " %") for r in runs)
         return f"the dish travelled {travels} m (closed form {offs})"
     travel, exact, form, off, stop = runs[0]
     if off == "unfinished":
-        return (f"the dish travelled {travel:.4f} m by {tracks[0].t:.2f} s, unfinished: the "
-                f"closed form's stops at {stop:.2f} s")
+        return (f"the dish travelled {fixed(travel, 4)} m by {tracks[0].t:.2f} s, unfinished: "
+                f"the closed form's stops at {fixed(stop, 2)} s")
     off = f" ({off} %)" if exact else ""
-    return f"the dish travelled {travel:.4f} m, closed form {form} = {exact:.4f} m{off}"
+    return f"the dish travelled {fixed(travel, 4)} m, closed form {form} = {fixed(exact, 4)} m{off}"
 
 
 def stick_slip_words(tracks, short=True):

@@ -1,6 +1,7 @@
 """`python -m figures [NAME ...] [--out DIR]`: writes NAME.png into a new folder, as simulator.py
 does (viewer.output.files.RunFolder). Bad input: one line `figures: error: ...`, exit code 2;
-Ctrl+C 130 (SIGTERM 143); a failed write or step: one line, exit code 1.
+Ctrl+C 130 (SIGTERM 143); a failed write ("cannot write X: why", as simulator.py says it) or step:
+one line, exit code 1.
 """
 import importlib
 import sys
@@ -37,7 +38,7 @@ def write(names, folder):
         folder.signals.check()          # a signal whose raise the import dropped: before compute
         folder.write(f"{name}.png", module.draw(module.compute()).png())
         seconds = time.perf_counter() - start
-        print(f"figures: wrote {folder.path(name + '.png')} ({seconds:.1f} s)")
+        print(f"figures: wrote {files.shown(folder.path(name + '.png'))} ({seconds:.1f} s)")
     plural = "s" * (len(names) > 1)
     print(f"figures: {len(names)} figure{plural} in {time.perf_counter() - begin:.1f} s")
 
@@ -70,7 +71,10 @@ def main(argv=None):
                 return 2
             except (OSError, time_integrator.SimulationError) as err:   # a full disk, a step
                 signals.close()
-                print(progress.wrapped(f"figures: error: {err}"), file=sys.stderr)
+                where = "the figures' folder" if folder is None else folder.folder
+                said = (f"figures: error: {files.cannot_write(err, where)}"   # a path runs on
+                        if isinstance(err, OSError) else progress.wrapped(f"figures: error: {err}"))
+                print(said, file=sys.stderr)
                 return 1
         except run.Stopped as stopped:      # also as an error was found
             signals.close()

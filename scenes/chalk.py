@@ -42,6 +42,8 @@ CHALK = types.MappingProxyType({
 GROWS = types.MappingProxyType({        # what the chalk's sizes grow with (scenes.ranges)
     "M": {"rho": 1, "length": 1, "width": 1}, "size": {"length": 1, "width": 1}, "X": {"dhat": 1},
     "l": {"length": 1, "nx": -1, "width": 1, "ny": -1}, "N": {"nx": 1, "ny": 1}})
+GRIP = types.MappingProxyType({         # h^2 k_hand / m, the grip beside a node's mass
+    "h": 2, "k_hand": 1, "rho": -1, "length": -1, "width": -1, "nx": 1, "ny": 1})
 
 
 def check_params(defaults, overrides):
@@ -80,6 +82,9 @@ def build_chalk_scene(**overrides):
     m = np.full(len(x), p["rho"] * p["length"] * p["width"] / len(x))
     ranges.check_start(p, CHALK, GROWS, x, m, min(p["length"] / p["nx"], p["width"] / p["ny"]),
                        p["width"] / p["ny"], np.zeros(2), x[:, 1])
+    grip = 2 * math.log10(p["h"]) + math.log10(p["k_hand"]) - math.log10(m[0])    # h^2 k_hand / m
+    ranges.resolves(p, CHALK, grip - math.log10(ranges.ROUNDOFF_ULPS * ranges.EPS), GRIP,
+                    "the grip")     # lost beside m in M + h^2 K: no hand
     held = np.arange((p["nx"] + 1 - p["held_columns"]) * (p["ny"] + 1), len(x))
     t1, t2, down = p["t_press"], p["t_press"] + p["t_hold"], -p["press"]
     hand = HandEnergy.Hand(nodes=readonly(held), rest=readonly(x[held]), k_hand=p["k_hand"],

@@ -14,7 +14,7 @@ import InertiaEnergy
 import square_mesh
 import utils
 from scenes import ranges
-from scenes.scene import MovingSurface, assemble, gap_carrying, readonly
+from scenes.scene import MovingSurface, assemble, fixed, gap_carrying, readonly
 
 GRASP = types.MappingProxyType({
     "width": 0.05, "height": 0.05,  # m: the block
@@ -143,8 +143,8 @@ def check_params(overrides):
               **dict.fromkeys(("mu", "t_lift"), utils.check_nonnegative), **utils.SOLVER_CHECKS}
     p = utils.check_params(checks, GRASP, overrides, "grasp")
     if not p["gravity"][1] < 0.0 or p["gravity"][0] != 0.0:
-        raise utils.ParameterError("gravity", f"gravity must point down along the fingers "
-                                              f"(0, y < 0), got {p['gravity']}")
+        raise utils.ParameterError("gravity", f"gravity must point down the fingers (0, y < 0), "
+                                              f"got {p['gravity']}")
     return p
 
 
@@ -188,7 +188,8 @@ def grip(scene):
 
 def load_ratio(scene, lift_accel=0.0):
     """m (g + a) / (2 mu N): the load on friction while the lift accelerates at a (inf: mu 0)."""
-    return (-scene.g[1] + lift_accel) / grip(scene) if grip(scene) > 0.0 else math.inf
+    load = float(-scene.g[1]) + lift_accel        # a Python float: inf past float64, as it is
+    return load / grip(scene) if grip(scene) > 0.0 else math.inf
 
 
 def squeeze_for(ratio, mu, lift_accel=0.0, p=GRASP):
@@ -325,7 +326,7 @@ def words(scene, t, s, short=False):
     if not measured < scene.epsv:
         return f"slips on the pads at {t[-1]:.2f} s" + ("" if short else (
             f" ({slid}); at {1e3 * measured:.1f} mm/s {phase}"))
-    creeps, u_star = f"creeps {1e3 * measured:.3f} mm/s", f"(u* {1e3 * exact:.3f})"
+    creeps, u_star = f"creeps {1e3 * measured:.3f} mm/s", f"(u* {fixed(1e3 * exact, 3)})"
     return (f"held, {creeps} from {since} s {u_star}" if short else
             f"held ({slid}); {creeps} {phase} {u_star}")
 

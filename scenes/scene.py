@@ -189,3 +189,9 @@ def gap_carrying(load, w, dhat, kappa):
     import scipy.optimize           # here, not at start-up: only a settled start needs it
     return scipy.optimize.brentq(lambda d: -BarrierEnergy.dP_dd(d, w, dhat, kappa) - load,
                                  ranges.CLOSEST_GAP * dhat, dhat, xtol=1e-15)
+
+
+def fixed(value, decimals):
+    """`value` with `decimals` decimals, as a run's closing words write a figure; in 3 digits
+    (1e+300) where that would run past 10 digits before the point (a pull speed of 1e-300 m/s)."""
+    return f"{value:.{decimals}f}" if abs(value) < 1e10 else f"{value:.3g}"

@@ -40,8 +40,8 @@ def check_params(overrides):
               **dict.fromkeys(("mu", "t_pull"), utils.check_nonnegative), **utils.SOLVER_CHECKS}
     p = utils.check_params(checks, TABLECLOTH, overrides, "tablecloth")
     if not p["gravity"][1] < 0.0:
-        raise utils.ParameterError("gravity", f"gravity must press the dish down on the table "
-                                   f"(y < 0), got {p['gravity']}")
+        raise utils.ParameterError("gravity", f"gravity must press the dish down (y < 0), got "
+                                   f"{p['gravity']}")
     for name in ("pull_speed", "pull_length"):
         if not p[name] <= ranges.FLOAT64_SCALE_LIMIT:
             raise utils.ParameterError(name, f"{name} must be <= {ranges.FLOAT64_SCALE_LIMIT:g} "
@@ -74,7 +74,7 @@ def resting_gap(p):
     w, load = p["width"] / p["nx"], -p["mass"] * p["gravity"][1] / (p["nx"] + 1)
     ranges.check_carries(p, TABLECLOTH, load, w, {"kappa": -1, "mass": 1, "gravity": 1,
                                                   "width": -1, "nx": 2, "dhat": -1},
-                         "the dish's weight")
+                         "the dish")
     return gap_carrying(load, w, p["dhat"], p["kappa"])
 
 

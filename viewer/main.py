@@ -18,7 +18,7 @@ def main(argv):
                 return run.to_files(plan, signals)
             except (cli.CommandLineError, ValueError) as err:
                 signals.close()         # the error is said: a signal from here on only waits
-                print(f"simulator.py: error: {cli.flag_of(err)}{err}", file=sys.stderr)
+                print(cli.refusal(err), file=sys.stderr)
                 return 2
         except run.Stopped as stopped:      # before the run, or as its error was found
             signals.close()

@@ -1,11 +1,13 @@
 """figures/: each figure's numbers on a small case (the lecture's claims), and `python -m figures`
 as a user runs it: whole PNGs, one-line errors with exit code 2, Ctrl+C ends in 130."""
+import errno
 import math
 import os
 import re
 import signal
 import subprocess
 import sys
+import types
 
 import numpy as np
 import pytest
@@ -412,7 +414,22 @@ def test_ctrl_c_as_a_full_disk_is_said_waits(tmp_path, capsys, monkeypatch):
     monkeypatch.setattr(mollifier, "compute", lambda: None)
     monkeypatch.setattr(mollifier, "draw", full)
     assert cli.main(["mollifier", "--out", str(tmp_path)]) == 1
-    assert capsys.readouterr().err == "figures: error: No space left on device\n"
+    assert capsys.readouterr().err == (f"figures: error: cannot write {tmp_path}: No space left "
+                                       f"on device\n")
+
+
+def test_a_full_disk_is_said_as_simulator_says_it(tmp_path, capsys, monkeypatch):
+    """errno 28 on the PNG: 'cannot write <file>: No space left on device', one line, exit 1,
+    in simulator.py's words (files.cannot_write), not the raw '[Errno 28] ...'."""
+    def full(path, data):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), path)
+    monkeypatch.setattr(mollifier, "compute", lambda: None)
+    monkeypatch.setattr(mollifier, "draw", lambda _: types.SimpleNamespace(png=lambda: b"png"))
+    monkeypatch.setattr(whole_files, "write_temporary", full)
+    assert cli.main(["mollifier", "--out", str(tmp_path)]) == 1
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1 and err[0].startswith(f"figures: error: cannot write {tmp_path}/"), err
+    assert err[0].endswith(": No space left on device") and "Errno" not in err[0], err
 
 
 def test_ctrl_c_while_writing_lands_after_the_file_is_whole(tmp_path, capsys, monkeypatch):

@@ -91,11 +91,14 @@ def test_overflow_beyond_float64_raises_instead_of_nan(call):
 
 
 @pytest.mark.parametrize("kind", ["val", "grad", "hess"])
-def test_eps_v_whose_square_underflows_is_refused(kind):
-    """f_hess_term is -1/eps_v^2, which overflows float64 for eps_v below 7.5e-155: refused."""
+@pytest.mark.parametrize("epsv", [1e-310, 1e308])
+def test_eps_v_whose_square_leaves_float64_is_refused(kind, epsv):
+    """f_hess_term is -1/max(||vbar||, eps_v)^2: 1/eps_v^2 overflows float64 for eps_v below
+    7.5e-155, eps_v^2 above 1.3e154: refused, the range named."""
     v = np.full((2, 2), 1e-320)
-    with pytest.raises(ValueError, match=r"epsv must be >= 1e-150 .* got 1e-310"):
-        getattr(FrictionEnergy, kind)(v, np.ones(2), 0.01, [0.0, 1.0], epsv=1e-310)
+    said = re.escape(f"epsv must be in [1e-150, 1e+150] m/s (eps_v^2 in float64), got {epsv}")
+    with pytest.raises(ValueError, match=said):
+        getattr(FrictionEnergy, kind)(v, np.ones(2), 0.01, [0.0, 1.0], epsv=epsv)
 
 
 def test_tiny_eps_v_still_exact_where_representable():

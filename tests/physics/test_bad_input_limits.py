@@ -44,15 +44,15 @@ def test_round_off_threshold_on_a_flat_slope(gap, refused):
 # ---- absurd values (issue 13, part 5) ------------------------------------------------------------
 
 LIBRARY_OVERFLOW = [
-    (dict(v0=(1e308, 0.0)), "v0", "the kinetic energy"),
-    (dict(v0=(1e76, 0.0)), "v0", "the kinetic energy"),            # 1/2 1000 kg 1e152 = 5e154 J
-    (dict(dhat=1e308), "dhat", "the barrier's energy"),
-    (dict(h=1e200), "h", "the first inertia term"),
+    (dict(v0=(1e308, 0.0)), "v0", "kinetic energy"),
+    (dict(v0=(1e76, 0.0)), "v0", "kinetic energy"),                # 1/2 1000 kg 1e152 = 5e154 J
+    (dict(dhat=1e308), "dhat", "barrier's energy"),
+    (dict(h=1e200), "h", "first inertia term"),
     (dict(gravity=(0.0, -1e200)), "gravity", ""),
-    (dict(kappa=1e300), "kappa", "the barrier's energy"),
-    (dict(rho=1e300), "rho", "the total mass"),
+    (dict(kappa=1e300), "kappa", "barrier's energy"),
+    (dict(rho=1e300), "rho", "total mass"),
     (dict(epsv=1e-149), "epsv", "friction's stiffness"),
-    (dict(k=1e300, h=1e-70), "k", "the springs' stiffness"),
+    (dict(k=1e300, h=1e-70), "k", "springs' stiffness"),
     (dict(side_len=1e200, mass=1.0, slope=None), "side_len", "gravity's term"),
 ]
 
@@ -79,7 +79,7 @@ def test_newton_matrix_bound():
     m = simulator.DEFAULTS["rho"] / 25                       # n_seg 4: 25 nodes, 40 kg each
     h = simulator.DEFAULTS["h"]
     k_limit = ranges.NEWTON_RATIO_LIMIT * m / h ** 2
-    message = r"^k = .*: float64 cannot resolve the Newton matrix: h\^2 k / m = 9\.0\de\+14 > "
+    message = r"^k = .*: h\^2 k / m = 9\.0\de\+14 > 0\.1/eps \(m lost in float64\)"
     with pytest.raises(ValueError, match=message):
         simulator.build_scene(k=2 * k_limit)
     scene = simulator.build_scene(k=k_limit / 10, tol=1e-6)
@@ -87,9 +87,9 @@ def test_newton_matrix_bound():
     fall = np.average(x - scene.x0, axis=0, weights=scene.m)
     # Newton stops once its step is below tol h: the position is within that of the exact g h^2
     assert fall == pytest.approx([0.0, scene.g[1] * h * h], abs=scene.tol * h)
-    with pytest.raises(ValueError, match=r"^h = 1e\+10: float64 cannot resolve"):
+    with pytest.raises(ValueError, match=r"^h = 1e\+10: h\^2 k / m = "):
         simulator.build_scene(h=1e10, slope=None)
-    with pytest.raises(ValueError, match=r"^rho = 1e-20: float64 cannot resolve"):
+    with pytest.raises(ValueError, match=r"^rho = 1e-20: h\^2 k / m = "):
         simulator.build_scene(rho=1e-20, slope=None)
 
 
@@ -105,10 +105,10 @@ def test_lectures_scene_and_stability_extremes_are_far_inside_the_limits():
 def test_memory_check_refuses_what_does_not_fit(monkeypatch):
     """With 1 GiB of memory, the largest n_seg the message names fits and the next does not."""
     monkeypatch.setattr(ranges, "physical_memory", lambda: 2 ** 30)
-    message = r"^n_seg = 300: 9.06e\+4 nodes, 1.38 GiB > 1 GiB \(n_seg <= (\d+) fits\)"
+    message = r"^n_seg = 300: 9.06e\+4 nodes, 1.38 GiB > 1 GiB \(n_seg <= (\d+)\)"
     with pytest.raises(ValueError, match=message) as info:
         simulator.build_scene(n_seg=300)
-    largest = int(str(info.value).split("n_seg <= ")[1].split()[0])
+    largest = int(str(info.value).split("n_seg <= ")[1].rstrip(")"))
     nodes = lambda n_seg: (n_seg + 1) ** 2      # noqa: E731
     ranges.check_memory("n_seg", largest, nodes)
     with pytest.raises(ValueError):

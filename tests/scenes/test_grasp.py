@@ -132,7 +132,7 @@ def test_a_coulomb_block_balanced_exactly_slips_on_without_a_warning():
     ("squeeze", 0.0, "squeeze must be a finite number > 0"),
     ("lift_accel", -1.0, "lift_accel must be a finite number > 0"),
     ("mu", math.nan, "mu must be a finite number >= 0"),
-    ("gravity", (1.0, -9.81), "gravity must point down along the fingers"),
+    ("gravity", (1.0, -9.81), "gravity must point down the fingers"),
 ])
 def test_a_bad_parameter_is_refused_by_name(name, value, words):
     with pytest.raises(ValueError, match=f"^{words}"):

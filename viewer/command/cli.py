@@ -241,10 +241,9 @@ def scene_from_args(args):
     for param in overrides:
         if param not in table:
             flag = given[0] if param == "slope" else FLAG_OF.get(param, "--drag")
-            owners = " or ".join(f"--scene {name}" for name, (params, _) in scene_kinds().items()
-                                 if param in params)
-            raise CommandLineError(f"{flag} applies only to {owners}; --scene {args.scene} has no "
-                                   f"such parameter")
+            owners = ", ".join(name for name, (params, _) in scene_kinds().items()
+                               if param in params)
+            raise CommandLineError(f"{flag} applies only to --scene {owners} (not {args.scene})")
     return build(**overrides)
 
 
@@ -268,21 +267,29 @@ def default_duration(scenes, kind=None):
 
 
 def steps_from_args(args, scene, duration):
-    """--steps, or --duration (default `duration`) in steps of h."""
+    """--steps, or --duration (default `duration`) in steps of h; either refused beyond
+    ranges.MAX_STEPS (check_steps)."""
     if args.steps is not None:
         if args.duration is not None:
             raise CommandLineError("--duration and --steps both set the run's length; give one")
-        return utils.check_whole("steps", args.steps, 1)
+        steps = utils.check_whole("steps", args.steps, 1)
+        return check_steps("steps", f"{steps:.9g}", steps, scene.h)
     if args.duration is not None:
         duration = args.duration
     duration, h = utils.check_positive("duration", duration), scene.h
     if duration < h:
         raise utils.ParameterError("duration", f"duration {duration:g} s is shorter than one time "
                                    f"step h = {h:g} s")
-    if not math.isfinite(duration / h):
-        raise utils.ParameterError("duration", f"duration {duration:g} s is more time steps of h = "
-                                   f"{h:g} s than float64 counts")
-    return int(round(duration / h))
+    return check_steps("duration", f"{duration:g} s", duration / h, h)
+
+
+def check_steps(name, value, steps, h):
+    """`steps` of h (inf where duration / h overflowed) rounded to a whole number, or a
+    ParameterError naming --steps or --duration (`name`, given as `value`) beyond MAX_STEPS."""
+    if not steps <= ranges.MAX_STEPS:
+        raise utils.ParameterError(name, f"{name} = {value}: {steps:.9g} steps of h = {h:g} s "
+                                   f"(at most {ranges.MAX_STEPS:.0e})")
+    return int(round(steps))
 
 
 def unfinished(scene, steps):
@@ -326,6 +333,11 @@ def plan_from_args(runs):
     return run.Plan(scenes=scenes, labels=labels, tags=[a.tag for a in runs], steps=steps,
                     out=args.out, stride=frame_stride(args, scenes), frames=not args.no_frames,
                     forces=not args.no_forces, said=args.said, kind=args.scene)
+
+
+def refusal(err):
+    """The line that refuses a command line: 'simulator.py: error: --flag: ...' (flag_of)."""
+    return f"simulator.py: error: {flag_of(err)}{err}"
 
 
 def flag_of(err):

@@ -162,8 +162,8 @@ def failure_of(err, plan, when=""):
     if isinstance(err, Stopped):
         return Failure(err.code, f"stopped: {err.reason}{when}")
     if isinstance(err, OSError):
-        where = err.filename or plan.out or "the run's folder"
-        return Failure(1, f"error: cannot write {where}: {err.strerror or err}")
+        where = plan.out or "the run's folder"
+        return Failure(1, f"error: {files.cannot_write(err, where)}")
     if isinstance(err, time_integrator.SimulationError):    # its figures after a '; '
         figures = f"; {err.figures_said}" if err.figures else ""
         return Failure(1, f"stopped: simulation failed: {err.what}{figures}")
@@ -216,16 +216,16 @@ def kept(tracks, folder, plan):
     they differ), the last pictures left out and its page's link where it was written; nothing
     kept where the folder disappeared."""
     if folder is not None and folder.lost:
-        return f"nothing kept: {folder.folder}/ disappeared as the run wrote it"
+        return f"nothing kept: {files.shown(folder.folder)}/ disappeared as the run wrote it"
     if not tracks:
-        return "nothing written" + (f" in {folder.folder}/" if folder is not None else "")
+        return "nothing written" + ("" if folder is None else f" in {files.shown(folder.folder)}/")
     fewest, most = min(track.logged for track in tracks), max(track.logged for track in tracks)
     steps = fewest if fewest == most else f"{fewest} to {most}"
     left_out = [name for name in run_pictures.names(tracks)
                 if (plan.frames or name != "index.html") and name not in folder.written]
     said = f"; left out: {', '.join(left_out)}" if left_out else ""
     page = f"; the page: {folder.url('index.html')}" if "index.html" in folder.written else ""
-    return f"{steps} steps kept in {folder.folder}/{said}{page}"
+    return f"{steps} steps kept in {files.shown(folder.folder)}/{said}{page}"
 
 
 def to_files(plan, signals, messages=None):
@@ -287,4 +287,6 @@ def written(plan, folder, tracks):
 def where(plan, folder):
     """The run's page as a file:// URL (most terminals open it with a click; the folder is the
     page's), else its folder."""
-    return f", the page: {folder.url('index.html')}" if plan.frames else f" in {folder.folder}/"
+    if plan.frames:
+        return f", the page: {folder.url('index.html')}"
+    return f" in {files.shown(folder.folder)}/"

@@ -17,6 +17,17 @@ TRIES = 5               # a parent removed by another run as this one made its f
 MAX_LINKS = 40          # as the kernel's ELOOP
 
 
+def shown(path):
+    """`path` as a line may print it: each control character (a newline, a terminal's escape)
+    written as Python writes it in a string, '\\n', '\\x1b'; the rest as it is."""
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(path))
+
+
+def cannot_write(err, where):
+    """'cannot write X: why' for the OSError `err` of a failed write: X its file, else `where`."""
+    return f"cannot write {shown(err.filename or where)}: {err.strerror or err}"
+
+
 def refused(text, given=True):
     """The ValueError that refuses a run's folder: about --out where it was `given`, else about the
     folder tried under output/ (its parameter "output" has no flag to blame)."""
@@ -150,12 +161,11 @@ def check_empty(path, out, given=True):
     st = os.stat(path)
     shared = st.st_mode & stat.S_IWOTH and not st.st_mode & stat.S_ISVTX
     if whole_files.HAS_OWNERS and (st.st_uid != os.geteuid() or shared):
-        raise refused(f"{named(out, given)} is another user's or others may write to it: choose "
-                      f"a new folder", given)
+        raise refused(f"{named(out, given)} is another user's or writable by others: choose a "
+                      f"new one", given)
     if os.listdir(path):
-        raise refused(f"{named(out, given)} is not empty: a run writes only into a new or empty "
-                      f"folder, so choose another --out (or leave it out: each run then makes "
-                      f"its own under {OUTPUT}/)", given)
+        raise refused(f"{named(out, given)} is not empty: choose another --out, new or empty",
+                      given)
 
 
 def identity(path):
@@ -176,8 +186,8 @@ def claim(path, out, given=True):
     try:
         fd = os.open(name, whole_files.NEW, 0o666)
     except FileExistsError:
-        raise refused(f"{named(out, given)} was taken by another run started at the same moment: "
-                      f"choose another --out", given) from None
+        raise refused(f"{named(out, given)} was taken by a run started at once: choose another "
+                      f"--out", given) from None
     except OSError as err:
         raise refused(f"{named(out, given)} cannot be written: {err.strerror or err}",
                       given) from None

@@ -188,8 +188,9 @@ def spacing(scene):
 
 def reference_force(scene):
     """(N, words): the force ARROW_PER_WEIGHT m of arrow stands for: the weight M|g| (|g| = 9.81
-    without gravity), or with a hand one held node's press, k_hand x press depth."""
-    if scene.hand is not None:
+    without gravity), or with a hand one held node's press, k_hand x press depth (where it
+    presses: press 0 has no force to scale by)."""
+    if scene.hand is not None and scene.hand.k_hand * scene.params["press"] > 0.0:
         return scene.hand.k_hand * scene.params["press"], "one held node's press"
     mass = float(diagnostics.body(scene, scene.m).sum())       # the body alone
     weight = mass * float(np.hypot(*scene.g)) or mass * 9.81

@@ -53,3 +53,13 @@ def test_a_long_warning_is_broken_between_words(tmp_path):
     first = next(i for i, line in enumerate(lines) if "inverted" in line)
     assert lines[first].startswith("simulator.py: warning: at step ")
     assert lines[first + 1].startswith("  ") and "--h" in lines[first + 1]
+
+
+@pytest.mark.parametrize("name, printed", [("a\nb", "a\\nb"), ("\x1b[31mred", "\\x1b[31mred")])
+def test_a_folder_with_control_characters_is_printed_escaped(tmp_path, name, printed):
+    """A newline or a terminal's escape in --out: the closing line stays one line, no raw escape
+    (files.shown)."""
+    code, lines = run_main("--steps", "2", "--no-frames", "--out", str(tmp_path / name))
+    assert code == 0 and (tmp_path / name).is_dir()
+    assert not [line for line in lines if not line.isprintable()], lines
+    assert lines[-1] == f"wrote 3 files in {tmp_path}/{printed}/", lines

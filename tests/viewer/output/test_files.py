@@ -123,7 +123,7 @@ def test_a_folder_others_may_write_to_or_another_users_is_refused(tmp_path):
     shared.mkdir()
     os.chmod(shared, 0o777)
     code, lines = main("--steps", "3", "--out", str(shared))
-    assert code == 2 and "others may write to it" in lines[0] and os.listdir(shared) == []
+    assert code == 2 and "writable by others" in lines[0] and os.listdir(shared) == []
     if os.geteuid() != 0:
         pytest.skip("a folder owned by another uid needs root to make")
     os.chmod(shared, 0o755)

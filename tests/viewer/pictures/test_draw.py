@@ -83,3 +83,11 @@ def test_a_view_maps_world_to_pixels_y_down_and_leaves_its_input():
     assert view(points).tolist() == [[200.0, 150.0], [300.0, 100.0]]
     assert points.tolist() == [[1.0, 2.0], [2.0, 2.5]]
     assert view([1.5, 1.0]).tolist() == [250.0, 250.0]     # one point, as a list
+
+
+def test_a_chalk_that_presses_nothing_scales_its_arrows_by_its_weight():
+    """press 0: no press to scale the arrows by (a zero scale was an OverflowError in nice_number
+    as the first frame was drawn): the chalk's weight instead."""
+    scene = simulator.build_chalk_scene(press=0.0)
+    force, words = draw.reference_force(scene)
+    assert words == "the weight M|g|" and force == pytest.approx(float(scene.m.sum()) * 9.81)
