@@ -34,6 +34,9 @@ CLOTH_DEPTH = 0.08          # m (x view.unit): each run's cloth, a band this dee
 CLOTH_STRIPES = 2.0         # m (x view.unit): the stripes' period along the cloth
 PUSHED_COLOR = (109, 109, 170)  # pushed surfaces (scene.pushed): their pads
 PAD_DEPTH = 0.1             # m (x view.unit): each pad drawn this thick, behind its surface
+# m/s^2: a weaker gravity (or none) is no scale for the arrows: a force over M|g| could pass
+# float64 (the range checks keep a run's forces under 1e150, scenes/ranges.py)
+WEAKEST_GRAVITY = 1e-150
 
 
 def load_pygame():
@@ -187,14 +190,15 @@ def spacing(scene):
 
 
 def reference_force(scene):
-    """(N, words): the force ARROW_PER_WEIGHT m of arrow stands for: the weight M|g| (|g| = 9.81
-    without gravity), or with a hand one held node's press, k_hand x press depth (where it
-    presses: press 0 has no force to scale by)."""
+    """(N, words): the force ARROW_PER_WEIGHT m of arrow stands for: the weight M|g|, M x 9.81
+    m/s^2 where |g| < WEAKEST_GRAVITY, or with a hand one held node's press, k_hand x press depth
+    (where it presses: press 0 has no force to scale by)."""
     if scene.hand is not None and scene.hand.k_hand * scene.params["press"] > 0.0:
         return scene.hand.k_hand * scene.params["press"], "one held node's press"
-    mass = float(diagnostics.body(scene, scene.m).sum())       # the body alone
-    weight = mass * float(np.hypot(*scene.g)) or mass * 9.81
-    return weight, "the weight M|g|"
+    mass, g = float(diagnostics.body(scene, scene.m).sum()), float(np.hypot(*scene.g))
+    if g < WEAKEST_GRAVITY:
+        return mass * 9.81, "M x 9.81 m/s^2"
+    return mass * g, "the weight M|g|"
 
 
 def friction_zoom(scene):

@@ -6,6 +6,7 @@ import pytest
 
 import simulator
 from helpers import legibility
+from helpers.command import run_main
 from analysis import diagnostics
 from viewer.pictures import draw, frames
 
@@ -91,3 +92,20 @@ def test_a_chalk_that_presses_nothing_scales_its_arrows_by_its_weight():
     scene = simulator.build_chalk_scene(press=0.0)
     force, words = draw.reference_force(scene)
     assert words == "the weight M|g|" and force == pytest.approx(float(scene.m.sum()) * 9.81)
+
+
+
+@pytest.mark.parametrize("g, words", [(0.0, "M x 9.81 m/s^2"), (1e-320, "M x 9.81 m/s^2"),
+                                      (1e-100, "the weight M|g|")])
+def test_no_gravity_or_one_too_weak_scales_the_arrows_by_the_weight_at_9_81(g, words, tmp_path):
+    """A subnormal gravity (a tester's --gravity 0,-1e-320) made the weight's scale 5e-321 N:
+    the impact's force over it passed float64, an OverflowError in nice_number as a frame was
+    drawn (a traceback, exit 1). Below WEAKEST_GRAVITY the arrows are scaled by M x 9.81 m/s^2,
+    and say so; the run draws its frames and ends as any other."""
+    args = ["--gravity", f"0,{-g}", "--center", "0,-0.4", "--v0", "0,-3"]
+    scene = simulator.build_scene(gravity=(0.0, -g), center=(0.0, -0.4), v0=(0.0, -3.0))
+    weight = float(scene.m.sum()) * (9.81 if words.startswith("M x") else g)
+    force, said = draw.reference_force(scene)
+    assert said == words and force == pytest.approx(weight)
+    code, lines = run_main(*args, "--duration", "0.2", "--out", str(tmp_path))
+    assert code == 0 and lines[-1].startswith("wrote "), lines
