@@ -68,6 +68,7 @@ class View:
         self.scale, self.size, self.center, self.unit = scale, size, np.zeros(2), unit
         self.height = size if height is None else height
         self.arrow_factor = 1.0         # see draw_forces
+        self.margin = 1.2               # units the followed points may stray before it pans
 
     @classmethod
     def of(cls, scene, size=RESOLUTION):
@@ -76,12 +77,14 @@ class View:
         view = cls(SCALE * z * size / RESOLUTION, size, unit=1.0 / z)
         if scene.hand is not None:          # the board low, the chalk under the legends
             view.center = np.array([float(scene.x0[:, 0].mean()), 0.25 * view.size / view.scale])
+        if scene.pushed is not None:        # lifted all the way: kept centred, under the legends
+            view.margin = 0.0
         return view
 
     def follow(self, points):
-        """Keep `points` (k, 2) 1.5 units from the border: pan once their middle is 1.2 units off
-        the centre, zoom out (never in) when they spread too far."""
-        margin, room = 1.2 * self.unit, 1.5 * self.unit
+        """Keep `points` (k, 2) 1.5 units from the border: pan once their middle is `margin` units
+        off the centre, zoom out (never in) when they spread too far."""
+        margin, room = self.margin * self.unit, 1.5 * self.unit
         lo, hi = points.min(axis=0), points.max(axis=0)
         self.scale = min(self.scale, self.size / (float((hi - lo).max()) + 2 * room))
         offset = 0.5 * (lo + hi) - self.center

@@ -8,7 +8,7 @@ from analysis import closing
 from helpers import legibility
 from helpers.command import recorded
 from scenes import grasp
-from viewer.pictures import draw, page, plots
+from viewer.pictures import draw, frames, page, plots
 
 
 @pytest.fixture(scope="module")
@@ -50,3 +50,20 @@ def test_the_energy_panel_draws_each_curve_in_a_colour_of_its_own(tracks, monkey
     colors = np.array([color for color, _ in energy], dtype=float)
     apart = np.linalg.norm(colors[:, None] - colors[None], axis=2)[np.triu_indices(len(colors), 1)]
     assert apart.min() >= 60.0, energy
+
+
+def test_the_lifted_block_stays_centred_under_the_legends(tracks):
+    """The view panned only once the block was 1.2 units (6 cm) off its centre: the lift carried
+    the block and its pads up under the legends (a tester's frame at 1.5 s). A grasp's view keeps
+    the block centred: at 1.2 s, 0.18 m up, its top is below the legends' last row."""
+    pygame, (_, held) = draw.load_pygame(), tracks
+    view = draw.View.of(held.scene)
+    com = held.samples.last.com
+    assert com[1] > 0.15                                        # lifted 3 block heights
+    view.follow(com[None])
+    run = frames.frame_run(held.scene, held.x, held.samples.last.report, held.label, held.color,
+                           True)
+    _, top = draw.draw_frame(pygame, [dict(run, marks=None)], held.t, view, draw.fonts(pygame),
+                             draw.newton_per_metre(held.scene))
+    rows = view(np.vstack([held.x, *held.scene.pushed.pads(held.x, draw.PAD_DEPTH * view.unit)]))
+    assert rows[:, 1].min() > top and abs(float(view(com)[1]) - view.height / 2) < 1.0
