@@ -131,10 +131,16 @@ def test_main_hands_window_runs_to_the_window(monkeypatch):
 
 
 def test_a_comparison_in_the_window_is_refused_in_one_line(capsys):
+    """In 100 columns: the tablecloth's took 108 (a tester's)."""
     assert viewer.main.main(["--window", "--mu", "0.1,0.2,0.3"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert err == ["simulator.py: error: --window shows one run; --mu was given 3 values "
-                   "(compare them without --window)"]
+    assert err == ["simulator.py: error: --window shows one run, --mu gives 3: compare them "
+                   "without --window"]
+    for args in (["--scene", "tablecloth", "--pull-speed", "1,4"],
+                 ["--scene", "grasp", "--lift-accel", "0.5,1"]):
+        assert viewer.main.main(["--window", *args]) == 2
+        (err,) = capsys.readouterr().err.strip().splitlines()
+        assert len(err) <= 100 and "shows one run" in err, err
 
 
 def test_without_out_a_run_writes_to_a_new_folder(tmp_path, monkeypatch):
