@@ -33,7 +33,8 @@ Inset = namedtuple("Inset", "rect node why view magnification points markers slo
 
 def ground(scene):
     """What the barrier keeps the body above, in the window's words."""
-    return "the board" if scene.hand is not None else "the slope"
+    return ("the board" if scene.hand is not None else "the table" if scene.surface is not None
+            else "the slope")
 
 
 def focus(scene, it):
@@ -74,7 +75,8 @@ def newton_inset(scene, it, view, rect, header=0, footer=0, whole=False):
 
 
 def length_text(metres):
-    """A length in m, mm or micrometres (um), to 3 digits."""
+    """A length in m, mm or micrometres (um), to 3 digits (0.9996 mm is 1 mm, not 1e+03 um)."""
+    metres = float(f"{metres:.3g}")
     factor, unit = (1, "m") if metres >= 1 else (1e3, "mm") if metres >= 1e-3 else (1e6, "um")
     return f"{metres * factor:.3g} {unit}"
 

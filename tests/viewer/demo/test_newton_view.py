@@ -321,3 +321,12 @@ def test_the_inset_text_sits_on_a_panel_in_whole_phrases(monkeypatch, size):
     inside = springs[left + 2:left + width - 2, top + 2:top + height - 2]     # within the border
     assert inside.any()                                         # x^i's springs, in the drawing
     assert not inside[:, :header - 2].any() and not inside[:, height - footer - 2:].any()
+
+
+def test_lengths_are_said_in_the_unit_their_3_digits_round_to_and_the_table_is_the_table():
+    """0.9996 mm rounded to 3 digits is 1 mm: it was '1e+03 um' (a tester's tablecloth inset),
+    whose ground the window called 'the slope'."""
+    assert [newton_view.length_text(d) for d in (0.9996e-3, 0.9994e-3, 0.99951, 2.5)] == [
+        "1 mm", "999 um", "1 m", "2.5 m"]
+    assert newton_view.ground(simulator.build_tablecloth_scene()) == "the table"
+    assert newton_view.ground(simulator.build_scene()) == "the slope"
