@@ -321,8 +321,8 @@ def plan_from_args(runs):
             raise CommandLineError(f"{flag} applies only to the window: add --window or drop it")
     if args.window and len(runs) > 1:
         name = args.label.split(" = ")[0]
-        raise CommandLineError(f"--window shows one run, --{name} gives {len(runs)}: compare "
-                               f"them without --window")
+        raise CommandLineError(f"--window shows one run; compare the {len(runs)} --{name} runs "
+                               f"without it")
     scenes = [scene_from_args(a) for a in runs]
     labels = [a.label or LABEL[a.scene].format(how="dragged" if a.drag else "pushed", **s.params)
               for a, s in zip(runs, scenes)]

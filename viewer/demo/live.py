@@ -227,5 +227,5 @@ class LiveDemo:
     def note(self, kind, text):
         """A warning, the first of its kind: on screen, and on `log` unless the files say it."""
         if kind not in self.warnings and (self.output is None or kind == "slow"):
-            print(f"simulator.py: warning: {text}", file=self.log, flush=True)
+            print(progress.wrapped(f"simulator.py: warning: {text}"), file=self.log, flush=True)
         self.warnings.setdefault(kind, text)

@@ -147,8 +147,7 @@ def display_problem(driver, requested):
     """Why SDL's `driver` shows nothing (it falls back to a memory driver), unless `requested`."""
     if driver in MEMORY_DRIVERS and driver != requested:
         where = os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")
-        found = f"none at DISPLAY={where}" if where else "DISPLAY is not set"
-        return f"{found}; SDL fell back to its {driver!r} driver"
+        return f"{'none at DISPLAY=' + where if where else 'DISPLAY unset'}; SDL: {driver}"
     return None
 
 
@@ -172,8 +171,7 @@ def open_display():
         os.close(saved)
     if problem:
         pygame.display.quit()
-        raise ValueError(f"no display to open the window on ({problem}): run on a desktop, "
-                         f"under Xvfb, or without --window")
+        raise ValueError(f"--window: no display ({problem}); use a desktop or Xvfb")
     pygame.font.init()
     return pygame
 

@@ -219,3 +219,13 @@ def test_a_chalk_run_handed_out_shares_nothing_but_its_scene_with_those_kept():
     now = (again.x, again.v, again.report.alphas, again.report.friction_force, again.marks.values)
     for kept, seen in zip(stepped, now):
         assert np.array_equal(kept, seen)
+
+
+def test_a_warning_the_window_prints_is_wrapped_to_100_columns():
+    """Without --out the window prints a step's warnings itself: a folded mesh's took 160 columns
+    on one line (a tester's --window --n-seg 16), where a run with files wraps it."""
+    log = io.StringIO()
+    demo = live.LiveDemo(simulator.build_scene(), 10, 1.0, None, FakeClock(), log)
+    demo.note("inverted", "step 12 (t = 0.12 s): " + "a long warning word " * 10)
+    lines = log.getvalue().splitlines()
+    assert len(lines) > 1 and all(len(line) <= 100 for line in lines), lines
