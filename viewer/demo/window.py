@@ -209,11 +209,12 @@ def run_window(plan, speed, size, signals, clock=None, log=None):
             failure = failure and orchestration.failure_of(failure, plan)
         except orchestration.ENDINGS as err:     # Ctrl+C, SIGTERM; starting the files (frame 0)
             failure = orchestration.failure_of(err, plan)
-        steps = window.run.index if window else 0
-        done = f"simulator.py: {steps} steps ({steps * scene.h:.2f} s) in the window"
-        if output:
+        shown = window.run.index if window else 0
+        done = f"simulator.py: the window ended at step {shown} ({shown * scene.h:.2f} s)"
+        if output:                      # its log goes to the farthest step: r recomputes the same
             wrote = orchestration.written(plan, folder, [output.track])
-            done += f"; wrote {wrote}{orchestration.where(plan, folder)}"
+            done += (f"; wrote {wrote} (log.csv to step {output.track.logged})"
+                     f"{orchestration.where(plan, folder)}")
         return orchestration.end(plan, signals, folder, [output.track] if output else [],
                                  output and output.frame_log, failure, log, done)
     finally:

@@ -221,3 +221,25 @@ def test_a_signal_whose_raise_cpython_drops_still_ends_the_window(monkeypatch):
     assert run_window(["--window", "--steps", "20"], clock=ScriptClock(), log=log) == 130
     lines = log.getvalue().splitlines()
     assert lines == ["simulator.py: stopped: interrupted; nothing written"], lines
+
+
+def test_after_a_restart_the_closing_says_the_step_shown_and_the_steps_written(tmp_path):
+    """r at 0.3 s, q at 0.1 s of the replay: the line said '10 steps (0.10 s) in the window'
+    while log.csv held 30 (a tester's tablecloth: 76 against 120)."""
+    def script():
+        while clock.t < 0.3:
+            yield
+        press("K_r")
+        start = clock.t
+        while clock.t < start + 0.1:
+            yield
+        press("K_q")
+        yield
+
+    clock, log = ScriptClock(script()), io.StringIO()
+    assert run_window(["--window", "--steps", "100", "--out", str(tmp_path)], clock=clock,
+                      log=log) == 0
+    written = int(read_log(tmp_path)[-1]["step"])
+    (line,) = [line for line in log.getvalue().splitlines() if "window ended" in line]
+    shown = int(re.search(r"the window ended at step (\d+) ", line).group(1))
+    assert shown < written and f"(log.csv to step {written})" in line, line
