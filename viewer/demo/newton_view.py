@@ -1,6 +1,5 @@
 """The Newton view (key n), as docs/live-demo.md shows it: an iterate of Algorithm 4, its inset."""
 import math
-import re
 from collections import namedtuple
 
 import numpy as np
@@ -20,11 +19,6 @@ MAX_ZOOM = 1e4            # ... magnified at most this much (p_k = 0 asks for in
 ZOOMS = (1, 2, 3, 5)      # ... by one of these times a power of ten
 GROUND = (219, 219, 255)  # the inset's tint below the slope
 RULE = (200, 200, 200)    # the line between the inset's drawing and its text panels
-# where a line breaks, the strongest first: between key hints, after ";", before "(", after ",",
-# after ":", " "
-BREAKS = ("   ", r"(?<=;) ", r" (?=\()", r"(?<=,) ", r"(?<=:) ", " ")
-
-
 # The node magnified with the slope: its rect in the window (px), why it was chosen, the view to the
 # inset's pixels, points (x^i, x^i + p, ..., m) and markers (the same in px), the slope's ends (px;
 # None: not framed) and the node's distance to the slope (m; inf without a barrier).
@@ -168,7 +162,8 @@ def place_inset(pygame, surface, scene, it, view, fonts, top, bottom):
     notes = [(f"({why})", draw.BLACK), ("thin lines: springs", draw.BLACK)]     # not a spring
     if math.isfinite(d) and not framed:
         notes.insert(1, (f"{ground(scene)}: {length_text(d)} below x^i, out of frame", draw.BLUE))
-    notes = [(row, color) for text, color in notes for row in phrase_rows(small, text, width - 16)]
+    notes = [(row, color) for text, color in notes
+             for row in draw.phrase_rows(small, text, width - 16)]
     line, (header, footer) = small.get_linesize(), text_room(fonts, notes)
     if height < header + footer + line:                    # no room left under the text
         return None
@@ -194,19 +189,6 @@ def place_inset(pygame, surface, scene, it, view, fonts, top, bottom):
     surface.blit(label, corner)
     draw_inset(pygame, surface.subsurface(inset.rect), scene, it, inset, fonts, notes)
     return inset
-
-
-def phrase_rows(font, text, width, breaks=BREAKS):
-    """`text` in rows within `width` px, broken at the strongest of `breaks` needed: no row "p)"."""
-    if font.size(text)[0] <= width or not breaks:
-        return [text]
-    joiner, rows = ("   " if breaks[0] == "   " else " "), []
-    for piece in re.split(breaks[0], text):
-        if rows and font.size(rows[-1] + joiner + piece)[0] <= width:
-            rows[-1] += joiner + piece
-        else:
-            rows.append(piece)
-    return [part for row in rows for part in phrase_rows(font, row, width, breaks[1:])]
 
 
 def label_corner(pygame, scene, view, px, node, size, inset, rows, numbers):

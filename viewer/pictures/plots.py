@@ -309,25 +309,13 @@ def cycles_legend(r):
     return "no cycle", f"slid from {r.start_up:.2f} s, {100 * r.stuck:.0f} %"
 
 
-def legend_rows(font, text):
-    """text split at spaces into legend rows that fit right of the time axis."""
-    rows = [""]
-    for word in text.split(" "):
-        row = f"{rows[-1]} {word}".lstrip()
-        if rows[-1] and font.size(row)[0] > WIDTH - LEGEND_TEXT:
-            rows.append(word)
-        else:
-            rows[-1] = row
-    return rows
-
-
 def mark_rest(ax, track, color):
     """The time the track stuck (recording.Track.rest_since), dashed, and how fast it creeps since
     beside the closed form (closing.creep_figures); or that it did not stick. A pushed scene's
     mark and words are its own (its `mark`: a grasp's fit start or drop, its closing words)."""
     if track.scene.pushed is not None:
         when, said = track.scene.pushed.mark(track)
-        first, *rows = legend_rows(ax.font, said)
+        first, *rows = draw.phrase_rows(ax.font, said, WIDTH - LEGEND_TEXT, (" ",))
         ax.legend(color, first) if when is None else ax.vline(when, color, first)
         for row in rows:
             ax.note(row)

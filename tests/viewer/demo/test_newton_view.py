@@ -217,31 +217,8 @@ def test_the_chalks_inset_magnifies_its_tip_against_the_board(monkeypatch, steps
     assert red.sum() > 100 and reach.max() <= draw.spacing(scene) * w.view.scale + 2
 
 
-class TenPixelFont:
-    """A font 10 px a character, for phrase_rows."""
-    def size(self, text):
-        return 10 * len(text), 12
-
-
-def test_phrase_rows_break_between_phrases_before_words():
-    """A line that does not fit breaks where its phrases meet, the strongest break first: between
-    the key hints (three spaces), after a semicolon, before a parenthesis, after a comma, after a
-    colon; only a phrase still too wide breaks between words. A line that fits stays whole."""
-    font, rows = TenPixelFont(), newton_view.phrase_rows
-    assert rows(font, "CCD bound alpha_CCD = 0.71 (black ring: x^i + alpha_CCD p)", 400) == [
-        "CCD bound alpha_CCD = 0.71", "(black ring: x^i + alpha_CCD p)"]     # not "..." / "p)"
-    assert rows(font, "space: play   r: restart   q, Esc: quit", 250) == [
-        "space: play   r: restart", "q, Esc: quit"]
-    assert rows(font, "grey: x^i; blue: x^i + alpha p; red: p", 330) == [
-        "grey: x^i; blue: x^i + alpha p;", "red: p"]
-    assert rows(font, "the slope: 8.99 mm below x^i, out of frame", 200) == [
-        "the slope:", "8.99 mm below x^i,", "out of frame"]             # not "below x^i," alone
-    assert rows(font, "a_very_long_word fits", 50) == ["a_very_long_word", "fits"]
-    assert rows(font, "fits (whole)", 120) == ["fits (whole)"]
-
-
 def phrase_break(text, first, second):
-    """Do the rows `first` and `second` of `text` meet at one of newton_view.BREAKS but a word's?"""
+    """Do the rows `first` and `second` of `text` meet at one of draw.BREAKS but a word's?"""
     return any(first + joined + second in text for joined in ("   ", " ")) and (
         second.startswith("(") or first.endswith((";", ",", ":")) or f"{first}   {second}" in text)
 
@@ -266,7 +243,7 @@ def test_the_newton_view_keeps_its_phrases_and_labels_apart(monkeypatch, size, o
     w = paused_at(overrides, step, iteration, size)
     width = size - 24
     for text in [t for t, _ in w.status_lines()] + w.help_lines():
-        rows = newton_view.phrase_rows(w.font, text, width)
+        rows = draw.phrase_rows(w.font, text, width)
         assert all(w.font.size(row)[0] <= width for row in rows), rows
         assert all(phrase_break(text, a, b) for a, b in itertools.pairwise(rows)), rows
     import pygame
@@ -285,7 +262,7 @@ def test_the_newton_view_keeps_its_phrases_and_labels_apart(monkeypatch, size, o
     a, b, c, d = w.inset.rect
     assert left + w_label <= a or left >= a + c or top + h_label <= b or top >= b + d
     hint_rows = [row for text in w.help_lines()
-                 for row in newton_view.phrase_rows(w.font, text, width)]
+                 for row in draw.phrase_rows(w.font, text, width)]
     hints = size - 6 - len(hint_rows) * w.font.get_linesize()        # the key hints' first row
     assert 0 <= left and left + w_label <= size and w.text_bottom <= top and top + h_label <= hints
     near = np.ones((small.get_height(), 1), bool)          # one number's glyphs: closer than a line

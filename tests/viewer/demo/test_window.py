@@ -15,7 +15,7 @@ import time_integrator
 from viewer.command import run
 from analysis import diagnostics
 from viewer.pictures import draw
-from viewer.demo import live, newton_view, window
+from viewer.demo import live, window
 import viewer.main
 
 from helpers import ROOT
@@ -229,7 +229,7 @@ def test_every_line_of_text_fits_the_window(size):
     caption = f"t = {999.99:.2f} s   mu = {w.scene.mu:g}"
     texts = [caption] + [t for t, _ in w.status_lines()] + w.help_lines()
     for text in texts:
-        for row in newton_view.phrase_rows(w.font, text, width):
+        for row in draw.phrase_rows(w.font, text, width):
             assert w.font.size(row)[0] <= width or " " not in row.strip(), row
     w.draw()
     assert w.screen.get_size() == (size, size)

@@ -9,7 +9,7 @@ from helpers.fakes import chalk_at
 from helpers import legibility
 from analysis import diagnostics
 from viewer.pictures import draw, frames, marks
-from viewer.demo import live, newton_view
+from viewer.demo import live
 
 from helpers.window import differing_pixels, live_window, pygame
 
@@ -33,7 +33,7 @@ def chalk_window(steps, drag=False, size=652):
 def key_hints_top(w):
     """The first row of pixels of the key hints at the bottom."""
     rows = [row for text in w.help_lines()
-            for row in newton_view.phrase_rows(w.font, text, w.size - 24)]
+            for row in draw.phrase_rows(w.font, text, w.size - 24)]
     return w.size - 6 - len(rows) * w.font.get_linesize()
 
 
