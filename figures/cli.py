@@ -49,7 +49,7 @@ def kept(folder):
         return "nothing written"
     count = sum(name.endswith(".png") for name in folder.written)
     said = f"{count} figure{'s' * (count != 1)} kept" if count else "nothing written"
-    return f"{said} in {folder.folder}/"
+    return f"{said} in {files.shown(folder.folder)}/"
 
 
 def main(argv=None):
