@@ -6,7 +6,7 @@ import numpy as np
 from scipy import ndimage, spatial
 
 import BarrierEnergy
-from viewer.pictures import draw
+from viewer.pictures import draw, wrap
 
 HINT = 0.035              # the direction arrows: this fraction of the window long,
 HINT_FLOOR = 0.01         # ... where |p_k| is at least this fraction of the largest
@@ -163,7 +163,7 @@ def place_inset(pygame, surface, scene, it, view, fonts, top, bottom):
     if math.isfinite(d) and not framed:
         notes.insert(1, (f"{ground(scene)}: {length_text(d)} below x^i, out of frame", draw.BLUE))
     notes = [(row, color) for text, color in notes
-             for row in draw.phrase_rows(small, text, width - 16)]
+             for row in wrap.phrase_rows(small, text, width - 16)]
     line, (header, footer) = small.get_linesize(), text_room(fonts, notes)
     if height < header + footer + line:                    # no room left under the text
         return None

@@ -5,7 +5,7 @@ import sys
 
 import utils
 from analysis import closing, diagnostics
-from viewer.pictures import draw, frames
+from viewer.pictures import draw, frames, wrap
 from viewer.demo import live, newton_view
 from viewer.command import run as orchestration
 
@@ -81,9 +81,9 @@ class LiveWindow(live.LiveDemo):
         picture["marks"] = run.marks
         line, width = self.font.get_linesize(), self.size - 24
         rows = [(row, color) for text, color in self.status_lines()
-                for row in draw.phrase_rows(self.font, text, width)]
+                for row in wrap.phrase_rows(self.font, text, width)]
         hints = [row for text in self.help_lines()
-                 for row in draw.phrase_rows(self.font, text, width)]
+                 for row in wrap.phrase_rows(self.font, text, width)]
         self.reserve = (len(rows) * line, 6 + len(hints) * line) if it is None else None
         surface, top = draw.draw_frame(pg, [picture], run.t, self.view, self.fonts, forces,
                                        self.reserve)

@@ -3,7 +3,6 @@ the bodies, the contact forces as arrows, one colour per run; and PNG bytes (png
 import io
 import math
 import os
-import re
 import struct
 import zlib
 
@@ -35,9 +34,6 @@ CLOTH_DEPTH = 0.08          # m (x view.unit): each run's cloth, a band this dee
 CLOTH_STRIPES = 2.0         # m (x view.unit): the stripes' period along the cloth
 PUSHED_COLOR = (109, 109, 170)  # pushed surfaces (scene.pushed): their pads
 PAD_DEPTH = 0.1             # m (x view.unit): each pad drawn this thick, behind its surface
-# where a line breaks, the strongest first: between key hints, after ";", before "(", after ",",
-# after ":", " "
-BREAKS = ("   ", r"(?<=;) ", r" (?=\()", r"(?<=,) ", r"(?<=:) ", " ")
 # m/s^2: a weaker gravity (or none) is no scale for the arrows: a force over M|g| could pass
 # float64 (the range checks keep a run's forces under 1e150, scenes/ranges.py)
 WEAKEST_GRAVITY = 1e-150
@@ -288,19 +284,6 @@ def nice_number(value, steps=(1, 2, 5), up=False):
     if up:
         return min(m * p for p in (power, 10 * power) for m in steps if m * p >= value)
     return max(m * power for m in steps if m * power <= value * (1 + 1e-12))
-
-
-def phrase_rows(font, text, width, breaks=BREAKS):
-    """`text` in rows within `width` px, broken at the strongest of `breaks` needed: no row "p)"."""
-    if font.size(text)[0] <= width or not breaks:
-        return [text]
-    joiner, rows = ("   " if breaks[0] == "   " else " "), []
-    for piece in re.split(breaks[0], text):
-        if rows and font.size(rows[-1] + joiner + piece)[0] <= width:
-            rows[-1] += joiner + piece
-        else:
-            rows.append(piece)
-    return [part for row in rows for part in phrase_rows(font, row, width, breaks[1:])]
 
 
 def cap_height(font):

@@ -5,7 +5,7 @@ import math
 import numpy as np
 
 from analysis import closing, diagnostics, log, stick_slip
-from viewer.pictures import draw
+from viewer.pictures import draw, wrap
 
 WIDTH, PANEL_HEIGHT, TOP = 900, 250, 10
 LEFT, RIGHT = 80, 700           # the time axis's pixel columns; the legends sit right of it
@@ -315,7 +315,7 @@ def mark_rest(ax, track, color):
     mark and words are its own (its `mark`: a grasp's fit start or drop, its closing words)."""
     if track.scene.pushed is not None:
         when, said = track.scene.pushed.mark(track)
-        first, *rows = draw.phrase_rows(ax.font, said, WIDTH - LEGEND_TEXT, (" ",))
+        first, *rows = wrap.phrase_rows(ax.font, said, WIDTH - LEGEND_TEXT, (" ",))
         ax.legend(color, first) if when is None else ax.vline(when, color, first)
         for row in rows:
             ax.note(row)

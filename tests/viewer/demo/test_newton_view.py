@@ -11,7 +11,7 @@ from helpers import legibility
 from helpers.fakes import chalk_at
 import simulator
 from analysis import diagnostics
-from viewer.pictures import draw
+from viewer.pictures import draw, wrap
 from viewer.demo import newton_view, window
 
 SIZE = 652      # the window's default side on a 1024x768 projector
@@ -218,7 +218,7 @@ def test_the_chalks_inset_magnifies_its_tip_against_the_board(monkeypatch, steps
 
 
 def phrase_break(text, first, second):
-    """Do the rows `first` and `second` of `text` meet at one of draw.BREAKS but a word's?"""
+    """Do the rows `first` and `second` of `text` meet at one of wrap.BREAKS but a word's?"""
     return any(first + joined + second in text for joined in ("   ", " ")) and (
         second.startswith("(") or first.endswith((";", ",", ":")) or f"{first}   {second}" in text)
 
@@ -243,7 +243,7 @@ def test_the_newton_view_keeps_its_phrases_and_labels_apart(monkeypatch, size, o
     w = paused_at(overrides, step, iteration, size)
     width = size - 24
     for text in [t for t, _ in w.status_lines()] + w.help_lines():
-        rows = draw.phrase_rows(w.font, text, width)
+        rows = wrap.phrase_rows(w.font, text, width)
         assert all(w.font.size(row)[0] <= width for row in rows), rows
         assert all(phrase_break(text, a, b) for a, b in itertools.pairwise(rows)), rows
     import pygame
@@ -262,7 +262,7 @@ def test_the_newton_view_keeps_its_phrases_and_labels_apart(monkeypatch, size, o
     a, b, c, d = w.inset.rect
     assert left + w_label <= a or left >= a + c or top + h_label <= b or top >= b + d
     hint_rows = [row for text in w.help_lines()
-                 for row in draw.phrase_rows(w.font, text, width)]
+                 for row in wrap.phrase_rows(w.font, text, width)]
     hints = size - 6 - len(hint_rows) * w.font.get_linesize()        # the key hints' first row
     assert 0 <= left and left + w_label <= size and w.text_bottom <= top and top + h_label <= hints
     near = np.ones((small.get_height(), 1), bool)          # one number's glyphs: closer than a line

@@ -14,7 +14,7 @@ from helpers import legibility
 import time_integrator
 from viewer.command import run
 from analysis import diagnostics
-from viewer.pictures import draw
+from viewer.pictures import draw, wrap
 from viewer.demo import live, window
 import viewer.main
 
@@ -229,7 +229,7 @@ def test_every_line_of_text_fits_the_window(size):
     caption = f"t = {999.99:.2f} s   mu = {w.scene.mu:g}"
     texts = [caption] + [t for t, _ in w.status_lines()] + w.help_lines()
     for text in texts:
-        for row in draw.phrase_rows(w.font, text, width):
+        for row in wrap.phrase_rows(w.font, text, width):
             assert w.font.size(row)[0] <= width or " " not in row.strip(), row
     w.draw()
     assert w.screen.get_size() == (size, size)

@@ -8,7 +8,7 @@ import simulator
 from helpers.fakes import chalk_at
 from helpers import legibility
 from analysis import diagnostics
-from viewer.pictures import draw, frames, marks
+from viewer.pictures import draw, frames, marks, wrap
 from viewer.demo import live
 
 from helpers.window import differing_pixels, live_window, pygame
@@ -33,7 +33,7 @@ def chalk_window(steps, drag=False, size=652):
 def key_hints_top(w):
     """The first row of pixels of the key hints at the bottom."""
     rows = [row for text in w.help_lines()
-            for row in draw.phrase_rows(w.font, text, w.size - 24)]
+            for row in wrap.phrase_rows(w.font, text, w.size - 24)]
     return w.size - 6 - len(rows) * w.font.get_linesize()
 
 
