@@ -56,6 +56,9 @@ def frame_parts(tree, scratch):
             owner = getattr(owner, step, None)
         if hasattr(owner, attribute):
             setattr(owner, attribute, timed(spent, part, getattr(owner, attribute)))
+    recording = importlib.import_module("viewer.command.recording")
+    if hasattr(recording, "frame_writer"):      # the frames in this process, each part timed here
+        recording.frame_writer = importlib.import_module("viewer.pictures.frames").FrameWriter
     quiet = io.StringIO()
     with contextlib.redirect_stderr(quiet), contextlib.redirect_stdout(quiet):
         main.main(["--out", tempfile.mkdtemp(dir=scratch)])

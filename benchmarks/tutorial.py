@@ -20,7 +20,7 @@ from viewer.command.cli import DURATION
 
 SOURCE = "https://github.com/phys-sim-book/solid-sim-tutorial"
 CHAPTER = "4_friction"      # friction on the slope: the scene of our default run
-TARGET = 8.0                # the tutorial's CPU time over our default run's (issue 42)
+TARGET = 8.0                # the tutorial's wall time over our default run's (issue 42)
 STEPS = round(DURATION / simulator.DEFAULTS["h"])       # our default run's: 6 s at h = 0.01
 QUICK_STEPS = 30
 DRIVER = os.path.join(os.path.dirname(os.path.abspath(__file__)), "tutorial_driver.py")
@@ -105,11 +105,12 @@ def report(rows, tutorial, rounds, steps):
     numbers = ("the scene's numbers: as ours (" + ", ".join(tutorial[0]["numbers"]) + ")"
                if not different else "the scene's numbers differ (ours against the tutorial's): "
                + "; ".join(different))
-    times = rows[1]["times_cpu"]
+    times = rows[1]["times_wall"]
     status = (("met" if times >= TARGET else "NOT met") if steps == STEPS
               else f"not judged: {steps} steps, not the default run's {STEPS}")
-    verdict = (f"python simulator.py takes {times:.1f}x less CPU time than the tutorial "
-               f"(target >= {TARGET:g}x: {status})")
+    verdict = (f"python simulator.py is {times:.1f}x faster than the tutorial in wall time "
+               f"(target >= {TARGET:g}x: {status}), {rows[1]['times_cpu']:.1f}x in CPU time "
+               f"(its frames' process's included){waits.load_text()}")
     return tables.text(TEXT, rows) + [line for paragraph in (note, numbers, verdict)
                                       for line in textwrap.wrap(paragraph, 100)]
 

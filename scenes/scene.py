@@ -150,6 +150,15 @@ class Scene:
         """The normal friction's tangent comes from (the contact's)."""
         return self.contact.friction_n
 
+    def __reduce__(self):
+        """Pickled (a run's frames' process draws it) with its params as a dict."""
+        return scene_of, (dict(vars(self), params=dict(self.params)),)
+
+
+def scene_of(fields):
+    """The Scene of pickled `fields` (Scene.__reduce__'s), its params read-only again."""
+    return Scene(**dict(fields, params=types.MappingProxyType(fields["params"])))
+
 
 def readonly(a):
     """`a` as a new numpy array that cannot be written to: a scene's arrays never change."""

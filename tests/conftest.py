@@ -36,6 +36,22 @@ def pytest_collection_modifyitems(config, items):
     items.sort(key=lambda item: item.path not in slow_paths)
 
 
+@pytest.fixture(autouse=True)
+def frames_here(request):
+    """A run in a test's process writes its frames in that process (frames.FrameWriter), where the
+    tests' fakes of a full disk, a race or a signal reach them, and no run pays a second process's
+    start-up. Tests marked `frame_process`, and runs as whole processes, write them as a user's
+    run does (viewer/command/frame_process.py). Its own MonkeyPatch: the test's `monkeypatch`
+    is then made after the test's other fixtures and undone before them (a chdir out of a disk
+    before it is unmounted)."""
+    with pytest.MonkeyPatch.context() as patch:
+        if request.node.get_closest_marker("frame_process") is None:
+            from viewer.command import recording
+            from viewer.pictures import frames
+            patch.setattr(recording, "frame_writer", frames.FrameWriter)
+        yield
+
+
 @pytest.fixture(scope="session")
 def chalk_runs(tmp_path_factory):
     """The chalk's runs (helpers/chalk.py), kept in a folder every worker of this session shares:

@@ -1,4 +1,5 @@
 """The run driver: scenes stepped side by side (a Track each), a log.csv row as each step ends."""
+import contextlib
 import types
 
 import numpy as np
@@ -8,7 +9,8 @@ import square_mesh
 from analysis import diagnostics, log, wear
 from viewer.command.progress import Progress, step_warnings
 from viewer.output import files
-from viewer.pictures.frames import FrameWriter, frame_steps
+from viewer.command.frame_process import frame_writer
+from viewer.pictures.frames import frame_steps
 
 SNAPSHOT_EVERY = 0.1        # s of simulated time between the states kept for summary.png
 MAX_SAMPLES, MAX_SNAPSHOTS = 100_000, 2_000     # kept for the pictures, however long the run
@@ -122,14 +124,26 @@ class Track:
 
 
 def record(tracks, folder, stride, frames, forces, messages, frame_log):
-    """Run every track to its end, all in a frame every `stride` steps when `frames` (frame_log)."""
-    writer = FrameWriter(tracks, folder, forces, frame_log) if frames else None
+    """Run every track to its end, all in a frame every `stride` steps when `frames` (frame_log,
+    once each is written)."""
+    writer = None
     progress = Progress(tracks, messages)
-    for j, targets in frame_steps(tracks, stride):
-        for track, target in zip(tracks, targets):
-            while track.step < min(target, track.steps):
-                track.take(next(track.records), progress)
+    try:
+        if frames:
+            with folder.signals.held():     # a writer made is a writer closed
+                writer = frame_writer(tracks, folder, forces, frame_log)
+        for j, targets in frame_steps(tracks, stride):
+            for track, target in zip(tracks, targets):
+                while track.step < min(target, track.steps):
+                    track.take(next(track.records), progress)
+            if writer is not None:
+                writer.write(j)
+    except BaseException:
         if writer is not None:
-            writer.write(j)
+            with contextlib.suppress(OSError):      # the run says the error that stopped it
+                writer.close()
+        raise
+    if writer is not None:
+        writer.close()          # every frame sent written, or its error raised
     for track in tracks:
         track.last_snapshot()

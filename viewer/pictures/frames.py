@@ -38,37 +38,77 @@ def frame_steps(tracks, stride):
         yield j, targets if j < last else [max(a, tr.steps) for a, tr in zip(targets, tracks)]
 
 
-class FrameWriter:
-    """Frame j of the tracks' current states into `folder`: one PNG with all of them, each one's
-    OBJ, and its FrameInfo appended to `frame_log`; a signal waits until the frame is done."""
+# what a frame is drawn from, the scenes aside (Painter's): frame j at time t, the points the
+# view follows, each run's frame_run dict without its scene (with its marks)
+Frame = namedtuple("Frame", "index t follow runs")
 
-    def __init__(self, tracks, folder, forces, frame_log):
-        self.tracks, self.folder, self.frame_log = tracks, folder, frame_log
+
+def frame_of(tracks, j, forces):
+    """Frame j of the tracks' current states."""
+    runs = [dict(frame_run(tr.scene, tr.x, tr.samples.last.report, tr.label, tr.color, forces),
+                 marks=tr.marks) for tr in tracks]        # marks: the chalk's, else None
+    for run in runs:
+        del run["scene"]
+    return Frame(j, max(tr.t for tr in tracks), np.array([tr.samples.last.com for tr in tracks]),
+                 runs)
+
+
+def frame_files(j, tags):
+    """The files of frame j: its PNG, then the OBJ of each run (by its tag)."""
+    return [files.frame_png(j), *(files.frame_obj(j, tag) for tag in tags)]
+
+
+def info_of(tracks, frame):
+    """The FrameInfo the page shows beside `frame`: each track's figures (its last log row)."""
+    return FrameInfo(frame.index, frame.t, [page.figures(tr.row) for tr in tracks])
+
+
+class Painter:
+    """Frames of the runs of `scenes` drawn and encoded (their OBJs named by `tags`): one view that
+    follows them, one surface and BandedPng kept from frame to frame."""
+
+    def __init__(self, scenes, tags, forces):
+        self.scenes, self.tags = scenes, tags
         self.pygame = draw.load_pygame()
         self.fonts = draw.fonts(self.pygame)
-        self.view = draw.View.of(tracks[0].scene)
-        self.newton_per_metre = draw.newton_per_metre(tracks[0].scene) if forces else None
+        self.view = draw.View.of(scenes[0])
+        self.newton_per_metre = draw.newton_per_metre(scenes[0]) if forces else None
         # drawn and encoded in the same arrays frame after frame: a new megabyte array each frame
         # costs glibc an mmap and a page fault per 4 kB (benchmarks/README.md, frames)
         self.surface = self.pygame.Surface((self.view.size, self.view.height))
         self.png = BandedPng(self.view.size, self.view.height)
 
-    def write(self, j):
-        """Frame j, then each track's OBJ (after its log row: the CSV is never behind)."""
-        tracks, forces = self.tracks, self.newton_per_metre is not None
-        self.view.follow(np.array([tr.samples.last.com for tr in tracks]))
-        runs = [dict(frame_run(tr.scene, tr.x, tr.samples.last.report, tr.label, tr.color, forces),
-                     marks=tr.marks) for tr in tracks]        # marks: the chalk's, else None
-        t = max(tr.t for tr in tracks)
-        surface, _ = draw.draw_frame(self.pygame, runs, t, self.view, self.fonts,
+    def paint(self, frame):
+        """[(file name, its bytes or text)] of `frame`: its PNG, then each run's OBJ."""
+        self.view.follow(frame.follow)
+        runs = [dict(run, scene=scene) for run, scene in zip(frame.runs, self.scenes)]
+        surface, _ = draw.draw_frame(self.pygame, runs, frame.t, self.view, self.fonts,
                                      self.newton_per_metre, surface=self.surface)
-        png = self.png.data(self.pygame, surface)
+        objs = [square_mesh.obj_text(diagnostics.body(run["scene"], run["x"]), *run["scene"].cells)
+                for run in runs]
+        data = [self.png.data(self.pygame, surface), *objs]
+        return list(zip(frame_files(frame.index, self.tags), data))
+
+
+class FrameWriter:
+    """Frame j of the tracks' current states into `folder` in this process (a Painter's files),
+    its FrameInfo appended to `frame_log`; a signal waits until the frame is done."""
+
+    def __init__(self, tracks, folder, forces, frame_log):
+        self.tracks, self.folder, self.forces, self.frame_log = tracks, folder, forces, frame_log
+        self.painter = Painter([tr.scene for tr in tracks], [tr.tag for tr in tracks], forces)
+
+    def write(self, j):
+        """Frame j (each OBJ after its track's log row: the CSV is never behind)."""
+        frame = frame_of(self.tracks, j, self.forces)
+        made = self.painter.paint(frame)
         with self.folder.signals.held():
-            self.folder.write(files.frame_png(j), png)
-            for tr in tracks:
-                obj = square_mesh.obj_text(diagnostics.body(tr.scene, tr.x), *tr.scene.cells)
-                self.folder.write(files.frame_obj(j, tr.tag), obj)
-            self.frame_log.append(FrameInfo(j, t, [page.figures(tr.row) for tr in tracks]))
+            for name, data in made:
+                self.folder.write(name, data)
+            self.frame_log.append(info_of(self.tracks, frame))
+
+    def close(self):
+        """Nothing waits: each frame was written as write returned."""
 
 
 def frame_run(scene, x, report, label, color, forces):

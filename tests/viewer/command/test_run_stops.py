@@ -16,7 +16,7 @@ import analysis.log
 from helpers import ROOT
 from helpers.command import ending, run_main
 from helpers.fakes import fill_disk_after
-from viewer.command import cli, recording
+from viewer.command import cli, frame_process, recording
 from viewer.output import whole_files
 from viewer.pictures import draw, frames
 
@@ -73,9 +73,9 @@ def test_sigkill_leaves_the_log_within_a_stride_of_the_frames(tmp_path):
     proc.wait(timeout=60)
     steps = assert_whole_rows(tmp_path / "log.csv")
     last_frame = max(frame_indices(tmp_path))
-    # a row is written before the frame of its step: the log holds every frame's step, and at most
-    # one stride (plus the frame being written) more
-    assert 2 * last_frame <= steps[-1] <= 2 * last_frame + 2
+    # a row is written before its frame is sent to the frames' process: the log holds every frame's
+    # step, and at most the frames sent and not yet written (AHEAD) and one stride more
+    assert 2 * last_frame <= steps[-1] <= 2 * (last_frame + frame_process.AHEAD + 1)
 
 
 def test_a_full_disk_is_one_line_exit_1_and_keeps_what_was_written(tmp_path, monkeypatch):
