@@ -1,5 +1,6 @@
 """Where a frame's time goes: CPU ms per frame of each part of FrameWriter.write within the default
-`python simulator.py` run, each part's function wrapped in a timer (benchmarks/README.md, frames).
+`python simulator.py` run, each part's function wrapped in a timer, the frames drawn in the run's
+process (not its frames' process, where no timer reaches) (benchmarks/README.md, frames).
 `python -m benchmarks.frame_parts [--against REV] [--rounds N] [--quick]`."""
 import os
 
