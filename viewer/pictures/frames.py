@@ -48,7 +48,7 @@ def frame_of(tracks, j, forces):
     runs = [dict(frame_run(tr.scene, tr.x, tr.samples.last.report, tr.label, tr.color, forces),
                  marks=tr.marks) for tr in tracks]        # marks: the chalk's, else None
     for run in runs:
-        del run["scene"]
+        del run["scene"]        # the Painter's: given once, not with every frame
     return Frame(j, max(tr.t for tr in tracks), np.array([tr.samples.last.com for tr in tracks]),
                  runs)
 
