@@ -27,15 +27,26 @@ class LiveWindow(live.LiveDemo):
         self.pygame, self.screen, self.size = pygame, screen, screen.get_width()
         self.label = label or f"mu = {scene.mu:g}"
         self.newton_per_metre = draw.newton_per_metre(scene) if forces else None
-        self.view = draw.View.of(scene, self.size)      # the frames' view, at the window's size
-        if scene.hand is not None:
-            self.view.center[1] = (BOARD_ROW - 0.5) * self.size / self.view.scale
+        self.view = self.new_view()
         self.fonts = draw.fonts(pygame, self.size)      # (title, text): the frames', resized
         self.font = self.fonts[1]
         # frames drawn, those with "slower than real time", when the last was
         self.frames, self.slow_frames, self.drawn_at = 0, 0, -math.inf
         # as last drawn: the Newton inset, the first row under the status, draw_frame's reserve
         self.inset, self.text_bottom, self.reserve = None, 0, None
+
+    def new_view(self):
+        """The frames' view at the window's size (the chalk's board at BOARD_ROW), as a run starts:
+        its arrow scale and its zoom afresh."""
+        view = draw.View.of(self.scene, self.size)
+        if self.scene.hand is not None:
+            view.center[1] = (BOARD_ROW - 0.5) * self.size / view.scale
+        return view
+
+    def restart(self):
+        """live.LiveDemo.restart, and the view as a new run's."""
+        super().restart()
+        self.view = self.new_view()
 
     def loop(self, check=None):
         """Run until Esc, q or the close button: 0, or 1 after a failed step or write; `check()`
