@@ -489,21 +489,3 @@ def test_the_window_says_the_square_sticks_and_how_fast_it_creeps():
     w = paused_window({}, 101, 0, 652)
     assert not [text for text, _ in w.status_lines() if "sticks" in text]
 
-
-def test_r_starts_the_view_afresh_its_arrow_scale_and_zoom_as_a_new_run_s():
-    """The arrows' scale coarsens at the impact (view.arrow_factor 1 -> 2, 5, ...) and never goes
-    back within a run; after r the view is a new run's (draw.View.of), so the arrows are drawn at
-    the scale a new run starts with."""
-    def script():
-        yield from frames_until(lambda: w.view.arrow_factor > 1)
-        press("K_r")
-        yield
-        fresh = draw.View.of(w.scene, w.size)
-        seen["factor"] = w.view.arrow_factor
-        assert w.view.scale == fresh.scale and np.array_equal(w.view.center, fresh.center)
-
-    seen = {}
-    w, clock = live_window(steps=100)
-    clock.script = script()
-    assert w.loop() == 0
-    assert seen["factor"] == 1.0
