@@ -141,8 +141,9 @@ class LiveWindow(live.LiveDemo):
         run, speed, lines = self.run, self.speed, []
         if self.failure is not None:
             lines.append((f"step failed: {self.failure}", draw.RED))
-        elif run.finished:
+        elif run.finished:          # and what the closing says the run showed
             lines.append((f"end of the run ({run.steps} steps)", draw.BLACK))
+            lines += [(self.result, draw.BLACK)] if self.result else []
         elif self.playing:
             lines.append((f"playing at {speed:g}x real time", draw.BLACK))
             if self.slow is not None:
@@ -162,13 +163,15 @@ class LiveWindow(live.LiveDemo):
 
     def figure_lines(self):
         """The state's figures: Algorithm 4's in the Newton view, the chalk's tip, the square's
-        creep once it sticks (closing.state_words)."""
+        creep once it sticks (closing.state_words; at the end the result's creep stands alone)."""
         run, scene = self.run, self.scene
         if run.iterate is not None:
             return newton_view.iterate_lines(run, scene)
         if scene.hand is not None:
             return live.tip_lines(scene, run.x, run.v, run.t)
-        stuck = closing.state_words(scene, run.x, run.v, run.t) if scene.surface is None else None
+        if scene.surface is not None or (run.finished and self.result):
+            return []
+        stuck = closing.state_words(scene, run.x, run.v, run.t)
         return [stuck] if stuck else []
 
     def help_lines(self):
@@ -179,7 +182,11 @@ class LiveWindow(live.LiveDemo):
 
 def clear_of_text(view, points, text_bottom, floor, gap):
     """`view`, or a copy drawing `points` (k, 2; m) from row text_bottom + gap down (px): panned
-    down as far as their lowest stays above `floor`, then zoomed out about their lowest."""
+    down as far as their lowest stays above `floor`, then zoomed out about their lowest. Points
+    above the window (a grasp's fingers lifted away from the dropped block) are not drawn."""
+    points = points[view(points)[:, 1] >= 0]
+    if not len(points):
+        return view
     rows = view(points)[:, 1]
     need = text_bottom + gap - rows.min()
     if need <= 0:

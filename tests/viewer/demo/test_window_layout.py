@@ -1,9 +1,13 @@
-"""The live window's layout over a run: the view after r, and the status text clear of the
-drawing (helpers.window drives it)."""
+"""The live window's layout over a run: the view after r, the run's result when it ends (the
+closing's words), and the status text clear of the drawing (helpers.window drives it)."""
 import numpy as np
 import pytest
 
+import simulator
+from analysis import closing
+from helpers.command import recorded
 from helpers.fakes import chalk_at
+from scenes import grasp
 from viewer.pictures import draw, wrap
 
 from helpers.window import frames_until, live_window, press, pygame
@@ -28,10 +32,55 @@ def test_r_starts_the_view_afresh_its_arrow_scale_and_zoom_as_a_new_run_s():
     assert seen["factor"] == 1.0
 
 
+def played_to_the_end(scene, steps, size, restart_at=None):
+    """A window of `scene` played to the end of its `steps` (r pressed once at step `restart_at`),
+    then paused there a few frames; the window."""
+    def script():
+        if restart_at is not None:
+            yield from frames_until(lambda: w.run.index >= restart_at)
+            press("K_r")
+        yield from frames_until(lambda: w.run.finished)
+        for _ in range(3):
+            yield
+
+    w, clock = live_window(scene, steps=steps, size=size)
+    clock.script = script()
+    assert w.loop() == 0
+    return w
+
+
 def status_rows(w):
     """The status's rows as the window breaks them (wrap.phrase_rows)."""
     return [row for text, _ in w.status_lines()
             for row in wrap.phrase_rows(w.font, text, w.size - 24)]
+
+
+CASES = {
+    "tablecloth": (simulator.build_tablecloth_scene, 120, 652, None),
+    "grasp held": (grasp.build_grasp_scene, 300, 510, 40),
+    "grasp dropped": (lambda: grasp.build_grasp_scene(squeeze=0.5), 120, 652, None),
+    "square in the air": (simulator.build_scene, 20, 400, None),
+}
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_the_ended_window_says_the_closing_s_result_on_rows_of_its_own(tmp_path, case):
+    """Once the run has ended, under "end of the run (N steps)", the window says what the
+    command line's closing says the run showed: closing.closing_words of the same scene recorded
+    into files (the tablecloth's travel beside its closed form, the grasp's held or dropped), also
+    after r; on rows of their own within the window, none of the drawing's blue (the body, the
+    ground) or pads among them."""
+    build, steps, size, restart_at = CASES[case]
+    w = played_to_the_end(build(), steps, size, restart_at)
+    said = closing.closing_words(recorded(tmp_path, [build()], steps))
+    assert ("dish travelled" in said if case == "tablecloth" else
+            case.split()[1] in said if case.startswith("grasp") else "in the air" in said)
+    lines = [text for text, _ in w.status_lines()]
+    assert lines[:2] == [f"end of the run ({steps} steps)", said]
+    rows = status_rows(w)
+    assert " ".join(rows).count(said.split("; ")[0]) == 1
+    assert all(w.font.size(row)[0] <= w.size - 24 for row in rows)
+    assert drawing_under_text(w, [draw.BLUE, draw.PUSHED_COLOR]) == 0
 
 
 def drawing_under_text(w, colors):
@@ -56,3 +105,10 @@ def test_the_chalk_s_newton_view_at_510_px_keeps_the_chalk_and_hand_under_the_te
     board = w.view(w.scene.o)[1]
     assert w.shown(w.scene.o)[1] == pytest.approx(board, abs=2.0)
     assert w.shown(w.drawn_points())[:, 1].min() > w.text_bottom
+
+
+def test_the_ended_grasp_at_510_px_keeps_its_pads_under_the_text():
+    """The grasp's block is kept centred (View.margin 0); at 510 px its result's rows would reach
+    its pads and the arrows on them: the window pans it down, under the text."""
+    w = played_to_the_end(grasp.build_grasp_scene(), 300, 510)
+    assert drawing_under_text(w, [draw.BLUE, draw.PUSHED_COLOR]) == 0
