@@ -157,30 +157,31 @@ def place_inset(pygame, surface, scene, it, view, fonts, top, bottom):
     room_left, room_right = px[:, 0].min(), size - px[:, 0].max()
     width = int(min(INSET * size, max(max(room_left, room_right) - 24, MIN_INSET * size)))
     height = int(min(INSET_TALL * size, bottom - top))
-    big, small = fonts
-    _, why, d, framed = focus(scene, it)        # the notes: why this node, where the slope is,
-    notes = [(f"({why})", draw.BLACK), ("thin lines: springs", draw.BLACK)]     # not a spring
-    if math.isfinite(d) and not framed:
-        notes.insert(1, (f"{ground(scene)}: {length_text(d)} below x^i, out of frame", draw.BLUE))
-    notes = [(row, color) for text, color in notes
-             for row in wrap.phrase_rows(small, text, width - 16)]
-    line, (header, footer) = small.get_linesize(), text_room(fonts, notes)
+    small, line = fonts[1], fonts[1].get_linesize()
+    notes = inset_notes(scene, it, small, width)
+    header, footer = text_room(fonts, notes)
     if height < header + footer + line:                    # no room left under the text
         return None
     rect = (12 if room_left > room_right else size - 12 - width, int(top), width, height)
     inset = newton_inset(scene, it, view, rect, header, footer)
     numbers = slope_numbers(pygame, scene, view, small)
-    for _ in numbers:               # a number the border cuts: covered whole, else ended above
-        border = pygame.Rect(inset.rect)
+    for _ in range(2 * len(numbers)):   # a number the border cuts: covered whole, else ended
+        border = pygame.Rect(inset.rect)    # above, else passed sideways
         cut = [box for box in numbers if border.colliderect(box) and not border.contains(box)]
         if not cut:
             break
         box = min(cut, key=lambda box: box.top)
         whole = pygame.Rect(rect).contains(box.inflate(0, 4))     # the whole inset covers it
-        if not whole and box.top - 2 - rect[1] < header + footer + line:
+        if whole or box.top - 2 - rect[1] >= header + footer + line:
+            cut_height = (box.bottom + 2 if whole else box.top - 2) - rect[1]
+            inset = newton_inset(scene, it, view, (*rect[:3], cut_height), header, footer, whole)
+            continue
+        rect = past(rect, box, size)
+        if rect is None:
             break
-        cut_height = (box.bottom + 2 if whole else box.top - 2) - rect[1]
-        inset = newton_inset(scene, it, view, (*rect[:3], cut_height), header, footer, whole)
+        notes = inset_notes(scene, it, small, rect[2])
+        header, footer = text_room(fonts, notes)
+        inset = newton_inset(scene, it, view, rect, header, footer)
     node = px[inset.node]
     label = small.render(f"node {inset.node}", True, draw.BLACK, (255, 255, 255))    # on white
     pygame.draw.circle(surface, draw.BLACK, node, 9, 1)
@@ -189,6 +190,31 @@ def place_inset(pygame, surface, scene, it, view, fonts, top, bottom):
     surface.blit(label, corner)
     draw_inset(pygame, surface.subsurface(inset.rect), scene, it, inset, fonts, notes)
     return inset
+
+
+def inset_notes(scene, it, small, width):
+    """The inset's notes, (row, colour) in `width` px: why its node, where the slope is, what is
+    not a spring."""
+    _, why, d, framed = focus(scene, it)
+    notes = [(f"({why})", draw.BLACK), ("thin lines: springs", draw.BLACK)]
+    if math.isfinite(d) and not framed:
+        notes.insert(1, (f"{ground(scene)}: {length_text(d)} below x^i, out of frame", draw.BLUE))
+    return [(row, color) for text, color in notes
+            for row in wrap.phrase_rows(small, text, width - 16)]
+
+
+def past(rect, box, size):
+    """`rect` (x, y, w, h) with the side whose border cuts `box` moved past it: over it where the
+    window of `size` px has room, else short of it; None where neither side cuts it."""
+    left, top, width, height = rect
+    right = left + width
+    if box.left < left < box.right:
+        left = box.left - 2 if box.left >= 2 else box.right + 2
+    elif box.left < right < box.right:
+        right = box.right + 2 if box.right + 2 <= size else box.left - 2
+    else:
+        return None
+    return (left, top, right - left, height)
 
 
 def label_corner(pygame, scene, view, px, node, size, inset, rows, numbers):
