@@ -90,15 +90,22 @@ def iterate_lines(run, scene):
             f"inset: one node and {ground(scene)} magnified together; p (red) to scale"]
 
 
-def draw_iterate(pygame, surface, scene, it, view):
-    """x^i grey under x^i + alpha p blue; the direction of p (too short to see) at each node."""
+def hints(scene, it, view):
+    """The direction arrows (px): (tail, tip, reach), HINT of the window long, at each node whose
+    |p_k| is at least HINT_FLOOR of the largest."""
     reach = min(HINT * view.size, draw.spacing(scene) * view.scale)         # px
-    draw.draw_square(pygame, surface, scene, it.x, view, draw.GREY, nodes=False)
-    draw.draw_square(pygame, surface, scene, it.x_next, view)
     length = np.hypot(it.p[:, 0], it.p[:, 1])
     shown = (length > 0.0) & (length >= HINT_FLOOR * length.max())
     tail = view(it.x[shown])
     tip = tail + reach * it.p[shown] / length[shown, None] * [1.0, -1.0]    # y grows downwards
+    return tail, tip, reach
+
+
+def draw_iterate(pygame, surface, scene, it, view):
+    """x^i grey under x^i + alpha p blue; the direction of p (too short to see) at each node."""
+    draw.draw_square(pygame, surface, scene, it.x, view, draw.GREY, nodes=False)
+    draw.draw_square(pygame, surface, scene, it.x_next, view)
+    tail, tip, reach = hints(scene, it, view)
     heads = draw.arrow_heads(tail, tip, min(0.012 * view.size, 0.5 * reach))
     for a, b, (w1, w2) in zip(tail.tolist(), tip.tolist(), heads.tolist()):
         pygame.draw.line(surface, draw.RED, a, b, 2)
@@ -185,8 +192,11 @@ def place_inset(pygame, surface, scene, it, view, fonts, top, bottom):
     node = px[inset.node]
     label = small.render(f"node {inset.node}", True, draw.BLACK, (255, 255, 255))    # on white
     pygame.draw.circle(surface, draw.BLACK, node, 9, 1)
+    tail, tip, _ = hints(scene, it, view)       # what the label must leave in sight
+    along = np.linspace(0.0, 1.0, 5)[:, None, None]
+    marks = np.vstack([view(it.x_next), px, *(tail + along * (tip - tail))])
     corner = label_corner(pygame, scene, view, px, node, label.get_size(), inset.rect,
-                          (top, bottom), numbers)
+                          (top, bottom), numbers, marks)
     surface.blit(label, corner)
     draw_inset(pygame, surface.subsurface(inset.rect), scene, it, inset, fonts, notes)
     return inset
@@ -217,16 +227,17 @@ def past(rect, box, size):
     return (left, top, right - left, height)
 
 
-def label_corner(pygame, scene, view, px, node, size, inset, rows, numbers):
+def label_corner(pygame, scene, view, px, node, size, inset, rows, numbers, marks=()):
     """The corner of the label, `size` (w, h) px, of the node at `node` (`px`: all nodes), off it
     away from the body (the chalk's: on the board): the first clear of the `inset`, within `rows`,
-    of the slope's `numbers` and the body's hull; else the first clear of fewer of them."""
+    of the slope's `numbers`, of the `marks` (px: the nodes, points along their arrows) and of the
+    body's hull; else the first clear of fewer of them."""
     w, h = size
     out = np.where(node >= px.mean(axis=0), 1, -1)
     if scene.hand is None:
         turns = [(out[0], out[1]), (out[0], -out[1]), (-out[0], out[1]), (-out[0], -out[1])]
         corners = [(node[0] + side * (6 + w / 2) - w / 2, node[1] + up * (14 + far + h / 2) - h / 2)
-                   for far in (0, h + 4) for side, up in turns]
+                   for far in (0, h + 4, 2 * (h + 4)) for side, up in turns]
     else:                                   # resting on the (flat) board, beside the body's nodes
         top = min(float(view(scene.o)[1]), node[1] + h / 2) - 2 - h
         level = px[(px[:, 1] >= top) & (px[:, 1] <= top + h), 0]
@@ -243,7 +254,14 @@ def label_corner(pygame, scene, view, px, node, size, inset, rows, numbers):
     grid = np.stack(np.meshgrid(np.linspace(0, w, 5), np.linspace(0, h, 3)), -1).reshape(-1, 2)
     off_body = [label for label in free if not (
         (label.topleft + grid) @ hull[:, :2].T + hull[:, 2] <= 0).all(axis=1).any()]
-    return (off_body or free or clear or labels)[0].topleft
+    marks = np.reshape(marks, (-1, 2))
+    lo, hi = np.array([label.topleft for label in labels]) - 3, np.array(
+        [label.bottomright for label in labels]) + 3
+    hidden = ((marks[None] >= lo[:, None]) & (marks[None] <= hi[:, None])).all(axis=2).any(axis=1)
+    in_sight = [label for label, hides in zip(labels, hidden) if not hides]
+    best = [label for label in off_body if label in in_sight]
+    return (best or [label for label in free if label in in_sight] or off_body or free or clear
+            or labels)[0].topleft
 
 
 def slope_numbers(pygame, scene, view, font):

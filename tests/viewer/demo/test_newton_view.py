@@ -332,3 +332,29 @@ def test_lengths_are_said_in_the_unit_their_3_digits_round_to_and_the_table_is_t
         "1 mm", "999 um", "1 m", "2.5 m"]
     assert newton_view.ground(simulator.build_tablecloth_scene()) == "the table"
     assert newton_view.ground(simulator.build_scene()) == "the slope"
+
+
+@pytest.mark.parametrize("size", [510, 600, 652, 680, 850, 900])
+def test_the_node_s_label_leaves_every_node_and_arrow_in_sight(monkeypatch, size):
+    """Paused in step 30 after 5 presses of n (the node nearest the slope at the square's corner,
+    the inset beside it, "0 m" under it), the label "node 0" lay over the square, hiding a node and
+    the direction arrow it labels (850 px, a 1000-px-high display). It now covers no node of x^i
+    or x^i + alpha p and no point of any direction arrow (newton_view.hints, as draw_iterate draws
+    them), and lies within a few label heights of its node."""
+    corners = []
+    real = newton_view.label_corner
+
+    def noting(*args, **kw):
+        corners.append(real(*args, **kw))
+        return corners[-1]
+    monkeypatch.setattr(newton_view, "label_corner", noting)
+    w = paused_at({}, 30, 5, size)
+    it, view = w.run.iterate, w.shown
+    (left, top), (width, height) = corners[-1], w.fonts[1].size(f"node {w.inset.node}")
+    tail, tip, _ = newton_view.hints(w.scene, it, view)
+    along = np.linspace(0.0, 1.0, 9)[:, None, None]
+    seen = np.vstack([view(it.x), view(it.x_next), *(tail + along * (tip - tail))])
+    inside = ((seen >= [left, top]) & (seen <= [left + width, top + height])).all(axis=1)
+    assert not inside.any(), seen[inside]
+    node = view(it.x_next[w.inset.node])
+    assert np.hypot(left + width / 2 - node[0], top + height / 2 - node[1]) < 5 * height
