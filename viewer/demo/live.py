@@ -185,6 +185,7 @@ class LiveDemo:
         """The states from t = 0 on, kept as a run's are; the result said once the run ends."""
         self.track = recording.Track(self.scene, self.run.steps, None, "", "", draw.run_color(0),
                                      Unwritten())
+        self.track.marks = None     # the chalk's mark: the run's own (LiveRun.marks), not twice
         self.result = None
 
     def stopped(self):

@@ -60,6 +60,7 @@ CASES = {
     "grasp held": (grasp.build_grasp_scene, 300, 510, 40),
     "grasp dropped": (lambda: grasp.build_grasp_scene(squeeze=0.5), 120, 652, None),
     "square in the air": (simulator.build_scene, 20, 400, None),
+    "chalk": (simulator.build_chalk_scene, 300, 510, None),
 }
 
 
@@ -74,13 +75,14 @@ def test_the_ended_window_says_the_closing_s_result_on_rows_of_its_own(tmp_path,
     w = played_to_the_end(build(), steps, size, restart_at)
     said = closing.closing_words(recorded(tmp_path, [build()], steps))
     assert ("dish travelled" in said if case == "tablecloth" else
-            case.split()[1] in said if case.startswith("grasp") else "in the air" in said)
+            case.split()[1] in said if case.startswith("grasp") else
+            "slip" in said if case == "chalk" else "in the air" in said)
     lines = [text for text, _ in w.status_lines()]
     assert lines[:2] == [f"end of the run ({steps} steps)", said]
     rows = status_rows(w)
     assert " ".join(rows).count(said.split("; ")[0]) == 1
     assert all(w.font.size(row)[0] <= w.size - 24 for row in rows)
-    assert drawing_under_text(w, [draw.BLUE, draw.PUSHED_COLOR]) == 0
+    assert drawing_under_text(w, [draw.BLUE, draw.PUSHED_COLOR, draw.HAND_COLOR]) == 0
 
 
 def drawing_under_text(w, colors):
