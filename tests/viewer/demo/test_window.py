@@ -488,4 +488,3 @@ def test_the_window_says_the_square_sticks_and_how_fast_it_creeps():
     assert 0.3 < 1e3 * u < 0.7                  # below the closed form at the default tolerance
     w = paused_window({}, 101, 0, 652)
     assert not [text for text, _ in w.status_lines() if "sticks" in text]
-
