@@ -1,13 +1,13 @@
 """The live demo without its window (no pygame): the run, its pacing, keys, files and warnings."""
+import contextlib
 import sys
 import time
 from collections import deque
 from types import SimpleNamespace
 
-import square_mesh
 import time_integrator
 from simulator import StepRecord
-from analysis import diagnostics, wear
+from analysis import closing, diagnostics, wear
 from viewer.pictures import draw, frames
 from viewer.command import progress, recording
 
@@ -146,6 +146,26 @@ class Files:
                 self.writer.write(-(-track.step // stride))
 
 
+class Unwritten:
+    """Where the window's own recording.Track writes and says: nothing (its RunFolder, log file and
+    Progress at once); the Track keeps the states closing.closing_words reads."""
+
+    def __init__(self):
+        self.signals = SimpleNamespace(held=contextlib.nullcontext)
+
+    def open_log(self, name, header):
+        return self
+
+    def append(self, line):
+        pass
+
+    def warn(self, track, text):
+        pass
+
+    def tick(self, track):
+        pass
+
+
 class LiveDemo:
     """The run at `speed` times the wall clock, what each key does; its steps go to `output`."""
 
@@ -158,7 +178,15 @@ class LiveDemo:
         self.failure = self.write_error = None     # what stopped the run, the files (if any)
         self.message = self.slow = None             # the last key's message; the rate, < SLOW
         self.warnings = {f"scene {i}": text for i, text in enumerate(scene.warnings)}
-        self.triangles = square_mesh.triangles(*scene.cells)
+        self.track = self.result = None     # the run's states (recording.Track), closing_words
+        self.new_track()
+
+    def new_track(self):
+        """The states from t = 0 on, kept as a run's are; the result said once the run ends."""
+        self.track = recording.Track(self.scene, self.run.steps, None, "", "", draw.run_color(0),
+                                     Unwritten())
+        self.track.marks = None     # the chalk's mark: the run's own (LiveRun.marks), not twice
+        self.result = None
 
     def stopped(self):
         """At the end of the run, or after a failed step: nothing to play or step."""
@@ -172,6 +200,7 @@ class LiveDemo:
         """Back to the initial state; playing if it was playing or had stopped, else paused."""
         self.playing = self.playing or self.stopped()
         self.run.restart()
+        self.new_track()
         self.failure = self.slow = None
         self.pacer.start(0.0)
 
@@ -211,7 +240,10 @@ class LiveDemo:
             print(progress.wrapped(f"simulator.py: simulation failed: {err}"), file=self.log)
         if record is None:
             return None
-        inverted = diagnostics.inverted_triangles(record.x, self.triangles)
+        self.track.take(record, self.track.folder)
+        if self.run.finished:           # what the closing says (the window shows it)
+            self.result = closing.closing_words([self.track])
+        inverted = self.track.samples.last.inverted
         for kind, text in progress.step_warnings(self.scene, record.index + 1, record.t,
                                                  record.report, inverted).items():
             self.note(kind, text)

@@ -90,15 +90,22 @@ def iterate_lines(run, scene):
             f"inset: one node and {ground(scene)} magnified together; p (red) to scale"]
 
 
-def draw_iterate(pygame, surface, scene, it, view):
-    """x^i grey under x^i + alpha p blue; the direction of p (too short to see) at each node."""
+def hints(scene, it, view):
+    """The direction arrows (px): (tail, tip, reach), HINT of the window long, at each node whose
+    |p_k| is at least HINT_FLOOR of the largest."""
     reach = min(HINT * view.size, draw.spacing(scene) * view.scale)         # px
-    draw.draw_square(pygame, surface, scene, it.x, view, draw.GREY, nodes=False)
-    draw.draw_square(pygame, surface, scene, it.x_next, view)
     length = np.hypot(it.p[:, 0], it.p[:, 1])
     shown = (length > 0.0) & (length >= HINT_FLOOR * length.max())
     tail = view(it.x[shown])
     tip = tail + reach * it.p[shown] / length[shown, None] * [1.0, -1.0]    # y grows downwards
+    return tail, tip, reach
+
+
+def draw_iterate(pygame, surface, scene, it, view):
+    """x^i grey under x^i + alpha p blue; the direction of p (too short to see) at each node."""
+    draw.draw_square(pygame, surface, scene, it.x, view, draw.GREY, nodes=False)
+    draw.draw_square(pygame, surface, scene, it.x_next, view)
+    tail, tip, reach = hints(scene, it, view)
     heads = draw.arrow_heads(tail, tip, min(0.012 * view.size, 0.5 * reach))
     for a, b, (w1, w2) in zip(tail.tolist(), tip.tolist(), heads.tolist()):
         pygame.draw.line(surface, draw.RED, a, b, 2)
@@ -157,50 +164,80 @@ def place_inset(pygame, surface, scene, it, view, fonts, top, bottom):
     room_left, room_right = px[:, 0].min(), size - px[:, 0].max()
     width = int(min(INSET * size, max(max(room_left, room_right) - 24, MIN_INSET * size)))
     height = int(min(INSET_TALL * size, bottom - top))
-    big, small = fonts
-    _, why, d, framed = focus(scene, it)        # the notes: why this node, where the slope is,
-    notes = [(f"({why})", draw.BLACK), ("thin lines: springs", draw.BLACK)]     # not a spring
-    if math.isfinite(d) and not framed:
-        notes.insert(1, (f"{ground(scene)}: {length_text(d)} below x^i, out of frame", draw.BLUE))
-    notes = [(row, color) for text, color in notes
-             for row in wrap.phrase_rows(small, text, width - 16)]
-    line, (header, footer) = small.get_linesize(), text_room(fonts, notes)
+    small, line = fonts[1], fonts[1].get_linesize()
+    notes = inset_notes(scene, it, small, width)
+    header, footer = text_room(fonts, notes)
     if height < header + footer + line:                    # no room left under the text
         return None
     rect = (12 if room_left > room_right else size - 12 - width, int(top), width, height)
     inset = newton_inset(scene, it, view, rect, header, footer)
     numbers = slope_numbers(pygame, scene, view, small)
-    for _ in numbers:               # a number the border cuts: covered whole, else ended above
-        border = pygame.Rect(inset.rect)
+    for _ in range(2 * len(numbers)):   # a number the border cuts: covered whole, else ended
+        border = pygame.Rect(inset.rect)    # above, else passed sideways
         cut = [box for box in numbers if border.colliderect(box) and not border.contains(box)]
         if not cut:
             break
         box = min(cut, key=lambda box: box.top)
         whole = pygame.Rect(rect).contains(box.inflate(0, 4))     # the whole inset covers it
-        if not whole and box.top - 2 - rect[1] < header + footer + line:
+        if whole or box.top - 2 - rect[1] >= header + footer + line:
+            cut_height = (box.bottom + 2 if whole else box.top - 2) - rect[1]
+            inset = newton_inset(scene, it, view, (*rect[:3], cut_height), header, footer, whole)
+            continue
+        rect = past(rect, box, size)
+        if rect is None:
             break
-        cut_height = (box.bottom + 2 if whole else box.top - 2) - rect[1]
-        inset = newton_inset(scene, it, view, (*rect[:3], cut_height), header, footer, whole)
+        notes = inset_notes(scene, it, small, rect[2])
+        header, footer = text_room(fonts, notes)
+        inset = newton_inset(scene, it, view, rect, header, footer)
     node = px[inset.node]
     label = small.render(f"node {inset.node}", True, draw.BLACK, (255, 255, 255))    # on white
     pygame.draw.circle(surface, draw.BLACK, node, 9, 1)
+    tail, tip, _ = hints(scene, it, view)       # what the label must leave in sight
+    along = np.linspace(0.0, 1.0, 5)[:, None, None]
+    marks = np.vstack([view(it.x_next), px, *(tail + along * (tip - tail))])
     corner = label_corner(pygame, scene, view, px, node, label.get_size(), inset.rect,
-                          (top, bottom), numbers)
+                          (top, bottom), numbers, marks)
     surface.blit(label, corner)
     draw_inset(pygame, surface.subsurface(inset.rect), scene, it, inset, fonts, notes)
     return inset
 
 
-def label_corner(pygame, scene, view, px, node, size, inset, rows, numbers):
+def inset_notes(scene, it, small, width):
+    """The inset's notes, (row, colour) in `width` px: why its node, where the slope is, what is
+    not a spring."""
+    _, why, d, framed = focus(scene, it)
+    notes = [(f"({why})", draw.BLACK), ("thin lines: springs", draw.BLACK)]
+    if math.isfinite(d) and not framed:
+        notes.insert(1, (f"{ground(scene)}: {length_text(d)} below x^i, out of frame", draw.BLUE))
+    return [(row, color) for text, color in notes
+            for row in wrap.phrase_rows(small, text, width - 16)]
+
+
+def past(rect, box, size):
+    """`rect` (x, y, w, h) with the side whose border cuts `box` moved past it: over it where the
+    window of `size` px has room, else short of it; None where neither side cuts it."""
+    left, top, width, height = rect
+    right = left + width
+    if box.left < left < box.right:
+        left = box.left - 2 if box.left >= 2 else box.right + 2
+    elif box.left < right < box.right:
+        right = box.right + 2 if box.right + 2 <= size else box.left - 2
+    else:
+        return None
+    return (left, top, right - left, height)
+
+
+def label_corner(pygame, scene, view, px, node, size, inset, rows, numbers, marks=()):
     """The corner of the label, `size` (w, h) px, of the node at `node` (`px`: all nodes), off it
     away from the body (the chalk's: on the board): the first clear of the `inset`, within `rows`,
-    of the slope's `numbers` and the body's hull; else the first clear of fewer of them."""
+    of the slope's `numbers`, of the `marks` (px: the nodes, points along their arrows) and of the
+    body's hull; else the first clear of fewer of them."""
     w, h = size
     out = np.where(node >= px.mean(axis=0), 1, -1)
     if scene.hand is None:
         turns = [(out[0], out[1]), (out[0], -out[1]), (-out[0], out[1]), (-out[0], -out[1])]
         corners = [(node[0] + side * (6 + w / 2) - w / 2, node[1] + up * (14 + far + h / 2) - h / 2)
-                   for far in (0, h + 4) for side, up in turns]
+                   for far in (0, h + 4, 2 * (h + 4)) for side, up in turns]
     else:                                   # resting on the (flat) board, beside the body's nodes
         top = min(float(view(scene.o)[1]), node[1] + h / 2) - 2 - h
         level = px[(px[:, 1] >= top) & (px[:, 1] <= top + h), 0]
@@ -217,7 +254,14 @@ def label_corner(pygame, scene, view, px, node, size, inset, rows, numbers):
     grid = np.stack(np.meshgrid(np.linspace(0, w, 5), np.linspace(0, h, 3)), -1).reshape(-1, 2)
     off_body = [label for label in free if not (
         (label.topleft + grid) @ hull[:, :2].T + hull[:, 2] <= 0).all(axis=1).any()]
-    return (off_body or free or clear or labels)[0].topleft
+    marks = np.reshape(marks, (-1, 2))
+    lo, hi = np.array([label.topleft for label in labels]) - 3, np.array(
+        [label.bottomright for label in labels]) + 3
+    hidden = ((marks[None] >= lo[:, None]) & (marks[None] <= hi[:, None])).all(axis=2).any(axis=1)
+    in_sight = [label for label, hides in zip(labels, hidden) if not hides]
+    best = [label for label in off_body if label in in_sight]
+    return (best or [label for label in free if label in in_sight] or off_body or free or clear
+            or labels)[0].topleft
 
 
 def slope_numbers(pygame, scene, view, font):

@@ -1,7 +1,10 @@
 """The live window, `python simulator.py --window` (docs/live-demo.md): its loop, its display."""
+import copy
 import math
 import os
 import sys
+
+import numpy as np
 
 import utils
 from analysis import closing, diagnostics
@@ -27,15 +30,27 @@ class LiveWindow(live.LiveDemo):
         self.pygame, self.screen, self.size = pygame, screen, screen.get_width()
         self.label = label or f"mu = {scene.mu:g}"
         self.newton_per_metre = draw.newton_per_metre(scene) if forces else None
-        self.view = draw.View.of(scene, self.size)      # the frames' view, at the window's size
-        if scene.hand is not None:
-            self.view.center[1] = (BOARD_ROW - 0.5) * self.size / self.view.scale
+        self.view = self.new_view()
         self.fonts = draw.fonts(pygame, self.size)      # (title, text): the frames', resized
         self.font = self.fonts[1]
         # frames drawn, those with "slower than real time", when the last was
         self.frames, self.slow_frames, self.drawn_at = 0, 0, -math.inf
         # as last drawn: the Newton inset, the first row under the status, draw_frame's reserve
         self.inset, self.text_bottom, self.reserve = None, 0, None
+        self.shown, self.tops = self.view, {}   # the view drawn (clear_of_text); legends' bottoms
+
+    def new_view(self):
+        """The frames' view at the window's size (the chalk's board at BOARD_ROW), as a run starts:
+        its arrow scale and its zoom afresh."""
+        view = draw.View.of(self.scene, self.size)
+        if self.scene.hand is not None:
+            view.center[1] = (BOARD_ROW - 0.5) * self.size / view.scale
+        return view
+
+    def restart(self):
+        """live.LiveDemo.restart, and the view as a new run's."""
+        super().restart()
+        self.view = self.new_view()
 
     def loop(self, check=None):
         """Run until Esc, q or the close button: 0, or 1 after a failed step or write; `check()`
@@ -85,30 +100,50 @@ class LiveWindow(live.LiveDemo):
         hints = [row for text in self.help_lines()
                  for row in wrap.phrase_rows(self.font, text, width)]
         self.reserve = (len(rows) * line, 6 + len(hints) * line) if it is None else None
-        surface, top = draw.draw_frame(pg, [picture], run.t, self.view, self.fonts, forces,
+        hints_top, kind = self.size - 6 - len(hints) * line, forces is None
+        if kind not in self.tops:       # the legends' bottom, learnt once for each kind of frame
+            self.tops[kind] = draw.draw_frame(pg, [picture], run.t, self.view, self.fonts,
+                                              forces)[1]
+        shown = clear_of_text(self.view, self.drawn_points(), self.tops[kind] + len(rows) * line,
+                              hints_top - 2 * line, line // 2)
+        surface, top = draw.draw_frame(pg, [picture], run.t, shown, self.fonts, forces,
                                        self.reserve)
+        self.view.arrow_factor, self.tops[kind] = shown.arrow_factor, top
+        self.shown = shown
         if it is not None:
-            newton_view.draw_iterate(pg, surface, self.scene, it, self.view)
+            newton_view.draw_iterate(pg, surface, self.scene, it, shown)
         for row, (text, color) in enumerate(rows):
             surface.blit(self.font.render(text, True, color), (12, top + row * line))
         for row, text in enumerate(reversed(hints), start=1):
             surface.blit(self.font.render(text, True, KEYS), (12, self.size - 6 - row * line))
-        self.text_bottom, hints_top = top + len(rows) * line, self.size - 6 - len(hints) * line
+        self.text_bottom = top + len(rows) * line
         self.inset = None if it is None else newton_view.place_inset(
-            pg, surface, self.scene, it, self.view, self.fonts, self.text_bottom + 8, hints_top - 8)
+            pg, surface, self.scene, it, shown, self.fonts, self.text_bottom + 8, hints_top - 8)
         self.screen.blit(surface, (0, 0))
         pg.display.flip()
         self.frames += 1
         self.slow_frames += self.slow is not None
         self.drawn_at = self.clock.now()
 
+    def drawn_points(self):
+        """What the picture draws of the run (m): the nodes (x^i too in the Newton view), the
+        hand's targets, the pads' corners."""
+        scene, run = self.scene, self.run
+        points = [run.shown_x] + ([run.iterate.x] if run.iterate is not None else [])
+        if scene.hand is not None:
+            points.append(scene.hand.targets(run.t))
+        if scene.pushed is not None:
+            points += scene.pushed.pads(run.shown_x, draw.PAD_DEPTH * self.view.unit)
+        return np.concatenate(points)
+
     def status_lines(self):
         """(text, colour) under the caption: what the window is doing, the figures of the state."""
         run, speed, lines = self.run, self.speed, []
         if self.failure is not None:
             lines.append((f"step failed: {self.failure}", draw.RED))
-        elif run.finished:
+        elif run.finished:          # and what the closing says the run showed
             lines.append((f"end of the run ({run.steps} steps)", draw.BLACK))
+            lines += [(self.result, draw.BLACK)] if self.result else []
         elif self.playing:
             lines.append((f"playing at {speed:g}x real time", draw.BLACK))
             if self.slow is not None:
@@ -128,19 +163,45 @@ class LiveWindow(live.LiveDemo):
 
     def figure_lines(self):
         """The state's figures: Algorithm 4's in the Newton view, the chalk's tip, the square's
-        creep once it sticks (closing.state_words)."""
+        creep once it sticks (closing.state_words; at the end the result's creep stands alone)."""
         run, scene = self.run, self.scene
         if run.iterate is not None:
             return newton_view.iterate_lines(run, scene)
         if scene.hand is not None:
             return live.tip_lines(scene, run.x, run.v, run.t)
-        stuck = closing.state_words(scene, run.x, run.v, run.t) if scene.surface is None else None
+        if scene.surface is not None or (run.finished and self.result):
+            return []
+        stuck = closing.state_words(scene, run.x, run.v, run.t)
         return [stuck] if stuck else []
 
     def help_lines(self):
         keys = ("" if self.stopped() else "space: pause   " if self.playing else
                 "space: play   right arrow: one step   n: one Newton iteration   ")
         return [keys + "r: restart   q, Esc: quit"]
+
+
+def clear_of_text(view, points, text_bottom, floor, gap):
+    """`view`, or a copy drawing `points` (k, 2; m) from row text_bottom + gap down (px): panned
+    down as far as their lowest stays above `floor`, then zoomed out about their lowest. Points
+    above the window (a grasp's fingers lifted away from the dropped block) are not drawn."""
+    points = points[view(points)[:, 1] >= 0]
+    if not len(points):
+        return view
+    rows = view(points)[:, 1]
+    need = text_bottom + gap - rows.min()
+    if need <= 0:
+        return view
+    shown = copy.copy(view)
+    pan = min(need, max(0.0, floor - rows.max()))
+    shown.center = view.center + [0.0, pan / view.scale]
+    low, high = points[np.argmax(rows)], points[np.argmin(rows)]
+    q = shown(low)
+    room = q[1] - text_bottom - gap
+    if pan < need and room > 0 and high[1] > low[1]:    # keep `low` where it is drawn
+        shown.scale = room / (high[1] - low[1])
+        shown.center = low + [(view.size / 2 - q[0]) / shown.scale,
+                              (q[1] - view.height / 2) / shown.scale]
+    return shown
 
 
 def display_problem(driver, requested):

@@ -17,10 +17,10 @@ from viewer.demo import newton_view, window
 SIZE = 652      # the window's default side on a 1024x768 projector
 
 
-def paused_at(overrides, step, iteration, size=SIZE):
-    """A LiveWindow paused in `step` (counted from 1, as on screen) after `iteration` presses of n,
-    drawn once."""
-    scene = simulator.build_scene(**overrides)
+def paused_at(overrides, step, iteration, size=SIZE, build=simulator.build_scene):
+    """A LiveWindow of build(**overrides) paused in `step` (counted from 1, as on screen) after
+    `iteration` presses of n, drawn once."""
+    scene = build(**overrides)
     pg = window.open_display()
     w = window.LiveWindow(pg, pg.display.set_mode((size, size)), scene, 1000)
     w.playing = False
@@ -247,7 +247,6 @@ def test_the_newton_view_keeps_its_phrases_and_labels_apart(monkeypatch, size, o
         assert all(w.font.size(row)[0] <= width for row in rows), rows
         assert all(phrase_break(text, a, b) for a, b in itertools.pairwise(rows)), rows
     import pygame
-    from scipy import ndimage
     small = w.fonts[1]
     ink = []
     for font in (small, None):                       # the slope's numbers: what its font adds
@@ -265,12 +264,38 @@ def test_the_newton_view_keeps_its_phrases_and_labels_apart(monkeypatch, size, o
                  for row in wrap.phrase_rows(w.font, text, width)]
     hints = size - 6 - len(hint_rows) * w.font.get_linesize()        # the key hints' first row
     assert 0 <= left and left + w_label <= size and w.text_bottom <= top and top + h_label <= hints
-    near = np.ones((small.get_height(), 1), bool)          # one number's glyphs: closer than a line
+    assert not numbers_cut(w, numbers)
+
+
+def numbers_cut(w, numbers):
+    """The boxes (x, y slices) of the slope's `numbers` (their pixels) the inset's border cuts."""
+    from scipy import ndimage
+    a, b, c, d = w.inset.rect
+    near = np.ones((w.fonts[1].get_height(), 1), bool)  # one number's glyphs: closer than a line
     labels, _ = ndimage.label(ndimage.binary_dilation(numbers, near))
+    cut = []
     for x, y in ndimage.find_objects(np.where(numbers, labels, 0)):
         within = a <= x.start and x.stop <= a + c and b <= y.start and y.stop <= b + d
         apart = x.stop <= a or x.start >= a + c or y.stop <= b or y.start >= b + d
-        assert within or apart, (x, y)
+        cut += [] if within or apart else [(x, y)]
+    return cut
+
+
+@pytest.mark.parametrize("size", [510, 600, 652, 680, 900])
+def test_the_inset_cuts_none_of_the_table_s_numbers(size):
+    """The tablecloth paused in step 11 after one n: the inset at the window's side reached over
+    half of "40 cm" (652 px; "-40 cm" on the left), too low to end above it; it now covers it
+    whole or stops short of it. The numbers: what draw_slope's font adds, under the cloth's band
+    (draw_frame's `clear`)."""
+    import pygame
+    w = paused_at({}, 11, 1, size, simulator.build_tablecloth_scene)
+    ink = []
+    for font in (w.fonts[1], None):
+        scratch = pygame.Surface((size, size))
+        scratch.fill((255, 255, 255))
+        draw.draw_slope(pygame, scratch, w.scene, w.shown, draw.BLUE, font, draw.CLOTH_DEPTH)
+        ink.append(pygame.surfarray.array3d(scratch).min(axis=2) < 255)
+    assert w.inset is not None and not numbers_cut(w, ink[0] & ~ink[1])
 
 
 @pytest.mark.parametrize("size", [510, 652])
@@ -307,3 +332,29 @@ def test_lengths_are_said_in_the_unit_their_3_digits_round_to_and_the_table_is_t
         "1 mm", "999 um", "1 m", "2.5 m"]
     assert newton_view.ground(simulator.build_tablecloth_scene()) == "the table"
     assert newton_view.ground(simulator.build_scene()) == "the slope"
+
+
+@pytest.mark.parametrize("size", [510, 600, 652, 680, 850, 900])
+def test_the_node_s_label_leaves_every_node_and_arrow_in_sight(monkeypatch, size):
+    """Paused in step 30 after 5 presses of n (the node nearest the slope at the square's corner,
+    the inset beside it, "0 m" under it), the label "node 0" lay over the square, hiding a node and
+    the direction arrow it labels (850 px, a 1000-px-high display). It now covers no node of x^i
+    or x^i + alpha p and no point of any direction arrow (newton_view.hints, as draw_iterate draws
+    them), and lies within a few label heights of its node."""
+    corners = []
+    real = newton_view.label_corner
+
+    def noting(*args, **kw):
+        corners.append(real(*args, **kw))
+        return corners[-1]
+    monkeypatch.setattr(newton_view, "label_corner", noting)
+    w = paused_at({}, 30, 5, size)
+    it, view = w.run.iterate, w.shown
+    (left, top), (width, height) = corners[-1], w.fonts[1].size(f"node {w.inset.node}")
+    tail, tip, _ = newton_view.hints(w.scene, it, view)
+    along = np.linspace(0.0, 1.0, 9)[:, None, None]
+    seen = np.vstack([view(it.x), view(it.x_next), *(tail + along * (tip - tail))])
+    inside = ((seen >= [left, top]) & (seen <= [left + width, top + height])).all(axis=1)
+    assert not inside.any(), seen[inside]
+    node = view(it.x_next[w.inset.node])
+    assert np.hypot(left + width / 2 - node[0], top + height / 2 - node[1]) < 5 * height

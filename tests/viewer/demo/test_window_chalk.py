@@ -40,8 +40,8 @@ def key_hints_top(w):
 def chalk_top(w):
     """The highest row of pixels of the chalk and its hand's targets (7 px squares) in the
     window."""
-    targets = w.view(w.scene.hand.targets(w.run.t))
-    return min(w.view(w.run.shown_x)[:, 1].min(), targets[:, 1].min() - 3)
+    targets = w.shown(w.scene.hand.targets(w.run.t))
+    return min(w.shown(w.run.shown_x)[:, 1].min(), targets[:, 1].min() - 3)
 
 
 def mark_columns(w):
@@ -146,8 +146,8 @@ def test_no_text_in_the_chalk_window_is_small_faint_or_over_the_chalk(monkeypatc
     scale bar, the Newton view's lines and inset) with capitals at least draw.MIN_CAP_HEIGHT of the
     window tall, in a colour of contrast at least 4.5:1 on white; the legends' swatches on their
     labels' rows. The board is low enough that the status lines end above the chalk and its hand,
-    and its numbers above the key hints (the Newton view's lines too from 652 px; at 600 they wrap
-    onto a row more, over the hand)."""
+    and its numbers above the key hints (the Newton view's lines too, drawn smaller where they
+    wrap onto more rows: window.clear_of_text)."""
     drawn = legibility.record_text(monkeypatch)
     w = chalk_window(240, size=size)
     assert w.text_bottom < chalk_top(w)
@@ -162,7 +162,7 @@ def test_no_text_in_the_chalk_window_is_small_faint_or_over_the_chalk(monkeypatc
     assert under + ink.max() < key_hints_top(w)             # the numbers' blue, above the hints
     w.one_newton_iteration()
     w.draw()
-    assert w.inset is not None and (size == 600 or w.text_bottom < chalk_top(w))
+    assert w.inset is not None and w.text_bottom < chalk_top(w)
     texts = {text for text, _, _ in drawn}
     assert {"the hand: its targets and springs", "the chalk's mark: lambda x slid length (Archard)",
             "normal force lambda_k n", "paused before step 241", "(nearest the board)",
