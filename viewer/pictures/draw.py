@@ -179,11 +179,21 @@ def draw_square(pygame, surface, scene, x, view, color=BLUE, nodes=True):
     """The springs as the mesh's polylines, the nodes as dots a tenth of the spacing across."""
     px = view(diagnostics.body(scene, x))
     for line in square_mesh.polylines(*scene.cells):
-        pygame.draw.aalines(surface, color, False, px[line].tolist())
+        polyline(pygame, surface, color, px[line].tolist())
     radius = int(0.1 * spacing(scene) * view.scale)
     if nodes and radius >= 1:
         for q in px.tolist():
             pygame.draw.circle(surface, color, q, radius)
+
+
+def polyline(pygame, surface, color, points):
+    """An anti-aliased open polyline through `points` (px, 2 or more). Two go through aaline:
+    pygame-ce 2.5.8's aalines of one segment changes its end pixels from one process to the next
+    (docs/output.md, summary.png)."""
+    if len(points) == 2:
+        pygame.draw.aaline(surface, color, *points)
+    else:
+        pygame.draw.aalines(surface, color, False, points)
 
 
 def spacing(scene):
