@@ -2,16 +2,20 @@
 run's first seconds are the shorter run (the same steps), so every shorter run is cut from the
 longest kept. The states are kept as .npz in a folder the session's pytest-xdist workers share
 (the `chalk_runs` fixture, tests/conftest.py): the first worker to need a run steps it while the
-others wait for it, so tests/scenes/test_chalk.py and tests/analysis/test_wear.py step the pushed
-and the dragged chalk once between them."""
+others wait for it, so tests/scenes/test_chalk.py, tests/analysis/test_wear.py, the stick-slip
+figure's test and the frames' marks (tests/viewer/pictures/test_marks_drawn.py) step the pushed and
+the dragged chalk once between them. A run asked for longer than kept goes on from its last state
+(`stepped`), so whichever asks first, each state is stepped once."""
 import contextlib
 import dataclasses
 import os
 import time
+import types
 
 import numpy as np
 
 import simulator
+import time_integrator
 from analysis import stick_slip as cycles
 
 WAIT = 600          # s another worker may take to step a run before this one gives up on it
@@ -38,15 +42,15 @@ class Runs:
         return track(*self.states(seconds, **params))
 
     def shared(self, key, scene, steps):
-        """(t, x, v) of at least `steps` steps: read from the folder, or stepped here and written
-        there (a temporary name, then a rename) while a lock file keeps other workers waiting."""
+        """(t, x, v) of at least `steps` steps: read from the folder, or stepped here (on from what
+        the folder keeps) and written there (a temporary name, then a rename) while a lock file
+        keeps other workers waiting."""
         path = os.path.join(self.folder, f"chalk {key}.npz")
         deadline = time.monotonic() + WAIT
         while True:
-            if os.path.exists(path):
-                with np.load(path) as kept:
-                    if len(kept["t"]) >= steps:
-                        return read_only(kept["t"], kept["x"], kept["v"])
+            kept = read(path)
+            if len(kept[0]) >= steps:
+                return read_only(*kept)
             try:
                 lock = os.open(path + ".lock", os.O_CREAT | os.O_EXCL | os.O_WRONLY)
                 break
@@ -54,8 +58,7 @@ class Runs:
                 assert time.monotonic() < deadline, f"{path}.lock held for {WAIT} s"
                 time.sleep(0.05)
         try:
-            records = list(simulator.simulate(scene, steps))
-            t, x, v = (np.array([getattr(r, name) for r in records]) for name in "txv")
+            t, x, v = stepped(scene, read(path), steps)     # read again: it may have grown
             with open(path + ".tmp", "wb") as f:
                 np.savez(f, t=t, x=x, v=v)
             os.replace(path + ".tmp", path)
@@ -64,6 +67,40 @@ class Runs:
             with contextlib.suppress(OSError):
                 os.remove(path + ".lock")
         return read_only(t, x, v)
+
+
+def replaying(runs):
+    """The simulator module as a figure's code reads it, but for its `simulate` of a chalk scene:
+    the StepRecords' t, x and v from `runs`, the chalk of the same parameters (keyed by those
+    that differ from simulator.CHALK, as the tests ask for them)."""
+    def simulate(scene, steps):
+        changed = {k: v for k, v in scene.params.items() if v != simulator.CHALK[k]}
+        built, t, x, v = runs.states(steps * scene.h, **changed)
+        assert dict(built.params) == dict(scene.params) and len(t) == steps
+        return [types.SimpleNamespace(t=t_n, x=x_n, v=v_n) for t_n, x_n, v_n in zip(t, x, v)]
+    return types.SimpleNamespace(**{**vars(simulator), "simulate": simulate})
+
+
+def read(path):
+    """(t, x, v) kept at `path`, or none (empty arrays) if there is no file."""
+    if not os.path.exists(path):
+        return np.empty(0), np.empty((0, 0, 2)), np.empty((0, 0, 2))
+    with np.load(path) as kept:
+        return kept["t"], kept["x"], kept["v"]
+
+
+def stepped(scene, kept, steps):
+    """(t, x, v) of `steps` steps of `scene`: the states `kept`, then simulator.simulate's steps
+    after them (its step i is time_integrator.step from state i at step_index i, so the states
+    are the same bits as a run from the start: test_shared_runs_go_on_bit_for_bit)."""
+    t, x, v = (list(a) for a in kept)
+    x_n, v_n = (x[-1], v[-1]) if t else (scene.x0, scene.v0)
+    for i in range(len(t), steps):
+        x_n, v_n, _ = time_integrator.step(scene, x_n, v_n, step_index=i)
+        t.append(time_integrator.step_time(scene, i))
+        x.append(x_n)
+        v.append(v_n)
+    return np.array(t), np.array(x), np.array(v)
 
 
 def read_only(*arrays):

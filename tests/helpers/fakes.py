@@ -1,6 +1,7 @@
 """Failures the tests stage on purpose, and runs fast-forwarded for them."""
 import copy
 import errno
+import itertools
 import os
 import signal
 
@@ -35,19 +36,38 @@ def own_copy(run):
     return copy.deepcopy(run, {id(run.scene): run.scene})
 
 
-def chalk_at(index, drag=False, steps=3000):
+def chalk_at(index, drag=False, steps=3000, runs=None):
     """A live.LiveRun of the chalk (pushed, or dragged) after `index` steps, marks and all, in a run
     of `steps`: a copy of its own (own_copy) of one stepped once per test session from the nearest
     state kept (a chalk step costs about 5 ms), to put in a window (`window.run = ...`; its scene is
-    `run.scene`, the same each call)."""
+    `run.scene`, the same each call). With `runs` (the chalk_runs fixture) a run far from the
+    nearest kept state starts one step before `index` from the session's shared run instead
+    (`from_shared`), and takes its last step here, for its StepReport."""
     kept = _RUNS.setdefault(drag, {})
     if not kept:
         kept[0] = live.LiveRun(simulator.build_chalk_scene(drag=drag), steps)
-    run = own_copy(kept[max(i for i in kept if i <= index)])
+    nearest = max(i for i in kept if i <= index)
+    if runs is not None and index - 1 > nearest:
+        run = from_shared(kept[0], runs, index - 1, drag)
+    else:
+        run = own_copy(kept[nearest])
     while run.index < index:
         run.step()
     kept[index] = own_copy(run)
     run.steps = steps
+    return run
+
+
+def from_shared(first, runs, index, drag):
+    """A copy of the LiveRun `first` (at step 0) put at step `index` of the chalk's run kept in
+    `runs` (helpers/chalk.py: simulate's states, the same bits as LiveRun.step's), its mark added
+    up over those states as LiveRun adds it; no StepReport (its last step was not taken here)."""
+    run = own_copy(first)
+    _, _, xs, vs = runs.states(index * run.scene.h, **({"drag": True} if drag else {}))
+    assert len(xs) == index
+    for before, after in itertools.pairwise([run.scene.x0, *xs]):
+        run.marks.step(run.scene, before, after)
+    run.index, run.x, run.v = index, xs[-1].copy(), vs[-1].copy()
     return run
 
 

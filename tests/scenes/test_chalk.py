@@ -16,6 +16,7 @@ import FrictionEnergy
 import HandEnergy
 import simulator
 import time_integrator
+from helpers import chalk
 from helpers.chalk import stick_slip
 from scenes.scene import StaticFriction
 
@@ -121,6 +122,28 @@ def test_friction_update_takes_mu_from_the_velocity_of_its_state(chalk_runs):
     at_y = time_integrator.friction_update(scene, lagged, y)
     mu_y = 0.35 + 0.15 * np.exp(-3.0)
     assert np.allclose(at_y.mu_lambda, mu_y * lam_at(y), rtol=1e-12, atol=0)
+
+
+def test_shared_runs_go_on_bit_for_bit(tmp_path, monkeypatch):
+    """helpers/chalk.py goes on from a kept run's last state when a longer run is asked for (here
+    by another Runs on the same folder, as another worker): the pushed and the dragged chalk's 40
+    steps after 30 kept are 40 steps, and simulator.simulate's from the start, bit for bit."""
+    real, indices = time_integrator.step, []
+
+    def step(scene, x, v, *, step_index):
+        indices.append(step_index)
+        return real(scene, x, v, step_index=step_index)
+    for params in ({}, {"drag": True}):
+        chalk.Runs(str(tmp_path)).states(0.03, **params)
+        with monkeypatch.context() as patched:
+            patched.setattr(time_integrator, "step", step)
+            scene, t, x, v = chalk.Runs(str(tmp_path)).states(0.07, **params)
+        assert indices == list(range(30, 70))
+        indices.clear()
+        records = list(simulator.simulate(scene, 70))
+        assert len(t) == 70 and np.array_equal(t, [r.t for r in records])
+        assert np.array_equal(x, [r.x for r in records])
+        assert np.array_equal(v, [r.v for r in records])
 
 
 # --- Rabinowicz's chalk --------------------------------------------------------------------------
