@@ -22,7 +22,8 @@ WAIT = 600          # s another worker may take to step a run before this one gi
 
 
 class Runs:
-    """The chalk's states after each step, keyed by its parameters, in `folder` and in memory."""
+    """The chalk's states after each step, keyed by its parameters that differ from
+    simulator.CHALK (tilt=60.0 is the default's run), in `folder` and in memory."""
 
     def __init__(self, folder):
         self.folder, self.kept = folder, {}
@@ -32,7 +33,8 @@ class Runs:
         steps: t (S,), x and v (S, N, 2), read-only."""
         scene = simulator.build_chalk_scene(**params)
         steps = int(round(seconds / scene.h))
-        key = ",".join(f"{name}={value!r}" for name, value in sorted(params.items()))
+        key = ",".join(f"{name}={value!r}" for name, value in sorted(scene.params.items())
+                       if value != simulator.CHALK[name])
         if key not in self.kept or len(self.kept[key][0]) < steps:
             self.kept[key] = self.shared(key or "default", scene, steps)
         return (scene, *(a[:steps] for a in self.kept[key]))
@@ -71,11 +73,9 @@ class Runs:
 
 def replaying(runs):
     """The simulator module as a figure's code reads it, but for its `simulate` of a chalk scene:
-    the StepRecords' t, x and v from `runs`, the chalk of the same parameters (keyed by those
-    that differ from simulator.CHALK, as the tests ask for them)."""
+    the StepRecords' t, x and v from `runs`, the chalk of the same parameters."""
     def simulate(scene, steps):
-        changed = {k: v for k, v in scene.params.items() if v != simulator.CHALK[k]}
-        built, t, x, v = runs.states(steps * scene.h, **changed)
+        built, t, x, v = runs.states(steps * scene.h, **scene.params)
         assert dict(built.params) == dict(scene.params) and len(t) == steps
         return [types.SimpleNamespace(t=t_n, x=x_n, v=v_n) for t_n, x_n, v_n in zip(t, x, v)]
     return types.SimpleNamespace(**{**vars(simulator), "simulate": simulate})
