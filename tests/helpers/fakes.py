@@ -27,7 +27,7 @@ def fill_disk_after(monkeypatch, writes):
     monkeypatch.setattr(whole_files, "write_temporary", fill_up)
 
 
-_RUNS = {}      # drag -> {index: the chalk's live.LiveRun after that many steps}
+_RUNS = {}      # a scene's key -> {index: its live.LiveRun after that many steps}
 
 
 def own_copy(run):
@@ -43,14 +43,28 @@ def chalk_at(index, drag=False, steps=3000, runs=None):
     `run.scene`, the same each call). With `runs` (the chalk_runs fixture) a run far from the
     nearest kept state starts one step before `index` from the session's shared run instead
     (`from_shared`), and takes its last step here, for its StepReport."""
-    kept = _RUNS.setdefault(drag, {})
+    kept = _RUNS.setdefault(("chalk", drag), {})
     if not kept:
         kept[0] = live.LiveRun(simulator.build_chalk_scene(drag=drag), steps)
-    nearest = max(i for i in kept if i <= index)
-    if runs is not None and index - 1 > nearest:
-        run = from_shared(kept[0], runs, index - 1, drag)
-    else:
-        run = own_copy(kept[nearest])
+    start = None            # a run far from the states kept starts from the shared one's
+    if runs is not None and index - 1 > max(i for i in kept if i <= index):
+        start = from_shared(kept[0], runs, index - 1, drag)
+    return stepped_to(kept, index, steps, start)
+
+
+def square_at(index, steps=1000, **overrides):
+    """A live.LiveRun of simulator.build_scene(**overrides) after `index` steps in a run of
+    `steps`, as chalk_at gives the chalk's: a copy of its own of one stepped once per session."""
+    kept = _RUNS.setdefault(("square", repr(sorted(overrides.items()))), {})
+    if not kept:
+        kept[0] = live.LiveRun(simulator.build_scene(**overrides), steps)
+    return stepped_to(kept, index, steps)
+
+
+def stepped_to(kept, index, steps, start=None):
+    """A copy of its own of the run in `kept` ({index: LiveRun}) stepped on to `index` from `start`
+    or else from the nearest state kept, and kept too; in a run of `steps`."""
+    run = start if start is not None else own_copy(kept[max(i for i in kept if i <= index)])
     while run.index < index:
         run.step()
     kept[index] = own_copy(run)

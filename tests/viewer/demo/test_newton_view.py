@@ -8,7 +8,7 @@ import pytest
 
 import BarrierEnergy
 from helpers import legibility
-from helpers.fakes import chalk_at
+from helpers.fakes import chalk_at, square_at
 import simulator
 from analysis import diagnostics
 from viewer.pictures import draw, wrap
@@ -19,13 +19,11 @@ SIZE = 652      # the window's default side on a 1024x768 projector
 
 def paused_at(overrides, step, iteration, size=SIZE):
     """A LiveWindow paused in `step` (counted from 1, as on screen) after `iteration` presses of n,
-    drawn once."""
-    scene = simulator.build_scene(**overrides)
+    drawn once (its run's first step - 1 steps: helpers.fakes.square_at, stepped once a session)."""
+    run = square_at(step - 1, **overrides)
     pg = window.open_display()
-    w = window.LiveWindow(pg, pg.display.set_mode((size, size)), scene, 1000)
-    w.playing = False
-    for _ in range(step - 1):
-        w.run.step()
+    w = window.LiveWindow(pg, pg.display.set_mode((size, size)), run.scene, run.steps)
+    w.run, w.playing = run, False
     for _ in range(iteration):
         assert w.run.newton_iteration() is None
     w.draw()
