@@ -127,7 +127,8 @@ def test_friction_update_takes_mu_from_the_velocity_of_its_state(chalk_runs):
 def test_shared_runs_go_on_bit_for_bit(tmp_path, monkeypatch):
     """helpers/chalk.py goes on from a kept run's last state when a longer run is asked for (here
     by another Runs on the same folder, as another worker): the pushed and the dragged chalk's 40
-    steps after 30 kept are 40 steps, and simulator.simulate's from the start, bit for bit."""
+    steps after 30 kept are 40 steps, and their records simulator.simulate's from the start, bit
+    for bit but the wall times."""
     real, indices = time_integrator.step, []
 
     def step(scene, x, v, *, step_index):
@@ -137,13 +138,17 @@ def test_shared_runs_go_on_bit_for_bit(tmp_path, monkeypatch):
         chalk.Runs(str(tmp_path)).states(0.03, **params)
         with monkeypatch.context() as patched:
             patched.setattr(time_integrator, "step", step)
-            scene, t, x, v = chalk.Runs(str(tmp_path)).states(0.07, **params)
+            scene, kept = chalk.Runs(str(tmp_path)).records(0.07, **params)
         assert indices == list(range(30, 70))
         indices.clear()
-        records = list(simulator.simulate(scene, 70))
-        assert len(t) == 70 and np.array_equal(t, [r.t for r in records])
-        assert np.array_equal(x, [r.x for r in records])
-        assert np.array_equal(v, [r.v for r in records])
+        fresh = list(simulator.simulate(scene, 70))
+        assert len(kept) == 70
+        for a, b in zip(kept, fresh):
+            assert (a.index, a.t) == (b.index, b.t) and a.wall > 0.0
+            assert np.array_equal(a.x, b.x) and np.array_equal(a.v, b.v)
+            for field in dataclasses.fields(b.report):
+                ours, theirs = (getattr(r.report, field.name) for r in (a, b))
+                assert np.array_equal(ours, theirs), field.name
 
 
 # --- Rabinowicz's chalk --------------------------------------------------------------------------
