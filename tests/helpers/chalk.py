@@ -1,11 +1,12 @@
-"""The chalk's runs as the scene and wear tests read them, each stepped once per test session: a
-run's first seconds are the shorter run (the same steps), so every shorter run is cut from the
-longest kept. The states are kept as .npz in a folder the session's pytest-xdist workers share
-(the `chalk_runs` fixture, tests/conftest.py): the first worker to need a run steps it while the
-others wait for it, so tests/scenes/test_chalk.py, tests/analysis/test_wear.py, the stick-slip
-figure's test and the frames' marks (tests/viewer/pictures/test_marks_drawn.py) step the pushed and
-the dragged chalk once between them. A run asked for longer than kept goes on from its last state
-(`stepped`), so whichever asks first, each state is stepped once."""
+"""The chalk's runs as the tests read them, each stepped once per test session: a run's first
+seconds are the shorter run (the same steps), so every shorter run is cut from the longest kept.
+The states are kept as .npz, their StepReports beside them, in a folder the session's
+pytest-xdist workers share (the `chalk_runs` fixture, tests/conftest.py): the first worker to need
+a run steps it while the others wait for it. So test_chalk, test_wear, test_integrator's Newton
+starts, the stick-slip figure's test (`replaying`), the frames' marks, the window's chalk
+(helpers/fakes.py chalk_at), and the plots' and summary's chalk Tracks (Runs.records) step the
+pushed and the dragged chalk once between them. A run asked for longer than kept goes on from its
+last state (`stepped`), so whichever asks first, each state is stepped once."""
 import contextlib
 import dataclasses
 import os
