@@ -19,7 +19,7 @@ import simulator
 from analysis import wear
 from figures import (cli, dissipation, fixed_point, mollifier, relative_velocity, semi_implicit,
                      stick_slip)
-from helpers import ROOT
+from helpers import ROOT, chalk
 from helpers.fakes import DropsTheHandlersRaise
 from scenes import tablecloth
 from viewer.output import whole_files
@@ -164,12 +164,15 @@ def test_the_pressed_scene_starts_on_the_slope_and_its_lagged_step_brakes_with_t
 
 
 @pytest.fixture(scope="module")
-def stick_slip_short():
+def stick_slip_short(chalk_runs):
     """The stick_slip figure's numbers on a short case: 0.7 s for the marks and the four grips
     (measured: 3 / 4 / 8 / 13 cycles, the loosest grip's period 149 ms), and every tilt over 0.5 s
     (measured: 60 to 67 deg slide 2.39 to 2.98 mm of the hand's 3 mm, 68 to 75 deg at most
-    0.023 mm: the figure's bracket, between 67 and 68 deg)."""
-    return stick_slip.compute(duration=0.7, tilt_duration=0.5)
+    0.023 mm: the figure's bracket, between 67 and 68 deg). Its runs' states are the session's
+    (helpers/chalk.py, simulate's bit for bit), which tests/scenes/test_chalk.py shares."""
+    with pytest.MonkeyPatch.context() as monkeypatch:
+        monkeypatch.setattr(stick_slip, "simulator", chalk.replaying(chalk_runs))
+        return stick_slip.compute(duration=0.7, tilt_duration=0.5)
 
 
 def test_the_marks_are_the_archard_deposits_of_the_runs(stick_slip_short):

@@ -20,16 +20,17 @@ def run_main(*args):
     return code, err.getvalue().splitlines()
 
 
-def recorded(folder, scenes, steps):
+def recorded(folder, scenes, steps, simulate=simulator.simulate):
     """The scenes run side by side for `steps` steps into `folder`, as a run without frames records
-    them (viewer.command.recording): their Tracks, with what the pictures need, and their logs."""
+    them (viewer.command.recording): their Tracks, with what the pictures need, and their logs.
+    `simulate`: where the StepRecords come from (helpers/chalk.py replaying: the shared runs')."""
     tags = [f"run{i}" for i in range(len(scenes))] if len(scenes) > 1 else [""]
     labels = [f"run {i}" for i in range(len(scenes))]
     plan = run.Plan(scenes, labels, tags, [steps] * len(scenes), str(folder),
                     stride=3, frames=False, forces=False)
     signals = run.Signals()
     out = plan.folder(signals)
-    tracks = [recording.Track(scene, steps, simulator.simulate(scene, steps), label, tag,
+    tracks = [recording.Track(scene, steps, simulate(scene, steps), label, tag,
                               draw.run_color(i), out)
               for i, (scene, label, tag) in enumerate(zip(scenes, plan.labels, tags))]
     recording.record(tracks, out, plan.stride, False, False, io.StringIO(), [])

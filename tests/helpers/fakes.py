@@ -1,6 +1,7 @@
 """Failures the tests stage on purpose, and runs fast-forwarded for them."""
 import copy
 import errno
+import itertools
 import os
 import signal
 
@@ -26,7 +27,7 @@ def fill_disk_after(monkeypatch, writes):
     monkeypatch.setattr(whole_files, "write_temporary", fill_up)
 
 
-_RUNS = {}      # drag -> {index: the chalk's live.LiveRun after that many steps}
+_RUNS = {}      # a scene's key -> {index: its live.LiveRun after that many steps}
 
 
 def own_copy(run):
@@ -35,19 +36,52 @@ def own_copy(run):
     return copy.deepcopy(run, {id(run.scene): run.scene})
 
 
-def chalk_at(index, drag=False, steps=3000):
+def chalk_at(index, drag=False, steps=3000, runs=None):
     """A live.LiveRun of the chalk (pushed, or dragged) after `index` steps, marks and all, in a run
     of `steps`: a copy of its own (own_copy) of one stepped once per test session from the nearest
     state kept (a chalk step costs about 5 ms), to put in a window (`window.run = ...`; its scene is
-    `run.scene`, the same each call)."""
-    kept = _RUNS.setdefault(drag, {})
+    `run.scene`, the same each call). With `runs` (the chalk_runs fixture) a run far from the
+    nearest kept state starts one step before `index` from the session's shared run instead
+    (`from_shared`), and takes its last step here, for its StepReport."""
+    kept = _RUNS.setdefault(("chalk", drag), {})
     if not kept:
         kept[0] = live.LiveRun(simulator.build_chalk_scene(drag=drag), steps)
-    run = own_copy(kept[max(i for i in kept if i <= index)])
+    start = None            # a run far from the states kept starts from the shared one's
+    if runs is not None and index - 1 > max(i for i in kept if i <= index):
+        start = from_shared(kept[0], runs, index - 1, drag)
+    return stepped_to(kept, index, steps, start)
+
+
+def square_at(index, steps=1000, **overrides):
+    """A live.LiveRun of simulator.build_scene(**overrides) after `index` steps in a run of
+    `steps`, as chalk_at gives the chalk's: a copy of its own of one stepped once per session."""
+    kept = _RUNS.setdefault(("square", repr(sorted(overrides.items()))), {})
+    if not kept:
+        kept[0] = live.LiveRun(simulator.build_scene(**overrides), steps)
+    return stepped_to(kept, index, steps)
+
+
+def stepped_to(kept, index, steps, start=None):
+    """A copy of its own of the run in `kept` ({index: LiveRun}) stepped on to `index` from `start`
+    or else from the nearest state kept, and kept too; in a run of `steps`."""
+    run = start if start is not None else own_copy(kept[max(i for i in kept if i <= index)])
     while run.index < index:
         run.step()
     kept[index] = own_copy(run)
     run.steps = steps
+    return run
+
+
+def from_shared(first, runs, index, drag):
+    """A copy of the LiveRun `first` (at step 0) put at step `index` of the chalk's run kept in
+    `runs` (helpers/chalk.py: simulate's states, the same bits as LiveRun.step's), its mark added
+    up over those states as LiveRun adds it; no StepReport (its last step was not taken here)."""
+    run = own_copy(first)
+    _, _, xs, vs = runs.states(index * run.scene.h, **({"drag": True} if drag else {}))
+    assert len(xs) == index
+    for before, after in itertools.pairwise([run.scene.x0, *xs]):
+        run.marks.step(run.scene, before, after)
+    run.index, run.x, run.v = index, xs[-1].copy(), vs[-1].copy()
     return run
 
 

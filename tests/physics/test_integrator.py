@@ -459,21 +459,21 @@ def test_the_steps_friction_force_is_the_one_its_last_friction_update_gives():
     assert report.friction_work == pytest.approx(float(np.vdot(expected, x - x_n)), rel=1e-12)
 
 
-def chalk_states(drag, steps=600, every=20):
-    """States (x^n, v^n, n) of the chalk's run every `every` steps once it is pressed and moving."""
-    scene = simulator.build_chalk_scene(drag=drag)
-    return scene, [(r.x, r.v, r.index + 1) for r in simulator.simulate(scene, steps)][200::every]
+def chalk_states(chalk_runs, drag, seconds=0.6, every=20):
+    """States (x^n, v^n, n) of the chalk's shared run every `every` steps once pressed, moving."""
+    scene, _, xs, vs = chalk_runs.states(seconds, drag=drag)        # helpers/chalk.py: simulate's
+    return scene, list(zip(xs, vs, range(1, len(xs) + 1)))[200::every]
 
 
 @pytest.mark.parametrize("drag", [False, True])
-def test_newton_from_x_tilde_takes_the_step_newton_from_x_n_takes(drag):
+def test_newton_from_x_tilde_takes_the_step_newton_from_x_n_takes(drag, chalk_runs):
     """Both starts minimize the same Incremental Potential to ||p||_inf / h <= tol: each ends within
     about its last ||p||_inf <= tol h of the minimizer, so the two differ by at most 2 tol h per
     coordinate (measured at the chalk's tol 1e-6: 0.96 tol h pushed, 0.73 tol h dragged). The
     prediction starts a sliding tip sliding, not at v = 0 in the mollifier's stiff static branch:
     the dragged chalk needs under half the iterations (measured 18 against 75 over these 20 states;
     pushed 29 against 67)."""
-    scene, states = chalk_states(drag)
+    scene, states = chalk_states(chalk_runs, drag)
     lecture = dataclasses.replace(scene, newton_start="x_n")
     iterations = {"x_n": 0, "x_tilde": 0}
     for x, v, n in states:

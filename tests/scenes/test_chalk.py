@@ -16,6 +16,7 @@ import FrictionEnergy
 import HandEnergy
 import simulator
 import time_integrator
+from helpers import chalk
 from helpers.chalk import stick_slip
 from scenes.scene import StaticFriction
 
@@ -123,15 +124,44 @@ def test_friction_update_takes_mu_from_the_velocity_of_its_state(chalk_runs):
     assert np.allclose(at_y.mu_lambda, mu_y * lam_at(y), rtol=1e-12, atol=0)
 
 
+def test_shared_runs_go_on_bit_for_bit(tmp_path, monkeypatch):
+    """helpers/chalk.py goes on from a kept run's last state when a longer run is asked for (here
+    by another Runs on the same folder, as another worker): the pushed and the dragged chalk's 40
+    steps after 30 kept are 40 steps, and their records simulator.simulate's from the start, bit
+    for bit but the wall times."""
+    real, indices = time_integrator.step, []
+
+    def step(scene, x, v, *, step_index):
+        indices.append(step_index)
+        return real(scene, x, v, step_index=step_index)
+    for params in ({}, {"drag": True}):
+        chalk.Runs(str(tmp_path)).states(0.03, **params)
+        with monkeypatch.context() as patched:
+            patched.setattr(time_integrator, "step", step)
+            scene, kept = chalk.Runs(str(tmp_path)).records(0.07, **params)
+        assert indices == list(range(30, 70))
+        indices.clear()
+        fresh = list(simulator.simulate(scene, 70))
+        assert len(kept) == 70
+        for a, b in zip(kept, fresh):
+            assert (a.index, a.t) == (b.index, b.t) and a.wall > 0.0
+            assert np.array_equal(a.x, b.x) and np.array_equal(a.v, b.v)
+            for field in dataclasses.fields(b.report):
+                ours, theirs = (getattr(r.report, field.name) for r in (a, b))
+                assert np.array_equal(ours, theirs), field.name
+
+
 # --- Rabinowicz's chalk --------------------------------------------------------------------------
 
 def test_one_coefficient_slides_below_the_self_locking_angle_and_jams_above(chalk_runs):
     """mu_s = mu = 0.35: a rigid strut pushed at tilt theta slides where cot theta > mu, below
     90 - atan mu = 70.7 degrees, and jams above (this grip: between 67.05 and 67.1, docs/chalk.md).
-    10 degrees below, the tip slides with the hand; 10 above, it stays stuck over 10 mm."""
-    lock = 90.0 - math.degrees(math.atan(0.35))
-    slides = chalk_runs.run(1.0, mu_s=0.35, tilt=lock - 10.0)
-    jams = chalk_runs.run(1.2, mu_s=0.35, tilt=lock + 10.0)
+    At the stick-slip figure's outermost tilts (figures/stick_slip.py TILTS: its runs are these
+    runs' first 0.5 s, shared): at 60 degrees, 10.7 below, the tip slides with the hand; at 75,
+    4.3 above (7.9 above this grip's jam), it stays stuck over 10 mm (measured: the tip moves
+    0.036 mm, at most 0.036 mm/s)."""
+    slides = chalk_runs.run(1.0, mu_s=0.35, tilt=60.0)
+    jams = chalk_runs.run(1.2, mu_s=0.35, tilt=75.0)
     late = slides.t > 0.5
     assert np.allclose(slides.u_tip[late], 0.01, rtol=0.05)      # at the drive's speed, steadily
     assert slides.x_tip[-1] - slides.x_tip[0] > 0.6 * (slides.hand_x[-1] - slides.hand_x[0])

@@ -8,24 +8,28 @@ import pytest
 
 import BarrierEnergy
 from helpers import legibility
-from helpers.fakes import chalk_at
+from helpers.fakes import chalk_at, square_at
 import simulator
 from analysis import diagnostics
 from viewer.pictures import draw, wrap
-from viewer.demo import newton_view, window
+from viewer.demo import live, newton_view, window
 
 SIZE = 652      # the window's default side on a 1024x768 projector
 
 
 def paused_at(overrides, step, iteration, size=SIZE, build=simulator.build_scene):
     """A LiveWindow of build(**overrides) paused in `step` (counted from 1, as on screen) after
-    `iteration` presses of n, drawn once."""
-    scene = build(**overrides)
+    `iteration` presses of n, drawn once (the square's first step - 1 steps:
+    helpers.fakes.square_at, stepped once a session)."""
+    if build is simulator.build_scene:
+        run = square_at(step - 1, **overrides)
+    else:
+        run = live.LiveRun(build(**overrides), 1000)
+        for _ in range(step - 1):
+            run.step()
     pg = window.open_display()
-    w = window.LiveWindow(pg, pg.display.set_mode((size, size)), scene, 1000)
-    w.playing = False
-    for _ in range(step - 1):
-        w.run.step()
+    w = window.LiveWindow(pg, pg.display.set_mode((size, size)), run.scene, run.steps)
+    w.run, w.playing = run, False
     for _ in range(iteration):
         assert w.run.newton_iteration() is None
     w.draw()
@@ -164,9 +168,10 @@ def test_the_inset_says_which_lines_are_springs_and_where_the_slope_is(monkeypat
         assert w.fonts[1].size(row)[0] <= width - 16 or " " not in row, row
 
 
-def chalk_paused(steps, drag, iteration=1, size=SIZE):
-    """A LiveWindow of the chalk paused in step `steps` + 1 after `iteration` presses of n."""
-    run = chalk_at(steps, drag)
+def chalk_paused(runs, steps, drag, iteration=1, size=SIZE):
+    """A LiveWindow of the chalk paused in step `steps` + 1 after `iteration` presses of n (its
+    state from helpers.fakes.chalk_at, from the session's shared run `runs`: chalk_runs)."""
+    run = chalk_at(steps, drag, runs=runs)
     pg = window.open_display()
     w = window.LiveWindow(pg, pg.display.set_mode((size, size)), run.scene, run.steps)
     w.run, w.playing = run, False
@@ -177,7 +182,8 @@ def chalk_paused(steps, drag, iteration=1, size=SIZE):
 
 
 @pytest.mark.parametrize("steps, drag", [(235, False), (300, False), (20, True)])
-def test_the_chalks_inset_magnifies_its_tip_against_the_board(monkeypatch, steps, drag):
+def test_the_chalks_inset_magnifies_its_tip_against_the_board(monkeypatch, steps, drag,
+                                                              chalk_runs):
     """For the chalk (pushed, slipping at step 236 and stuck at 301; dragged, pressed onto the
     board at step 21) the inset magnifies the tip, the node nearest the board, as computed: its
     markers are x^i + alpha p through one view (the board, about 0.9 mm below, out of frame where p
@@ -186,7 +192,7 @@ def test_the_chalks_inset_magnifies_its_tip_against_the_board(monkeypatch, steps
     spacing (5 mm)."""
     import pygame
     drawn = legibility.record_text(monkeypatch)
-    w = chalk_paused(steps, drag)
+    w = chalk_paused(chalk_runs, steps, drag)
     inset, it, scene = w.inset, w.run.iterate, w.scene
     k, d = diagnostics.tip(scene, it.x)
     assert inset.node == k and inset.why == "nearest the board"

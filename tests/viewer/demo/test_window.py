@@ -19,6 +19,7 @@ from viewer.demo import live, window
 import viewer.main
 
 from helpers import ROOT
+from helpers.fakes import square_at
 from helpers.window import (H, ScriptClock, frames_until, live_window, needs_newton_hook, press,
                             pygame, read_log)
 
@@ -237,11 +238,10 @@ def test_every_line_of_text_fits_the_window(size):
 
 def paused_window(overrides, step, iteration, size):
     """A LiveWindow of `size` px paused in `step` (counted from 1) after `iteration` presses of
-    n."""
-    w, _ = live_window(simulator.build_scene(**overrides), size=size)
-    w.playing = False
-    for _ in range(step - 1):
-        w.run.step()
+    n (its run's first step - 1 steps: helpers.fakes.square_at, stepped once a session)."""
+    run = square_at(step - 1, steps=300, **overrides)
+    w, _ = live_window(run.scene, size=size)
+    w.run, w.playing = run, False
     for _ in range(iteration):
         assert w.run.newton_iteration() is None
     return w

@@ -4,7 +4,6 @@
 import numpy as np
 import pytest
 
-import simulator
 from helpers.fakes import chalk_at
 from helpers import legibility
 from analysis import diagnostics
@@ -21,9 +20,10 @@ from helpers.window import differing_pixels, live_window, pygame
 PUSHED, DRAGGED = (False, 240), (True, 400)     # (drag, steps): a slip's or a slide's mark by then
 
 
-def chalk_window(steps, drag=False, size=652):
-    """A LiveWindow of the chalk paused after `steps` steps (helpers.fakes.chalk_at), drawn once."""
-    run_ = chalk_at(steps, drag)
+def chalk_window(runs, steps, drag=False, size=652):
+    """A LiveWindow of the chalk paused after `steps` steps (helpers.fakes.chalk_at, from the
+    session's shared run `runs`, the chalk_runs fixture), drawn once."""
+    run_ = chalk_at(steps, drag, runs=runs)
     w, _ = live_window(run_.scene, steps=run_.steps, size=size)
     w.run, w.playing = run_, False
     w.draw()
@@ -56,13 +56,14 @@ def mark_columns(w):
 
 
 @pytest.mark.parametrize("drag, steps", [PUSHED, DRAGGED])
-def test_the_chalk_window_draws_the_frame_of_the_chalk_its_hand_forces_and_mark(drag, steps):
+def test_the_chalk_window_draws_the_frame_of_the_chalk_its_hand_forces_and_mark(drag, steps,
+                                                                                chalk_runs):
     """The window shows the chalk as its frames do, zoomed as they zoom it (draw.View.of, at the
     window's size): below the status lines, the window is the frame draw.draw_frame draws of the
     state (the board, the chalk, the hand's targets and springs, the contact forces, the chalk's
     mark and its strip, kept off the rows of the status lines and the key hints); the hand's targets
     are there, and the mark in grey under the board over the stretch it covers."""
-    w = chalk_window(steps, drag)
+    w = chalk_window(chalk_runs, steps, drag)
     scene, size, frame_view = w.scene, w.size, draw.View.of(w.scene)
     assert w.view.scale == pytest.approx(frame_view.scale * size / draw.RESOLUTION)
     assert w.view.unit == frame_view.unit
@@ -90,13 +91,13 @@ def test_the_chalk_window_draws_the_frame_of_the_chalk_its_hand_forces_and_mark(
     assert min(columns) >= lo - 1 and max(columns) <= hi + 1 and len(columns) >= 0.8 * (hi - lo) > 2
 
 
-def test_the_chalks_mark_grows_as_the_run_goes_and_starts_afresh_at_r():
+def test_the_chalks_mark_grows_as_the_run_goes_and_starts_afresh_at_r(chalk_runs):
     """Stuck, the tip leaves almost nothing; slipping, it draws on (the first slip, about 1 mm,
     comes between steps 200 and 250): the mark drawn at step 250 holds that of step 200 and reaches
     beyond it; r clears it."""
-    before = chalk_window(200)
+    before = chalk_window(chalk_runs, 200)
     old = mark_columns(before)                                  # (one screen: read it first)
-    after = chalk_window(250)
+    after = chalk_window(chalk_runs, 250)
     new = mark_columns(after)
     assert old < new and max(new) > max(old)
     after.restart()
@@ -104,7 +105,7 @@ def test_the_chalks_mark_grows_as_the_run_goes_and_starts_afresh_at_r():
     assert not mark_columns(after)
 
 
-def test_the_chalk_windows_status_says_the_chalks_figures_and_no_slope(monkeypatch):
+def test_the_chalk_windows_status_says_the_chalks_figures_and_no_slope(monkeypatch, chalk_runs):
     """Under the caption, the chalk's figures of the state shown (live.tip_lines: the tip's place
     and speed, stuck or slipping, the hand's drive, the board's normal force), as drawn; the Newton
     view says its iterate's figures instead, of the board (its inset's node the nearest to it): no
@@ -112,14 +113,13 @@ def test_the_chalk_windows_status_says_the_chalks_figures_and_no_slope(monkeypat
     diagnostics.tip_stuck has the first 300 states (flags[i] is state i + 1's), not a fixed step
     (step 240, slipping when this test was written, is stuck in today's run); the stuck one: 300."""
     drawn = legibility.record_text(monkeypatch)
-    stepped, flags = live.LiveRun(simulator.build_chalk_scene(), 300), []
-    while not stepped.finished:
-        stepped.step()
-        flags.append(diagnostics.tip_stuck(stepped.scene, stepped.x, stepped.v))
+    scene, _, xs, vs = chalk_runs.states(0.3)                  # the first 300 states
+    flags = [diagnostics.tip_stuck(scene, x, v) for x, v in zip(xs, vs)]
     assert len(flags) == 300 and flags[-1]
     first_slip = next(i for i in range(1, 300) if flags[i - 1] and not flags[i])
     slip_end = next(i for i in range(first_slip, 300) if flags[i])
-    slipping, stuck = chalk_window((first_slip + slip_end) // 2 + 1), chalk_window(300)
+    slipping, stuck = (chalk_window(chalk_runs, (first_slip + slip_end) // 2 + 1),
+                       chalk_window(chalk_runs, 300))
     for w, state in ((slipping, "slipping: "), (stuck, "stuck: ")):
         lines = [text for text, _ in w.status_lines()]
         figures = live.tip_lines(w.scene, w.run.x, w.run.v, w.run.t)
@@ -140,7 +140,8 @@ def test_the_chalk_windows_status_says_the_chalks_figures_and_no_slope(monkeypat
 
 
 @pytest.mark.parametrize("size", [600, 652, 900])
-def test_no_text_in_the_chalk_window_is_small_faint_or_over_the_chalk(monkeypatch, size):
+def test_no_text_in_the_chalk_window_is_small_faint_or_over_the_chalk(monkeypatch, size,
+                                                                      chalk_runs):
     """The chalk's window is as legible as the square's: every text (the legends of the forces, the
     hand and the mark, the board's numbers in cm, the chalk's figures, the mark's strip's title and
     scale bar, the Newton view's lines and inset) with capitals at least draw.MIN_CAP_HEIGHT of the
@@ -149,7 +150,7 @@ def test_no_text_in_the_chalk_window_is_small_faint_or_over_the_chalk(monkeypatc
     and its numbers above the key hints (the Newton view's lines too, drawn smaller where they
     wrap onto more rows: window.clear_of_text)."""
     drawn = legibility.record_text(monkeypatch)
-    w = chalk_window(240, size=size)
+    w = chalk_window(chalk_runs, 240, size=size)
     assert w.text_bottom < chalk_top(w)
     pixels = pygame().surfarray.array3d(w.screen)
     for color in (draw.HAND_COLOR, marks.SWATCH):
@@ -182,7 +183,8 @@ def strip_of(w):
 
 @pytest.mark.parametrize("size", [600, 652, 900])
 @pytest.mark.parametrize("drag, steps", [PUSHED, DRAGGED])
-def test_the_windows_strip_sits_beside_the_chalk_and_goes_for_the_newton_view(size, drag, steps):
+def test_the_windows_strip_sits_beside_the_chalk_and_goes_for_the_newton_view(size, drag, steps,
+                                                                             chalk_runs):
     """No room under the window's board (its numbers, then the key hints): the mark's strip stands
     above the board beside the chalk, on the side with more room, clear of the chalk and its hand's
     targets, under the status lines and above the board, inside the window, at x8 of the window's
@@ -190,7 +192,7 @@ def test_the_windows_strip_sits_beside_the_chalk_and_goes_for_the_newton_view(si
     column over the window's mark (at 240 and 400 steps) the grey of the deposit of the board it
     spans. In the Newton view (n) the Newton inset takes that room: no strip (no room reserved for
     it, its border gone)."""
-    w = chalk_window(steps, drag, size)
+    w = chalk_window(chalk_runs, steps, drag, size)
     strip = strip_of(w)
     left, top, width, height = strip.rect
     body = np.vstack([w.view(w.run.x), w.view(w.scene.hand.targets(w.run.t))])

@@ -64,10 +64,26 @@ def test_close_button_esc_and_q_end_the_run_with_exit_0_and_files_intact(tmp_pat
     assert framed == [stride * j for j in range(len(frames))]
 
 
+@pytest.fixture(scope="module")
+def without_window(tmp_path_factory):
+    """without_window(flags): the folder `simulator.py FLAGS --out` writes, run once a module for
+    both pacings (one computation: the same files)."""
+    kept = {}
+
+    def run(flags):
+        if tuple(flags) not in kept:
+            plain = tmp_path_factory.mktemp("plain") / "out"
+            assert viewer.main.main([*flags, "--out", str(plain)]) == 0
+            kept[tuple(flags)] = plain
+        return kept[tuple(flags)]
+    return run
+
+
 @pytest.mark.parametrize("pacing", [ScriptClock, LoadedClock])
 @pytest.mark.parametrize("flags, frame_count", [(["--steps", "20", "--mu", "0.2"], 8),
                                                (["--scene", "chalk", "--steps", "240"], 9)])
-def test_the_window_writes_the_files_a_run_without_it_writes(tmp_path, flags, frame_count, pacing):
+def test_the_window_writes_the_files_a_run_without_it_writes(tmp_path, flags, frame_count, pacing,
+                                                              without_window):
     """--window --out played to the end writes what `simulator.py --out` writes, by the same code:
     the same file names, log.csv the same but the wall times, the frames and OBJs byte for byte
     (one computation: the same steps, drawn the same way). The square, and the chalk (its frames
@@ -78,7 +94,7 @@ def test_the_window_writes_the_files_a_run_without_it_writes(tmp_path, flags, fr
         yield from frames_until(lambda: w_run.finished)
 
     clock = pacing()
-    windowed, plain = tmp_path / "window", tmp_path / "plain"
+    windowed = tmp_path / "window"
     real_loop = window.LiveWindow.loop
     w_run = shown = None
 
@@ -93,7 +109,7 @@ def test_the_window_writes_the_files_a_run_without_it_writes(tmp_path, flags, fr
         assert run_window(["--window", *flags, "--out", str(windowed)], clock=clock) == 0
     # loaded, the window fell behind: frames saying "slower than real time"
     assert (shown.slow_frames > 0) == (pacing is LoadedClock)
-    assert viewer.main.main([*flags, "--out", str(plain)]) == 0
+    plain = without_window(flags)
     names = sorted(p.name for p in plain.iterdir())
     assert sorted(p.name for p in windowed.iterdir()) == names
     assert len(names) == 2 * frame_count + 4 + ("chalk" in flags)      # the chalk's marks.csv

@@ -12,13 +12,14 @@ from analysis import diagnostics, wear
 from viewer.pictures import draw, frames, marks
 
 
-def chalk_frame(steps, drag=False, size=draw.RESOLUTION, reserve=(0, 0)):
-    """The chalk's frame after `steps` steps (helpers.fakes.chalk_at) as frames.FrameWriter draws it
+def chalk_frame(runs, steps, drag=False, size=draw.RESOLUTION, reserve=(0, 0)):
+    """The chalk's frame after `steps` steps (helpers.fakes.chalk_at, from the session's shared
+    run `runs`, the chalk_runs fixture) as frames.FrameWriter draws it
     (at `size` px, the view following the centre of mass): its pixels [x, y, rgb], the run drawn,
     the view, the fonts, the first row under the legends and the Strip marks.layout gives for it
     (reserve None: no strip, and None)."""
     pygame = draw.load_pygame()
-    live_run = chalk_at(steps, drag)
+    live_run = chalk_at(steps, drag, runs=runs)
     scene = live_run.scene
     view, fonts = draw.View.of(scene, size), draw.fonts(pygame, size)
     view.follow(diagnostics.centre_of_mass(scene, live_run.x)[None])
@@ -55,13 +56,14 @@ def longest_run(mask):
     return best
 
 
-def test_the_strip_is_magnified_x8_about_the_tip_and_each_column_shows_the_deposit_under_it():
+def test_the_strip_is_magnified_x8_about_the_tip_and_each_column_shows_the_deposit_under_it(
+        chalk_runs):
     """The pushed chalk at 1 s: the frame's strip, under the board, says x8 and is 8 times the
     frame's 4000 px/m (draw.SCALE 200 px/m, times draw.zoom 20 for the 9 cm chalk): 32 px a mm, its
     scale bar of 1 mm 32 px of ink, a bin of 0.1 mm 3.2 px. It is magnified about the tip's column
     (the tip straight under the tip); under its board every column over the mark is the grey of the
     deposit of the board it spans (black at the darkest bin), and white beyond the mark."""
-    pixels, run, view, _, _, strip = chalk_frame(1000)
+    pixels, run, view, _, _, strip = chalk_frame(chalk_runs, 1000)
     assert view.scale == pytest.approx(4000.0) and marks.MAGNIFICATION == 8
     assert strip.scale == pytest.approx(32000.0)
     assert strip.where == "below the board" and marks.title() == "the chalk's mark, x8"
@@ -83,14 +85,15 @@ def test_the_strip_is_magnified_x8_about_the_tip_and_each_column_shows_the_depos
     assert shown[inside].min() == 0                 # the darkest bin: black
 
 
-def test_dragged_one_even_grey_line_pushed_dashes_a_slip_apart_each_fading_from_its_start():
+def test_dragged_one_even_grey_line_pushed_dashes_a_slip_apart_each_fading_from_its_start(
+        chalk_runs):
     """At x8, the strip's mark at 1 s. Dragged: from the first whole bin after the press's spot to
     the bin before the tip one even grey, within 8 levels of 255 (its bins within 3 %). Pushed: a
     dash per wear.dashes in view, 1.06 mm = 34 px apart (a slip); at each the grey jumps from light
     (half of black or less in the bin before it) to nearly black within a bin or two, then lightens
     column by column to its faintest (a fifth of black or less), just before the next."""
     for drag in (True, False):
-        pixels, run, _, _, _, strip = chalk_frame(1000, drag)
+        pixels, run, _, _, _, strip = chalk_frame(chalk_runs, 1000, drag)
         deposit, shown = run["marks"], band(pixels, strip)[:, 0].astype(int)
         def middle(i, first=deposit.first, strip=strip):
             """The strip's column of the middle of the mark's bin i."""
@@ -110,13 +113,13 @@ def test_dragged_one_even_grey_line_pushed_dashes_a_slip_apart_each_fading_from_
             assert (np.diff(shown[dark:faint + 1]) >= 0).all()                        # lightening
 
 
-def test_the_frame_shows_the_mark_at_its_own_scale_under_the_board():
+def test_the_frame_shows_the_mark_at_its_own_scale_under_the_board(chalk_runs):
     """Under the frame's board, from 2 rows below its line, MARK_HEIGHT (of the lecture's scale)
     deep: each column over the mark the grey of the deposit of the board it spans at the frame's
     4000 px/m (a column: 2.5 bins), the mark about the hand's 18 mm (72 px) wide after 2 s pushed
     (drawn without the strip, whose box around the board it magnifies would cross it); the legend
     names it (Archard) and says what black is (none yet before the tip slides)."""
-    pixels, run, view, _, _, _ = chalk_frame(2000, reserve=None)
+    pixels, run, view, _, _, _ = chalk_frame(chalk_runs, 2000, reserve=None)
     scene, deposit = run["scene"], run["marks"]
     origin = float(view(marks.board_point(scene, 0.0))[0, 0])
     row = round(float(view(marks.board_point(scene, 0.0))[0, 1])) + 2
@@ -140,11 +143,12 @@ def arcminutes(px, size):
 
 
 @pytest.mark.parametrize("size", [600, 652, draw.RESOLUTION])
-def test_the_strips_mark_is_big_and_dark_enough_to_see_from_the_back_of_the_room(size):
+def test_the_strips_mark_is_big_and_dark_enough_to_see_from_the_back_of_the_room(
+        size, chalk_runs):
     """From 4 screen heights the strip's mark is at least 8 arcminutes deep (half a capital of the
     text's 16) and a dash (1.06 mm at x8) at least 16 wide; a dash's darkest grey stands 3:1 or more
     (WCAG's contrast for graphics) against white and against its faintest."""
-    _, run, _, _, _, strip = chalk_frame(1000, size=size)
+    _, run, _, _, _, strip = chalk_frame(chalk_runs, 1000, size=size)
     assert arcminutes(strip.band, size) >= 8
     assert arcminutes(1.06e-3 * strip.scale, size) >= 16
     dashes = wear.dashes(run["marks"].values)
@@ -154,14 +158,15 @@ def test_the_strips_mark_is_big_and_dark_enough_to_see_from_the_back_of_the_room
     assert legibility.contrast_ratio(darkest, faintest) >= 3
 
 
-def test_the_frames_strip_covers_neither_the_chalk_the_legends_nor_the_boards_numbers(monkeypatch):
+def test_the_frames_strip_covers_neither_the_chalk_the_legends_nor_the_boards_numbers(
+        monkeypatch, chalk_runs):
     """In the frames, pushed and dragged, early and late: the strip lies across the frame under the
     board's numbers (their lowest ink), inside the frame, clear of the chalk and its hand's targets;
     every text it draws (its title, its scale bar's length) has capitals of at least
     draw.MIN_CAP_HEIGHT of the frame and contrast at least 4.5:1 on white."""
     drawn = legibility.record_text(monkeypatch)
     for steps, drag in ((240, False), (1000, False), (400, True), (1000, True)):
-        pixels, run, view, _, top, strip = chalk_frame(steps, drag)
+        pixels, run, view, _, top, strip = chalk_frame(chalk_runs, steps, drag)
         left, y0, width, height = strip.rect
         board = int(view(run["scene"].o)[1]) + 2
         numbers = np.flatnonzero((pixels[:, board:y0] == draw.BLUE).all(axis=2).any(axis=0))
@@ -199,14 +204,14 @@ def test_the_squares_frames_have_no_marks_and_no_strip(monkeypatch):
     assert all(np.array_equal(again, k) for k in kept)
 
 
-def test_a_comparison_has_a_row_per_run_on_one_scale_each_mark_its_own():
+def test_a_comparison_has_a_row_per_run_on_one_scale_each_mark_its_own(chalk_runs):
     """Two runs (the pushed chalk at 1 s, and at 0.5 s in the second run's colour): the strip has a
     row each, one scale (the first run's tip at the same column), the run's colour at each row's
     left end, and each row's mark its own: the second's ends where its tip was at 0.5 s, white
     beyond; under the frame's board the two share the mark's depth, a band each; the legend says
     black is each run's darkest."""
     pygame = draw.load_pygame()
-    live_runs = [chalk_at(1000), chalk_at(500)]
+    live_runs = [chalk_at(1000, runs=chalk_runs), chalk_at(500, runs=chalk_runs)]
     scene = live_runs[0].scene
     view, fonts = draw.View.of(scene), draw.fonts(pygame)
     runs = [dict(frames.frame_run(scene, r.x, r.report, f"run {k}", draw.run_color(k), True),
