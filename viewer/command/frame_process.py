@@ -57,21 +57,22 @@ class FrameProcess:
     def write(self, j):
         """Frame j sent to the process; past AHEAD frames, the oldest waited for and counted."""
         frame = frames.frame_of(self.tracks, j, self.forces)
-        self.send(frame, frame)
-        self.sent.append((frame, frames.info_of(self.tracks, frame)))
+        with self.folder.signals.held():        # sent, and noted as sent: both or neither
+            self.send(frame, frame)
+            self.sent.append((frame, frames.info_of(self.tracks, frame)))
         while len(self.sent) > AHEAD:
             self.receive()
 
     def receive(self):
-        """The process's word on the oldest frame sent: written (counted), or an OSError. A signal
-        while it is awaited stops the wait; an answer is a few bytes, read whole."""
+        """The process's word on the oldest frame sent: written (counted), or an OSError. Signals
+        wait for it (a few ms, as for a frame written here): an answer read is a frame counted."""
         frame, info = self.sent[0]
-        try:
-            said = pickle.load(self.process.stdout)
-        except (EOFError, OSError, pickle.UnpicklingError):     # it ended, or broke its word
-            self.sent.clear()
-            raise self.ended(frame) from None
-        with self.folder.signals.held():        # the frame counted whole
+        with self.folder.signals.held():
+            try:
+                said = pickle.load(self.process.stdout)
+            except (EOFError, OSError, pickle.UnpicklingError):     # it ended, or broke its word
+                self.sent.clear()
+                raise self.ended(frame) from None
             if said is not None:
                 self.sent.clear()
                 raise OSError(*said)
@@ -108,16 +109,20 @@ def serve():
     answers, read = os.fdopen(os.dup(1), "wb"), sys.stdin.buffer
     os.dup2(2, 1)
     sys.stdout = sys.stderr
-    folder, scenes, tags, forces = pickle.load(read)
-    painter = frames.Painter(scenes, tags, forces)
-    with contextlib.suppress(EOFError, OSError):        # the run ended: nothing to answer
-        while (frame := pickle.load(read)) is not None:
-            try:
-                for name, data in painter.paint(frame):
-                    whole_files.write_whole(os.path.join(folder, name), data)
-            except OSError as err:
-                pickle.dump((err.errno, err.strerror, err.filename), answers)
+    try:
+        with contextlib.suppress(EOFError, OSError):        # the run ended: nothing to answer
+            folder, scenes, tags, forces = pickle.load(read)
+            painter = frames.Painter(scenes, tags, forces)
+            while (frame := pickle.load(read)) is not None:
+                try:
+                    for name, data in painter.paint(frame):
+                        whole_files.write_whole(os.path.join(folder, name), data)
+                except OSError as err:
+                    pickle.dump((err.errno, err.strerror, err.filename), answers)
+                    answers.flush()
+                    return
+                pickle.dump(None, answers)
                 answers.flush()
-                return
-            pickle.dump(None, answers)
-            answers.flush()
+    finally:
+        with contextlib.suppress(OSError):      # an answer the run no longer reads: dropped
+            answers.close()
