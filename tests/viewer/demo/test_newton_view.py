@@ -36,6 +36,17 @@ def paused_at(overrides, step, iteration, size=SIZE, build=simulator.build_scene
     return w
 
 
+def label_corners(monkeypatch):
+    """The list newton_view.label_corner's answers go to, each as it places the node's label."""
+    corners, real = [], newton_view.label_corner
+
+    def noting(*args, **kw):
+        corners.append(real(*args, **kw))
+        return corners[-1]
+    monkeypatch.setattr(newton_view, "label_corner", noting)
+    return corners
+
+
 def side(a, b, q):
     """Which side of the line through pixels a and b the pixel q is on: sign((b - a) x (q - a))."""
     return np.sign((b[0] - a[0]) * (q[1] - a[1]) - (b[1] - a[1]) * (q[0] - a[0]))
@@ -239,13 +250,7 @@ def test_the_newton_view_keeps_its_phrases_and_labels_apart(monkeypatch, size, o
     covered "0 m" at 510 px and "-1 m" at 680), off the inset, inside the window between the status
     and the key hints; and the inset's border cuts no number of the slope (it hides one whole or
     ends above it)."""
-    corners = []
-    real = newton_view.label_corner
-
-    def noting(*args, **kw):
-        corners.append(real(*args, **kw))
-        return corners[-1]
-    monkeypatch.setattr(newton_view, "label_corner", noting)
+    corners = label_corners(monkeypatch)
     w = paused_at(overrides, step, iteration, size)
     width = size - 24
     for text in [t for t, _ in w.status_lines()] + w.help_lines():
@@ -347,13 +352,7 @@ def test_the_node_s_label_leaves_every_node_and_arrow_in_sight(monkeypatch, size
     the direction arrow it labels (850 px, a 1000-px-high display). It now covers no node of x^i
     or x^i + alpha p and no point of any direction arrow (newton_view.hints, as draw_iterate draws
     them), and lies within a few label heights of its node."""
-    corners = []
-    real = newton_view.label_corner
-
-    def noting(*args, **kw):
-        corners.append(real(*args, **kw))
-        return corners[-1]
-    monkeypatch.setattr(newton_view, "label_corner", noting)
+    corners = label_corners(monkeypatch)
     w = paused_at({}, 30, 5, size)
     it, view = w.run.iterate, w.shown
     (left, top), (width, height) = corners[-1], w.fonts[1].size(f"node {w.inset.node}")
