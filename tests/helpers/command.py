@@ -1,6 +1,8 @@
 """The command line as the tests run it in this process."""
 import io
+import json
 import os
+import re
 import sys
 
 import simulator
@@ -112,3 +114,9 @@ def messages(lines):
         else:
             said.append(line)
     return said
+
+
+def page_data(folder):
+    """The data the run's page in `folder` plays (index.html's `const run`: frames, rows, ...)."""
+    text = (folder / "index.html").read_text()
+    return json.loads(re.search(r"const run = (\{.*\});", text).group(1))

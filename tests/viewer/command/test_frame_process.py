@@ -1,10 +1,8 @@
 """viewer/command/frame_process.py: a run's frames drawn and written by a second process are the
 bytes the run's own process writes; each counts once the process says it is written; its errors,
 its end and the signals stop the run as a frame written in the run's process would."""
-import json
 import os
 import pickle
-import re
 import signal
 import subprocess
 import sys
@@ -15,7 +13,7 @@ import pytest
 
 import simulator
 from helpers import ROOT
-from helpers.command import ending, run_main
+from helpers.command import ending, page_data, run_main
 from scenes import grasp
 from viewer.command import frame_process
 from viewer.pictures import frames
@@ -29,8 +27,7 @@ def files_of(folder):
 
 def frames_on_page(folder):
     """How many frames the run's page plays (frames 0 to that - 1)."""
-    page = (folder / "index.html").read_text()
-    return len(json.loads(re.search(r"const run = (\{.*\});", page).group(1))["frames"])
+    return len(page_data(folder)["frames"])
 
 
 def test_every_scene_pickles_whole():

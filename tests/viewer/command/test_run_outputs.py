@@ -1,7 +1,6 @@
 """What a run writes besides the physics: log.csv's columns, frames, plots.png, summary.png,
 index.html and comparisons (what is kept when a run is stopped: test_run_stops.py)."""
 import csv
-import json
 import os
 import re
 
@@ -13,7 +12,7 @@ import simulator
 import square_mesh
 from analysis import diagnostics
 from helpers import legibility
-from helpers.command import closing_text, messages, run_main
+from helpers.command import closing_text, messages, page_data, run_main
 from viewer.command import cli
 from viewer.pictures import draw, frames, plots, summary
 
@@ -272,11 +271,6 @@ def test_summary_has_a_fixed_scale(tmp_path):
         bar = black[12:12 + int(summary.SCALE) + 1]
         bar_rows = [y for y in range(image.shape[1]) if bar[:, y].all()]
         assert len(bar_rows) == 3 and not black[12 + int(summary.SCALE) + 2, bar_rows].any()
-
-
-def page_data(folder):
-    text = (folder / "index.html").read_text()
-    return json.loads(re.search(r"const run = (\{.*\});", text).group(1))
 
 
 def rest_from_log(rows):

@@ -1,7 +1,6 @@
 """The live window's run and files: how it ends (the close button, Esc, q, SIGTERM, a full disk) and
 that it writes what a run without it writes (helpers.window drives it)."""
 import io
-import json
 import os
 import re
 import signal
@@ -19,7 +18,7 @@ from viewer.demo import window
 import viewer.main
 
 from helpers import ROOT
-from helpers.command import ending
+from helpers.command import ending, page_data
 from helpers.window import (LoadedClock, ScriptClock, differing_pixels, frames_until,
                             hidden, post, press, pygame, read_log, run_window)
 
@@ -58,8 +57,7 @@ def test_close_button_esc_and_q_end_the_run_with_exit_0_and_files_intact(tmp_pat
     assert last[:, 1].mean() == pytest.approx(float(at["com_y"]), abs=1e-6)
     for name in ("summary.png", "plots.png"):
         assert pygame().image.load(str(tmp_path / name)).get_width() > 0
-    html = (tmp_path / "index.html").read_text()
-    page = json.loads(re.search(r"const run = (\{.*\});", html).group(1))
+    page = page_data(tmp_path)
     framed = [frame["runs"][0]["step"] for frame in page["frames"]]
     assert framed == [stride * j for j in range(len(frames))]
 

@@ -3,7 +3,6 @@ or not, and what a run says it showed: its stick-slip, per run, in the closing l
 summary.png."""
 import csv
 import html
-import json
 import os
 import re
 
@@ -12,7 +11,7 @@ import pytest
 
 import simulator
 from helpers import legibility
-from helpers.command import closing_lines, closing_text, run_main, too_wide
+from helpers.command import closing_lines, closing_text, page_data, run_main, too_wide
 from viewer.command import cli
 from analysis import diagnostics, log, stick_slip
 
@@ -154,8 +153,7 @@ def test_a_chalk_comparison_closes_with_each_runs_stick_slip(compared):
 
 def test_the_page_and_summary_say_each_runs_stick_slip_and_no_rest(compared):
     _, _, out, texts = compared
-    page = (out / "index.html").read_text()
-    data = json.loads(re.search(r"const run = (\{.*\});", page).group(1))
+    page, data = (out / "index.html").read_text(), page_data(out)
     counted = [counted_from_log(out / name) for name in RUNS.values()]
     rows = {row["header"]: row["cells"] for row in data["rows"]}
     assert data["labels"] == list(RUNS) and data["rest"] is None            # no "came to rest" row
