@@ -292,9 +292,9 @@ class SPDSolver:
     n_dofs: int
     bandwidth: int              # max |row - col| of an entry H can have
     kind: str
-    node_slots: np.ndarray      # (N, 3) band positions of node i's 2x2 block's upper triangle
+    node_slots: np.ndarray      # (3, N) band positions of node i's 2x2 block's upper triangle
     edges: np.ndarray           # (E, 2) the mesh's edges
-    edge_slots: np.ndarray      # (E, 10) band positions of edge j's 4x4 block's upper triangle
+    edge_slots: np.ndarray      # (10, E) band positions of edge j's 4x4 block's upper triangle
     # Kept for the run, refilled each Newton iteration: a new array of a megabyte each time costs
     # glibc an mmap, a page fault per 4 kB and a munmap (benchmarks/README.md, "Speed against")
     band: np.ndarray            # (bandwidth + 1, n_dofs), Fortran order: H's upper band (solve)
@@ -348,25 +348,25 @@ class SPDSolver:
         flat.fill(0.0)
         for nodes, blocks in H:
             i, j = _UPPER_TRIANGLE[blocks.shape[1]]
-            for k, slots in enumerate(self._slots(nodes, i, j).T):  # entry (i[k], j[k]) of every
-                np.add.at(flat, slots, blocks[:, i[k], j[k]])           # block: views, no copies
+            entries = blocks.transpose(1, 2, 0)[i, j]       # (len(i), B): entry k of every block
+            np.add.at(flat, self._slots(nodes, i, j).ravel(), entries.ravel())
         return self.band
 
     def _slots(self, nodes, i, j):
         """_band_slots, looked up where the elements are nodes or the mesh's edges."""
         if nodes.shape[1] == 1:
-            return self.node_slots.take(nodes[:, 0], axis=0)
+            return self.node_slots.take(nodes[:, 0], axis=1)
         if nodes.shape == self.edges.shape and np.array_equal(nodes, self.edges):
             return self.edge_slots
         return _band_slots(self.bandwidth, nodes, i, j)
 
 
 def _band_slots(bandwidth, nodes, i, j):
-    """Where entry (i, j) of each element's block lands in the flat upper band, (B, len(i)):
+    """Where entry (i[k], j[k]) of element b's block lands in the flat upper band, (len(i), B):
     H[r, c], r <= c, at bandwidth + r + bandwidth c. OutOfBand where |r - c| > bandwidth."""
-    dofs = block_dofs(nodes)
-    r, c = dofs[:, i], dofs[:, j]
-    reach = np.abs(r - c).max(axis=1, initial=0)
+    dofs = block_dofs(nodes).T
+    r, c = dofs[i], dofs[j]
+    reach = np.abs(r - c).max(axis=0, initial=0)
     if reach.size and reach.max() > bandwidth:
         b = int(np.argmax(reach))
         raise OutOfBand(f"a block on nodes {nodes[b].tolist()} couples DOFs {reach[b]} apart, "

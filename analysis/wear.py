@@ -42,8 +42,9 @@ class Deposit:
         if not len(self.values):
             self.first = j0
         lo, hi = min(self.first, j0), max(self.first + len(self.values), j0 + len(deposit))
-        self.values = np.pad(self.values, (self.first - lo, hi - self.first - len(self.values)))
-        self.first = lo
+        if (lo, hi) != (self.first, self.first + len(self.values)):     # grown: zeros each side
+            self.values = np.pad(self.values, (self.first - lo, hi - self.first - len(self.values)))
+            self.first = lo
         self.values[j0 - lo:j0 - lo + len(deposit)] += deposit
 
     def step(self, scene, x0, x1):
