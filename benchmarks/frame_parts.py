@@ -11,6 +11,7 @@ import argparse
 import contextlib
 import functools
 import importlib
+import importlib.util
 import io
 import statistics
 import sys
@@ -57,9 +58,11 @@ def frame_parts(tree, scratch):
             owner = getattr(owner, step, None)
         if hasattr(owner, attribute):
             setattr(owner, attribute, timed(spent, part, getattr(owner, attribute)))
-    recording = importlib.import_module("viewer.command.recording")
-    if hasattr(recording, "frame_writer"):      # the frames in this process, each part timed here
-        recording.frame_writer = importlib.import_module("viewer.pictures.frames").FrameWriter
+    in_this_process = importlib.import_module("viewer.pictures.frames").FrameWriter
+    for module in ("viewer.command.recording", "viewer.command.frame_process"):   # a tree's own
+        owner = importlib.util.find_spec(module) and importlib.import_module(module)
+        if hasattr(owner, "frame_writer"):  # the frames in this process, each part timed here
+            owner.frame_writer = in_this_process
     quiet = io.StringIO()
     with contextlib.redirect_stderr(quiet), contextlib.redirect_stdout(quiet):
         main.main(["--out", tempfile.mkdtemp(dir=scratch)])

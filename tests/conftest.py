@@ -46,9 +46,9 @@ def frames_here(request):
     before it is unmounted)."""
     with pytest.MonkeyPatch.context() as patch:
         if request.node.get_closest_marker("frame_process") is None:
-            from viewer.command import recording
+            from viewer.command import frame_process
             from viewer.pictures import frames
-            patch.setattr(recording, "frame_writer", frames.FrameWriter)
+            patch.setattr(frame_process, "frame_writer", frames.FrameWriter)
         yield
 
 

@@ -9,7 +9,7 @@ import square_mesh
 from analysis import diagnostics, log, wear
 from viewer.command.progress import Progress, step_warnings
 from viewer.output import files
-from viewer.command.frame_process import frame_writer
+from viewer.command import frame_process
 from viewer.pictures.frames import frame_steps
 
 SNAPSHOT_EVERY = 0.1        # s of simulated time between the states kept for summary.png
@@ -131,7 +131,7 @@ def record(tracks, folder, stride, frames, forces, messages, frame_log):
     try:
         if frames:
             with folder.signals.held():     # a writer made is a writer closed
-                writer = frame_writer(tracks, folder, forces, frame_log)
+                writer = frame_process.frame_writer(tracks, folder, forces, frame_log)
         for j, targets in frame_steps(tracks, stride):
             for track, target in zip(tracks, targets):
                 while track.step < min(target, track.steps):

@@ -8,8 +8,8 @@ from types import SimpleNamespace
 import time_integrator
 from simulator import StepRecord
 from analysis import closing, diagnostics, wear
-from viewer.pictures import draw, frames
-from viewer.command import progress, recording
+from viewer.pictures import draw
+from viewer.command import frame_process, progress, recording
 
 FRAME_BUDGET = 1.0 / 30   # s of stepping before the loop draws and reads the keys again
 DUE_SLACK = 1e-9          # of a step: t + h and the time due may differ by round-off
@@ -125,7 +125,8 @@ class Pacer:
 
 
 class Files:
-    """What a run without the window writes, by its code, each step once (r recomputes the same)."""
+    """What a run without the window writes, by its code, each step once (r recomputes the same);
+    its frames in the frames' process, as a run's (close() waits for them)."""
 
     def __init__(self, plan, folder, log):
         self.plan, self.frame_log = plan, []
@@ -134,8 +135,21 @@ class Files:
         self.progress = progress.Progress([self.track], log)
         self.writer = None
         if plan.frames:
-            self.writer = frames.FrameWriter([self.track], folder, plan.forces, self.frame_log)
-            self.writer.write(0)
+            with folder.signals.held():         # a writer made is a writer closed
+                self.writer = frame_process.frame_writer([self.track], folder, plan.forces,
+                                                         self.frame_log)
+            try:
+                self.writer.write(0)
+            except BaseException:
+                with contextlib.suppress(OSError):      # the caller says the error
+                    self.close()
+                raise
+
+    def close(self):
+        """Every frame sent written and counted, or its OSError raised; the writer ended."""
+        writer, self.writer = self.writer, None
+        if writer is not None:
+            writer.close()
 
     def record(self, record):
         """A step's log.csv row, and frame j at step j stride (and the last step)."""

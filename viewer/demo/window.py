@@ -1,4 +1,5 @@
 """The live window, `python simulator.py --window` (docs/live-demo.md): its loop, its display."""
+import contextlib
 import copy
 import math
 import os
@@ -245,6 +246,18 @@ def window_size(size, pygame):
     return draw.RESOLUTION if size is None else int(size)
 
 
+def close_files(window, output):
+    """The frames still on their way written (live.Files.close); an error there is the window's
+    write error, said as one during the run is, unless the files had stopped already."""
+    try:
+        output.close()
+    except OSError as err:
+        if window.write_error is None:
+            window.write_error = err
+            print(f"simulator.py: writing the files failed, none written after step "
+                  f"{output.track.logged}: {err.strerror or err}", file=window.log)
+
+
 def run_window(plan, speed, size, signals, clock=None, log=None):
     """`python simulator.py --window` (ParameterError: a bad --speed, --size): the demo until
     closed, with --out its files, ended as command.run.end ends a run; exit code 0, 1 (a failed
@@ -263,9 +276,17 @@ def run_window(plan, speed, size, signals, clock=None, log=None):
             screen = pygame.display.set_mode((window_size(size, pygame),) * 2)
             pygame.display.set_caption(f"simulator.py: {plan.labels[0]}")
             output = live.Files(plan, folder, log) if folder is not None else None
-            window = LiveWindow(pygame, screen, scene, plan.steps[0], speed, output, clock, log,
-                                plan.labels[0], plan.forces)
-            window.loop(signals.check)
+            try:
+                window = LiveWindow(pygame, screen, scene, plan.steps[0], speed, output, clock,
+                                    log, plan.labels[0], plan.forces)
+                window.loop(signals.check)
+            except BaseException:
+                if output is not None:
+                    with contextlib.suppress(OSError):      # the window says what ended it
+                        output.close()
+                raise
+            if output is not None:
+                close_files(window, output)
             failure = window.write_error or window.failure
             failure = failure and orchestration.failure_of(failure, plan)
         except orchestration.ENDINGS as err:     # Ctrl+C, SIGTERM; starting the files (frame 0)

@@ -13,7 +13,7 @@ import pytest
 
 import simulator
 from helpers.fakes import fill_disk_after, signal_dropped_at_step
-from viewer.command import cli, run
+from viewer.command import cli, frame_process, run
 from viewer.demo import window
 import viewer.main
 
@@ -88,10 +88,36 @@ def test_the_window_writes_the_files_a_run_without_it_writes(tmp_path, flags, fr
     with its mark, from the files' own Track, and marks.csv). Whatever the window's pacing: on a
     loaded machine (LoadedClock) it falls behind and drops frames of the window, never a step or a
     frame of the files (a frame of the files is due at a step, not at a wall-clock time)."""
+    windowed, shown = played_to_the_end(tmp_path, flags, pacing())
+    # loaded, the window fell behind: frames saying "slower than real time"
+    assert (shown.slow_frames > 0) == (pacing is LoadedClock)
+    same_files(without_window(flags), windowed, 2 * frame_count + 4 + ("chalk" in flags))
+
+
+@pytest.mark.frame_process
+def test_the_window_s_frames_are_written_by_the_frames_process(tmp_path, without_window,
+                                                               monkeypatch):
+    """As a run's frames (viewer/command/frame_process.py): painted and written by a second
+    process while the window steps on, each counted once written, all of them by the window's
+    end; the files those of a run without the window, byte for byte."""
+    started = []
+    real_init = frame_process.FrameProcess.__init__
+
+    def init(self, *args):
+        started.append(self)
+        real_init(self, *args)
+    monkeypatch.setattr(frame_process.FrameProcess, "__init__", init)
+    flags = ["--steps", "20", "--mu", "0.2"]
+    windowed, _ = played_to_the_end(tmp_path, flags, ScriptClock())
+    assert len(started) == 1 and started[0].process.returncode == 0
+    same_files(without_window(flags), windowed, 2 * 8 + 4)
+
+
+def played_to_the_end(tmp_path, flags, clock):
+    """`simulator.py --window FLAGS --out` played to the end on `clock`: its folder, the window."""
     def script():
         yield from frames_until(lambda: w_run.finished)
 
-    clock = pacing()
     windowed = tmp_path / "window"
     real_loop = window.LiveWindow.loop
     w_run = shown = None
@@ -105,12 +131,15 @@ def test_the_window_writes_the_files_a_run_without_it_writes(tmp_path, flags, fr
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr(window.LiveWindow, "loop", loop)
         assert run_window(["--window", *flags, "--out", str(windowed)], clock=clock) == 0
-    # loaded, the window fell behind: frames saying "slower than real time"
-    assert (shown.slow_frames > 0) == (pacing is LoadedClock)
-    plain = without_window(flags)
+    return windowed, shown
+
+
+def same_files(plain, windowed, count):
+    """The `count` files of `windowed` are those of `plain`: a PNG and an OBJ a frame, the two
+    pictures, the page and log.csv (and the chalk's marks.csv); log.csv the same but the wall
+    times, the others byte for byte."""
     names = sorted(p.name for p in plain.iterdir())
-    assert sorted(p.name for p in windowed.iterdir()) == names
-    assert len(names) == 2 * frame_count + 4 + ("chalk" in flags)      # the chalk's marks.csv
+    assert sorted(p.name for p in windowed.iterdir()) == names and len(names) == count
     drop_wall = [{k: v for k, v in r.items() if k != "wall_s"} for r in read_log(plain)]
     assert [{k: v for k, v in r.items() if k != "wall_s"} for r in read_log(windowed)] == drop_wall
     for name in names:
