@@ -74,7 +74,7 @@ def stepped_to(kept, index, steps, start=None):
 
 def from_shared(first, runs, index, drag):
     """A copy of the LiveRun `first` (at step 0) put at step `index` of the chalk's run kept in
-    `runs` (helpers/chalk.py: simulate's states, the same bits as LiveRun.step's), its mark added
+    `runs` (helpers/runs.py: simulate's states, the same bits as LiveRun.step's), its mark added
     up over those states as LiveRun adds it; no StepReport (its last step was not taken here)."""
     run = own_copy(first)
     _, _, xs, vs = runs.states(index * run.scene.h, **({"drag": True} if drag else {}))

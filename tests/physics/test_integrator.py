@@ -461,7 +461,7 @@ def test_the_steps_friction_force_is_the_one_its_last_friction_update_gives():
 
 def chalk_states(chalk_runs, drag, seconds=0.6, every=20):
     """States (x^n, v^n, n) of the chalk's shared run every `every` steps once pressed, moving."""
-    scene, _, xs, vs = chalk_runs.states(seconds, drag=drag)        # helpers/chalk.py: simulate's
+    scene, _, xs, vs = chalk_runs.states(seconds, drag=drag)        # helpers/runs.py: simulate's
     return scene, list(zip(xs, vs, range(1, len(xs) + 1)))[200::every]
 
 

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import simulator
-from helpers import chalk
+from helpers import runs
 from helpers.command import recorded as tracks_of
 from viewer.pictures import draw, summary
 from analysis import closing, stick_slip
@@ -17,7 +17,7 @@ from analysis import closing, stick_slip
 def recorded(tmp_path_factory, chalk_runs):
     """recorded(build, overrides, steps): the tracks of the square's ("square") or the chalk's
     scenes with these overrides run side by side, each set run once for the module (the chalk's
-    steps the session's shared runs': helpers/chalk.py)."""
+    steps the session's shared runs': helpers/runs.py)."""
     kept = {}
 
     def run(build, overrides, steps):
@@ -25,7 +25,7 @@ def recorded(tmp_path_factory, chalk_runs):
         if key not in kept:
             make = simulator.build_chalk_scene if build == "chalk" else simulator.build_scene
             scenes = [make(**o) for o in overrides]
-            simulate = chalk.replaying(chalk_runs).simulate if build == "chalk" else \
+            simulate = runs.replaying(chalk_runs).simulate if build == "chalk" else \
                 simulator.simulate
             kept[key] = tracks_of(tmp_path_factory.mktemp(build), scenes, steps, simulate)
         return kept[key]
