@@ -11,6 +11,7 @@ import pytest
 import FrictionEnergy
 import closed_forms
 import simulator
+from helpers.runs import replaying
 from scenes import grasp
 
 G = 9.81
@@ -45,10 +46,12 @@ def test_the_lift_is_prescribed_and_the_fingers_press_with_n():
     assert finger_forces(scene, rec.x) == pytest.approx([4.0, 4.0], rel=1e-5)
 
 
-def test_a_held_grasp_creeps_at_u_star_in_the_steady_lift():
+def test_a_held_grasp_creeps_at_u_star_in_the_steady_lift(monkeypatch, shared_runs):
     """m g / (2 mu N) = 0.75: u* = eps_v (1 - sqrt(0.25)) = 0.50 mm/s, measured over the steady
     lift (from 0.5 s) at the scene's tol 1e-5 = u* / 50, which reads it about 0.5 tol / u* = 1 %
-    low (measured: 0.497 mm/s); 10 % as the issue asks."""
+    low (measured: 0.497 mm/s); 10 % as the issue asks. The steps are the session's shared run of
+    this grasp (helpers/runs.py: simulate's, bit for bit), the window's tests' too."""
+    monkeypatch.setattr(closed_forms, "simulator", replaying(shared_runs))
     scene = grasp.build_grasp_scene(squeeze=squeeze_for(0.75))
     u_star = grasp.creep_speed(scene)
     assert u_star == pytest.approx(5e-4, rel=1e-9) and grasp.holds(scene)
