@@ -176,6 +176,7 @@ def test_the_chalks_mark_and_figures_are_those_a_run_to_files_keeps(tmp_path, ch
     (diagnostics.tip_stuck). A restart starts the mark afresh; a step completed one Newton iteration
     at a time leaves its deposit too. The recording's steps are the session's shared run's
     (helpers/runs.py: simulate's, the same bits as LiveRun.step's); the LiveRun steps its own."""
+    stuck = chalk_at(200)           # first: chalk_at steps on from the nearest state kept before
     run = chalk_at(CHALK_STEPS)
     (track,) = recorded(tmp_path, [run.scene], CHALK_STEPS, replaying(chalk_runs).simulate)
     assert run.marks.first == track.marks.first
@@ -188,7 +189,6 @@ def test_the_chalks_mark_and_figures_are_those_a_run_to_files_keeps(tmp_path, ch
     assert f"the hand's drive {last.drive_speed * 1e3:.3g} mm/s" in text
     assert last.drive_speed == pytest.approx(0.01)
     assert f"the board's normal force {last.normal_force:.3g} N" in text
-    stuck = chalk_at(200)
     assert " stuck: " in live.tip_lines(stuck.scene, stuck.x, stuck.v, stuck.t)[0]
     assert diagnostics.tip_stuck(stuck.scene, stuck.x, stuck.v) is True
     start = live.LiveRun(run.scene, 10)

@@ -110,11 +110,11 @@ def drawing_under_text(w, colors):
     return sum(int((rows == color).all(axis=2).sum()) for color in colors)
 
 
-def test_the_chalk_s_newton_view_at_510_px_keeps_the_chalk_and_hand_under_the_text():
+def test_the_chalk_s_newton_view_at_510_px_keeps_the_chalk_and_hand_under_the_text(shared_runs):
     """At --size 510 the Newton view's lines wrap onto 10 rows, down to where the chalk and its
     hand are drawn: the window draws them lower and smaller (clear_of_text), the board where it
     was; none of the mesh's blue or the hand's colour among the status rows."""
-    run = chalk_at(300)
+    run = chalk_at(300, runs=shared_runs)
     w, _ = live_window(run.scene, steps=run.steps, size=510)
     w.run, w.playing = run, False
     w.one_newton_iteration()
