@@ -8,6 +8,7 @@ state is stepped once. A run is named by its builder and the parameters that dif
 builder's defaults: the builders are deterministic, so the same name is the same scene, bit for
 bit (helpers/chalk.py says which tests share the chalk's)."""
 import contextlib
+import hashlib
 import os
 import pickle
 import time
@@ -76,6 +77,8 @@ class Runs:
                                      if b[2] == scene.body)
         key = ",".join(f"{param}={value!r}" for param, value in sorted(scene.params.items())
                        if param not in defaults or value != defaults[param])
+        if len(key) > 150:          # a file's name has room for 255 bytes: a long key's digest
+            key = hashlib.sha256(key.encode()).hexdigest()
         return os.path.join(self.folder, f"{name} {key or 'default'}.npz")
 
     def shared(self, path, scene, steps):
