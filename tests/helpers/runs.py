@@ -66,6 +66,13 @@ class Runs:
         return [simulator.StepRecord(i, *record) for i, record in
                 enumerate(zip(t.tolist(), x, v, reports, wall.tolist()))]
 
+    def simulate(self, scene, steps):
+        """simulator.simulate(scene, steps) as `scene_records` keeps it: an iterator of its
+        StepRecords."""
+        records = self.scene_records(scene, steps)
+        assert len(records) == steps
+        return iter(records)
+
     def run(self, seconds, **params):
         """The chalk.Track of the chalk built from `params`, stepped for `seconds`."""
         return chalk.track(*self.states(seconds, **params))
@@ -120,11 +127,7 @@ def replaying(runs):
     """The simulator module as a figure's or recording's code reads it, but for its `simulate`:
     the StepRecords from `runs` (Runs.scene_records) of the scene it is given, a scene as its
     builder made it (BUILDERS: the same builder and parameters, the same scene)."""
-    def simulate(scene, steps):
-        records = runs.scene_records(scene, steps)
-        assert len(records) == steps
-        return iter(records)
-    return types.SimpleNamespace(**{**vars(simulator), "simulate": simulate})
+    return types.SimpleNamespace(**{**vars(simulator), "simulate": runs.simulate})
 
 
 def kept_steps(path):

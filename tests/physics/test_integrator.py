@@ -14,7 +14,6 @@ import utils
 from analysis import diagnostics
 from helpers import ROOT
 from helpers.fd import assert_close, dense, fd_gradient
-from helpers.runs import replaying
 
 DATA = os.path.join(ROOT, "tests", "data")
 
@@ -47,12 +46,11 @@ def contact_slip_speed(scene, x, v):
     return float(np.abs(v[touching] @ tangent).max()) if touching.any() else None
 
 
-def stop_step(scene, steps, simulate=simulator.simulate):
-    """First step from which the square never slips again: every later step has contact and every
-    contact node's tangential speed below eps_v, the mollifier's static regime. None if it never
-    stops. (The centre of mass is no good here: a stuck, soft square keeps shearing elastically.)
-    `simulate`: where the StepRecords come from (helpers/runs.py replaying: the shared runs')."""
-    speeds = (contact_slip_speed(scene, r.x, r.v) for r in simulate(scene, steps))
+def stop_step(scene, records):
+    """First of the `records` (scene's StepRecords) from which the square never slips again: every
+    later step has contact and every contact node's tangential speed below eps_v, the mollifier's
+    static regime. None if it never stops. (Not the centre of mass: a stuck square still shears.)"""
+    speeds = (contact_slip_speed(scene, r.x, r.v) for r in records)
     slipping = [s is None or s >= scene.epsv for s in speeds]
     last = max((i for i, slip in enumerate(slipping) if slip), default=-1)
     return None if last == len(slipping) - 1 else last + 1
@@ -64,11 +62,9 @@ def test_figure_10_2_1_stick_and_slide(shared_runs):
     Measured at the lecture's tolerance, mu = 0.11 stops at about 5.5 s, where its contact nodes
     stick while the centre of mass still moves at about 4 cm/s (Newton's tolerance, docs/limits.md;
     converged, at about 6.7 s); the centre of mass itself, decelerating at 0.093 m/s^2, stops near
-    6.0 s. So 7 s are simulated instead of 5. The steps are the session's shared runs'
-    (helpers/runs.py: simulate's, bit for bit), which the summary's tests read too."""
-    steps, simulate = 700, replaying(shared_runs).simulate
-    stops = {mu: stop_step(simulator.build_scene(mu=mu), steps, simulate)
-             for mu in (0.1, 0.11, 0.2)}
+    6.0 s. So 7 s are simulated instead of 5 (simulate's steps, kept: helpers/runs.py)."""
+    scenes = [simulator.build_scene(mu=mu) for mu in (0.1, 0.11, 0.2)]
+    stops = {scene.mu: stop_step(scene, shared_runs.simulate(scene, 700)) for scene in scenes}
     assert stops[0.1] is None
     assert stops[0.11] is not None and stops[0.11] > 100      # it slid for a while first
     assert stops[0.2] is not None and stops[0.2] < stops[0.11]
