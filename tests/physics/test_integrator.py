@@ -318,7 +318,7 @@ def test_fully_implicit_friction_updates_and_converges():
 
 
 @pytest.mark.parametrize("kwargs", [dict(), dict(mu=0.5), dict(k=1e6, mu=0.2)])
-def test_energy_budget_friction_work(kwargs):
+def test_energy_budget_friction_work(kwargs, shared_runs):
     """Implicit Euler with convex potentials: E^{n+1} - E^n <= W_f^n, the work of friction over the
     step (from the step's optimality condition and convexity; the rest is numerical dissipation). So
     the mechanical energy lost since the start is at least what friction took out, and W_f <= 0.
@@ -328,7 +328,7 @@ def test_energy_budget_friction_work(kwargs):
     E_prev = diagnostics.energies(scene, scene.x0, scene.v0)["total"]
     v_prev = scene.v0
     total_work = 0.0
-    for rec in simulator.simulate(scene, 150):
+    for rec in shared_runs.simulate(scene, 150):      # simulate's, kept: helpers/runs.py
         work = rec.report.friction_work
         assert work <= 0.0
         total_work += work
