@@ -2,8 +2,8 @@
 tests/ (whatever folder a test module is in); pygame draws off-screen. pytest.ini runs the tests
 on every core (pytest-xdist, -n auto), each test module on one worker (--dist loadfile): a module's
 fixtures are made once per module; each worker is a process of its own, with its own
-tmp_path_factory; the chalk's runs (tests/helpers/chalk.py) are stepped once per session, for
-every worker (`chalk_runs`)."""
+tmp_path_factory; the runs the tests share (tests/helpers/runs.py) are stepped once per session,
+for every worker (`shared_runs`)."""
 import os
 import sys
 
@@ -53,12 +53,20 @@ def frames_here(request):
 
 
 @pytest.fixture(scope="session")
-def chalk_runs(tmp_path_factory):
-    """The chalk's runs (helpers/chalk.py), kept in a folder every worker of this session shares:
-    under pytest-xdist each worker's temporary folder is in the session's (popen-gw0, ...)."""
-    from helpers import chalk
+def shared_runs(tmp_path_factory):
+    """The runs of every scene the tests share (helpers/runs.py), kept in a folder every worker of
+    this session shares: under pytest-xdist each worker's temporary folder is in the session's
+    (popen-gw0, ...)."""
+    from helpers import runs
     folder = tmp_path_factory.getbasetemp()
     if os.environ.get("PYTEST_XDIST_WORKER"):
         folder = folder.parent
-    (folder / "chalk-runs").mkdir(exist_ok=True)
-    return chalk.Runs(str(folder / "chalk-runs"))
+    (folder / "shared-runs").mkdir(exist_ok=True)
+    return runs.Runs(str(folder / "shared-runs"))
+
+
+@pytest.fixture(scope="session")
+def chalk_runs(shared_runs):
+    """The shared runs as the chalk's tests read them (Runs.states' scene is the chalk unless
+    told)."""
+    return shared_runs

@@ -68,7 +68,7 @@ def test_the_deposit_grows_both_ways_and_keeps_only_the_board_touched():
 
 @functools.cache
 def chalk(chalk_runs, seconds, **params):
-    """The chalk stepped for `seconds` (helpers/chalk.py): its scene, its mark, the step deposits
+    """The chalk stepped for `seconds` (helpers/runs.py): its scene, its mark, the step deposits
     sum_k lambda_k |delta s_k| taken from the barrier's own compute_mu_lambda (mu = 1), and the
     tip's stick-slip (analysis/stick_slip.py)."""
     scene, t, xs, vs = chalk_runs.states(seconds, **params)

@@ -19,7 +19,7 @@ import simulator
 from analysis import wear
 from figures import (cli, dissipation, fixed_point, mollifier, relative_velocity, semi_implicit,
                      stick_slip)
-from helpers import ROOT, chalk
+from helpers import ROOT, runs
 from helpers.fakes import DropsTheHandlersRaise
 from scenes import tablecloth
 from viewer.output import whole_files
@@ -169,9 +169,9 @@ def stick_slip_short(chalk_runs):
     (measured: 3 / 4 / 8 / 13 cycles, the loosest grip's period 149 ms), and every tilt over 0.5 s
     (measured: 60 to 67 deg slide 2.39 to 2.98 mm of the hand's 3 mm, 68 to 75 deg at most
     0.023 mm: the figure's bracket, between 67 and 68 deg). Its runs' states are the session's
-    (helpers/chalk.py, simulate's bit for bit), which tests/scenes/test_chalk.py shares."""
+    (helpers/runs.py, simulate's bit for bit), which tests/scenes/test_chalk.py shares."""
     with pytest.MonkeyPatch.context() as monkeypatch:
-        monkeypatch.setattr(stick_slip, "simulator", chalk.replaying(chalk_runs))
+        monkeypatch.setattr(stick_slip, "simulator", runs.replaying(chalk_runs))
         return stick_slip.compute(duration=0.7, tilt_duration=0.5)
 
 

@@ -48,17 +48,22 @@ def chalk_at(index, drag=False, steps=3000, runs=None):
         kept[0] = live.LiveRun(simulator.build_chalk_scene(drag=drag), steps)
     start = None            # a run far from the states kept starts from the shared one's
     if runs is not None and index - 1 > max(i for i in kept if i <= index):
-        start = from_shared(kept[0], runs, index - 1, drag)
+        start = from_shared(kept[0], runs, index - 1, "chalk", **({"drag": True} if drag else {}))
     return stepped_to(kept, index, steps, start)
 
 
-def square_at(index, steps=1000, **overrides):
+def square_at(index, steps=1000, runs=None, **overrides):
     """A live.LiveRun of simulator.build_scene(**overrides) after `index` steps in a run of
-    `steps`, as chalk_at gives the chalk's: a copy of its own of one stepped once per session."""
+    `steps`, as chalk_at gives the chalk's: a copy of its own of one stepped once per session;
+    with `runs` (the shared_runs fixture) a run far from the nearest kept state starts one step
+    before `index` from the session's shared run (`from_shared`)."""
     kept = _RUNS.setdefault(("square", repr(sorted(overrides.items()))), {})
     if not kept:
         kept[0] = live.LiveRun(simulator.build_scene(**overrides), steps)
-    return stepped_to(kept, index, steps)
+    start = None
+    if runs is not None and index - 1 > max(i for i in kept if i <= index):
+        start = from_shared(kept[0], runs, index - 1, "square", **overrides)
+    return stepped_to(kept, index, steps, start)
 
 
 def stepped_to(kept, index, steps, start=None):
@@ -72,14 +77,15 @@ def stepped_to(kept, index, steps, start=None):
     return run
 
 
-def from_shared(first, runs, index, drag):
-    """A copy of the LiveRun `first` (at step 0) put at step `index` of the chalk's run kept in
-    `runs` (helpers/chalk.py: simulate's states, the same bits as LiveRun.step's), its mark added
-    up over those states as LiveRun adds it; no StepReport (its last step was not taken here)."""
+def from_shared(first, runs, index, of, **params):
+    """A copy of the LiveRun `first` (at step 0) put at step `index` of the run of BUILDERS[of]
+    (**params) kept in `runs` (helpers/runs.py: simulate's states, the same bits as
+    LiveRun.step's), the chalk's mark added up over those states as LiveRun adds it; no
+    StepReport (its last step was not taken here)."""
     run = own_copy(first)
-    _, _, xs, vs = runs.states(index * run.scene.h, **({"drag": True} if drag else {}))
+    _, _, xs, vs = runs.states(index * run.scene.h, of, **params)
     assert len(xs) == index
-    for before, after in itertools.pairwise([run.scene.x0, *xs]):
+    for before, after in itertools.pairwise([run.scene.x0, *xs] if run.marks is not None else []):
         run.marks.step(run.scene, before, after)
     run.index, run.x, run.v = index, xs[-1].copy(), vs[-1].copy()
     return run

@@ -46,25 +46,25 @@ def contact_slip_speed(scene, x, v):
     return float(np.abs(v[touching] @ tangent).max()) if touching.any() else None
 
 
-def stop_step(scene, steps):
-    """First step from which the square never slips again: every later step has contact and every
-    contact node's tangential speed below eps_v, the mollifier's static regime. None if it never
-    stops. (The centre of mass is no good here: a stuck, soft square keeps shearing elastically.)"""
-    speeds = (contact_slip_speed(scene, r.x, r.v) for r in simulator.simulate(scene, steps))
+def stop_step(scene, records):
+    """First of the `records` (scene's StepRecords) from which the square never slips again: every
+    later step has contact and every contact node's tangential speed below eps_v, the mollifier's
+    static regime. None if it never stops. (Not the centre of mass: a stuck square still shears.)"""
+    speeds = (contact_slip_speed(scene, r.x, r.v) for r in records)
     slipping = [s is None or s >= scene.epsv for s in speeds]
     last = max((i for i, slip in enumerate(slipping) if slip), default=-1)
     return None if last == len(slipping) - 1 else last + 1
 
 
 @pytest.mark.slow
-def test_figure_10_2_1_stick_and_slide():
+def test_figure_10_2_1_stick_and_slide(shared_runs):
     """Lecture: mu = 0.1 keeps sliding, mu = 0.11 slides a while then stops, mu = 0.2 stops earlier.
     Measured at the lecture's tolerance, mu = 0.11 stops at about 5.5 s, where its contact nodes
     stick while the centre of mass still moves at about 4 cm/s (Newton's tolerance, docs/limits.md;
     converged, at about 6.7 s); the centre of mass itself, decelerating at 0.093 m/s^2, stops near
-    6.0 s. So 7 s are simulated instead of 5."""
-    steps = 700
-    stops = {mu: stop_step(simulator.build_scene(mu=mu), steps) for mu in (0.1, 0.11, 0.2)}
+    6.0 s. So 7 s are simulated instead of 5 (simulate's steps, kept: helpers/runs.py)."""
+    scenes = [simulator.build_scene(mu=mu) for mu in (0.1, 0.11, 0.2)]
+    stops = {scene.mu: stop_step(scene, shared_runs.simulate(scene, 700)) for scene in scenes}
     assert stops[0.1] is None
     assert stops[0.11] is not None and stops[0.11] > 100      # it slid for a while first
     assert stops[0.2] is not None and stops[0.2] < stops[0.11]
@@ -318,7 +318,7 @@ def test_fully_implicit_friction_updates_and_converges():
 
 
 @pytest.mark.parametrize("kwargs", [dict(), dict(mu=0.5), dict(k=1e6, mu=0.2)])
-def test_energy_budget_friction_work(kwargs):
+def test_energy_budget_friction_work(kwargs, shared_runs):
     """Implicit Euler with convex potentials: E^{n+1} - E^n <= W_f^n, the work of friction over the
     step (from the step's optimality condition and convexity; the rest is numerical dissipation). So
     the mechanical energy lost since the start is at least what friction took out, and W_f <= 0.
@@ -328,7 +328,7 @@ def test_energy_budget_friction_work(kwargs):
     E_prev = diagnostics.energies(scene, scene.x0, scene.v0)["total"]
     v_prev = scene.v0
     total_work = 0.0
-    for rec in simulator.simulate(scene, 150):
+    for rec in shared_runs.simulate(scene, 150):      # simulate's, kept: helpers/runs.py
         work = rec.report.friction_work
         assert work <= 0.0
         total_work += work
@@ -461,7 +461,7 @@ def test_the_steps_friction_force_is_the_one_its_last_friction_update_gives():
 
 def chalk_states(chalk_runs, drag, seconds=0.6, every=20):
     """States (x^n, v^n, n) of the chalk's shared run every `every` steps once pressed, moving."""
-    scene, _, xs, vs = chalk_runs.states(seconds, drag=drag)        # helpers/chalk.py: simulate's
+    scene, _, xs, vs = chalk_runs.states(seconds, drag=drag)        # helpers/runs.py: simulate's
     return scene, list(zip(xs, vs, range(1, len(xs) + 1)))[200::every]
 
 

@@ -3,7 +3,7 @@ the time the step learns, mu per node lagged like lambda, and Rabinowicz's obser
 
 The tip is the chalk's lowest corner at the start (node 2 of the pushed chalk). Every run here but
 the last stops before the hand passes over the tip, so the tip stays the node in contact. The runs
-come from helpers/chalk.py, each stepped once in a session: a shorter run is the first part of a
+come from helpers/runs.py, each stepped once in a session: a shorter run is the first part of a
 longer one."""
 import dataclasses
 import math
@@ -16,7 +16,7 @@ import FrictionEnergy
 import HandEnergy
 import simulator
 import time_integrator
-from helpers import chalk
+from helpers import runs
 from helpers.chalk import stick_slip
 from scenes.scene import StaticFriction
 
@@ -125,7 +125,7 @@ def test_friction_update_takes_mu_from_the_velocity_of_its_state(chalk_runs):
 
 
 def test_shared_runs_go_on_bit_for_bit(tmp_path, monkeypatch):
-    """helpers/chalk.py goes on from a kept run's last state when a longer run is asked for (here
+    """helpers/runs.py goes on from a kept run's last state when a longer run is asked for (here
     by another Runs on the same folder, as another worker): the pushed and the dragged chalk's 40
     steps after 30 kept are 40 steps, and their records simulator.simulate's from the start, bit
     for bit but the wall times."""
@@ -135,10 +135,10 @@ def test_shared_runs_go_on_bit_for_bit(tmp_path, monkeypatch):
         indices.append(step_index)
         return real(scene, x, v, step_index=step_index)
     for params in ({}, {"drag": True}):
-        chalk.Runs(str(tmp_path)).states(0.03, **params)
+        runs.Runs(str(tmp_path)).states(0.03, **params)
         with monkeypatch.context() as patched:
             patched.setattr(time_integrator, "step", step)
-            scene, kept = chalk.Runs(str(tmp_path)).records(0.07, **params)
+            scene, kept = runs.Runs(str(tmp_path)).records(0.07, **params)
         assert indices == list(range(30, 70))
         indices.clear()
         fresh = list(simulator.simulate(scene, 70))

@@ -10,7 +10,7 @@ import pytest
 
 import FrictionEnergy
 import closed_forms
-import simulator
+from helpers.runs import replaying
 from scenes import grasp
 
 G = 9.81
@@ -34,21 +34,24 @@ def test_the_block_starts_settled_at_the_gap_where_each_finger_carries_n():
     assert 0.6 * scene.dhat < gap < 0.8 * scene.dhat    # kappa 100: about 0.7 dhat (the issue)
 
 
-def test_the_lift_is_prescribed_and_the_fingers_press_with_n():
+def test_the_lift_is_prescribed_and_the_fingers_press_with_n(shared_runs):
     """The fingers' rows rise by Fingers.offset(t) exactly (a Dirichlet condition: Newton never
     moves them along the lift), and each finger's force stays N; a held block, creeping in the
     lift's frame at u* (0.29 to 0.30 mm/s), sees N to 1e-5 relative (the fingers' own inertia,
-    m_f a, is normal to the lift, so nothing else enters)."""
+    m_f a, is normal to the lift, so nothing else enters). The steps are the session's shared run
+    (helpers/runs.py: simulate's, bit for bit), the grasp's pictures' too."""
     scene = grasp.build_grasp_scene(squeeze=4.0)
-    for rec in simulator.simulate(scene, 60):           # 0.3 s: still, then accelerating
+    for rec in replaying(shared_runs).simulate(scene, 60):  # 0.3 s: still, then accelerating
         assert (rec.x[-2:, 1] == scene.contact.offset(rec.t)).all()
     assert finger_forces(scene, rec.x) == pytest.approx([4.0, 4.0], rel=1e-5)
 
 
-def test_a_held_grasp_creeps_at_u_star_in_the_steady_lift():
+def test_a_held_grasp_creeps_at_u_star_in_the_steady_lift(monkeypatch, shared_runs):
     """m g / (2 mu N) = 0.75: u* = eps_v (1 - sqrt(0.25)) = 0.50 mm/s, measured over the steady
     lift (from 0.5 s) at the scene's tol 1e-5 = u* / 50, which reads it about 0.5 tol / u* = 1 %
-    low (measured: 0.497 mm/s); 10 % as the issue asks."""
+    low (measured: 0.497 mm/s); 10 % as the issue asks. The steps are the session's shared run of
+    this grasp (helpers/runs.py: simulate's, bit for bit), the window's tests' too."""
+    monkeypatch.setattr(closed_forms, "simulator", replaying(shared_runs))
     scene = grasp.build_grasp_scene(squeeze=squeeze_for(0.75))
     u_star = grasp.creep_speed(scene)
     assert u_star == pytest.approx(5e-4, rel=1e-9) and grasp.holds(scene)
@@ -71,10 +74,13 @@ def test_a_dropped_grasp_slips_at_the_closed_form_s_acceleration():
     assert grasp.slip_acceleration(scene, a) == pytest.approx(2.462, abs=1e-9)
 
 
-def test_a_grasp_held_creeping_before_the_lift_slips_while_it_accelerates():
+def test_a_grasp_held_creeping_before_the_lift_slips_while_it_accelerates(monkeypatch,
+                                                                          shared_runs):
     """2 mu N = 2.0 N between m g = 1.962 and m (g + a) = 2.062: held before the lift (creeping
     at u* = 0.86 mm/s), slipping at (g + a) - 2 mu N / m = 0.31 m/s^2 while it accelerates (5 %),
-    as far as the rigid block's Coulomb slip says by then (the creep before it: 0.09 mm; 5 %)."""
+    as far as the rigid block's Coulomb slip says by then (the creep before it: 0.09 mm; 5 %).
+    The steps are the session's shared run (helpers/runs.py), the grasp's pictures' too."""
+    monkeypatch.setattr(closed_forms, "simulator", replaying(shared_runs))
     scene = grasp.build_grasp_scene(squeeze=2.0)
     a = scene.contact.lift_accel
     assert grasp.load_ratio(scene) < 1.0 < grasp.load_ratio(scene, a)

@@ -12,6 +12,7 @@ import pytest
 
 from helpers.command import recorded
 from helpers.fakes import chalk_at
+from helpers.runs import replaying
 import simulator
 import time_integrator
 from analysis import diagnostics, wear
@@ -168,14 +169,16 @@ def test_the_demo_needs_no_pygame():
 CHALK_STEPS = 215
 
 
-def test_the_chalks_mark_and_figures_are_those_a_run_to_files_keeps(tmp_path):
+def test_the_chalks_mark_and_figures_are_those_a_run_to_files_keeps(tmp_path, chalk_runs):
     """LiveRun.marks after each step is recording.Track.marks of the same steps (wear.Deposit.step
     over each step), bin for bin, left by the slips by step 215; tip_lines says the figures log.csv
     has for the state (tip_x, tip_speed, drive_speed, normal_force) and stuck or slipping
     (diagnostics.tip_stuck). A restart starts the mark afresh; a step completed one Newton iteration
-    at a time leaves its deposit too."""
+    at a time leaves its deposit too. The recording's steps are the session's shared run's
+    (helpers/runs.py: simulate's, the same bits as LiveRun.step's); the LiveRun steps its own."""
+    stuck = chalk_at(200)           # first: chalk_at steps on from the nearest state kept before
     run = chalk_at(CHALK_STEPS)
-    (track,) = recorded(tmp_path, [run.scene], CHALK_STEPS)
+    (track,) = recorded(tmp_path, [run.scene], CHALK_STEPS, replaying(chalk_runs).simulate)
     assert run.marks.first == track.marks.first
     assert np.array_equal(run.marks.values, track.marks.values) and run.marks.values.sum() > 0
     assert diagnostics.tip_stuck(run.scene, run.x, run.v) is False               # slipping now
@@ -186,7 +189,6 @@ def test_the_chalks_mark_and_figures_are_those_a_run_to_files_keeps(tmp_path):
     assert f"the hand's drive {last.drive_speed * 1e3:.3g} mm/s" in text
     assert last.drive_speed == pytest.approx(0.01)
     assert f"the board's normal force {last.normal_force:.3g} N" in text
-    stuck = chalk_at(200)
     assert " stuck: " in live.tip_lines(stuck.scene, stuck.x, stuck.v, stuck.t)[0]
     assert diagnostics.tip_stuck(stuck.scene, stuck.x, stuck.v) is True
     start = live.LiveRun(run.scene, 10)

@@ -17,12 +17,12 @@ from viewer.demo import live, newton_view, window
 SIZE = 652      # the window's default side on a 1024x768 projector
 
 
-def paused_at(overrides, step, iteration, size=SIZE, build=simulator.build_scene):
+def paused_at(overrides, step, iteration, size=SIZE, build=simulator.build_scene, runs=None):
     """A LiveWindow of build(**overrides) paused in `step` (counted from 1, as on screen) after
     `iteration` presses of n, drawn once (the square's first step - 1 steps:
-    helpers.fakes.square_at, stepped once a session)."""
+    helpers.fakes.square_at, stepped once a session, from the shared `runs` if given)."""
     if build is simulator.build_scene:
-        run = square_at(step - 1, **overrides)
+        run = square_at(step - 1, runs=runs, **overrides)
     else:
         run = live.LiveRun(build(**overrides), 1000)
         for _ in range(step - 1):
@@ -310,7 +310,7 @@ def test_the_inset_cuts_none_of_the_table_s_numbers(size):
 
 
 @pytest.mark.parametrize("size", [510, 652])
-def test_the_inset_text_sits_on_a_panel_in_whole_phrases(monkeypatch, size):
+def test_the_inset_text_sits_on_a_panel_in_whole_phrases(monkeypatch, size, shared_runs):
     """Sliding at step 397 (t = 3.96 s, node 20 with the slope 9 mm below x^i, out of frame), the
     inset's notes broke into "the slope: 9.09 mm below" / "x^i," and the springs of x^i ran across
     them. Now each note breaks only between phrases, and no spring reaches the white panels of the
@@ -319,7 +319,7 @@ def test_the_inset_text_sits_on_a_panel_in_whole_phrases(monkeypatch, size):
     import pygame
     drawn = legibility.record_text(monkeypatch)
     monkeypatch.setattr(draw, "GREY", (1, 2, 3))
-    w = paused_at({}, 397, 1, size)
+    w = paused_at({}, 397, 1, size, runs=shared_runs)     # the lecture's square's shared run
     inset = w.inset
     assert inset.slope is None and inset.why == "nearest the slope"
     notes = drawn_notes(drawn, inset)

@@ -7,6 +7,7 @@ import simulator
 from analysis import closing
 from helpers.command import recorded
 from helpers.fakes import chalk_at
+from helpers.runs import replaying
 from scenes import grasp
 from viewer.pictures import draw, wrap
 
@@ -64,16 +65,32 @@ CASES = {
 }
 
 
+@pytest.fixture(scope="module")
+def held_grasp():
+    """The grasp's window at 510 px played to the end of its 300 steps, r pressed at step 40 (the
+    case "grasp held"): after r the run starts afresh (LiveRun.restart, a new view), so it ends as
+    a run played through does, and serves the tests of both. Its screen is kept as a copy: a later
+    window opens the display again."""
+    build, steps, size, restart_at = CASES["grasp held"]
+    w = played_to_the_end(build(), steps, size, restart_at)
+    w.screen = w.screen.copy()
+    return w
+
+
 @pytest.mark.parametrize("case", CASES)
-def test_the_ended_window_says_the_closing_s_result_on_rows_of_its_own(tmp_path, case):
+def test_the_ended_window_says_the_closing_s_result_on_rows_of_its_own(tmp_path, case, request,
+                                                                        shared_runs):
     """Once the run has ended, under "end of the run (N steps)", the window says what the
     command line's closing says the run showed: closing.closing_words of the same scene recorded
     into files (the tablecloth's travel beside its closed form, the grasp's held or dropped), also
     after r; on rows of their own within the window, none of the drawing's blue (the body, the
-    ground) or pads among them."""
+    ground) or pads among them. The recording's steps are the session's shared runs'
+    (helpers/runs.py: simulate's, bit for bit)."""
     build, steps, size, restart_at = CASES[case]
-    w = played_to_the_end(build(), steps, size, restart_at)
-    said = closing.closing_words(recorded(tmp_path, [build()], steps))
+    w = request.getfixturevalue("held_grasp") if case == "grasp held" else \
+        played_to_the_end(build(), steps, size, restart_at)
+    said = closing.closing_words(recorded(tmp_path, [build()], steps,
+                                          replaying(shared_runs).simulate))
     assert ("dish travelled" in said if case == "tablecloth" else
             case.split()[1] in said if case.startswith("grasp") else
             "slip" in said if case == "chalk" else "in the air" in said)
@@ -93,11 +110,11 @@ def drawing_under_text(w, colors):
     return sum(int((rows == color).all(axis=2).sum()) for color in colors)
 
 
-def test_the_chalk_s_newton_view_at_510_px_keeps_the_chalk_and_hand_under_the_text():
+def test_the_chalk_s_newton_view_at_510_px_keeps_the_chalk_and_hand_under_the_text(shared_runs):
     """At --size 510 the Newton view's lines wrap onto 10 rows, down to where the chalk and its
     hand are drawn: the window draws them lower and smaller (clear_of_text), the board where it
     was; none of the mesh's blue or the hand's colour among the status rows."""
-    run = chalk_at(300)
+    run = chalk_at(300, runs=shared_runs)
     w, _ = live_window(run.scene, steps=run.steps, size=510)
     w.run, w.playing = run, False
     w.one_newton_iteration()
@@ -109,8 +126,9 @@ def test_the_chalk_s_newton_view_at_510_px_keeps_the_chalk_and_hand_under_the_te
     assert w.shown(w.drawn_points())[:, 1].min() > w.text_bottom
 
 
-def test_the_ended_grasp_at_510_px_keeps_its_pads_under_the_text():
+def test_the_ended_grasp_at_510_px_keeps_its_pads_under_the_text(held_grasp):
     """The grasp's block is kept centred (View.margin 0); at 510 px its result's rows would reach
-    its pads and the arrows on them: the window pans it down, under the text."""
-    w = played_to_the_end(grasp.build_grasp_scene(), 300, 510)
-    assert drawing_under_text(w, [draw.BLUE, draw.PUSHED_COLOR]) == 0
+    its pads and the arrows on them: the window pans it down, under the text (the window
+    `held_grasp`, played to the end after an r: measured, a run played through without it ends
+    in the same pixels)."""
+    assert drawing_under_text(held_grasp, [draw.BLUE, draw.PUSHED_COLOR]) == 0

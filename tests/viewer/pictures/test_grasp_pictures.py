@@ -7,16 +7,19 @@ import pytest
 from analysis import closing
 from helpers import legibility
 from helpers.command import recorded
+from helpers.runs import replaying
 from scenes import grasp
 from viewer.pictures import draw, frames, page, plots
 
 
 @pytest.fixture(scope="module")
-def tracks(tmp_path_factory):
+def tracks(tmp_path_factory, shared_runs):
     """2 N drops the block at 0.75 s and the half-spaces grip it again at about 1.16 s (measured);
-    4 N holds it. 1.2 s each."""
+    4 N holds it. 1.2 s each; the steps the session's shared runs' (helpers/runs.py: simulate's,
+    bit for bit), which tests/scenes/test_grasp.py reads too."""
     scenes = [grasp.build_grasp_scene(squeeze=2.0), grasp.build_grasp_scene(squeeze=4.0)]
-    return recorded(tmp_path_factory.mktemp("grasps"), scenes, 240)
+    return recorded(tmp_path_factory.mktemp("grasps"), scenes, 240,
+                    replaying(shared_runs).simulate)
 
 
 def test_plots_legend_says_the_closing_words_not_sticks_from(tracks, monkeypatch):

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import simulator
-from helpers import chalk, legibility
+from helpers import legibility, runs
 from helpers.command import recorded as tracks_of
 from viewer.pictures import draw, plots
 from analysis import stick_slip
@@ -34,10 +34,10 @@ def test_every_panel_labels_its_time_axis_and_its_value_axis(tmp_path):
 def chalks(tmp_path_factory, chalk_runs):
     """Two chalks side by side for 0.6 s (3 cycles of the default's 107 ms after the 0.2 s start):
     one coefficient (mu_s = mu, it slides with the hand) and the default's mu_s = 0.5 > mu
-    (stick-slip); their steps the session's shared runs' (helpers/chalk.py)."""
+    (stick-slip); their steps the session's shared runs' (helpers/runs.py)."""
     return tracks_of(tmp_path_factory.mktemp("chalks"), [simulator.build_chalk_scene(mu_s=0.35),
                                                          simulator.build_chalk_scene()], 600,
-                     chalk.replaying(chalk_runs).simulate)
+                     runs.replaying(chalk_runs).simulate)
 
 
 def drawn(monkeypatch, pygame, tracks):

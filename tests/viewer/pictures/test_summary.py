@@ -7,17 +7,17 @@ import numpy as np
 import pytest
 
 import simulator
-from helpers import chalk
+from helpers import runs
 from helpers.command import recorded as tracks_of
 from viewer.pictures import draw, summary
 from analysis import closing, stick_slip
 
 
 @pytest.fixture(scope="module")
-def recorded(tmp_path_factory, chalk_runs):
+def recorded(tmp_path_factory, shared_runs):
     """recorded(build, overrides, steps): the tracks of the square's ("square") or the chalk's
-    scenes with these overrides run side by side, each set run once for the module (the chalk's
-    steps the session's shared runs': helpers/chalk.py)."""
+    scenes with these overrides run side by side, each set run once for the module (their steps
+    the session's shared runs': helpers/runs.py, simulate's bit for bit)."""
     kept = {}
 
     def run(build, overrides, steps):
@@ -25,9 +25,8 @@ def recorded(tmp_path_factory, chalk_runs):
         if key not in kept:
             make = simulator.build_chalk_scene if build == "chalk" else simulator.build_scene
             scenes = [make(**o) for o in overrides]
-            simulate = chalk.replaying(chalk_runs).simulate if build == "chalk" else \
-                simulator.simulate
-            kept[key] = tracks_of(tmp_path_factory.mktemp(build), scenes, steps, simulate)
+            kept[key] = tracks_of(tmp_path_factory.mktemp(build), scenes, steps,
+                                  runs.replaying(shared_runs).simulate)
         return kept[key]
     return run
 
