@@ -160,6 +160,12 @@ class Files:
                 self.writer.write(-(-track.step // stride))
 
 
+def files_stopped(step, err):
+    """The line saying the window's files stopped at `step`: a write failed with OSError `err`."""
+    return (f"simulator.py: writing the files failed, none written after step {step}: "
+            f"{err.strerror or err}")
+
+
 class Unwritten:
     """Where the window's own recording.Track writes and says: nothing (its RunFolder, log file and
     Progress at once); the Track keeps the states closing.closing_words reads."""
@@ -266,8 +272,7 @@ class LiveDemo:
                 self.output.record(record)
             except OSError as err:      # e.g. a full disk: the window goes on, the files stop
                 self.write_error = err
-                print(f"simulator.py: writing the files failed, none written after step "
-                      f"{record.index}: {err.strerror or err}", file=self.log)
+                print(files_stopped(record.index, err), file=self.log)
         return record
 
     def note(self, kind, text):

@@ -254,8 +254,7 @@ def close_files(window, output):
     except OSError as err:
         if window.write_error is None:
             window.write_error = err
-            print(f"simulator.py: writing the files failed, none written after step "
-                  f"{output.track.logged}: {err.strerror or err}", file=window.log)
+            print(live.files_stopped(output.track.logged, err), file=window.log)
 
 
 def run_window(plan, speed, size, signals, clock=None, log=None):

@@ -1,5 +1,6 @@
 """The live window's run and files: how it ends (the close button, Esc, q, SIGTERM, a full disk) and
 that it writes what a run without it writes (helpers.window drives it)."""
+import errno
 import io
 import os
 import re
@@ -15,6 +16,7 @@ import simulator
 from helpers.fakes import fill_disk_after, signal_dropped_at_step
 from viewer.command import cli, frame_process, run
 from viewer.demo import window
+from viewer.pictures import frames
 import viewer.main
 
 from helpers import ROOT
@@ -254,6 +256,39 @@ def test_a_full_disk_stops_the_files_not_the_demo(tmp_path, monkeypatch):
     frames = sorted(p.name for p in tmp_path.glob("frame_*.png"))
     assert frames == [f"frame_{j:05d}.png" for j in range(3)]
     assert not (tmp_path / "summary.png").exists()
+
+
+def test_a_frame_failing_as_the_window_ends_stops_the_files_in_one_line(tmp_path, monkeypatch):
+    """The frames' process says how its last frames went as the window ends (live.Files.close):
+    a write failing there (ENOSPC) is the files' error as one during the run is, said once; exit
+    1, log.csv whole, the last pictures and the page written as after a run's (only that frame
+    failed here)."""
+    def close(self):
+        raise OSError(errno.ENOSPC, "No space left on device", str(tmp_path / "frame_00010.png"))
+
+    def script():
+        yield from frames_until(lambda: live[0].run.finished)
+
+    live, real_init = [], window.LiveWindow.__init__
+
+    def init(self, *args, **kw):
+        real_init(self, *args, **kw)
+        live.append(self)
+    monkeypatch.setattr(window.LiveWindow, "__init__", init)
+    monkeypatch.setattr(frames.FrameWriter, "close", close)
+    log = io.StringIO()
+    code = run_window(["--window", "--steps", "30", "--out", str(tmp_path)],
+                      clock=ScriptClock(script()), log=log)
+    lines = log.getvalue().strip().splitlines()
+    assert code == 1 and live[0].write_error.errno == errno.ENOSPC
+    failed = [line for line in lines if "writing the files failed" in line]
+    assert failed == ["simulator.py: writing the files failed, none written after step 30: "
+                      "No space left on device"]
+    said = ending(lines)
+    assert said.startswith("simulator.py: error: cannot write") and "No space left" in said
+    assert f"30 steps kept in {tmp_path}/; the page: " in said and "left out" not in said
+    assert (tmp_path / "summary.png").exists() and (tmp_path / "index.html").exists()
+    assert [int(r["step"]) for r in read_log(tmp_path)] == list(range(31))
 
 
 def test_a_signal_whose_raise_cpython_drops_still_ends_the_window(monkeypatch):
