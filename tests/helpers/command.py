@@ -25,7 +25,7 @@ def run_main(*args):
 def recorded(folder, scenes, steps, simulate=simulator.simulate):
     """The scenes run side by side for `steps` steps into `folder`, as a run without frames records
     them (viewer.command.recording): their Tracks, with what the pictures need, and their logs.
-    `simulate`: where the StepRecords come from (helpers/runs.py replaying: the shared runs')."""
+    `simulate`: where the StepRecords come from (helpers/runs.py Runs.simulate: shared runs)."""
     tags = [f"run{i}" for i in range(len(scenes))] if len(scenes) > 1 else [""]
     labels = [f"run {i}" for i in range(len(scenes))]
     plan = run.Plan(scenes, labels, tags, [steps] * len(scenes), str(folder),

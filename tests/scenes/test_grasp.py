@@ -41,7 +41,7 @@ def test_the_lift_is_prescribed_and_the_fingers_press_with_n(shared_runs):
     m_f a, is normal to the lift, so nothing else enters). The steps are the session's shared run
     (helpers/runs.py: simulate's, bit for bit), the grasp's pictures' too."""
     scene = grasp.build_grasp_scene(squeeze=4.0)
-    for rec in replaying(shared_runs).simulate(scene, 60):  # 0.3 s: still, then accelerating
+    for rec in shared_runs.simulate(scene, 60):  # 0.3 s: still, then accelerating
         assert (rec.x[-2:, 1] == scene.contact.offset(rec.t)).all()
     assert finger_forces(scene, rec.x) == pytest.approx([4.0, 4.0], rel=1e-5)
 

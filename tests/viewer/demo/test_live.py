@@ -12,7 +12,6 @@ import pytest
 
 from helpers.command import recorded
 from helpers.fakes import chalk_at
-from helpers.runs import replaying
 import simulator
 import time_integrator
 from analysis import diagnostics, wear
@@ -178,7 +177,7 @@ def test_the_chalks_mark_and_figures_are_those_a_run_to_files_keeps(tmp_path, ch
     (helpers/runs.py: simulate's, the same bits as LiveRun.step's); the LiveRun steps its own."""
     stuck = chalk_at(200)           # first: chalk_at steps on from the nearest state kept before
     run = chalk_at(CHALK_STEPS)
-    (track,) = recorded(tmp_path, [run.scene], CHALK_STEPS, replaying(chalk_runs).simulate)
+    (track,) = recorded(tmp_path, [run.scene], CHALK_STEPS, chalk_runs.simulate)
     assert run.marks.first == track.marks.first
     assert np.array_equal(run.marks.values, track.marks.values) and run.marks.values.sum() > 0
     assert diagnostics.tip_stuck(run.scene, run.x, run.v) is False               # slipping now

@@ -7,7 +7,6 @@ import simulator
 from analysis import closing
 from helpers.command import recorded
 from helpers.fakes import chalk_at
-from helpers.runs import replaying
 from scenes import grasp
 from viewer.pictures import draw, wrap
 
@@ -90,7 +89,7 @@ def test_the_ended_window_says_the_closing_s_result_on_rows_of_its_own(tmp_path,
     w = request.getfixturevalue("held_grasp") if case == "grasp held" else \
         played_to_the_end(build(), steps, size, restart_at)
     said = closing.closing_words(recorded(tmp_path, [build()], steps,
-                                          replaying(shared_runs).simulate))
+                                          shared_runs.simulate))
     assert ("dish travelled" in said if case == "tablecloth" else
             case.split()[1] in said if case.startswith("grasp") else
             "slip" in said if case == "chalk" else "in the air" in said)

@@ -7,7 +7,6 @@ import pytest
 from analysis import closing
 from helpers import legibility
 from helpers.command import recorded
-from helpers.runs import replaying
 from scenes import grasp
 from viewer.pictures import draw, frames, page, plots
 
@@ -19,7 +18,7 @@ def tracks(tmp_path_factory, shared_runs):
     bit for bit), which tests/scenes/test_grasp.py reads too."""
     scenes = [grasp.build_grasp_scene(squeeze=2.0), grasp.build_grasp_scene(squeeze=4.0)]
     return recorded(tmp_path_factory.mktemp("grasps"), scenes, 240,
-                    replaying(shared_runs).simulate)
+                    shared_runs.simulate)
 
 
 def test_plots_legend_says_the_closing_words_not_sticks_from(tracks, monkeypatch):

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import simulator
-from helpers import legibility, runs
+from helpers import legibility
 from helpers.command import recorded as tracks_of
 from viewer.pictures import draw, plots
 from analysis import stick_slip
@@ -37,7 +37,7 @@ def chalks(tmp_path_factory, chalk_runs):
     (stick-slip); their steps the session's shared runs' (helpers/runs.py)."""
     return tracks_of(tmp_path_factory.mktemp("chalks"), [simulator.build_chalk_scene(mu_s=0.35),
                                                          simulator.build_chalk_scene()], 600,
-                     runs.replaying(chalk_runs).simulate)
+                     chalk_runs.simulate)
 
 
 def drawn(monkeypatch, pygame, tracks):

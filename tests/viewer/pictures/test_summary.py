@@ -7,7 +7,6 @@ import numpy as np
 import pytest
 
 import simulator
-from helpers import runs
 from helpers.command import recorded as tracks_of
 from viewer.pictures import draw, summary
 from analysis import closing, stick_slip
@@ -26,7 +25,7 @@ def recorded(tmp_path_factory, shared_runs):
             make = simulator.build_chalk_scene if build == "chalk" else simulator.build_scene
             scenes = [make(**o) for o in overrides]
             kept[key] = tracks_of(tmp_path_factory.mktemp(build), scenes, steps,
-                                  runs.replaying(shared_runs).simulate)
+                                  shared_runs.simulate)
         return kept[key]
     return run
 
