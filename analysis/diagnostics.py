@@ -100,6 +100,12 @@ def normal_forces(scene, x):
     return scene.contact.lambdas(scene, x).T @ scene.contact.normals
 
 
+def lambdas(scene, x):
+    """lambda_k = n . sum_f lambda_fk n_f (N,): each node's normal force along the scene's n (the
+    board's, for the chalk)."""
+    return normal_forces(scene, x) @ scene.n
+
+
 def tip(scene, x):
     """The tip, the node nearest the board: (its index, its distance in m)."""
     d = BarrierEnergy.distances(x, scene.n, scene.o)
@@ -115,15 +121,15 @@ def tip_stuck(scene, x, v):
     return bool(abs(float(v[k] @ tangent(scene))) < scene.epsv)
 
 
-def tip_figures(scene, x, v, t):
+def tip_figures(scene, x, v, t, lam):
     """The tip's x and speed along the board at time t, the hand's speed over the last step, and the
-    board's total normal force (N)."""
+    board's total normal force sum_k lam_k (N), lam = `lambdas` at x."""
     k, _ = tip(scene, x)
     board = tangent(scene)
     moved = scene.hand.displacement(t) - scene.hand.displacement(max(t - scene.h, 0.0))
     drive = float(moved @ board / scene.h)
     return {"tip_x": float(x[k] @ board), "tip_speed": abs(float(v[k] @ board)),
-            "drive_speed": drive, "normal_force": float((normal_forces(scene, x) @ scene.n).sum())}
+            "drive_speed": drive, "normal_force": float(lam.sum())}
 
 
 def signed_areas(x, triangles):
