@@ -73,7 +73,7 @@ def contact_velocities(scene, x, v, v_s=0.0):
         return np.zeros(0)
     in_contact = scene.contact.distances(x) < scene.dhat    # (N,), or (surfaces, body's nodes)
     u = (body(scene, v) - v_s) @ tangent(scene)
-    return np.broadcast_to(u, in_contact.shape)[in_contact]
+    return u[in_contact.nonzero()[-1]]          # the node of each contact, surface by surface
 
 
 def contact_speeds(scene, x, v, v_s=0.0):
