@@ -134,7 +134,7 @@ def tip_figures(scene, x, v, t, lam):
 
 def signed_areas(x, triangles):
     """Twice each triangle's signed area, (b - a) x (c - a); > 0 as the mesh is built."""
-    a, b, c = x[triangles[:, 0]], x[triangles[:, 1]], x[triangles[:, 2]]
+    a, b, c = x.take(triangles.T, axis=0)      # the corners, (T, 2) each (take: x[triangles.T])
     ab, ac = b - a, c - a
     return ab[:, 0] * ac[:, 1] - ab[:, 1] * ac[:, 0]
 
