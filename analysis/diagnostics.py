@@ -73,7 +73,7 @@ def contact_velocities(scene, x, v, v_s=0.0):
         return np.zeros(0)
     in_contact = scene.contact.distances(x) < scene.dhat    # (N,), or (surfaces, body's nodes)
     u = (body(scene, v) - v_s) @ tangent(scene)
-    return np.broadcast_to(u, in_contact.shape)[in_contact]
+    return u[in_contact.nonzero()[-1]]          # the node of each contact, surface by surface
 
 
 def contact_speeds(scene, x, v, v_s=0.0):
@@ -100,6 +100,12 @@ def normal_forces(scene, x):
     return scene.contact.lambdas(scene, x).T @ scene.contact.normals
 
 
+def lambdas(scene, x):
+    """lambda_k = n . sum_f lambda_fk n_f (N,): each node's normal force along the scene's n (the
+    board's, for the chalk)."""
+    return normal_forces(scene, x) @ scene.n
+
+
 def tip(scene, x):
     """The tip, the node nearest the board: (its index, its distance in m)."""
     d = BarrierEnergy.distances(x, scene.n, scene.o)
@@ -115,20 +121,20 @@ def tip_stuck(scene, x, v):
     return bool(abs(float(v[k] @ tangent(scene))) < scene.epsv)
 
 
-def tip_figures(scene, x, v, t):
+def tip_figures(scene, x, v, t, lam):
     """The tip's x and speed along the board at time t, the hand's speed over the last step, and the
-    board's total normal force (N)."""
+    board's total normal force sum_k lam_k (N), lam = `lambdas` at x."""
     k, _ = tip(scene, x)
     board = tangent(scene)
     moved = scene.hand.displacement(t) - scene.hand.displacement(max(t - scene.h, 0.0))
     drive = float(moved @ board / scene.h)
     return {"tip_x": float(x[k] @ board), "tip_speed": abs(float(v[k] @ board)),
-            "drive_speed": drive, "normal_force": float((normal_forces(scene, x) @ scene.n).sum())}
+            "drive_speed": drive, "normal_force": float(lam.sum())}
 
 
 def signed_areas(x, triangles):
     """Twice each triangle's signed area, (b - a) x (c - a); > 0 as the mesh is built."""
-    a, b, c = x[triangles[:, 0]], x[triangles[:, 1]], x[triangles[:, 2]]
+    a, b, c = x.take(triangles.T, axis=0)      # the corners, (T, 2) each (take: x[triangles.T])
     ab, ac = b - a, c - a
     return ab[:, 0] * ac[:, 1] - ab[:, 1] * ac[:, 0]
 

@@ -47,11 +47,12 @@ class Deposit:
             self.first = lo
         self.values[j0 - lo:j0 - lo + len(deposit)] += deposit
 
-    def step(self, scene, x0, x1):
-        """A step from x0 to x1 by `archard`, lambda_k at x1; returns sum_k lambda_k |delta s_k|."""
+    def step(self, scene, x0, x1, lam1=None):
+        """A step from x0 to x1 by `archard`, lam1 the lambda_k at x1 (diagnostics.lambdas, found
+        here when None); returns sum_k lambda_k |delta s_k|."""
         tangent = diagnostics.tangent(scene)
-        lam = diagnostics.normal_forces(scene, x1) @ scene.n
-        j0, deposit = archard(x0 @ tangent, x1 @ tangent, lam)
+        lam1 = diagnostics.lambdas(scene, x1) if lam1 is None else lam1
+        j0, deposit = archard(x0 @ tangent, x1 @ tangent, lam1)
         self.add(j0, deposit)
         return float(deposit.sum())
 

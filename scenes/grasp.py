@@ -93,7 +93,7 @@ class Fingers:
         """mu lambda_fi (F, N): BarrierEnergy's with o = x_f, zero on the fingers' own rows."""
         mu_lambda = FingerEnergy.each(BarrierEnergy.compute_mu_lambda_kernel, x, self.n,
                                       scene.contact_area, mu, scene.dhat, scene.kappa)
-        return np.pad(mu_lambda, [(0, 0), (0, len(self.n))])
+        return np.hstack([mu_lambda, np.zeros((len(self.n), len(self.n)))])    # fingers' rows: 0
 
     def init_step_size(self, x, p):
         """Algorithm 4, line 1: BarrierEnergy's against each finger, p relative to its own."""

@@ -15,7 +15,7 @@ import pytest
 
 import BarrierEnergy
 import FrictionEnergy
-from analysis import stick_slip, wear
+from analysis import diagnostics, stick_slip, wear
 
 from helpers import ROOT
 from helpers.command import run_main
@@ -94,6 +94,22 @@ def test_the_mark_holds_what_the_steps_left_no_more_no_less(chalk_runs):
     _, mark, by_hand, _ = chalk(chalk_runs, 1.5)
     assert mark.values.sum() == pytest.approx(by_hand.sum(), rel=1e-12)
     assert (mark.values >= 0).all() and (by_hand >= 0).all() and by_hand.sum() > 0
+
+
+def test_a_step_handed_its_lambdas_leaves_what_it_leaves_finding_them(chalk_runs):
+    """Track.take hands Deposit.step the lambda_k at x^{n+1} that the tip's normal force sums
+    (diagnostics.lambdas): the same bins, bit for bit, as steps that find them; and they are the
+    barrier's own lambda_k (compute_mu_lambda, mu = 1) up to round-off in n . n."""
+    scene, _, xs, _ = chalk_runs.states(1.5)
+    found, handed, before = wear.Deposit(), wear.Deposit(), scene.x0
+    for x in xs:
+        lam = diagnostics.lambdas(scene, x)
+        assert found.step(scene, before, x) == handed.step(scene, before, x, lam)
+        assert lam == pytest.approx(BarrierEnergy.compute_mu_lambda(
+            x, scene.n, scene.o, scene.contact_area, 1.0, scene.dhat, scene.kappa), rel=1e-12)
+        before = x
+    assert (found.first, found.values.tobytes()) == (handed.first, handed.values.tobytes())
+    assert found.values.sum() > 0
 
 
 def test_pushed_a_sawtooth_of_dashes_a_slip_apart_each_fading_from_where_its_slip_starts(

@@ -56,18 +56,23 @@ class Track:
         self.csv = folder.open_log(files.log_csv(tag), ",".join(self.columns))
         self.samples = History(MAX_SAMPLES)
         self.snapshots = History(MAX_SNAPSHOTS)     # (t, x) every SNAPSHOT_EVERY s
-        self._add(None, 0.0, 0.0)
+        self._add(None, 0.0, 0.0, self.lambdas(self.x))
 
     @property
     def t(self):
         return self.step * self.scene.h
 
-    def _add(self, report, t, wall):
-        """The Sample of the current state, logged at once."""
+    def lambdas(self, x):
+        """lambda_k at x (diagnostics.lambdas), the tip's normal force and the mark's; None without
+        a hand."""
+        return None if self.scene.hand is None else diagnostics.lambdas(self.scene, x)
+
+    def _add(self, report, t, wall, lam):
+        """The Sample of the current state (`lam`: its lambdas), logged at once."""
         scene, x, v = self.scene, self.x, self.v
         E = diagnostics.energies(scene, x, v, t)
         E0 = self.samples.items[0].energies["total"] if self.samples.items else E["total"]
-        tip = diagnostics.tip_figures(scene, x, v, t) if scene.hand is not None else {}
+        tip = diagnostics.tip_figures(scene, x, v, t, lam) if scene.hand is not None else {}
         contact = {} if scene.contact is None else scene.contact.figures(scene, x)
         v_s = scene.surface_velocity(t)
         velocities = diagnostics.contact_velocities(scene, x, v, v_s)      # along self.tangent
@@ -105,12 +110,13 @@ class Track:
         self.hand_work += diagnostics.hand_work(self.scene, self.x, record.t, E_hand)
         if self.scene.contact is not None:
             self.contact_work += self.scene.contact.work(self.scene, self.x, self.v, record.x)
+        lam = self.lambdas(record.x)        # at x^{n+1}: the mark's and the state's
         if self.marks is not None:
-            self.marks.step(self.scene, self.x, record.x)       # what the tip left over the step
+            self.marks.step(self.scene, self.x, record.x, lam)      # what the tip left
         self.x, self.v, self.step = record.x, record.v, record.index + 1
         self.friction_work += record.report.friction_work
         self.surface_work += record.report.surface_work
-        sample = self._add(record.report, record.t, record.wall)
+        sample = self._add(record.report, record.t, record.wall, lam)
         said = step_warnings(self.scene, sample.step, sample.t, record.report, sample.inverted)
         for kind in [kind for kind in said if kind not in self.warned]:   # each kind said once
             progress.warn(self, said[kind])

@@ -83,7 +83,8 @@ class LiveRun:
 
 def tip_lines(scene, x, v, t):
     """The chalk's figures as log.csv has them (diagnostics.tip_figures, tip_stuck)."""
-    f, stuck = diagnostics.tip_figures(scene, x, v, t), diagnostics.tip_stuck(scene, x, v)
+    f = diagnostics.tip_figures(scene, x, v, t, diagnostics.lambdas(scene, x))
+    stuck = diagnostics.tip_stuck(scene, x, v)
     speed, epsv = f"{f['tip_speed'] * 1e3:.3g} mm/s", f"eps_v = {scene.epsv * 1e3:g} mm/s"
     state = (f"off the board (d >= dhat): {speed}" if stuck is None else
              f"stuck: {speed} < {epsv}" if stuck else f"slipping: {speed} >= {epsv}")
