@@ -70,3 +70,20 @@ def chalk_runs(shared_runs):
     """The shared runs as the chalk's tests read them (Runs.states' scene is the chalk unless
     told)."""
     return shared_runs
+
+
+@pytest.fixture(scope="module")
+def shared_stepping(shared_runs):
+    """simulator.simulate, for the runs a module's tests start in their process (viewer.main.main),
+    as the shared runs keep it (Runs.simulate) where the scene is its builder's (Runs.built): the
+    same StepRecords, bit for bit, but for their wall times, stepped once for every test. For the
+    tests of what a run writes and says, not of how it steps (a signal or a failure in a step):
+    `pytestmark = pytest.mark.usefixtures("shared_stepping")`."""
+    import simulator
+    stepping = simulator.simulate
+
+    def simulate(scene, steps):
+        return (shared_runs.simulate if shared_runs.built(scene) else stepping)(scene, steps)
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(simulator, "simulate", simulate)
+        yield

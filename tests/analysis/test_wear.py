@@ -19,6 +19,8 @@ from analysis import diagnostics, stick_slip, wear
 
 from helpers import ROOT
 from helpers.command import run_main
+
+pytestmark = pytest.mark.usefixtures("shared_stepping")   # the runs' steps: helpers/runs.py
 W = wear.BIN
 
 

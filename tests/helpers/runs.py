@@ -73,6 +73,12 @@ class Runs:
         assert len(records) == steps
         return iter(records)
 
+    def built(self, scene):
+        """Whether `scene` is what its builder makes of its parameters, pickled byte for byte: a
+        scene `path` may name by them (a command line's, say, as a test's)."""
+        (builder, _, _), = (b for b in BUILDERS.values() if b[2] == scene.body)
+        return pickle.dumps(scene) == pickle.dumps(builder(**scene.params))
+
     def run(self, seconds, **params):
         """The chalk.Track of the chalk built from `params`, stepped for `seconds`."""
         return chalk.track(*self.states(seconds, **params))

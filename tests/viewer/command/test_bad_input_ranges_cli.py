@@ -5,6 +5,8 @@ import pytest
 
 from helpers.command import messages, refused, run_main, too_wide
 
+pytestmark = pytest.mark.usefixtures("shared_stepping")   # the runs' steps: helpers/runs.py
+
 TABLECLOTH = [
     (["--gravity", "0,-1e308"], "--gravity: gravity = 0, -1e+308: first inertia term inf > 1e+150"),
     (["--mass", "1e300"], "--mass: mass = 1e+300: total mass 1e+300 > 1e+150 (float64)"),

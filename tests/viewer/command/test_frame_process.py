@@ -18,7 +18,8 @@ from scenes import grasp
 from viewer.command import frame_process
 from viewer.pictures import frames
 
-pytestmark = pytest.mark.frame_process      # tests/conftest.py: the frames in a second process
+pytestmark = [pytest.mark.frame_process,      # tests/conftest.py: the frames in a second process
+              pytest.mark.usefixtures("shared_stepping")]   # the runs' steps: helpers/runs.py
 
 
 def files_of(folder):

@@ -12,6 +12,8 @@ from scenes import grasp
 from viewer.command import cli, run
 from viewer.pictures import draw
 
+pytestmark = pytest.mark.usefixtures("shared_stepping")   # the runs' steps: helpers/runs.py
+
 
 def test_grasp_flags_reach_the_scene_and_a_list_compares_squeezes():
     runs = cli.parse_command_line(["--scene", "grasp", "--squeeze", "1,2,4", "--lift-accel", "1",

@@ -6,6 +6,8 @@ import pytest
 from helpers.command import closing_lines, run_main, too_wide
 from viewer.command import progress
 
+pytestmark = pytest.mark.usefixtures("shared_stepping")   # the runs' steps: helpers/runs.py
+
 WIDTH = 100
 
 

@@ -15,6 +15,8 @@ from scenes import grasp
 from viewer.command import progress
 from analysis import closing, stick_slip
 
+pytestmark = pytest.mark.usefixtures("shared_stepping")   # the runs' steps: helpers/runs.py
+
 
 def test_step_warnings_name_the_step_and_what_to_do():
     scene = simulator.build_scene()

@@ -16,6 +16,8 @@ from helpers.command import closing_text, messages, page_data, run_main
 from viewer.command import cli
 from viewer.pictures import draw, frames, plots, summary
 
+pytestmark = pytest.mark.usefixtures("shared_stepping")   # the runs' steps: helpers/runs.py
+
 
 def read_csv(path):
     with open(path) as f:

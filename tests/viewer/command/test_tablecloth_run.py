@@ -14,6 +14,8 @@ from helpers.command import closing_text, recorded, run_main
 from scenes import tablecloth
 from viewer.command import cli
 
+pytestmark = pytest.mark.usefixtures("shared_stepping")   # the runs' steps: helpers/runs.py
+
 SLOW, FAST = 1.0, 4.0       # m/s; sqrt(mu g L) = 1.4 m/s lies between
 
 

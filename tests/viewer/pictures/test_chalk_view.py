@@ -15,6 +15,8 @@ from helpers.command import closing_lines, closing_text, page_data, run_main, to
 from viewer.command import cli
 from analysis import diagnostics, log, stick_slip
 
+pytestmark = pytest.mark.usefixtures("shared_stepping")   # the runs' steps: helpers/runs.py
+
 
 @pytest.mark.parametrize("argv, flag", [
     (["--scene", "chalk", "--n-seg", "3"], "--n-seg"),
