@@ -139,3 +139,20 @@ def test_a_segment_is_drawn_the_same_in_every_process():
     made = {subprocess.run([sys.executable, "-c", LINES, ROOT], capture_output=True, text=True,
                            check=True).stdout for _ in range(6)}
     assert len(made) == 1
+
+
+@pytest.mark.parametrize("size", [(849, 474), (1, 1), (3, 7)])
+def test_png_data_holds_the_surface_s_pixels_in_24_bits(tmp_path, size):
+    """draw.png_data's own PNG (zlib, filter byte 0): pygame loads back the surface's pixels, every
+    colour of a random picture, from 24-bit RGB (IHDR colour type 2); the same bytes each time."""
+    pygame = draw.load_pygame()
+    surface = pygame.Surface(size)
+    colours = np.random.default_rng(42).integers(0, 256, (*size, 3))
+    pygame.surfarray.blit_array(surface, colours)
+    data = draw.png_data(pygame, surface)
+    assert data[12:16] == b"IHDR" and data[24:26] == bytes([8, 2])      # 8 bits, r g b
+    (tmp_path / "p.png").write_bytes(data)
+    loaded = pygame.image.load(str(tmp_path / "p.png"))
+    assert loaded.get_size() == size
+    assert np.array_equal(pygame.surfarray.array3d(loaded), colours)
+    assert draw.png_data(pygame, surface) == data
