@@ -1,5 +1,6 @@
 """One frame, drawn by pygame off-screen in the lecture's style: the slope with marks every 0.5 m,
 the bodies, the contact forces as arrows, one colour per run; and PNG bytes (png_data)."""
+import functools
 import math
 import os
 import struct
@@ -28,6 +29,7 @@ ARROW_FIT = 0.75            # m: no arrow longer (3/4 of the square); the scale 
 HAND_COLOR = (73, 0, 85)    # the chalk's hand: its targets and springs
 MIN_CAP_HEIGHT = 0.022      # of the picture's height: the least capital (docs/live-demo.md)
 TITLE_SCALE = 1.2           # the title's capitals this much taller
+CAP_RATIO = 0.5             # pygame's default font: its capitals about half its size
 CLOTH_COLOR, CLOTH_STRIPE = (255, 219, 170), (219, 146, 85)     # the tablecloth and its stripes
 CLOTH_DEPTH = 0.08          # m (x view.unit): each run's cloth, a band this deep under the table
 CLOTH_STRIPES = 2.0         # m (x view.unit): the stripes' period along the cloth
@@ -302,14 +304,17 @@ def cap_height(font):
 
 def fonts(pygame, height=RESOLUTION):
     """(title, text) fonts of a picture `height` px tall: pygame's default font at the least size
-    whose capitals are MIN_CAP_HEIGHT of the height, the title's TITLE_SCALE taller."""
-    def with_caps(cap):
-        size = max(1, math.floor(cap / 0.6))        # capitals are at most 0.6 of the size
-        while cap_height(pygame.font.Font(None, size)) < cap:
+    whose capitals are MIN_CAP_HEIGHT of the height, the title's TITLE_SCALE taller: searched from
+    CAP_RATIO's guess down, then up (capitals grow with the size), each size's font made once."""
+    font, chosen = functools.cache(lambda size: pygame.font.Font(None, size)), []
+    for cap in (TITLE_SCALE * (MIN_CAP_HEIGHT * height), MIN_CAP_HEIGHT * height):     # px
+        size = max(1, round(cap / CAP_RATIO))
+        while size > 1 and cap_height(font(size - 1)) >= cap:
+            size -= 1
+        while cap_height(font(size)) < cap:
             size += 1
-        return pygame.font.Font(None, size)
-    cap = MIN_CAP_HEIGHT * height
-    return with_caps(TITLE_SCALE * cap), with_caps(cap)
+        chosen.append(font(size))
+    return tuple(chosen)
 
 
 def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None, reserve=(0, 0), surface=None):

@@ -1,6 +1,8 @@
 """viewer/pictures/draw.py's drawing helpers, one copy each for the frames, plots.png, summary.png
 and the window: round numbers (nice_number), arrowheads (arrow_heads); the force arrows' scale.
 The chalk's mark as the frames draw it: tests/viewer/pictures/test_marks_drawn.py."""
+import itertools
+
 import numpy as np
 import pytest
 
@@ -156,3 +158,20 @@ def test_png_data_holds_the_surface_s_pixels_in_24_bits(tmp_path, size):
     assert loaded.get_size() == size
     assert np.array_equal(pygame.surfarray.array3d(loaded), colours)
     assert draw.png_data(pygame, surface) == data
+
+
+@pytest.mark.parametrize("height", [30, 300, 652, 900, 1200])
+def test_fonts_take_the_least_size_whose_capitals_reach_the_height_s_share(height):
+    """draw.fonts searches from CAP_RATIO's guess down and up: its (title, text) fonts are the
+    default font at the least size, counted up from 1, whose capitals reach TITLE_SCALE x
+    MIN_CAP_HEIGHT and MIN_CAP_HEIGHT of `height` (the same metrics as that size's own font)."""
+    pygame = draw.load_pygame()
+    cap = draw.MIN_CAP_HEIGHT * height
+    chosen = draw.fonts(pygame, height)
+    for want, font in zip((draw.TITLE_SCALE * cap, cap), chosen):
+        least = next(size for size in itertools.count(1)
+                     if draw.cap_height(pygame.font.Font(None, size)) >= want)
+        expected = pygame.font.Font(None, least)
+        assert ((font.get_height(), font.get_ascent(), font.metrics("Hg"), font.size("0.5 m"))
+                == (expected.get_height(), expected.get_ascent(), expected.metrics("Hg"),
+                    expected.size("0.5 m")))
