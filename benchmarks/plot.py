@@ -1,11 +1,10 @@
 """Log-log line plots drawn with pygame on an off-screen surface (no display), saved as PNG: a
 labelled tick at every power of ten in range, minor ticks where the axis spans few decades."""
-import io
 import math
 from collections import namedtuple
 
 from viewer.output import whole_files
-from viewer.pictures.draw import load_pygame
+from viewer.pictures.draw import load_pygame, png_data
 
 PANEL_W, PANEL_H = 620, 430         # pixels per panel, axes and labels included
 MARGIN_L, MARGIN_R, MARGIN_T, MARGIN_B = 88, 20, 40, 62
@@ -118,6 +117,4 @@ def save_loglog_panels(path, title, panels, labels, legend, notes):
         surface.blit(normal.render(label, True, BLACK), (x + 56, row_y))
     for i, note in enumerate(notes):
         surface.blit(small.render(note, True, GREY), (40, y + 28 * legend_rows + 8 + 24 * i))
-    buffer = io.BytesIO()
-    pygame.image.save(surface, buffer, "png")
-    whole_files.write_whole(path, buffer.getvalue(), replace=True)
+    whole_files.write_whole(path, png_data(pygame, surface), replace=True)

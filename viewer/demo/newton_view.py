@@ -265,16 +265,26 @@ def label_corner(pygame, scene, view, px, node, size, inset, rows, numbers, mark
 
 
 def slope_numbers(pygame, scene, view, font):
-    """The Rects of the slope's numbers: what draw.draw_slope draws with `font` and not without."""
+    """The Rects of the slope's numbers: what draw.draw_slope draws with `font` and not without.
+    One number's glyphs (closer than the font's height apart) give one Rect; the labelling looks
+    only at the glyphs' rows and columns, a font height wider each side (what the joining reaches).
+    """
     if scene.n is None:
         return []
     ink = []
     for with_font in (font, None):
-        surface = pygame.Surface((view.size, view.height))
+        surface = pygame.Surface((view.size, view.height), 0, 32)     # a pixel a 32-bit int
         surface.fill((255, 255, 255))
         draw.draw_slope(pygame, surface, scene, view, draw.BLUE, with_font)
-        ink.append(pygame.surfarray.array3d(surface).min(axis=2) < 255)
+        rgb, white = sum(surface.get_masks()[:3]), surface.map_rgb((255, 255, 255))
+        ink.append(pygame.surfarray.pixels2d(surface) & rgb != white & rgb)
     glyphs, word = ink[0] & ~ink[1], font.get_height()     # px: one number's glyphs are closer
+    columns, rows = np.flatnonzero(glyphs.any(axis=1)), np.flatnonzero(glyphs.any(axis=0))
+    if columns.size == 0:
+        return []
+    left, top = max(int(columns[0]) - word, 0), int(rows[0])
+    glyphs = glyphs[left:columns[-1] + word + 1, top:rows[-1] + 1]
     numbers, _ = ndimage.label(ndimage.binary_dilation(glyphs, np.ones((word, 1), bool)))
     boxes = ndimage.find_objects(np.where(glyphs, numbers, 0))
-    return [pygame.Rect(x.start, y.start, x.stop - x.start, y.stop - y.start) for x, y in boxes]
+    return [pygame.Rect(left + x.start, top + y.start, x.stop - x.start, y.stop - y.start)
+            for x, y in boxes]

@@ -1,6 +1,6 @@
 """One frame, drawn by pygame off-screen in the lecture's style: the slope with marks every 0.5 m,
 the bodies, the contact forces as arrows, one colour per run; and PNG bytes (png_data)."""
-import io
+import functools
 import math
 import os
 import struct
@@ -29,6 +29,7 @@ ARROW_FIT = 0.75            # m: no arrow longer (3/4 of the square); the scale 
 HAND_COLOR = (73, 0, 85)    # the chalk's hand: its targets and springs
 MIN_CAP_HEIGHT = 0.022      # of the picture's height: the least capital (docs/live-demo.md)
 TITLE_SCALE = 1.2           # the title's capitals this much taller
+CAP_RATIO = 0.5             # pygame's default font: its capitals about half its size
 CLOTH_COLOR, CLOTH_STRIPE = (255, 219, 170), (219, 146, 85)     # the tablecloth and its stripes
 CLOTH_DEPTH = 0.08          # m (x view.unit): each run's cloth, a band this deep under the table
 CLOTH_STRIPES = 2.0         # m (x view.unit): the stripes' period along the cloth
@@ -303,14 +304,17 @@ def cap_height(font):
 
 def fonts(pygame, height=RESOLUTION):
     """(title, text) fonts of a picture `height` px tall: pygame's default font at the least size
-    whose capitals are MIN_CAP_HEIGHT of the height, the title's TITLE_SCALE taller."""
-    def with_caps(cap):
-        size = max(1, math.floor(cap / 0.6))        # capitals are at most 0.6 of the size
-        while cap_height(pygame.font.Font(None, size)) < cap:
+    whose capitals are MIN_CAP_HEIGHT of the height, the title's TITLE_SCALE taller: searched from
+    CAP_RATIO's guess down, then up (capitals grow with the size), each size's font made once."""
+    font, chosen = functools.cache(lambda size: pygame.font.Font(None, size)), []
+    for cap in (TITLE_SCALE * (MIN_CAP_HEIGHT * height), MIN_CAP_HEIGHT * height):     # px
+        size = max(1, round(cap / CAP_RATIO))
+        while size > 1 and cap_height(font(size - 1)) >= cap:
+            size -= 1
+        while cap_height(font(size)) < cap:
             size += 1
-        return pygame.font.Font(None, size)
-    cap = MIN_CAP_HEIGHT * height
-    return with_caps(TITLE_SCALE * cap), with_caps(cap)
+        chosen.append(font(size))
+    return tuple(chosen)
 
 
 def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None, reserve=(0, 0), surface=None):
@@ -357,33 +361,30 @@ def draw_frame(pygame, runs, t, view, fonts, newton_per_metre=None, reserve=(0, 
     return surface, top
 
 
+PNG_LEVEL = 3   # zlib's, png_data's: the last fast one (4 takes 2-3x the time for 10-20 % less)
 # 3-3-2 bits of colour, index r << 5 | g << 2 | b: every colour named here is one of them
 PALETTE = np.array([(round(r * 255 / 7), round(g * 255 / 7), round(b * 255 / 3))
                     for r in range(8) for g in range(8) for b in range(4)], np.uint8)
 
 
 def png_data(pygame, surface):
-    """PNG bytes of `surface` in pygame's 24-bit colour (plots, summary, figures; a run's frames
-    are 8-bit PNGs of PALETTE indices: frames.BandedPng)."""
-    buffer = io.BytesIO()
-    pygame.image.save(surface, buffer, "png")
-    return buffer.getvalue()
+    """PNG bytes of `surface` in 24-bit colour (plots, summary, figures): its rows of r, g, b, each
+    after filter byte 0, deflated at zlib level PNG_LEVEL (a run's frames: frames.BandedPng's)."""
+    width, height = surface.get_size()
+    rgb = np.frombuffer(pygame.image.tobytes(surface, "RGB"), np.uint8).reshape(height, -1)
+    return png(width, height, zlib.compress(np.pad(rgb, ((0, 0), (1, 0))), PNG_LEVEL))
 
 
-def palette_png(width, height, idat):
-    """PNG bytes of a picture of PALETTE indices, `idat` the zlib stream of its rows."""
+def png(width, height, idat, palette=None):
+    """PNG bytes of a picture width x height, `idat` the zlib stream of its rows: of 8-bit r, g, b,
+    or with `palette` (n x 3 uint8, PALETTE) of 8-bit indices into it."""
     def chunk(kind, body):
         crc = struct.pack(">I", zlib.crc32(kind + body))
         return struct.pack(">I", len(body)) + kind + body + crc
-    header = struct.pack(">IIBBBBB", width, height, 8, 3, 0, 0, 0)     # 8 bits, palette
-    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"PLTE", PALETTE.tobytes())
-            + chunk(b"IDAT", idat) + chunk(b"IEND", b""))
-
-
-def new_rows(width, height):
-    """Buffers for the PNG rows of a picture width x height (frames.BandedPng's, kept from frame to
-    frame: no new megabyte array per frame): its rows, two 32-bit scratches."""
-    return np.zeros((height, 1 + width), np.uint8), np.empty((2, height, width), np.uint32)
+    header = struct.pack(">IIBBBBB", width, height, 8, 2 if palette is None else 3, 0, 0, 0)
+    colours = b"" if palette is None else chunk(b"PLTE", palette.tobytes())
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + colours + chunk(b"IDAT", idat)
+            + chunk(b"IEND", b""))
 
 
 def palette_indices(pixel, shifts, index, scratch):

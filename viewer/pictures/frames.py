@@ -132,7 +132,8 @@ class BandedPng:
         self.width, self.height = width, height
         self.pixels = np.zeros((height, width), np.uint32)      # the last picture's
         self.changed = np.empty((height, width), bool)
-        self.rows, self.scratch = draw.new_rows(width, height)
+        self.rows = np.zeros((height, 1 + width), np.uint8)     # kept: filter byte 0, indices
+        self.scratch = np.empty((2, height, width), np.uint32)   # draw.palette_indices'
         self.starts = np.arange(0, height, BAND)
         self.pieces = [None] * len(self.starts)     # per band: `deflated`'s, None before the first
 
@@ -152,7 +153,7 @@ class BandedPng:
         del pixel                                           # unlocks the surface
         for k in new.tolist():
             self.pieces[k] = deflated(self.rows[k * BAND:(k + 1) * BAND])
-        return draw.palette_png(self.width, self.height, zlib_stream(self.pieces))
+        return draw.png(self.width, self.height, zlib_stream(self.pieces), draw.PALETTE)
 
 
 def deflated(rows):

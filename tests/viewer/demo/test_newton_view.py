@@ -257,15 +257,8 @@ def test_the_newton_view_keeps_its_phrases_and_labels_apart(monkeypatch, size, o
         rows = wrap.phrase_rows(w.font, text, width)
         assert all(w.font.size(row)[0] <= width for row in rows), rows
         assert all(phrase_break(text, a, b) for a, b in itertools.pairwise(rows)), rows
-    import pygame
     small = w.fonts[1]
-    ink = []
-    for font in (small, None):                       # the slope's numbers: what its font adds
-        scratch = pygame.Surface((size, size))
-        scratch.fill((255, 255, 255))
-        draw.draw_slope(pygame, scratch, w.scene, w.view, draw.BLUE, font)
-        ink.append(pygame.surfarray.array3d(scratch).min(axis=2) < 255)
-    numbers = ink[0] & ~ink[1]
+    numbers = slope_glyphs(w.scene, w.view, small)
     (left, top), (w_label, h_label) = corners[-1], small.size(f"node {w.inset.node}")
     left, top = int(left), int(top)
     assert not numbers[left:left + w_label, top:top + h_label].any()
@@ -278,14 +271,33 @@ def test_the_newton_view_keeps_its_phrases_and_labels_apart(monkeypatch, size, o
     assert not numbers_cut(w, numbers)
 
 
+def slope_glyphs(scene, view, font, clear=0.0):
+    """The pixels (x, y) of the slope's numbers: what draw_slope draws with `font` and not
+    without, each picture's ink read as its pixels' least channel under 255."""
+    import pygame
+    ink = []
+    for with_font in (font, None):
+        scratch = pygame.Surface((view.size, view.height))
+        scratch.fill((255, 255, 255))
+        draw.draw_slope(pygame, scratch, scene, view, draw.BLUE, with_font, clear)
+        ink.append(pygame.surfarray.array3d(scratch).min(axis=2) < 255)
+    return ink[0] & ~ink[1]
+
+
+def number_boxes(numbers, font):
+    """The boxes (x, y slices) of the slope's `numbers` (their pixels): glyphs closer across than
+    the font's height are one number's, labelled over the whole picture."""
+    from scipy import ndimage
+    near = np.ones((font.get_height(), 1), bool)
+    labels, _ = ndimage.label(ndimage.binary_dilation(numbers, near))
+    return ndimage.find_objects(np.where(numbers, labels, 0))
+
+
 def numbers_cut(w, numbers):
     """The boxes (x, y slices) of the slope's `numbers` (their pixels) the inset's border cuts."""
-    from scipy import ndimage
     a, b, c, d = w.inset.rect
-    near = np.ones((w.fonts[1].get_height(), 1), bool)  # one number's glyphs: closer than a line
-    labels, _ = ndimage.label(ndimage.binary_dilation(numbers, near))
     cut = []
-    for x, y in ndimage.find_objects(np.where(numbers, labels, 0)):
+    for x, y in number_boxes(numbers, w.fonts[1]):
         within = a <= x.start and x.stop <= a + c and b <= y.start and y.stop <= b + d
         apart = x.stop <= a or x.start >= a + c or y.stop <= b or y.start >= b + d
         cut += [] if within or apart else [(x, y)]
@@ -298,15 +310,28 @@ def test_the_inset_cuts_none_of_the_table_s_numbers(size):
     half of "40 cm" (652 px; "-40 cm" on the left), too low to end above it; it now covers it
     whole or stops short of it. The numbers: what draw_slope's font adds, under the cloth's band
     (draw_frame's `clear`)."""
-    import pygame
     w = paused_at({}, 11, 1, size, simulator.build_tablecloth_scene)
-    ink = []
-    for font in (w.fonts[1], None):
-        scratch = pygame.Surface((size, size))
-        scratch.fill((255, 255, 255))
-        draw.draw_slope(pygame, scratch, w.scene, w.shown, draw.BLUE, font, draw.CLOTH_DEPTH)
-        ink.append(pygame.surfarray.array3d(scratch).min(axis=2) < 255)
-    assert w.inset is not None and not numbers_cut(w, ink[0] & ~ink[1])
+    numbers = slope_glyphs(w.scene, w.shown, w.fonts[1], draw.CLOTH_DEPTH)
+    assert w.inset is not None and not numbers_cut(w, numbers)
+
+
+@pytest.mark.parametrize("build, size", [(simulator.build_scene, 510),
+                                         (simulator.build_tablecloth_scene, 652),
+                                         (simulator.build_chalk_scene, 900)])
+@pytest.mark.parametrize("shift", [-1.1, 0.0, 0.37])
+def test_slope_numbers_are_the_boxes_of_the_numbers_glyphs(build, size, shift):
+    """slope_numbers labels the glyphs in their rows and columns only (a font height wider): its
+    Rects are the boxes of the numbers labelled over the whole picture, in the same order, with
+    the view moved `shift` units along so that numbers sit at the window's edges."""
+    import pygame
+    scene = build()
+    view, small = draw.View.of(scene, size), draw.fonts(pygame, size)[1]
+    view.center = view.center + [shift * view.unit, 0.0]
+    boxes = number_boxes(slope_glyphs(scene, view, small), small)
+    numbers = newton_view.slope_numbers(pygame, scene, view, small)
+    assert len(boxes) >= 3
+    assert numbers == [pygame.Rect(x.start, y.start, x.stop - x.start, y.stop - y.start)
+                       for x, y in boxes]
 
 
 @pytest.mark.parametrize("size", [510, 652])

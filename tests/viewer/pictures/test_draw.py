@@ -1,6 +1,8 @@
 """viewer/pictures/draw.py's drawing helpers, one copy each for the frames, plots.png, summary.png
 and the window: round numbers (nice_number), arrowheads (arrow_heads); the force arrows' scale.
 The chalk's mark as the frames draw it: tests/viewer/pictures/test_marks_drawn.py."""
+import itertools
+
 import numpy as np
 import pytest
 
@@ -139,3 +141,37 @@ def test_a_segment_is_drawn_the_same_in_every_process():
     made = {subprocess.run([sys.executable, "-c", LINES, ROOT], capture_output=True, text=True,
                            check=True).stdout for _ in range(6)}
     assert len(made) == 1
+
+
+@pytest.mark.parametrize("size", [(849, 474), (1, 1), (3, 7)])
+def test_png_data_holds_the_surface_s_pixels_in_24_bits(tmp_path, size):
+    """draw.png_data's own PNG (zlib, filter byte 0): pygame loads back the surface's pixels, every
+    colour of a random picture, from 24-bit RGB (IHDR colour type 2); the same bytes each time."""
+    pygame = draw.load_pygame()
+    surface = pygame.Surface(size)
+    colours = np.random.default_rng(42).integers(0, 256, (*size, 3))
+    pygame.surfarray.blit_array(surface, colours)
+    data = draw.png_data(pygame, surface)
+    assert data[12:16] == b"IHDR" and data[24:26] == bytes([8, 2])      # 8 bits, r g b
+    (tmp_path / "p.png").write_bytes(data)
+    loaded = pygame.image.load(str(tmp_path / "p.png"))
+    assert loaded.get_size() == size
+    assert np.array_equal(pygame.surfarray.array3d(loaded), colours)
+    assert draw.png_data(pygame, surface) == data
+
+
+@pytest.mark.parametrize("height", [30, 300, 652, 900, 1200])
+def test_fonts_take_the_least_size_whose_capitals_reach_the_height_s_share(height):
+    """draw.fonts searches from CAP_RATIO's guess down and up: its (title, text) fonts are the
+    default font at the least size, counted up from 1, whose capitals reach TITLE_SCALE x
+    MIN_CAP_HEIGHT and MIN_CAP_HEIGHT of `height` (the same metrics as that size's own font)."""
+    pygame = draw.load_pygame()
+    cap = draw.MIN_CAP_HEIGHT * height
+    chosen = draw.fonts(pygame, height)
+    for want, font in zip((draw.TITLE_SCALE * cap, cap), chosen):
+        least = next(size for size in itertools.count(1)
+                     if draw.cap_height(pygame.font.Font(None, size)) >= want)
+        expected = pygame.font.Font(None, least)
+        assert ((font.get_height(), font.get_ascent(), font.metrics("Hg"), font.size("0.5 m"))
+                == (expected.get_height(), expected.get_ascent(), expected.metrics("Hg"),
+                    expected.size("0.5 m")))

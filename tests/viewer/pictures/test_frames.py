@@ -77,7 +77,7 @@ def palette_rows(pygame, surface):
     """The rows a PNG of `surface`'s PALETTE indices holds, made whole at once: each row's filter
     byte 0, then the indices of its pixels (draw.palette_indices)."""
     width, height = surface.get_size()
-    rows, scratch = draw.new_rows(width, height)
+    rows, scratch = np.zeros((height, 1 + width), np.uint8), np.empty((2, height, width), np.uint32)
     pixel = np.array(pygame.surfarray.pixels2d(surface).T)     # a copy: the surface unlocked
     draw.palette_indices(pixel, surface.get_shifts(), rows[:, 1:], scratch)
     return rows.tobytes()
