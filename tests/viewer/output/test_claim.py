@@ -84,7 +84,7 @@ def test_one_empty_out_claimed_by_two_runs_at_once_is_one_runs(tmp_path, monkeyp
     monkeypatch.undo()
     if isinstance(second[0], files.RunFolder):      # the second won: this run is refused
         assert code == 2 and len(lines) == 1 and str(out) in lines[0], lines
-        assert "taken by another run" in lines[0] or "not empty" in lines[0]
+        assert "taken by a run started at once" in lines[0] or "not empty" in lines[0]
         assert os.listdir(out) == [files.CLAIM]     # the second's claim, nothing of this run's
     else:
         assert code == 0 and str(out) in str(second[0]), (lines, second)
@@ -101,6 +101,26 @@ def test_a_refused_claim_leaves_the_other_runs_folder(tmp_path):
     assert os.listdir(out) == [files.CLAIM]
     winner.release()
     assert os.listdir(out) == [] and not winner.lost
+
+
+def test_a_claim_made_after_the_folder_was_found_empty_is_refused_as_taken(tmp_path, monkeypatch):
+    """Another run's claim file made between this run's look at the empty --out and its own claim
+    (O_EXCL): refused in one line, '... was taken by a run started at once', and the other run's
+    claim left as it was (the races below mostly meet 'not empty' instead)."""
+    out = tmp_path / "o"
+    out.mkdir()
+    found_empty = files.check_empty
+
+    def then_claimed(path, *args):
+        found_empty(path, *args)
+        (out / files.CLAIM).write_text("the other run's\n")
+    monkeypatch.setattr(files, "check_empty", then_claimed)
+    code, lines = main("--steps", "3", "--no-frames", "--out", str(out))
+    assert code == 2 and len(lines) == 1, lines
+    assert lines[0] == (f"simulator.py: error: --out: out folder {str(out)!r} was taken by a run "
+                        f"started at once: choose another --out")
+    assert os.listdir(out) == [files.CLAIM]
+    assert (out / files.CLAIM).read_text() == "the other run's\n"
 
 
 # ---- runs started at once
@@ -203,7 +223,7 @@ def test_runs_started_at_once_into_one_empty_out_one_wins(tmp_path, count):
         if code == 2:
             assert len(lines) == 1 and lines[0].startswith("simulator.py: error: --out: "), lines
             assert "out folder 'o' " in lines[0]
-            assert "taken by another run" in lines[0] or "not empty" in lines[0]
+            assert "taken by a run started at once" in lines[0] or "not empty" in lines[0]
     assert sorted(os.listdir(tmp_path / "o")) == ["log.csv", "plots.png", "summary.png"]
     assert len((tmp_path / "o" / "log.csv").read_text().splitlines()) == 5
 
