@@ -74,16 +74,24 @@ def chalk_runs(shared_runs):
 
 @pytest.fixture(scope="module")
 def shared_stepping(shared_runs):
-    """simulator.simulate, for the runs a module's tests start in their process (viewer.main.main),
-    as the shared runs keep it (Runs.simulate) where the scene is its builder's (Runs.built): the
-    same StepRecords, bit for bit, but for their wall times, stepped once for every test. For the
-    tests of what a run writes and says, not of how it steps (a signal or a failure in a step):
-    `pytestmark = pytest.mark.usefixtures("shared_stepping")`."""
+    """simulator.simulate and time_integrator.step, for the runs a module's tests start in their
+    process (viewer.main.main, the window), as the shared runs keep them where the scene is its
+    builder's (Runs.built): simulate's StepRecords (Runs.simulate) and the steps a kept run took
+    from the same state (Runs.taken), the same bits but for their wall times, each stepped once for
+    every test. For the tests of what a run writes, says and draws, not of how it steps (a signal
+    or a failure in a step): `pytestmark = pytest.mark.usefixtures("shared_stepping")`. A Newton
+    iteration at a time (the window's n) is stepped as before."""
     import simulator
-    stepping = simulator.simulate
+    import time_integrator
+    simulating, stepping = simulator.simulate, time_integrator.step
 
     def simulate(scene, steps):
-        return (shared_runs.simulate if shared_runs.built(scene) else stepping)(scene, steps)
+        return (shared_runs.simulate if shared_runs.built(scene) else simulating)(scene, steps)
+
+    def step(scene, x, v, *, step_index=0):
+        taken = shared_runs.taken(scene, x, v, step_index)
+        return stepping(scene, x, v, step_index=step_index) if taken is None else taken
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr(simulator, "simulate", simulate)
+        patch.setattr(time_integrator, "step", step)
         yield

@@ -8,6 +8,8 @@ state is stepped once. A run is named by its builder and the parameters that dif
 builder's defaults: the builders are deterministic, so the same name is the same scene, bit for
 bit (helpers/chalk.py says which tests share the chalk's)."""
 import contextlib
+import copy
+import dataclasses
 import hashlib
 import os
 import pickle
@@ -36,6 +38,8 @@ class Runs:
 
     def __init__(self, folder):
         self.folder, self.kept = folder, {}
+        self.scenes = {}        # id(scene): (scene, its path; None: not its builder's)
+        self.peeked = {}        # path: (the file's mtime, x, v, reports) as `taken` last read it
 
     def states(self, seconds, of="chalk", **params):
         """(scene, t, x, v) of the scene BUILDERS[of] builds from `params` after each of
@@ -74,10 +78,34 @@ class Runs:
         return iter(records)
 
     def built(self, scene):
-        """Whether `scene` is what its builder makes of its parameters, pickled byte for byte: a
-        scene `path` may name by them (a command line's, say, as a test's)."""
+        """Whether `scene` is what its builder makes of its parameters, pickled byte for byte but
+        for the solver's scratch arrays (a stepped scene's hold its last Newton system): a scene
+        `path` may name by them (a command line's, say, as a test's)."""
         (builder, _, _), = (b for b in BUILDERS.values() if b[2] == scene.body)
-        return pickle.dumps(scene) == pickle.dumps(builder(**scene.params))
+        return without_scratch(scene) == without_scratch(builder(**scene.params))
+
+    def taken(self, scene, x, v, step_index):
+        """(x^{n+1}, v^{n+1}, StepReport) of time_integrator.step(scene, x, v, step_index=...)
+        where a run kept in the folder took that step from that state, the same bits (so the same
+        result: the step is deterministic); None where none did. Reads the folder, never steps."""
+        if id(scene) not in self.scenes:
+            self.scenes[id(scene)] = scene, self.path(scene) if self.built(scene) else None
+        path = self.scenes[id(scene)][1]
+        if path is None or not os.path.exists(path):
+            return None
+        mtime = os.stat(path).st_mtime_ns
+        if self.peeked.get(path, (None,))[0] != mtime:
+            _, xs, vs, _ = read(path)
+            with open(path + ".reports", "rb") as f:
+                self.peeked[path] = mtime, xs, vs, pickle.load(f)
+        _, xs, vs, reports = self.peeked[path]
+        if step_index >= len(xs):
+            return None
+        x_n, v_n = (scene.x0, scene.v0) if step_index == 0 else (xs[step_index - 1],
+                                                                 vs[step_index - 1])
+        if x.tobytes() != x_n.tobytes() or v.tobytes() != v_n.tobytes():
+            return None
+        return xs[step_index], vs[step_index], copy.deepcopy(reports[step_index])
 
     def run(self, seconds, **params):
         """The chalk.Track of the chalk built from `params`, stepped for `seconds`."""
@@ -134,6 +162,12 @@ def replaying(runs):
     the StepRecords from `runs` (Runs.scene_records) of the scene it is given, a scene as its
     builder made it (BUILDERS: the same builder and parameters, the same scene)."""
     return types.SimpleNamespace(**{**vars(simulator), "simulate": runs.simulate})
+
+
+def without_scratch(scene):
+    """`scene` pickled but for its solver's band and edge_blocks (refilled each iteration)."""
+    solver = dataclasses.replace(scene.solver, band=None, edge_blocks=None)
+    return pickle.dumps(dataclasses.replace(scene, solver=solver))
 
 
 def kept_steps(path):

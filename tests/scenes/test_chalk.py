@@ -151,6 +151,29 @@ def test_shared_runs_go_on_bit_for_bit(tmp_path, monkeypatch):
                 assert np.array_equal(ours, theirs), field.name
 
 
+def test_a_kept_step_is_taken_only_from_its_own_state(tmp_path):
+    """Runs.taken (the shared_stepping fixture's time_integrator.step): from a kept run's state at
+    step i, the step time_integrator.step takes, bit for bit, reports too; from a state one ulp
+    away, at another index, past the kept steps or of another scene: None (stepped as before)."""
+    kept = runs.Runs(str(tmp_path))
+    scene, _, xs, vs = kept.states(0.02)
+    fresh = runs.Runs(str(tmp_path))            # another worker's: reads the folder
+    for i, (x, v) in enumerate([(scene.x0, scene.v0), *zip(xs[:-1], vs[:-1])]):
+        x1, v1, report = fresh.taken(scene, x, v, i)
+        x2, v2, expected = time_integrator.step(scene, x, v, step_index=i)
+        assert x1.tobytes() == x2.tobytes() and v1.tobytes() == v2.tobytes()
+        for field in dataclasses.fields(expected):
+            ours, theirs = getattr(report, field.name), getattr(expected, field.name)
+            assert np.array_equal(ours, theirs), field.name
+    nudged = xs[4].copy()
+    nudged[0, 0] = np.nextafter(nudged[0, 0], np.inf)
+    assert fresh.taken(scene, xs[4], vs[4], 5) is not None
+    assert fresh.taken(scene, nudged, vs[4], 5) is None
+    assert fresh.taken(scene, xs[4], vs[4], 6) is None
+    assert fresh.taken(scene, xs[-1], vs[-1], len(xs)) is None
+    assert fresh.taken(simulator.build_chalk_scene(drag=True), xs[4], vs[4], 5) is None
+
+
 # --- Rabinowicz's chalk --------------------------------------------------------------------------
 
 def test_one_coefficient_slides_below_the_self_locking_angle_and_jams_above(chalk_runs):

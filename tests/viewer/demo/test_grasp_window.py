@@ -1,9 +1,12 @@
 """The live window on the grasp: it steps, draws the fingers' pads, and shows a Newton iteration."""
 import numpy as np
+import pytest
 
 from helpers.window import frames_until, live_window, press, pygame
 from scenes import grasp
 from viewer.pictures import draw
+
+pytestmark = pytest.mark.usefixtures("shared_stepping")   # the runs' steps: helpers/runs.py
 
 
 def test_the_window_draws_the_grasp_s_pads_and_its_newton_iterations():

@@ -18,6 +18,8 @@ from analysis import diagnostics, wear
 from viewer.demo import live
 
 from helpers import ROOT
+
+pytestmark = pytest.mark.usefixtures("shared_stepping")   # the runs' steps: helpers/runs.py
 H = simulator.DEFAULTS["h"]
 
 

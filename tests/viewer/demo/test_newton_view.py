@@ -14,6 +14,8 @@ from analysis import diagnostics
 from viewer.pictures import draw, wrap
 from viewer.demo import live, newton_view, window
 
+pytestmark = pytest.mark.usefixtures("shared_stepping")   # the runs' steps: helpers/runs.py
+
 SIZE = 652      # the window's default side on a 1024x768 projector
 
 

@@ -23,6 +23,8 @@ from helpers.fakes import square_at
 from helpers.window import (H, ScriptClock, frames_until, live_window, needs_newton_hook, press,
                             pygame, read_log)
 
+pytestmark = pytest.mark.usefixtures("shared_stepping")   # the runs' steps: helpers/runs.py
+
 
 # ------------------------------------------------------------------------------------------------
 # The keys

@@ -12,6 +12,8 @@ from viewer.demo import live
 
 from helpers.window import differing_pixels, live_window, pygame
 
+pytestmark = pytest.mark.usefixtures("shared_stepping")   # the runs' steps: helpers/runs.py
+
 
 # ------------------------------------------------------------------------------------------------
 # The chalk (--scene chalk): its view, its hand, forces and marks, its figures

@@ -1,12 +1,15 @@
 """The live window of the tablecloth (scene.surface): it draws the cloth as the frames do, under the
 dish, its stripes moving during the pull and still after it (helpers.window drives it)."""
 import numpy as np
+import pytest
 
 import simulator
 from viewer.pictures import draw, frames
 from viewer.demo import live
 
 from helpers.window import live_window, pygame
+
+pytestmark = pytest.mark.usefixtures("shared_stepping")   # the runs' steps: helpers/runs.py
 
 
 def test_the_window_draws_the_cloth_as_the_frames_do_moving_only_during_the_pull():

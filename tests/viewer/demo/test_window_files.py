@@ -24,6 +24,8 @@ from helpers.command import ending, page_data
 from helpers.window import (LoadedClock, ScriptClock, differing_pixels, frames_until,
                             hidden, post, press, pygame, read_log, run_window)
 
+pytestmark = pytest.mark.usefixtures("shared_stepping")   # the runs' steps: helpers/runs.py
+
 
 # ------------------------------------------------------------------------------------------------
 # Ending the run, and the files

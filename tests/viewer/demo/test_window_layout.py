@@ -12,6 +12,8 @@ from viewer.pictures import draw, wrap
 
 from helpers.window import frames_until, live_window, press, pygame
 
+pytestmark = pytest.mark.usefixtures("shared_stepping")   # the runs' steps: helpers/runs.py
+
 
 def test_r_starts_the_view_afresh_its_arrow_scale_and_zoom_as_a_new_run_s():
     """The arrows' scale coarsens at the impact (view.arrow_factor 1 -> 2, 5, ...) and never goes
