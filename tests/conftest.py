@@ -19,20 +19,30 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))                  
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))    # the project
 
 
+SLOW = pytest.StashKey()     # the (module, test) pairs marked slow, before -m deselects any
+
+
+def pytest_itemcollected(item):
+    """Each test marked slow, noted as collected, before -m or -k deselect any (the quick suite
+    deselects them all)."""
+    if item.get_closest_marker("slow"):
+        item.config.stash.setdefault(SLOW, set()).add((item.path, item.originalname))
+
+
 @pytest.hookimpl(trylast=True)          # after -m and -k have deselected
 def pytest_collection_modifyitems(config, items):
     """A quick twin (a parameter marked quick_twin, the short form of a test's slow parameter)
     is left out where its slow form runs: the slow form checks the same, harder. Then the modules
-    with long physics runs (a test marked slow) first, the rest as collected: --dist loadfile hands
-    each worker whole modules in this order (pytest.ini keeps it with --no-loadscope-reorder), so
-    the longest start early and the short ones even out the end."""
-    slow = {(item.path, item.originalname) for item in items if item.get_closest_marker("slow")}
+    with long physics runs (a test marked slow, run or not) first, the rest as collected: --dist
+    loadfile hands each worker whole modules in this order (pytest.ini keeps it with
+    --no-loadscope-reorder), so the longest start early and the short ones even out the end."""
+    running = {(item.path, item.originalname) for item in items if item.get_closest_marker("slow")}
     twins = [item for item in items if item.get_closest_marker("quick_twin")
-             and (item.path, item.originalname) in slow]
+             and (item.path, item.originalname) in running]
     if twins:
         config.hook.pytest_deselected(items=twins)
         items[:] = [item for item in items if item not in twins]
-    slow_paths = {path for path, _ in slow}
+    slow_paths = {path for path, _ in config.stash.get(SLOW, set())}
     items.sort(key=lambda item: item.path not in slow_paths)
 
 
